@@ -1,0 +1,124 @@
+import warnings
+
+import numpy as np
+import pytest
+
+from footnav import DataQualityWarning, ImuData, InvalidInputError, StanceResult
+from footnav.core.types import GRAVITY_MPS2, stance_intervals
+
+
+def _arrays(n=50, rate=100.0):
+    t = np.arange(n) / rate
+    acc = np.tile([0.0, 0.0, GRAVITY_MPS2], (n, 1))
+    gyr = np.zeros((n, 3))
+    return t, acc, gyr
+
+
+def test_valid_data_is_read_only_and_reports_rate():
+    t, acc, gyr = _arrays()
+    imu = ImuData(t, acc, gyr)
+    assert imu.rate_hz == pytest.approx(100.0)
+    assert imu.duration_s == pytest.approx(0.49)
+    with pytest.raises(ValueError):
+        imu.acc[0, 0] = 1.0
+
+
+def test_nan_in_acc_names_field_and_first_index():
+    t, acc, gyr = _arrays()
+    acc[7, 1] = np.nan
+    acc[9, 0] = np.nan
+    with pytest.raises(InvalidInputError) as err:
+        ImuData(t, acc, gyr, meta={"source": "walk.csv"})
+    assert err.value.field == "acc" and err.value.index == 7
+    assert "walk.csv" in str(err.value) and "index 7" in str(err.value)
+
+
+def test_backwards_time_names_first_bad_index():
+    t, acc, gyr = _arrays()
+    t[20] = t[18]
+    with pytest.raises(InvalidInputError) as err:
+        ImuData(t, acc, gyr)
+    assert err.value.field == "t" and err.value.index == 20
+    assert "backwards" in str(err.value)
+
+
+def test_wrong_column_count():
+    t, acc, gyr = _arrays()
+    with pytest.raises(InvalidInputError) as err:
+        ImuData(t, acc[:, :2], gyr)
+    assert err.value.field == "acc" and "(N, 3)" in str(err.value)
+
+
+def test_empty_and_single_sample_rejected():
+    with pytest.raises(InvalidInputError, match="at least 2 samples"):
+        ImuData(np.empty(0), np.empty((0, 3)), np.empty((0, 3)))
+
+
+def test_length_mismatch():
+    t, acc, gyr = _arrays()
+    with pytest.raises(InvalidInputError) as err:
+        ImuData(t, acc, gyr[:-1])
+    assert err.value.field == "gyr"
+
+
+def test_duplicates_are_an_error_unless_dropped_and_recorded():
+    t, acc, gyr = _arrays()
+    t = np.insert(t, 10, t[10])
+    acc = np.insert(acc, 10, acc[10], axis=0)
+    gyr = np.insert(gyr, 10, gyr[10], axis=0)
+    with pytest.raises(InvalidInputError, match="duplicate") as err:
+        ImuData.from_arrays(t, acc, gyr)
+    assert err.value.index == 11
+    with pytest.warns(DataQualityWarning, match="dropped 1"):
+        imu = ImuData.from_arrays(t, acc, gyr, drop_duplicates=True)
+    assert imu.n_samples == 50
+    assert imu.meta["duplicates_dropped"] == {"count": 1, "indices": [11]}
+
+
+def test_gap_is_warned_and_recorded():
+    t, acc, gyr = _arrays()
+    t[30:] += 0.05  # five missing samples before index 30
+    with pytest.warns(DataQualityWarning, match="gap"):
+        imu = ImuData(t, acc, gyr)
+    assert imu.meta["gaps"] == [(30, pytest.approx(0.06))]
+
+
+def test_no_warning_without_gap():
+    t, acc, gyr = _arrays()
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        imu = ImuData(t, acc, gyr)
+    assert "gaps" not in imu.meta
+
+
+@pytest.mark.parametrize(
+    "kwargs, acc_scale, gyr_scale, t_scale",
+    [
+        (dict(acc_unit="g"), GRAVITY_MPS2, 1.0, 1.0),
+        (dict(gyr_unit="deg/s"), 1.0, np.pi / 180, 1.0),
+        (dict(t_unit="ms"), 1.0, 1.0, 1e-3),
+    ],
+)
+def test_from_arrays_converts_units(kwargs, acc_scale, gyr_scale, t_scale):
+    t = np.arange(5.0) * 10
+    acc = np.ones((5, 3))
+    gyr = np.full((5, 3), 2.0)
+    imu = ImuData.from_arrays(t, acc, gyr, **kwargs)
+    np.testing.assert_allclose(imu.acc, acc * acc_scale)
+    np.testing.assert_allclose(imu.gyr, gyr * gyr_scale)
+    np.testing.assert_allclose(imu.t, t * t_scale)
+
+
+def test_unknown_unit_is_rejected_with_choices():
+    t, acc, gyr = _arrays()
+    with pytest.raises(InvalidInputError, match="m/s\\^2"):
+        ImuData.from_arrays(t, acc, gyr, acc_unit="mg")
+
+
+def test_stance_intervals_and_result():
+    mask = np.array([1, 1, 0, 0, 1, 0, 1, 1, 1], dtype=bool)
+    np.testing.assert_array_equal(stance_intervals(mask), [[0, 2], [4, 5], [6, 9]])
+    res = StanceResult(mask)
+    assert res.n_stances == 3
+    with pytest.raises(InvalidInputError):
+        StanceResult(mask, score=np.zeros(3))

@@ -1,0 +1,82 @@
+"""Kalman and RTS primitives against filterpy, an independent, well-kept implementation."""
+
+import numpy as np
+import pytest
+
+from footnav.core import kalman
+
+filterpy_kalman = pytest.importorskip("filterpy.kalman")
+
+
+def _random_spd(rng, n):
+    a = rng.normal(size=(n, n))
+    return a @ a.T + n * np.eye(n)
+
+
+@pytest.mark.parametrize("n, m", [(9, 3), (4, 2), (6, 1)])
+def test_predict_update_match_filterpy(n, m):
+    rng = np.random.default_rng(n * 10 + m)
+    f, q, r = rng.normal(size=(n, n)) * 0.3 + np.eye(n), _random_spd(rng, n) * 0.01, _random_spd(rng, m) * 0.1
+    h = rng.normal(size=(m, n))
+    x0, p0, z = rng.normal(size=n), _random_spd(rng, n), rng.normal(size=m)
+
+    ref = filterpy_kalman.KalmanFilter(dim_x=n, dim_z=m)
+    ref.x, ref.P, ref.F, ref.Q, ref.H, ref.R = x0.copy(), p0.copy(), f, q, h, r
+    ref.predict()
+    ref.update(z)  # filterpy uses the Joseph form too
+
+    p = p0.copy()
+    x = f @ x0
+    ws = kalman.workspace(n, m)
+    kalman.predict(p, f, q, ws[0])
+    np.testing.assert_allclose(p, ref.P_prior, rtol=1e-10, atol=1e-12)
+    assert kalman.update(x, p, h, r, z - h @ x, *ws)
+    np.testing.assert_allclose(x, ref.x, rtol=1e-10, atol=1e-12)
+    np.testing.assert_allclose(p, ref.P, rtol=1e-10, atol=1e-12)
+    np.testing.assert_array_equal(p, p.T)
+
+
+def test_update_refuses_non_positive_definite_innovation():
+    n, m = 3, 1
+    x, p = np.zeros(n), np.zeros((n, n))
+    h, r = np.array([[1.0, 0.0, 0.0]]), np.zeros((1, 1))
+    assert not kalman.update(x, p, h, r, np.array([1.0]), *kalman.workspace(n, m))
+    np.testing.assert_array_equal(x, 0.0)
+
+
+def test_spd_inverse():
+    rng = np.random.default_rng(1)
+    s = _random_spd(rng, 5)
+    out, low = np.empty((5, 5)), np.empty((5, 5))
+    assert kalman.spd_inverse(s, out, low)
+    np.testing.assert_allclose(out, np.linalg.inv(s), rtol=1e-10)
+
+
+def test_rts_step_matches_filterpy_smoother():
+    rng = np.random.default_rng(7)
+    n, steps = 4, 40
+    dt = 0.1
+    f = np.array([[1, dt, 0, 0], [0, 1, 0, 0], [0, 0, 1, dt], [0, 0, 0, 1]], dtype=float)
+    q = np.diag([1e-4, 1e-2, 1e-4, 1e-2])
+    h = np.array([[1.0, 0, 0, 0], [0, 0, 1.0, 0]])
+    r = np.eye(2) * 0.25
+    zs = np.cumsum(rng.normal(size=(steps, 2)), axis=0)
+
+    kf = filterpy_kalman.KalmanFilter(dim_x=n, dim_z=2)
+    kf.F, kf.Q, kf.H, kf.R, kf.P = f, q, h, r, np.eye(n)
+    xs, ps, xp, pp = [], [], [], []
+    for z in zs:
+        kf.predict()
+        xp.append(kf.x.copy())
+        pp.append(kf.P.copy())
+        kf.update(z)
+        xs.append(kf.x.copy())
+        ps.append(kf.P.copy())
+    xs, ps = np.array(xs), np.array(ps)
+    x_ref, p_ref, _, _ = kf.rts_smoother(xs, ps, Fs=[f] * steps, Qs=[q] * steps)
+
+    x_s, p_s = xs.copy(), ps.copy()
+    for k in range(steps - 2, -1, -1):
+        kalman.rts_step(xs[k], ps[k], xp[k + 1], pp[k + 1], f, x_s[k + 1], p_s[k + 1], x_s[k], p_s[k])
+    np.testing.assert_allclose(x_s, x_ref, rtol=1e-9, atol=1e-10)
+    np.testing.assert_allclose(p_s, p_ref, rtol=1e-9, atol=1e-10)

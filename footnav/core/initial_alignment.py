@@ -1,0 +1,57 @@
+"""Initial alignment from a standstill: roll and pitch from gravity, gyro bias from the mean rate.
+
+With the foot still, the accelerometer measures f^b = C_b^n' [0, 0, g]; for C_b^n = Rz(yaw)
+Ry(pitch) Rx(roll) that gives roll = atan2(f_y, f_z) and pitch = atan2(-f_x, sqrt(f_y^2 + f_z^2))
+(Groves, *Principles of GNSS, Inertial, and Multisensor Integrated Navigation*, 2nd ed., eq. 5.101).
+Heading is unobservable without a magnetometer and is set to zero. The mean angular rate of the
+standstill is the gyro bias (seed 001 section II-A, "initial calibration").
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from footnav.core import quaternion as quat
+from footnav.core.errors import InvalidInputError
+
+__all__ = ["Alignment", "align_at_rest"]
+
+
+@dataclass(frozen=True)
+class Alignment:
+    """Result of :func:`align_at_rest`: attitude [w, x, y, z] body -> nav (yaw 0), gyro bias (rad/s),
+    and the sample range used."""
+
+    quaternion: NDArray[np.float64]
+    gyro_bias_radps: NDArray[np.float64]
+    start: int
+    stop: int
+
+
+def align_at_rest(acc: NDArray[np.float64], gyr: NDArray[np.float64], start: int = 0, stop: int | None = None) -> Alignment:
+    """Level the sensor and estimate the gyro bias from samples ``start:stop`` taken at rest.
+
+    Parameters
+    ----------
+    acc
+        Specific force in m/s^2, body frame, (N, 3).
+    gyr
+        Angular rate in rad/s, body frame, (N, 3).
+    start, stop
+        The standstill's sample range.
+    """
+    stop = len(acc) if stop is None else stop
+    if stop <= start:
+        raise InvalidInputError(f"empty standstill range {start}:{stop}", field="acc", index=start)
+    f = np.mean(acc[start:stop], axis=0)
+    roll = np.arctan2(f[1], f[2])
+    pitch = np.arctan2(-f[0], np.hypot(f[1], f[2]))
+    return Alignment(
+        quaternion=quat.from_euler(roll, pitch, 0.0),
+        gyro_bias_radps=np.mean(gyr[start:stop], axis=0),
+        start=int(start),
+        stop=int(stop),
+    )

@@ -1,0 +1,112 @@
+"""Strapdown inertial mechanization for a foot-mounted IMU (seed 001 eq. 1).
+
+Simplified navigation equations, valid for the low speeds and short ranges of walking: Earth
+rotation, curvature, Coriolis and centrifugal terms are neglected (seed 001 section II-A)::
+
+    dC_b^n/dt = C_b^n [w_b x],   dv^n/dt = C_b^n f^b + g^n,   dp^n/dt = v^n
+
+with g^n = [0, 0, -GRAVITY_MPS2] (nav z up). Sample k holds the instantaneous rates at t_k; the
+step from k-1 to k integrates attitude with the mean angular rate (rotation vector
+(w_{k-1} + w_k) dt / 2), and velocity and position with the trapezoidal rule.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+from numpy.typing import NDArray
+
+from footnav.core.quaternion import as_matrix_nb, from_rotvec_nb, multiply_nb, normalize_nb
+from footnav.core.types import GRAVITY_MPS2, ImuData
+
+__all__ = ["strapdown_step", "strapdown"]
+
+
+@njit(cache=True)
+def strapdown_step(q, v, p, f_n, acc_prev, gyr_prev, acc, gyr, dt, dq, q_tmp, c):
+    """Advance attitude, velocity and position by one sample, in place.
+
+    Parameters
+    ----------
+    q
+        Attitude quaternion [w, x, y, z] body -> nav at k-1 (4,), becomes k.
+    v, p
+        Velocity (m/s) and position (m) in nav at k-1 (3,), become k.
+    f_n
+        Specific force in nav at k-1 (3,) in m/s^2; becomes the value at k (the EKF's F needs it).
+    acc_prev, gyr_prev, acc, gyr
+        Bias-corrected specific force (m/s^2) and angular rate (rad/s) at k-1 and k, body frame.
+    dt
+        t_k - t_{k-1} in s.
+    dq, q_tmp, c
+        Scratch: (4,), (4,), (3, 3).
+    """
+    h = 0.5 * dt
+    from_rotvec_nb((gyr_prev[0] + gyr[0]) * h, (gyr_prev[1] + gyr[1]) * h, (gyr_prev[2] + gyr[2]) * h, dq)
+    multiply_nb(q, dq, q_tmp)  # body-side increment: C_k = C_{k-1} exp([w dt x])
+    for i in range(4):
+        q[i] = q_tmp[i]
+    normalize_nb(q)
+    as_matrix_nb(q, c)
+    for i in range(3):
+        fi = c[i, 0] * acc[0] + c[i, 1] * acc[1] + c[i, 2] * acc[2]
+        a_prev = f_n[i]
+        f_n[i] = fi
+        a_mean = 0.5 * (a_prev + fi)
+        if i == 2:
+            a_mean -= GRAVITY_MPS2
+        v_new = v[i] + a_mean * dt
+        p[i] += 0.5 * (v[i] + v_new) * dt
+        v[i] = v_new
+
+
+@njit(cache=True)
+def _strapdown_loop(t, acc, gyr, q0, v0, p0, quat, vel, pos):
+    n = len(t)
+    q = q0.copy()
+    v = v0.copy()
+    p = p0.copy()
+    f_n = np.zeros(3)
+    dq = np.zeros(4)
+    q_tmp = np.zeros(4)
+    c = np.zeros((3, 3))
+    as_matrix_nb(q, c)
+    for i in range(3):
+        f_n[i] = c[i, 0] * acc[0, 0] + c[i, 1] * acc[0, 1] + c[i, 2] * acc[0, 2]
+    quat[0] = q
+    vel[0] = v
+    pos[0] = p
+    for k in range(1, n):
+        strapdown_step(q, v, p, f_n, acc[k - 1], gyr[k - 1], acc[k], gyr[k], t[k] - t[k - 1], dq, q_tmp, c)
+        quat[k] = q
+        vel[k] = v
+        pos[k] = p
+
+
+def strapdown(
+    imu: ImuData,
+    q0: NDArray[np.float64],
+    v0: NDArray[np.float64] | None = None,
+    p0: NDArray[np.float64] | None = None,
+    gyro_bias_radps: NDArray[np.float64] | None = None,
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    """Free inertial integration of a whole recording (no aiding): returns quat, vel, pos (N, .).
+
+    ``q0`` is the initial attitude body -> nav, ``v0``/``p0`` the initial velocity (m/s) and position
+    (m) in nav (zero by default); ``gyro_bias_radps`` (3,) is subtracted from the gyro.
+    """
+    n = imu.n_samples
+    gyr = imu.gyr if gyro_bias_radps is None else imu.gyr - np.asarray(gyro_bias_radps, dtype=np.float64)
+    quat, vel, pos = np.empty((n, 4)), np.empty((n, 3)), np.empty((n, 3))
+    _strapdown_loop(
+        imu.t,
+        np.ascontiguousarray(imu.acc),
+        np.ascontiguousarray(gyr),
+        np.asarray(q0, dtype=np.float64),
+        np.zeros(3) if v0 is None else np.asarray(v0, dtype=np.float64),
+        np.zeros(3) if p0 is None else np.asarray(p0, dtype=np.float64),
+        quat,
+        vel,
+        pos,
+    )
+    return quat, vel, pos

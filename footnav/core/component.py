@@ -1,0 +1,223 @@
+"""Base classes of footnav's components: detectors, estimators, fusions.
+
+A component follows scikit-learn's contract: the constructor takes keyword-only parameters, stores
+them unchanged under the same names and does nothing else; ``get_params`` / ``set_params`` /
+``clone`` make any configuration reproducible and printable; validation happens when the action
+method starts (``validate_params``). Parameters carry their unit in their name (``window_s``,
+``sigma_acc_mps2``) and are described in the class's numpydoc ``Parameters`` section, from which
+:meth:`Component.parameter_info` builds the table that ``footnav plugins`` and the docs show.
+"""
+
+from __future__ import annotations
+
+import inspect
+import re
+from dataclasses import dataclass
+from typing import Any, ClassVar, Mapping
+
+from footnav.core.errors import InvalidParameterError
+
+__all__ = ["Component", "ParameterInfo", "StanceDetector", "FootEstimator", "Fusion", "KINDS"]
+
+#: Unit suffix of a parameter name -> unit, longest suffix first.
+_UNIT_SUFFIXES = (
+    ("_radps2", "rad/s^2"),
+    ("_mps2", "m/s^2"),
+    ("_radps", "rad/s"),
+    ("_dps", "deg/s"),
+    ("_mps", "m/s"),
+    ("_deg", "deg"),
+    ("_rad", "rad"),
+    ("_hz", "Hz"),
+    ("_ms", "ms"),
+    ("_s", "s"),
+    ("_m", "m"),
+    ("_g", "g"),
+)
+_SQRT_HZ = "_sqrthz"
+
+
+def unit_of(name: str) -> str:
+    """Unit named by a parameter's suffix (``sigma_acc_mps2_sqrthz`` -> ``m/s^2/sqrt(Hz)``), or ''."""
+    per_root_hz = name.endswith(_SQRT_HZ)
+    base = name[: -len(_SQRT_HZ)] if per_root_hz else name
+    for suffix, unit in _UNIT_SUFFIXES:
+        if base.endswith(suffix):
+            return unit + ("/sqrt(Hz)" if per_root_hz else "")
+    return ""
+
+
+@dataclass(frozen=True)
+class ParameterInfo:
+    """One constructor parameter of a component: name, default, unit and description."""
+
+    name: str
+    default: Any
+    unit: str
+    description: str
+
+
+def _docstring_parameters(cls: type) -> dict[str, str]:
+    """Descriptions of the numpydoc ``Parameters`` section of ``cls`` (first sentence each)."""
+    doc = inspect.getdoc(cls) or ""
+    match = re.search(r"^Parameters\n-+\n(.*?)(?:\n\n[A-Z][A-Za-z ]+\n-+\n|\Z)", doc, re.S | re.M)
+    if not match:
+        return {}
+    out: dict[str, str] = {}
+    current: list[str] = []
+    names: list[str] = []
+    for line in match.group(1).splitlines():
+        if line and not line.startswith(" "):
+            if names:
+                for n in names:
+                    out[n] = " ".join(current).strip()
+            names = [n.strip() for n in line.split(":")[0].split(",")]
+            current = []
+        elif line.strip():
+            current.append(line.strip())
+    for n in names:
+        out[n] = " ".join(current).strip()
+    return out
+
+
+class Component:
+    """Base of every footnav component.
+
+    Subclasses set ``name`` (the registry name), ``kind`` (set by the three bases below) and
+    declare what they need with ``needs_two_feet`` and ``needs_magnetometer``.
+    """
+
+    kind: ClassVar[str] = ""
+    name: ClassVar[str] = ""
+    needs_two_feet: ClassVar[bool] = False
+    needs_magnetometer: ClassVar[bool] = False
+
+    # -- parameters ---------------------------------------------------------------------------
+    @classmethod
+    def _param_names(cls) -> list[str]:
+        sig = inspect.signature(cls.__init__)
+        return [
+            p.name
+            for p in sig.parameters.values()
+            if p.name != "self" and p.kind in (p.KEYWORD_ONLY, p.POSITIONAL_OR_KEYWORD)
+        ]
+
+    @classmethod
+    def parameter_info(cls) -> list[ParameterInfo]:
+        """Every constructor parameter with its default, unit (from the name) and description."""
+        sig = inspect.signature(cls.__init__)
+        docs = _docstring_parameters(cls)
+        return [
+            ParameterInfo(
+                name=n,
+                default=sig.parameters[n].default,
+                unit=unit_of(n),
+                description=docs.get(n, ""),
+            )
+            for n in cls._param_names()
+        ]
+
+    def get_params(self) -> dict[str, Any]:
+        """The constructor parameters as a dict (re-creates the component with ``type(self)(**p)``)."""
+        return {n: getattr(self, n) for n in self._param_names()}
+
+    def set_params(self, **params: Any) -> "Component":
+        """Set parameters by name; unknown names raise InvalidParameterError listing the valid ones."""
+        check_param_names(type(self), params)
+        for key, value in params.items():
+            setattr(self, key, value)
+        return self
+
+    def clone(self, **overrides: Any) -> "Component":
+        """A new, unfitted component with the same parameters (and ``overrides``)."""
+        params = self.get_params()
+        check_param_names(type(self), overrides)
+        params.update(overrides)
+        return type(self)(**params)
+
+    def validate_params(self) -> None:
+        """Check parameter values; called by the action method. Subclasses extend it."""
+
+    def __repr__(self) -> str:
+        sig = inspect.signature(type(self).__init__)
+        shown = []
+        for name, value in self.get_params().items():
+            default = sig.parameters[name].default
+            try:
+                same = bool(value == default)
+            except Exception:  # array-valued parameters compare elementwise
+                same = False
+            if not same:
+                shown.append(f"{name}={value!r}")
+        return f"{type(self).__name__}({', '.join(shown)})"
+
+    def describe(self) -> dict[str, Any]:
+        """Kind, name and parameters: what provenance records and TOML re-creates."""
+        return {"kind": self.kind, "name": self.name, "params": self.get_params()}
+
+
+def check_param_names(cls: type[Component], params: Mapping[str, Any]) -> None:
+    """Raise InvalidParameterError for parameter names ``cls`` does not take, listing the valid ones."""
+    valid = cls._param_names()
+    unknown = [k for k in params if k not in valid]
+    if unknown:
+        import difflib
+
+        hints = []
+        for k in unknown:
+            close = difflib.get_close_matches(k, valid, n=1)
+            hints.append(f"{k!r}" + (f" (did you mean {close[0]!r}?)" if close else ""))
+        raise InvalidParameterError(
+            f"{cls.kind} {cls.name!r} has no parameter {', '.join(hints)}; valid parameters: {', '.join(valid) or 'none'}"
+        )
+
+
+def require(condition: bool, component: Component, param: str, expected: str) -> None:
+    """Raise InvalidParameterError unless ``condition``: names component, parameter, value, expectation."""
+    if not condition:
+        raise InvalidParameterError(
+            f"{component.kind} {component.name!r}: parameter {param}={getattr(component, param)!r} is invalid; "
+            f"expected {expected}"
+        )
+
+
+class StanceDetector(Component):
+    """Finds the zero-velocity (stance) phases of a foot: ``detect(imu) -> StanceResult``.
+
+    A detector that needs both feet (``needs_two_feet = True``) implements ``detect_pair``; the
+    pipeline always calls ``detect_pair(left, right)``, whose default detects each foot alone.
+    """
+
+    kind: ClassVar[str] = "detector"
+
+    def detect(self, imu):  # pragma: no cover - abstract
+        raise NotImplementedError
+
+    def detect_pair(self, left, right):
+        """Stance of both feet; ``right`` may be None for one-foot detectors."""
+        return self.detect(left), (None if right is None else self.detect(right))
+
+
+class FootEstimator(Component):
+    """Estimates one foot's trajectory: ``estimate(imu, stance) -> FootTrajectory``."""
+
+    kind: ClassVar[str] = "estimator"
+
+    def estimate(self, imu, stance):  # pragma: no cover - abstract
+        raise NotImplementedError
+
+
+class Fusion(Component):
+    """Combines the feet into one pedestrian: ``fuse(estimator, left, stance_left, right, stance_right)``.
+
+    A fusion drives the per-foot ``estimator`` (it may call ``estimator.estimate`` or step its
+    filter) and returns a :class:`~footnav.core.types.FusionResult`.
+    """
+
+    kind: ClassVar[str] = "fusion"
+
+    def fuse(self, estimator, left, stance_left, right=None, stance_right=None):  # pragma: no cover
+        raise NotImplementedError
+
+
+KINDS = {"detector": StanceDetector, "estimator": FootEstimator, "fusion": Fusion}

@@ -1,0 +1,29 @@
+"""footnav's own components, registered through the same hooks a third-party plugin uses.
+
+A new built-in is one module in detectors/, estimators/ or fusion/ plus one line here.
+"""
+
+from __future__ import annotations
+
+from footnav.plugins.hookspecs import hookimpl
+
+
+@hookimpl
+def footnav_register_detectors(register):
+    from footnav.detectors.threshold import ThresholdDetector
+
+    register(ThresholdDetector)
+
+
+@hookimpl
+def footnav_register_estimators(register):
+    from footnav.estimators.ekf import EkfEstimator
+
+    register(EkfEstimator)
+
+
+@hookimpl
+def footnav_register_fusions(register):
+    from footnav.fusion.independent import IndependentFusion
+
+    register(IndependentFusion)

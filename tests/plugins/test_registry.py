@@ -1,0 +1,190 @@
+import types
+import warnings
+
+import numpy as np
+import pytest
+
+import footnav
+from footnav import (
+    CompositionError,
+    InvalidParameterError,
+    PluginError,
+    PluginWarning,
+    StanceDetector,
+    StanceResult,
+    UnknownComponentError,
+)
+from footnav.plugins import manager
+from footnav.plugins.manager import build_registry, reset_registry
+
+
+class HalfDetector(StanceDetector):
+    """Test detector: stance in the first half.
+
+    Parameters
+    ----------
+    fraction : float
+        Share of samples in stance.
+    """
+
+    name = "half"
+
+    def __init__(self, *, fraction: float = 0.5) -> None:
+        self.fraction = fraction
+
+    def detect(self, imu):
+        mask = np.arange(imu.n_samples) < self.fraction * imu.n_samples
+        return StanceResult(mask)
+
+
+def _plugin(**hooks):
+    mod = types.ModuleType("fake_plugin")
+    for name, fn in hooks.items():
+        setattr(mod, name, footnav.hookimpl(fn))
+    return mod
+
+
+def test_builtins_are_listed_with_origin_footnav():
+    comps = footnav.list_components()
+    assert "threshold" in comps["detector"]
+    assert "ekf" in comps["estimator"]
+    assert "independent" in comps["fusion"]
+    reg = manager.get_registry()
+    assert {e.origin for e in reg} == {"footnav"}
+
+
+def test_unknown_name_lists_available_and_suggests():
+    with pytest.raises(UnknownComponentError) as err:
+        footnav.make_detector("treshold")
+    msg = str(err.value)
+    assert "available: threshold" in msg and "Did you mean 'threshold'" in msg
+    assert isinstance(err.value, LookupError)
+
+
+def test_unknown_parameter_lists_valid_ones():
+    with pytest.raises(InvalidParameterError) as err:
+        footnav.make_detector("threshold", windw_s=0.2)
+    msg = str(err.value)
+    assert "windw_s" in msg and "did you mean 'window_s'" in msg and "gyr_threshold_radps" in msg
+
+
+def test_invalid_parameter_value_is_reported_at_detect():
+    det = footnav.make_detector("threshold", window_s=-1.0)  # constructors only store
+    rec_t = np.arange(100) / 100.0
+    imu = footnav.ImuData(rec_t, np.tile([0, 0, 9.8], (100, 1)), np.zeros((100, 3)))
+    with pytest.raises(InvalidParameterError, match="window_s=-1.0"):
+        det.detect(imu)
+
+
+def test_direct_plugin_registers_and_is_usable_by_name():
+    def footnav_register_detectors(register):
+        register(HalfDetector)
+
+    reg = build_registry([_plugin(footnav_register_detectors=footnav_register_detectors)], autoload=False)
+    entry = reg.get("detector", "half")
+    assert entry.cls is HalfDetector and entry.origin == "<direct>" and entry.plugin == "fake_plugin"
+    reset_registry(reg)
+    pipe = footnav.make_pipeline(detector="half", detector_params={"fraction": 0.3})
+    assert pipe.detector.fraction == 0.3
+
+
+def test_duplicate_name_is_an_error_naming_both():
+    class Impostor(HalfDetector):
+        name = "threshold"
+
+    def footnav_register_detectors(register):
+        register(Impostor)
+
+    with pytest.raises(PluginError) as err:
+        build_registry([_plugin(footnav_register_detectors=footnav_register_detectors)], autoload=False)
+    msg = str(err.value)
+    assert "footnav.builtin" in msg and "fake_plugin" in msg and "ThresholdDetector" in msg and "Impostor" in msg
+
+
+def test_registering_a_non_component_is_an_error():
+    def footnav_register_detectors(register):
+        register(dict)
+
+    with pytest.raises(PluginError, match="subclass of footnav.StanceDetector"):
+        build_registry([_plugin(footnav_register_detectors=footnav_register_detectors)], autoload=False)
+
+
+def test_misspelt_hook_is_a_warning_and_others_still_load():
+    def footnav_register_detector(register):  # missing "s"
+        register(HalfDetector)
+
+    with pytest.warns(PluginWarning, match="fake_plugin"):
+        reg = build_registry([_plugin(footnav_register_detector=footnav_register_detector)], autoload=False)
+    assert reg.names("detector") == ["threshold"]
+    assert reg.failed and reg.failed[0][0] == "fake_plugin"
+
+
+class _FakeDist:
+    name = "broken-dist"
+
+
+class _FakeEntryPoint:
+    def __init__(self, name, target):
+        self.name, self._target, self.dist = name, target, _FakeDist()
+
+    def load(self):
+        if isinstance(self._target, Exception):
+            raise self._target
+        return self._target
+
+
+def test_broken_entry_point_is_a_warning_naming_it(monkeypatch):
+    def footnav_register_detectors(register):
+        register(HalfDetector)
+
+    good = _plugin(footnav_register_detectors=footnav_register_detectors)
+    eps = [_FakeEntryPoint("broken", ImportError("No module named 'missing_dep'")), _FakeEntryPoint("good", good)]
+    monkeypatch.setattr(manager.importlib.metadata, "entry_points", lambda group: eps if group == "footnav" else [])
+    with pytest.warns(PluginWarning, match="'broken' from broken-dist failed to import.*missing_dep"):
+        reg = build_registry(autoload=True)
+    assert "half" in reg.names("detector")
+    assert reg.get("detector", "half").origin == "broken-dist"  # the fake dist name of both entries
+
+
+def test_hook_that_raises_is_a_warning(monkeypatch):
+    def footnav_register_detectors(register):
+        raise RuntimeError("boom")
+
+    with pytest.warns(PluginWarning, match="boom"):
+        reg = build_registry([_plugin(footnav_register_detectors=footnav_register_detectors)], autoload=False)
+    assert reg.names("detector") == ["threshold"]
+
+
+def test_autoload_can_be_disabled_by_environment(monkeypatch):
+    calls = []
+    monkeypatch.setattr(manager.importlib.metadata, "entry_points", lambda group: calls.append(group) or [])
+    monkeypatch.setenv(manager.AUTOLOAD_ENV, "1")
+    build_registry()
+    assert calls == []
+    monkeypatch.delenv(manager.AUTOLOAD_ENV)
+    build_registry()
+    assert calls == ["footnav"]
+
+
+def test_two_foot_component_with_one_foot_is_a_composition_error():
+    class BothFeet(HalfDetector):
+        name = "both-feet"
+        needs_two_feet = True
+
+    def footnav_register_detectors(register):
+        register(BothFeet)
+
+    reset_registry(build_registry([_plugin(footnav_register_detectors=footnav_register_detectors)], autoload=False))
+    pipe = footnav.make_pipeline(detector="both-feet")
+    t = np.arange(50) / 100.0
+    imu = footnav.ImuData(t, np.tile([0, 0, 9.8], (50, 1)), np.zeros((50, 3)))
+    with pytest.raises(CompositionError, match="needs both feet"):
+        pipe.run(imu)
+
+
+def test_parameter_info_has_units_and_descriptions():
+    info = {p.name: p for p in footnav.make_estimator("ekf").parameter_info()}
+    assert info["zupt_std_mps"].unit == "m/s"
+    assert info["acc_noise_mps2_sqrthz"].unit == "m/s^2/sqrt(Hz)"
+    assert "zero-velocity" in info["zupt_std_mps"].description
+    assert info["zupt_std_mps"].default == 0.01

@@ -1,0 +1,475 @@
+"""Tests of footnav.core.metrics: hand-computed cases (arithmetic in the comments), properties
+(hypothesis) and cross-checks against brute force and, if installed, dtaidistance."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from footnav.core.errors import DataQualityWarning, InvalidInputError, InvalidParameterError
+from footnav.core.metrics import (
+    ate_rmse,
+    dtw_distance,
+    end_to_end_error,
+    event_timing_error,
+    final_position_error,
+    final_separation,
+    interpolate_positions,
+    loop_closure_error,
+    match_events,
+    max_deviation,
+    rigid_align,
+    sample_scores,
+    step_detection,
+    stride_length_errors,
+    travelled_distance,
+    travelled_distance_error,
+)
+
+#: Absolute tolerance of exact (closed-form) results, m.
+EXACT = 1e-9
+
+
+def rot_z(angle_rad: float) -> np.ndarray:
+    c, s = math.cos(angle_rad), math.sin(angle_rad)
+    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+
+
+# An asymmetric, non-planar point set (no mirror symmetry), m.
+SHAPE = np.array(
+    [[0.0, 0.0, 0.0], [4.0, 0.0, 0.1], [4.0, 1.0, 0.3], [1.0, 3.0, -0.2], [0.5, 2.0, 0.7], [2.0, 0.5, 1.1]]
+)
+
+
+# ---------------------------------------------------------------------------------------------
+# rigid_align / ate_rmse
+# ---------------------------------------------------------------------------------------------
+def test_rigid_align_2d_recovers_heading_and_offset_and_keeps_z():
+    rot = rot_z(math.radians(37.0))
+    t = np.array([2.0, -3.0, 0.0])
+    est = SHAPE.copy()
+    ref = est @ rot.T + t
+    ref[:, 2] += 5.0  # a z offset dims=2 must NOT remove
+    aligned, r, tt = rigid_align(est, ref, dims=2)
+    np.testing.assert_allclose(r, rot, atol=EXACT)
+    np.testing.assert_allclose(tt, t, atol=EXACT)
+    np.testing.assert_allclose(aligned[:, :2], ref[:, :2], atol=EXACT)
+    np.testing.assert_allclose(aligned[:, 2], est[:, 2], atol=EXACT)  # z untouched
+    assert ate_rmse(est, ref, dims=2) < EXACT
+
+
+def test_rigid_align_3d_recovers_rotation_translation_and_scale():
+    from scipy.spatial.transform import Rotation
+
+    rot = Rotation.from_rotvec([0.3, -0.8, 1.9]).as_matrix()
+    t = np.array([10.0, -2.0, 0.5])
+    ref = SHAPE @ rot.T + t
+    res = rigid_align(SHAPE, ref, dims=3)
+    np.testing.assert_allclose(res.rotation, rot, atol=EXACT)
+    np.testing.assert_allclose(res.translation, t, atol=EXACT)
+    np.testing.assert_allclose(res.aligned, ref, atol=EXACT)
+    assert res.scale == 1.0
+    assert ate_rmse(SHAPE, ref, dims=3) < EXACT
+    # similarity: ref = 2 R est + t -> scale 2
+    res_s = rigid_align(SHAPE, 2.0 * SHAPE @ rot.T + t, dims=3, with_scale=True)
+    assert res_s.scale == pytest.approx(2.0, abs=EXACT)
+    np.testing.assert_allclose(res_s.rotation, rot, atol=EXACT)
+    np.testing.assert_allclose(res_s.apply(SHAPE), 2.0 * SHAPE @ rot.T + t, atol=EXACT)
+
+
+@pytest.mark.parametrize("dims", [2, 3])
+def test_rigid_align_never_reflects(dims):
+    mirrored = SHAPE * np.array([1.0, -1.0, 1.0])  # mirror in the x-z plane
+    res = rigid_align(mirrored, SHAPE, dims=dims)
+    k = dims
+    assert np.linalg.det(res.rotation[:k, :k]) == pytest.approx(1.0, abs=EXACT)
+    # a reflection would fit exactly; a proper rotation cannot
+    assert ate_rmse(mirrored, SHAPE, dims=dims) > 0.1
+
+
+def test_ate_rmse_hand_computed():
+    # ref (-1,0),(1,0); est (-2,0),(2,0). Centroids 0, best rotation identity, so each point is
+    # 1 m off: RMSE = sqrt((1 + 1) / 2) = 1 m. With scale s = 0.5 it fits exactly.
+    ref = np.array([[-1.0, 0.0], [1.0, 0.0]])
+    est = np.array([[-2.0, 0.0], [2.0, 0.0]])
+    assert ate_rmse(est, ref) == pytest.approx(1.0, abs=EXACT)
+    assert ate_rmse(est, ref, with_scale=True) == pytest.approx(0.0, abs=EXACT)
+
+
+def test_rigid_align_bad_input():
+    with pytest.raises(InvalidInputError, match="'reference'"):
+        rigid_align(SHAPE, SHAPE[:-1])
+    bad = SHAPE.copy()
+    bad[2, 1] = np.nan
+    with pytest.raises(InvalidInputError, match="'estimate'.*index 2"):
+        rigid_align(bad, SHAPE)
+    with pytest.raises(InvalidInputError, match="'estimate'"):
+        rigid_align(np.empty((0, 3)), np.empty((0, 3)))
+    with pytest.raises(InvalidInputError, match="'estimate'"):
+        rigid_align(SHAPE[:, :2], SHAPE, dims=3)
+    with pytest.raises(InvalidParameterError):
+        rigid_align(SHAPE, SHAPE, dims=4)
+
+
+# ---------------------------------------------------------------------------------------------
+# [001] E_s, E_p
+# ---------------------------------------------------------------------------------------------
+def test_final_separation_and_position_error_seed001_eq8():
+    # [001] eq. (8): E_s = ||P1_end - P2_end||, E_p = ||P_i,end(est) - P_i,end(true)||, 2-norm of
+    # the n-frame (3-D) position.
+    left = np.array([[0.0, 0.0, 0.0], [0.5, 1.0, 0.0], [1.0, 2.0, 0.2]])
+    right = np.array([[0.0, 0.2, 0.0], [1.3, 1.6, -1.0]])
+    # end difference (1.0-1.3, 2.0-1.6, 0.2-(-1.0)) = (-0.3, 0.4, 1.2):
+    # 3-D sqrt(0.09 + 0.16 + 1.44) = sqrt(1.69) = 1.3 m; horizontal sqrt(0.25) = 0.5 m
+    assert final_separation(left, right) == pytest.approx(1.3, abs=EXACT)
+    assert final_separation(left[-1], right[-1]) == pytest.approx(1.3, abs=EXACT)
+    assert final_separation(left, right, dims=2) == pytest.approx(0.5, abs=EXACT)
+    # closed loop (true end = start = origin); estimated end (3, 4, 12):
+    # 3-D sqrt(9 + 16 + 144) = 13 m, horizontal 5 m
+    est = np.array([[0.0, 0.0, 0.0], [3.0, 4.0, 12.0]])
+    assert final_position_error(est, np.zeros(3)) == pytest.approx(13.0, abs=EXACT)
+    assert final_position_error(est, np.zeros(3), dims=2) == pytest.approx(5.0, abs=EXACT)
+    with pytest.raises(InvalidInputError, match="'reference_final'"):
+        final_position_error(est, [np.nan, 0.0, 0.0])
+
+
+# ---------------------------------------------------------------------------------------------
+# distances ([003] Table 2)
+# ---------------------------------------------------------------------------------------------
+def test_travelled_distance():
+    pos = np.array([[0.0, 0.0, 0.0], [3.0, 4.0, 0.0], [3.0, 4.0, 12.0]])
+    # horizontal: 5 + 0 = 5 m; 3-D: 5 + 12 = 17 m
+    assert travelled_distance(pos) == pytest.approx(5.0, abs=EXACT)
+    assert travelled_distance(pos, dims=3) == pytest.approx(17.0, abs=EXACT)
+    assert travelled_distance(pos[:1]) == 0.0
+
+
+def test_loop_closure_and_closed_loop_end_to_end():
+    # legs 41 + 10 + 41 + 8 = 100 m; end (0, 2) is 2 m from the start -> 2 % of the distance
+    pos = np.array([[0.0, 0.0], [41.0, 0.0], [41.0, 10.0], [0.0, 10.0], [0.0, 2.0]])
+    res = loop_closure_error(pos)
+    assert res.error_m == pytest.approx(2.0, abs=EXACT)
+    assert res.distance_m == pytest.approx(100.0, abs=EXACT)
+    assert res.error_percent == pytest.approx(2.0, abs=EXACT)
+    assert end_to_end_error(pos) == res
+    # known course length as denominator: 2 / 80 = 2.5 %
+    assert end_to_end_error(pos, reference_distance_m=80.0).error_percent == pytest.approx(2.5)
+
+
+def test_end_to_end_error_reproduces_seed003_table2():
+    # [003] Table 2, HMM+GDA: end-to-end error 23.31 m on the 1075 m ground truth:
+    # 100 * 23.31 / 1075 = 2.1684 % (reported 2.16, truncated).
+    ref = np.array([[0.0, 0.0], [1075.0, 0.0]])
+    est = np.array([[0.0, 0.0], [1075.0, 23.31]])
+    res = end_to_end_error(est, ref)
+    assert res.error_m == pytest.approx(23.31, abs=EXACT)
+    assert res.distance_m == pytest.approx(1075.0)
+    assert res.error_percent == pytest.approx(2.16837, abs=1e-5)
+    assert math.floor(res.error_percent * 100) / 100 == 2.16
+
+
+def test_travelled_distance_error_reproduces_seed003_table2():
+    # [003] Table 2: travel distance 1077.69 m vs 1075 m -> 100 * 2.69 / 1075 = 0.2502 %;
+    # 1131.19 m -> 100 * 56.19 / 1075 = 5.2270 % (reported 5.22, truncated)
+    for d_est, pct in ((1077.69, 0.250233), (1131.19, 5.226977)):
+        est = np.array([[0.0, 0.0], [d_est, 0.0]])
+        res = travelled_distance_error(est, 1075.0)
+        assert res.distance_m == pytest.approx(d_est)
+        assert res.error_m == pytest.approx(d_est - 1075.0)
+        assert res.error_percent == pytest.approx(pct, abs=1e-6)
+    # reference given as a trajectory of the same length
+    res = travelled_distance_error(np.array([[0.0, 0.0], [0.0, 9.0]]), np.array([[0.0, 0.0], [6.0, 8.0]]))
+    assert res.reference_distance_m == pytest.approx(10.0)
+    assert res.error_percent == pytest.approx(-10.0)
+
+
+# ---------------------------------------------------------------------------------------------
+# DTW
+# ---------------------------------------------------------------------------------------------
+def brute_dtw(a: np.ndarray, b: np.ndarray, band: int | None, squared: bool = False) -> float:
+    """Textbook O(N M) DTW in pure Python with the |i - j| <= band constraint."""
+    n, m = len(a), len(b)
+    inf = float("inf")
+    d = [[inf] * (m + 1) for _ in range(n + 1)]
+    d[0][0] = 0.0
+    for i in range(1, n + 1):
+        for j in range(1, m + 1):
+            if band is not None and abs(i - j) > band:
+                continue
+            c = sum((float(a[i - 1][k]) - float(b[j - 1][k])) ** 2 for k in range(a.shape[1]))
+            c = c if squared else math.sqrt(c)
+            d[i][j] = c + min(d[i - 1][j - 1], d[i - 1][j], d[i][j - 1])
+    return d[n][m]
+
+
+def test_dtw_hand_computed():
+    # a = x 0, 1, 2; b = x 0, 2. Best path (0,0) (1,0) (2,1): costs 0 + 1 + 0 = 1 m over 3 pairs
+    # (the tie with (1,1) is broken towards the diagonal step) -> mean 1/3 m.
+    a = np.array([[0.0, 0.0], [1.0, 0.0], [2.0, 0.0]])
+    b = np.array([[0.0, 0.0], [2.0, 0.0]])
+    res = dtw_distance(a, b, return_path=True)
+    assert res.total_cost == pytest.approx(1.0, abs=EXACT)
+    assert res.n_pairs == 3
+    assert res.distance_m == pytest.approx(1.0 / 3.0, abs=EXACT)
+    np.testing.assert_array_equal(res.path, [[0, 0], [1, 0], [2, 1]])
+    assert dtw_distance(a, b, normalize="none").distance_m == pytest.approx(1.0, abs=EXACT)
+    assert dtw_distance(a, b, band=1).total_cost == pytest.approx(1.0, abs=EXACT)
+    with pytest.raises(InvalidParameterError, match=r"\|N - M\| = 1"):
+        dtw_distance(a, b, band=0)
+
+
+def test_dtw_band_hand_computed():
+    # x: a = 0 0 0 1, b = 0 1 1 1. Unbounded: a0..a2 -> b0, a3 -> b1..b3, total 0.
+    # band 1: D(1,0)=0, D(2,1)=1+D(1,0)=1, D(3,2)=0+D(2,1)=1, D(3,3)=0+min(D(2,2)=2, D(2,3)=3,
+    # D(3,2)=1) = 1 -> total 1 m. band 2 allows (2,0) and (3,1): total 0 again.
+    a = np.array([[0.0, 0.0], [0.0, 0.0], [0.0, 0.0], [1.0, 0.0]])
+    b = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 0.0], [1.0, 0.0]])
+    assert dtw_distance(a, b).total_cost == pytest.approx(0.0, abs=EXACT)
+    assert dtw_distance(a, b, band=1).total_cost == pytest.approx(1.0, abs=EXACT)
+    assert dtw_distance(a, b, band=2).total_cost == pytest.approx(0.0, abs=EXACT)
+    # dims=3 uses z, dims=2 ignores it
+    a3 = np.column_stack([a, [0.0, 0.0, 0.0, 3.0]])
+    b3 = np.column_stack([b, np.zeros(4)])
+    assert dtw_distance(a3, b3).total_cost == pytest.approx(0.0, abs=EXACT)
+    assert dtw_distance(a3, b3, dims=3).total_cost > 0.0
+
+
+small_traj = st.integers(1, 9).flatmap(
+    lambda n: st.lists(
+        st.tuples(st.floats(-5, 5, allow_nan=False), st.floats(-5, 5, allow_nan=False)), min_size=n, max_size=n
+    )
+)
+
+
+@settings(max_examples=150, deadline=None)
+@given(a=small_traj, b=small_traj, extra=st.one_of(st.none(), st.integers(0, 4)), squared=st.booleans())
+def test_dtw_matches_brute_force(a, b, extra, squared):
+    a, b = np.array(a), np.array(b)
+    band = None if extra is None else abs(len(a) - len(b)) + extra
+    cost = "sqeuclidean" if squared else "euclidean"
+    res = dtw_distance(a, b, band=band, cost=cost, return_path=True)
+    expected = brute_dtw(a, b, band, squared)
+    assert res.total_cost == pytest.approx(expected, rel=1e-9, abs=1e-12)
+    # the path is a valid warping path whose costs add up to the total
+    p = res.path
+    assert len(p) == res.n_pairs
+    assert tuple(p[0]) == (0, 0) and tuple(p[-1]) == (len(a) - 1, len(b) - 1)
+    steps = np.diff(p, axis=0)
+    assert ((steps >= 0) & (steps <= 1)).all() and (steps.sum(axis=1) >= 1).all()
+    if band is not None:
+        assert (np.abs(p[:, 0] - p[:, 1]) <= band).all()
+    c = np.sum((a[p[:, 0]] - b[p[:, 1]]) ** 2, axis=1)
+    assert (c if squared else np.sqrt(c)).sum() == pytest.approx(res.total_cost, rel=1e-9, abs=1e-12)
+    # band=None is the unbounded DTW; any band costs at least as much
+    unbounded = dtw_distance(a, b, cost=cost)
+    assert unbounded.total_cost == pytest.approx(brute_dtw(a, b, None, squared), rel=1e-9, abs=1e-12)
+    assert dtw_distance(a, b, band=max(len(a), len(b)), cost=cost).total_cost == pytest.approx(unbounded.total_cost)
+    assert res.total_cost >= unbounded.total_cost - 1e-12
+    # without the path: same numbers
+    nopath = dtw_distance(a, b, band=band, cost=cost)
+    assert nopath.total_cost == res.total_cost and nopath.n_pairs == res.n_pairs and nopath.path is None
+
+
+@settings(max_examples=60, deadline=None)
+@given(n=st.integers(2, 12), m=st.integers(2, 12), band=st.integers(0, 5), seed=st.integers(0, 2**31 - 1))
+def test_dtw_against_dtaidistance(n, m, band, seed):
+    dtw_ndim = pytest.importorskip("dtaidistance.dtw_ndim")
+    rng = np.random.default_rng(seed)
+    a, b = rng.normal(size=(n, 2)), rng.normal(size=(m, 2))
+    # dtaidistance's default: cell cost = squared Euclidean, result = sqrt(sum) -> our
+    # cost="sqeuclidean", normalize="none" (distance_m = sqrt(total_cost)).
+    ours = dtw_distance(a, b, cost="sqeuclidean", normalize="none")
+    assert ours.distance_m == pytest.approx(dtw_ndim.distance(a, b), rel=1e-9)
+    # its inner_dist="euclidean" is our default cost, raw total
+    assert dtw_distance(a, b).total_cost == pytest.approx(dtw_ndim.distance(a, b, inner_dist="euclidean"), rel=1e-9)
+    # window w allows |i - j| <= w - 1 for equal lengths (dtaidistance widens it for unequal ones)
+    a2 = rng.normal(size=(n, 2))
+    ours_b = dtw_distance(a, a2[::-1], band=band, cost="sqeuclidean", normalize="none")
+    assert ours_b.distance_m == pytest.approx(dtw_ndim.distance(a, a2[::-1], window=band + 1), rel=1e-9)
+
+
+def test_dtw_long_band_is_fast_and_bad_input():
+    rng = np.random.default_rng(1)
+    a = np.cumsum(rng.normal(size=(20000, 3)), axis=0)
+    b = a[::1] + rng.normal(scale=0.1, size=a.shape)
+    res = dtw_distance(a, b, band=50, return_path=True)  # 20000 x 101 cells
+    assert res.n_pairs >= 20000 and res.distance_m < 0.2
+    with pytest.raises(InvalidInputError, match="'b'.*index 1"):
+        dtw_distance(a[:3], [[0.0, 0.0], [np.inf, 0.0]])
+    with pytest.raises(InvalidInputError, match="'a'"):
+        dtw_distance(np.empty((0, 2)), a)
+    with pytest.raises(InvalidParameterError):
+        dtw_distance(a[:3], a[:3], band=-1)
+    with pytest.raises(InvalidParameterError):
+        dtw_distance(a[:3], a[:3], normalize="sum")
+
+
+# ---------------------------------------------------------------------------------------------
+# [002] Table 2 maximum deviation
+# ---------------------------------------------------------------------------------------------
+def test_max_deviation_hand_computed():
+    # reference: x = 0..10 m at 1 m per sample; estimate off in y by 0.3 m at k=2 and 0.5 m at k=10.
+    # max deviation 0.5 m at k=10, 0.5 / 10 = 5 % of the 10 m walked.
+    # ratio d_k / s_k: k=2 -> 0.3 / 2 = 0.15, k=10 -> 0.5 / 10 = 0.05.
+    ref = np.column_stack([np.arange(11.0), np.zeros(11)])
+    est = ref.copy()
+    est[2, 1], est[10, 1] = 0.3, 0.5
+    res = max_deviation(est, ref, min_distance_m=1.0)
+    assert res.max_deviation_m == pytest.approx(0.5, abs=EXACT) and res.max_deviation_index == 10
+    assert res.distance_m == pytest.approx(10.0) and res.max_deviation_percent == pytest.approx(5.0)
+    assert res.max_ratio == pytest.approx(0.15, abs=EXACT) and res.max_ratio_index == 2
+    # default: ratio only after 5 m -> 0.05 at k=10
+    res5 = max_deviation(est, ref)
+    assert res5.max_ratio == pytest.approx(0.05, abs=EXACT) and res5.max_ratio_index == 10
+    with pytest.raises(InvalidInputError, match="'reference'"):
+        max_deviation(est, ref[:-1])
+
+
+def test_interpolate_positions():
+    t = np.array([0.0, 1.0, 2.0])
+    p = np.array([[0.0, 0.0, 0.0], [2.0, 0.0, 1.0], [2.0, 4.0, 1.0]])
+    np.testing.assert_allclose(interpolate_positions(t, p, [0.5, 1.5]), [[1.0, 0.0, 0.5], [2.0, 2.0, 1.0]])
+    with pytest.raises(InvalidInputError, match="'t_new'"):
+        interpolate_positions(t, p, [2.5])
+
+
+# ---------------------------------------------------------------------------------------------
+# strides
+# ---------------------------------------------------------------------------------------------
+def test_stride_length_errors_hand_computed():
+    # strides est 1.2, 1.3, 1.1; ref 1.25, 1.25, 1.2 -> errors -0.05, +0.05, -0.10 m
+    # mean -0.0333, mean |e| 0.0667, RMSE sqrt((0.0025 + 0.0025 + 0.01) / 3) = sqrt(0.005), max 0.1
+    est = np.array([[0.0, 0.0], [1.2, 0.0], [2.5, 0.0], [3.6, 0.0]])
+    ref = np.array([[0.0, 0.1], [1.25, 0.1], [2.5, 0.1], [3.7, 0.1]])
+    res = stride_length_errors(est, ref)
+    np.testing.assert_allclose(res.errors_m, [-0.05, 0.05, -0.1], atol=EXACT)
+    assert res.mean_error_m == pytest.approx(-0.1 / 3)
+    assert res.mean_abs_error_m == pytest.approx(0.2 / 3)
+    assert res.rmse_m == pytest.approx(math.sqrt(0.005))
+    assert res.max_abs_error_m == pytest.approx(0.1) and res.n_strides == 3
+    with pytest.warns(DataQualityWarning):
+        assert stride_length_errors(est, ref[:3]).n_strides == 2
+    with pytest.raises(InvalidInputError, match="'est_footprints'"):
+        stride_length_errors(est[:1], ref)
+
+
+# ---------------------------------------------------------------------------------------------
+# events and steps
+# ---------------------------------------------------------------------------------------------
+def test_match_events_hand_computed():
+    # one detection between two references: it can serve only one of them
+    m, missed, false = match_events([10], [9, 11], tolerance=2)
+    assert len(m) == 1 and len(missed) == 1 and len(false) == 0
+    # greedy-by-distance would take (6, 5) (distance 1) and leave 4 and 8 unmatched;
+    # the optimal one-to-one matching is (4, 5) and (6, 8)
+    m, missed, false = match_events([4, 6], [5, 8], tolerance=2)
+    np.testing.assert_array_equal(m, [[4, 5], [6, 8]])
+    assert len(missed) == 0 and len(false) == 0
+    # tolerance is inclusive
+    assert len(match_events([0], [3], tolerance=2).matches) == 0
+    assert len(match_events([0], [3], tolerance=3).matches) == 1
+    # empty inputs are valid: everything missed / false
+    r = match_events([], [1, 2], tolerance=1)
+    assert len(r.matches) == 0 and list(r.missed) == [1, 2] and len(r.false) == 0
+    with pytest.raises(InvalidInputError, match="'reference'"):
+        match_events([1], [np.nan], tolerance=1)
+    with pytest.raises(InvalidParameterError):
+        match_events([1], [1], tolerance=-1)
+
+
+def greedy_max_matching(det, ref, tol):
+    """Maximum number of one-to-one matches for equal-width windows: sorted greedy is optimal."""
+    det = sorted(det)
+    used = [False] * len(det)
+    count = 0
+    for r in sorted(ref):
+        for i, d in enumerate(det):
+            if not used[i] and r - tol <= d <= r + tol:
+                used[i] = True
+                count += 1
+                break
+    return count
+
+
+@settings(max_examples=200, deadline=None)
+@given(
+    det=st.lists(st.integers(0, 60), max_size=15),
+    ref=st.lists(st.integers(0, 60), max_size=15),
+    tol=st.integers(0, 6),
+)
+def test_match_events_is_one_to_one_and_maximal(det, ref, tol):
+    m, missed, false = match_events(np.array(det, dtype=np.int64), np.array(ref, dtype=np.int64), tolerance=tol)
+    assert (np.abs(m[:, 0] - m[:, 1]) <= tol).all()
+    # every event is used once: matched + leftover reproduce each input multiset exactly
+    assert sorted(list(m[:, 0]) + list(false)) == sorted(det)
+    assert sorted(list(m[:, 1]) + list(missed)) == sorted(ref)
+    assert len(m) == greedy_max_matching(det, ref, tol)
+
+
+def stance_mask(n: int, runs) -> np.ndarray:
+    mask = np.zeros(n, bool)
+    for a, b in runs:
+        mask[a:b] = True
+    return mask
+
+
+def test_step_detection_hand_computed():
+    # reference stances [2,6) [12,16) [22,26): centers 3.5, 13.5, 23.5
+    # detected [3,7) [12,15) [30,34) [35,37): centers 4.5, 13, 31.5, 35.5
+    # tolerance 2: 4.5<->3.5, 13<->13.5 found; 23.5 missed; 31.5, 35.5 false
+    ref = stance_mask(40, [(2, 6), (12, 16), (22, 26)])
+    det = stance_mask(40, [(3, 7), (12, 15), (30, 34), (35, 37)])
+    res = step_detection(det, ref, tolerance_samples=2)
+    assert (res.n_detected, res.n_reference, res.n_found, res.n_missed, res.n_false) == (4, 3, 2, 1, 2)
+    assert res.missed_percent == pytest.approx(100 / 3) and res.false_percent == pytest.approx(200 / 3)
+    # onsets 3, 12, 30, 35 vs 2, 12, 22: same counts here
+    on = step_detection(det, ref, tolerance_samples=2, anchor="onset")
+    assert (on.n_found, on.n_missed, on.n_false) == (2, 1, 2)
+    with pytest.raises(InvalidInputError, match="'detected_mask'"):
+        step_detection(det[:-1], ref, tolerance_samples=2)
+
+
+def test_step_detection_reproduces_seed003_table1_rate():
+    # [003] Table 1, LR-HMM: 735 steps detected for 729 true steps, 0 missing, 6 extra:
+    # 100 * 6 / 729 = 0.823 %.
+    period, n_ref = 10, 729
+    ref = stance_mask(period * n_ref, [(period * k, period * k + 4) for k in range(n_ref)])
+    extra = [(period * k + 6, period * k + 8) for k in (5, 100, 200, 300, 400, 500)]
+    det = ref | stance_mask(period * n_ref, extra)
+    res = step_detection(det, ref, tolerance_samples=2)
+    assert (res.n_detected, res.n_found, res.n_missed, res.n_false) == (735, 729, 0, 6)
+    assert (res.found, res.missed, res.false) == (729, 0, 6)
+    assert round(res.false_percent, 3) == 0.823
+
+
+def test_sample_scores_hand_computed():
+    # det 1 1 0 0 1 0 / ref 1 0 0 1 1 0: TP = {0, 4} = 2, FP = {1} = 1, FN = {3} = 1, TN = {2, 5} = 2
+    # precision 2/3, recall 2/3, F1 = 4 / (4 + 1 + 1) = 2/3, accuracy 4/6
+    s = sample_scores([1, 1, 0, 0, 1, 0], [1, 0, 0, 1, 1, 0])
+    assert (s.n_true_positive, s.n_false_positive, s.n_false_negative, s.n_true_negative) == (2, 1, 1, 2)
+    assert s.precision == pytest.approx(2 / 3) and s.recall == pytest.approx(2 / 3)
+    assert s.f1 == pytest.approx(2 / 3) and s.accuracy == pytest.approx(4 / 6)
+    assert math.isnan(sample_scores([0, 0], [1, 0]).precision)
+    with pytest.raises(InvalidInputError, match="'reference_mask'"):
+        sample_scores([1, 0], [1, 2])
+    with pytest.raises(InvalidInputError, match="'detected_mask'"):
+        sample_scores([], [])
+
+
+def test_event_timing_error_hand_computed():
+    # at 100 Hz: pairs (102,100) +2, (198,200) -2, (305,300) +5 samples = +0.02, -0.02, +0.05 s;
+    # 500 is false. |e| = 0.02, 0.02, 0.05: mean 0.03, population std sqrt((1+1+4)e-4 / 3) =
+    # sqrt(2e-4), max 0.05; signed mean 0.05 / 3
+    res = event_timing_error([102, 198, 305, 500], [100, 200, 300], tolerance=10, rate_hz=100.0)
+    assert res.mean_abs_error_s == pytest.approx(0.03)
+    assert res.std_abs_error_s == pytest.approx(math.sqrt(2e-4))
+    assert res.max_abs_error_s == pytest.approx(0.05)
+    assert res.mean_error_s == pytest.approx(0.05 / 3)
+    assert (res.n_matched, res.n_missed, res.n_false) == (3, 0, 1)
+    assert math.isnan(event_timing_error([], [1], tolerance=1, rate_hz=100.0).mean_abs_error_s)
+    with pytest.raises(InvalidParameterError):
+        event_timing_error([1], [1], tolerance=1, rate_hz=0.0)

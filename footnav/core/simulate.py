@@ -1,0 +1,775 @@
+"""A two-foot walking simulator: foot-mounted IMU signals with exact truth.
+
+The walker follows a centre line made of straight lines and circular arcs. Footprints are placed
+alternately on both sides of it (``step_width_m`` apart, heading along the line), and each foot
+moves from one footprint to its next through a smooth analytic gait cycle:
+
+``stance`` (foot flat, zero velocity and angular rate) -> ``heel_off`` (the heel rises, the foot
+pitches toe-down about the toe) -> ``swing`` (airborne: the foot moves forward, lifts and pitches
+from toe-down to toe-up while turning to its new heading) -> ``foot_flat`` (the heel has struck
+with the toe up; the foot rotates flat about the heel) -> ``stance``.
+
+The foot is a rigid body. Its pose is written ``p(t) = X(t) - C(t) c(t)``: ``c`` is a body-frame
+contact point (the toe during heel-off, the heel during foot-flat, moving smoothly from toe to heel
+while airborne) and ``X`` its nav-frame position (fixed while the foot pivots on it). ``X``, ``c``,
+the pitch and the heading are quintic polynomials in time with matched position, rate and
+acceleration at every phase boundary, so position, velocity, acceleration, orientation and
+angular rate are continuous, and the IMU signals follow analytically from them (no numerical
+differentiation).
+
+Frames: nav is footnav's (z up, x the initial walking direction, origin midway between the feet at
+the start); the foot frame is x forward, y left, z up, its origin at the sensor, which sits
+``_SENSOR_HEIGHT_M`` above the ground so that the sensor's nav z is 0 in stance.
+"""
+
+from __future__ import annotations
+
+import difflib
+import math
+from dataclasses import dataclass
+from numbers import Real
+from typing import Any, Mapping, Sequence
+
+import numpy as np
+from numpy.typing import NDArray
+
+from footnav.core import quaternion as quat
+from footnav.core.errors import InvalidParameterError
+from footnav.core.types import GRAVITY_MPS2, FootTruth, ImuData, Recording
+
+__all__ = ["simulate", "SCENARIOS", "PHASE_NAMES"]
+
+#: Scenario names accepted by :func:`simulate`.
+SCENARIOS = ("straight", "rectangle", "path")
+
+#: Names of the per-sample gait phase labels in ``FootTruth.meta["phases"]``.
+PHASE_NAMES = ("stance", "heel_off", "swing", "foot_flat")
+_STANCE, _HEEL_OFF, _SWING, _FOOT_FLAT = range(len(PHASE_NAMES))
+
+# Foot geometry in the foot frame (origin at the sensor on the instep, x forward, z up): the heel
+# contact point and the toe pivot (metatarsal heads), about 0.22 m apart as on an adult foot.
+_SENSOR_HEIGHT_M = 0.06
+_HEEL_B = np.array([-0.10, 0.0, -_SENSOR_HEIGHT_M])
+_TOE_B = np.array([0.12, 0.0, -_SENSOR_HEIGHT_M])
+
+# Pitch rate at toe-off and at heel strike as a fraction of the mean rate of the neighbouring
+# pivot phase: the foot is still rotating toe-down when it leaves the ground and already rotating
+# toe-down when the heel lands, so no instant of the swing has zero velocity.
+_TOE_OFF_RATE_FRACTION = 0.5
+_HEEL_STRIKE_RATE_FRACTION = 0.5
+
+# The lift bump 64 u^3 (1-u)^3 peaks at 1 for u = 1/2 and is flat to second order at both ends.
+_BUMP_GAIN = 64.0
+
+# Samples this close to heel-off or foot-flat are taken as stance: the profiles are at rest there
+# to second order, so the motion this ignores is ~1e-15 m/s.
+_EVENT_TIME_TOL_S = 1e-9
+
+# A closed walk ends within this distance of its start (m); the geometry is exact up to rounding.
+_CLOSED_LOOP_TOL_M = 1e-6
+
+_COMMON_DEFAULTS: dict[str, Any] = {
+    "stride_length_m": 1.4,
+    "stride_period_s": 1.1,
+    "step_width_m": 0.2,
+    "standstill_s": 2.0,
+    "turn_radius_m": 1.5,
+    "foot_lift_m": 0.12,
+    "heel_off_s": 0.1,
+    "swing_s": 0.4,
+    "foot_flat_s": 0.1,
+    "toe_off_pitch_deg": 30.0,
+    "heel_strike_pitch_deg": 20.0,
+    "mounting_rpy_deg": (0.0, 0.0, 0.0),
+    "noise": True,
+    # Consumer/industrial MEMS grade (BMI160 / MPU-9250 / MTi-3 class): ~0.01 deg/s/sqrt(Hz) and
+    # ~100 ug/sqrt(Hz) white noise, ~0.1 deg/s and ~2 mg turn-on bias after factory calibration.
+    "gyr_noise_density_radps_sqrthz": 1.7e-4,
+    "acc_noise_density_mps2_sqrthz": 1.0e-3,
+    "gyr_bias_std_radps": 2.0e-3,
+    "acc_bias_std_mps2": 2.0e-2,
+    "gyr_bias_walk_radps2_sqrthz": 1.0e-5,
+    "acc_bias_walk_mps3_sqrthz": 1.0e-4,
+}
+
+_NOISE_KEYS = (
+    "gyr_noise_density_radps_sqrthz",
+    "acc_noise_density_mps2_sqrthz",
+    "gyr_bias_std_radps",
+    "acc_bias_std_mps2",
+    "gyr_bias_walk_radps2_sqrthz",
+    "acc_bias_walk_mps3_sqrthz",
+)
+
+_SCENARIO_DEFAULTS: dict[str, dict[str, Any]] = {
+    "straight": {"distance_m": 100.0},
+    "rectangle": {"width_m": 105.0, "height_m": 68.0, "direction": "ccw"},
+    "path": {"segments": None},
+}
+
+_DIRECTIONS = ("ccw", "cw")
+
+
+# -- option handling ----------------------------------------------------------------------------
+
+
+def _fail(name: str, value: Any, expected: str) -> InvalidParameterError:
+    return InvalidParameterError(f"simulate(): option {name}={value!r} is invalid; expected {expected}")
+
+
+def _number(opts: dict[str, Any], name: str) -> float:
+    value = opts[name]
+    if isinstance(value, bool) or not isinstance(value, Real) or not math.isfinite(float(value)):
+        raise _fail(name, value, "a finite number")
+    return float(value)
+
+
+def _positive(opts: dict[str, Any], name: str) -> float:
+    value = _number(opts, name)
+    if value <= 0:
+        raise _fail(name, opts[name], "a number > 0")
+    return value
+
+
+def _non_negative(opts: dict[str, Any], name: str) -> float:
+    value = _number(opts, name)
+    if value < 0:
+        raise _fail(name, opts[name], "a number >= 0")
+    return value
+
+
+def _resolve_options(scenario: Any, rate_hz: Any, options: Mapping[str, Any]) -> dict[str, Any]:
+    """Defaults merged with ``options``, every value checked; raises InvalidParameterError."""
+    if scenario not in _SCENARIO_DEFAULTS:
+        raise InvalidParameterError(
+            f"simulate(): unknown scenario {scenario!r}; valid scenarios: {', '.join(SCENARIOS)}"
+        )
+    if isinstance(rate_hz, bool) or not isinstance(rate_hz, Real) or not (math.isfinite(rate_hz) and rate_hz > 0):
+        raise _fail("rate_hz", rate_hz, "a finite number > 0 (Hz)")
+    valid = {**_SCENARIO_DEFAULTS[scenario], **_COMMON_DEFAULTS}
+    unknown = [k for k in options if k not in valid]
+    if unknown:
+        hints = []
+        for k in unknown:
+            close = difflib.get_close_matches(k, list(valid), n=1)
+            hints.append(f"{k!r}" + (f" (did you mean {close[0]!r}?)" if close else ""))
+        raise InvalidParameterError(
+            f"simulate(): scenario {scenario!r} has no option {', '.join(hints)}; "
+            f"valid options: {', '.join(sorted(valid))}"
+        )
+    opts = {**valid, **options}
+
+    for name in ("stride_length_m", "stride_period_s", "turn_radius_m", "foot_lift_m", "heel_off_s",
+                 "swing_s", "foot_flat_s"):
+        opts[name] = _positive(opts, name)
+    for name in ("step_width_m", "standstill_s", *_NOISE_KEYS):
+        opts[name] = _non_negative(opts, name)
+    for name in ("toe_off_pitch_deg", "heel_strike_pitch_deg"):
+        value = _number(opts, name)
+        if not 0 < value < 90:
+            raise _fail(name, opts[name], "a pitch angle in (0, 90) deg")
+        opts[name] = value
+    if not isinstance(opts["noise"], (bool, np.bool_)):
+        raise _fail("noise", opts["noise"], "True or False")
+    opts["noise"] = bool(opts["noise"])
+    try:
+        rpy = tuple(float(a) for a in opts["mounting_rpy_deg"])
+    except (TypeError, ValueError):
+        rpy = ()
+    if len(rpy) != 3 or not all(math.isfinite(a) for a in rpy):
+        raise _fail("mounting_rpy_deg", opts["mounting_rpy_deg"], "three finite angles (roll, pitch, yaw) in deg")
+    opts["mounting_rpy_deg"] = rpy
+
+    # Walking, not running: while one foot is airborne the other must be flat on the ground, which
+    # with the half-stride offset between the feet needs both of these.
+    half = opts["stride_period_s"] / 2
+    if opts["swing_s"] + max(opts["heel_off_s"], opts["foot_flat_s"]) > half:
+        raise _fail(
+            "swing_s",
+            opts["swing_s"],
+            f"swing_s + max(heel_off_s, foot_flat_s) <= stride_period_s / 2 = {half:g} s so that one foot is "
+            "flat while the other swings",
+        )
+    if opts["turn_radius_m"] <= opts["step_width_m"] / 2:
+        raise _fail("turn_radius_m", opts["turn_radius_m"], f"> step_width_m / 2 = {opts['step_width_m'] / 2:g} m")
+
+    if scenario == "straight":
+        opts["distance_m"] = _positive(opts, "distance_m")
+    elif scenario == "rectangle":
+        for name in ("width_m", "height_m"):
+            value = _positive(opts, name)
+            if value <= 2 * opts["turn_radius_m"]:
+                raise _fail(name, opts[name], f"> 2 * turn_radius_m = {2 * opts['turn_radius_m']:g} m")
+            opts[name] = value
+        if opts["direction"] not in _DIRECTIONS:
+            raise _fail("direction", opts["direction"], f"one of {', '.join(map(repr, _DIRECTIONS))}")
+    else:
+        opts["segments"] = _check_segments(opts["segments"])
+    return opts
+
+
+def _check_segments(segments: Any) -> list[tuple[float, float]]:
+    expected = "a non-empty sequence of (distance_m >= 0, turn_deg) pairs with some walking"
+    if segments is None:
+        raise InvalidParameterError(
+            "simulate(): scenario 'path' needs option segments=[(distance_m, turn_deg), ...]"
+        )
+    try:
+        out = [(float(d), float(a)) for d, a in segments]
+    except (TypeError, ValueError):
+        raise _fail("segments", segments, expected) from None
+    if not out or any(not (math.isfinite(d) and math.isfinite(a)) or d < 0 for d, a in out):
+        raise _fail("segments", segments, expected)
+    if all(d == 0 and a == 0 for d, a in out):
+        raise _fail("segments", segments, expected)
+    return out
+
+
+# -- centre line --------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class _CentreLine:
+    """Straight lines and circular arcs joined end to end, starting at the origin heading +x.
+
+    Each piece ``i`` starts at arc length ``start[i]`` (m), point ``xy[i]`` (m) and heading
+    ``heading[i]`` (rad, unwrapped) and has curvature ``curvature[i]`` (1/m, + = left, 0 = line).
+    """
+
+    start: NDArray[np.float64]
+    xy: NDArray[np.float64]
+    heading: NDArray[np.float64]
+    curvature: NDArray[np.float64]
+    length_m: float
+
+    @classmethod
+    def build(cls, pieces: Sequence[tuple[float, float]]) -> "_CentreLine":
+        """From ``(length_m, curvature_per_m)`` pieces; zero-length pieces are dropped."""
+        pieces = [(l, k) for l, k in pieces if l > 0]
+        start, xy, heading, curvature = [], [], [], []
+        s, p, h = 0.0, np.zeros(2), 0.0
+        for length, k in pieces:
+            start.append(s)
+            xy.append(p)
+            heading.append(h)
+            curvature.append(k)
+            p, h = cls._advance(p, h, k, length)
+            s += length
+        return cls(np.array(start), np.array(xy), np.array(heading), np.array(curvature), s)
+
+    @staticmethod
+    def _advance(p: NDArray, h: Any, k: Any, ds: Any) -> tuple[NDArray, Any]:
+        """Point and heading after ``ds`` along a piece of curvature ``k`` (vectorised)."""
+        h1 = h + k * ds
+        arc = np.abs(k) > 0
+        safe_k = np.where(arc, k, 1.0)
+        dx = np.where(arc, (np.sin(h1) - np.sin(h)) / safe_k, ds * np.cos(h))
+        dy = np.where(arc, (np.cos(h) - np.cos(h1)) / safe_k, ds * np.sin(h))
+        return p + np.stack([dx, dy], axis=-1), h1
+
+    def __call__(self, s: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """Point (M, 2) in m and heading (M,) in rad at arc lengths ``s`` (M,) in m."""
+        i = np.clip(np.searchsorted(self.start, s, side="right") - 1, 0, len(self.start) - 1)
+        return self._advance(self.xy[i], self.heading[i], self.curvature[i], s - self.start[i])
+
+
+def _centre_line(scenario: str, opts: dict[str, Any]) -> tuple[_CentreLine, dict[str, Any]]:
+    """The scenario's centre line and a description of it for the truth's meta."""
+    r = opts["turn_radius_m"]
+    if scenario == "straight":
+        return _CentreLine.build([(opts["distance_m"], 0.0)]), {}
+    if scenario == "rectangle":
+        w, h = opts["width_m"], opts["height_m"]
+        sign = 1.0 if opts["direction"] == "ccw" else -1.0
+        quarter = np.pi / 2 * r
+        # Start in the middle of a long side so the walk ends exactly where and as it started
+        # (same heading, same footprints) after four corners rounded with the turn radius.
+        pieces = [(w / 2 - r, 0.0)]
+        for side in (h, w, h):
+            pieces += [(quarter, sign / r), (side - 2 * r, 0.0)]
+        pieces += [(quarter, sign / r), (w / 2 - r, 0.0)]
+        y0, y1 = (0.0, h) if sign > 0 else (-h, 0.0)
+        corners = np.array([[-w / 2, y0], [w / 2, y0], [w / 2, y1], [-w / 2, y1]])
+        return _CentreLine.build(pieces), {"rectangle_corners_m": corners}
+    pieces = []
+    for distance, turn_deg in opts["segments"]:
+        pieces.append((distance, 0.0))
+        if turn_deg != 0:
+            pieces.append((abs(math.radians(turn_deg)) * r, math.copysign(1.0 / r, turn_deg)))
+    return _CentreLine.build(pieces), {}
+
+
+# -- gait plan ----------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class _Swings:
+    """One foot's swings: event times (K,) in s and the footprints it leaves and reaches."""
+
+    t_heel_off: NDArray[np.float64]
+    t_toe_off: NDArray[np.float64]
+    t_heel_strike: NDArray[np.float64]
+    t_foot_flat: NDArray[np.float64]
+    xy_from: NDArray[np.float64]
+    heading_from: NDArray[np.float64]
+    xy_to: NDArray[np.float64]
+    heading_to: NDArray[np.float64]
+
+
+def _plan(line: _CentreLine, opts: dict[str, Any]) -> tuple[dict[str, _Swings], dict[str, Any]]:
+    """Footprints and swing timing of both feet along ``line``.
+
+    The walk starts with the feet side by side. With ``n`` steps of length ``l = length / n``
+    (``l`` close to half the stride) footfalls land at arc lengths ``l, 2 l, ..., n l``, alternating
+    right, left, ...; swing ``j`` (j = 0..n) takes its foot from arc length ``(j-1) l`` (0 for the
+    first two) to ``min(j+1, n) l``, so the first and the last swing are half strides and the feet
+    end side by side. Swing ``j`` starts (heel-off) ``j`` half stride periods after the standstill.
+    """
+    n = max(1, int(round(line.length_m / (opts["stride_length_m"] / 2))))
+    step = line.length_m / n
+    j = np.arange(n + 1)
+    s_from = np.maximum(j - 1, 0) * step
+    s_to = np.minimum(j + 1, n) * step
+    t_ho = opts["standstill_s"] + j * opts["stride_period_s"] / 2
+    t_to = t_ho + opts["heel_off_s"]
+    t_hs = t_to + opts["swing_s"]
+    t_ff = t_hs + opts["foot_flat_s"]
+    swings = {}
+    for foot, side, first in (("right", -1.0, 0), ("left", 1.0, 1)):
+        sel = j % 2 == first
+        xy_from, h_from = _footprint(line, s_from[sel], side * opts["step_width_m"] / 2)
+        xy_to, h_to = _footprint(line, s_to[sel], side * opts["step_width_m"] / 2)
+        swings[foot] = _Swings(t_ho[sel], t_to[sel], t_hs[sel], t_ff[sel], xy_from, h_from, xy_to, h_to)
+    duration = float(t_ff[-1] + opts["standstill_s"])
+    info = {
+        "path_length_m": line.length_m,
+        "n_steps": n,
+        "step_length_m": step,
+        "stride_length_m_actual": 2 * step,
+        "duration_s": duration,
+        "first_foot": "right",
+    }
+    return swings, info
+
+
+def _footprint(line: _CentreLine, s: NDArray, offset_left_m: float) -> tuple[NDArray, NDArray]:
+    xy, heading = line(s)
+    normal = np.stack([-np.sin(heading), np.cos(heading)], axis=-1)
+    return xy + offset_left_m * normal, heading
+
+
+# -- analytic profiles --------------------------------------------------------------------------
+
+
+def _quintic_coefficients(p0: float, v0: float, p1: float, v1: float, duration: float) -> NDArray[np.float64]:
+    """Coefficients c0..c5 in normalised time u in [0, 1] of the quintic from (p0, v0, 0) to (p1, v1, 0).
+
+    Values in the unit of p, rates v in unit/s; zero acceleration at both ends keeps the profile
+    second-order continuous with a rest or another such segment.
+    """
+    d0, d1 = v0 * duration, v1 * duration
+    big_p = p1 - p0 - d0
+    big_v = d1 - d0
+    return np.array([p0, d0, 0.0, 10 * big_p - 4 * big_v, -15 * big_p + 7 * big_v, 6 * big_p - 3 * big_v])
+
+
+def _polyval(c: NDArray, u: NDArray, duration: NDArray) -> tuple[NDArray, NDArray, NDArray]:
+    """Value and first two time derivatives of per-sample quintics ``c`` (N, 6) at ``u`` (N,)."""
+    c0, c1, c2, c3, c4, c5 = c.T
+    val = c0 + u * (c1 + u * (c2 + u * (c3 + u * (c4 + u * c5))))
+    d1 = c1 + u * (2 * c2 + u * (3 * c3 + u * (4 * c4 + u * 5 * c5)))
+    d2 = 2 * c2 + u * (6 * c3 + u * (12 * c4 + u * 20 * c5))
+    return val, d1 / duration, d2 / duration**2
+
+
+def _smoothstep(u: NDArray, duration: float) -> tuple[NDArray, NDArray, NDArray]:
+    """Minimum-jerk 0 -> 1 blend and its time derivatives; rest (zero rate and acceleration) at both ends."""
+    w = 1.0 - u
+    return (
+        u**3 * (10.0 - 15.0 * u + 6.0 * u**2),
+        30.0 * u**2 * w**2 / duration,
+        60.0 * u * w * (w - u) / duration**2,
+    )
+
+
+def _bump(u: NDArray, duration: float) -> tuple[NDArray, NDArray, NDArray]:
+    """0 -> 1 -> 0 lift profile 64 u^3 (1-u)^3 and its time derivatives, flat to second order at the ends."""
+    g = u * (1.0 - u)
+    dg = 1.0 - 2.0 * u
+    return (
+        _BUMP_GAIN * g**3,
+        3 * _BUMP_GAIN * g**2 * dg / duration,
+        3 * _BUMP_GAIN * g * (2 * dg**2 - 2 * g) / duration**2,
+    )
+
+
+# -- one foot -----------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class _FootMotion:
+    """Noise-free motion of one foot's sensor at the sample times (sensor frame = foot frame)."""
+
+    position: NDArray[np.float64]
+    velocity: NDArray[np.float64]
+    quaternion: NDArray[np.float64]
+    gyr: NDArray[np.float64]
+    acc: NDArray[np.float64]
+    phase: NDArray[np.int8]
+
+
+def _foot_motion(t: NDArray[np.float64], sw: _Swings, opts: dict[str, Any]) -> _FootMotion:
+    """Evaluate the gait model of one foot at times ``t`` (N,), fully vectorised."""
+    n = len(t)
+    # k: the latest swing that has started (heel-off before t); -1 before the first. A sample at
+    # heel-off or foot-flat (up to the rounding of the event times) has zero velocity and rate,
+    # so it counts as stance.
+    k = np.searchsorted(sw.t_heel_off, t - _EVENT_TIME_TOL_S, side="left") - 1
+    started = k >= 0
+    kk = np.maximum(k, 0)
+    phase = np.full(n, _STANCE, dtype=np.int8)
+    phase[started & (t < sw.t_foot_flat[kk] - _EVENT_TIME_TOL_S)] = _FOOT_FLAT
+    phase[started & (t < sw.t_heel_strike[kk])] = _SWING
+    phase[started & (t < sw.t_toe_off[kk])] = _HEEL_OFF
+
+    # Stance: flat on the footprint reached by the last swing (or the initial one), nothing
+    # moves, so velocity and angular rate are exactly zero and the sensor reads +g up.
+    still = np.flatnonzero(phase == _STANCE)
+    ks = k[still]
+    stand_xy = np.where((ks >= 0)[:, None], sw.xy_to[np.maximum(ks, 0)], sw.xy_from[0])
+    stand_h = np.where(ks >= 0, sw.heading_to[np.maximum(ks, 0)], sw.heading_from[0])
+    pos = np.zeros((n, 3))
+    vel = np.zeros((n, 3))
+    gyr = np.zeros((n, 3))
+    acc = np.zeros((n, 3))
+    q = np.empty((n, 4))
+    pos[still, :2] = stand_xy
+    q[still] = quat.from_yaw(stand_h)
+    acc[still, 2] = GRAVITY_MPS2
+
+    moving = np.flatnonzero(phase != _STANCE)
+    m = _moving_motion(t[moving], phase[moving], k[moving], sw, opts)
+    pos[moving], vel[moving], q[moving], gyr[moving], acc[moving] = m
+    return _FootMotion(pos, vel, q, gyr, acc, phase)
+
+
+def _moving_motion(
+    t: NDArray[np.float64], phase: NDArray[np.int8], k: NDArray[np.int64], sw: _Swings, opts: dict[str, Any]
+) -> tuple[NDArray, NDArray, NDArray, NDArray, NDArray]:
+    """Position, velocity, quaternion, body rate and specific force in heel-off, swing and foot-flat.
+
+    ``k`` (M,) is the swing each sample belongs to.
+    """
+    n = len(t)
+    t_start = np.select(
+        [phase == _HEEL_OFF, phase == _SWING],
+        [sw.t_heel_off[k], sw.t_toe_off[k]],
+        default=sw.t_heel_strike[k],
+    )
+    durations = np.array([1.0, opts["heel_off_s"], opts["swing_s"], opts["foot_flat_s"]])
+    dur = durations[phase]
+    u = np.clip((t - t_start) / dur, 0.0, 1.0)
+
+    # Pitch (toe-down positive: a rotation about the foot's y axis, which points left) through
+    # heel-off, swing and foot-flat: one quintic per phase, matched in value, rate and
+    # acceleration at toe-off and heel strike and at rest at both ends.
+    th_to = math.radians(opts["toe_off_pitch_deg"])
+    th_hs = -math.radians(opts["heel_strike_pitch_deg"])
+    w_to = _TOE_OFF_RATE_FRACTION * th_to / opts["heel_off_s"]
+    w_hs = _HEEL_STRIKE_RATE_FRACTION * (-th_hs) / opts["foot_flat_s"]
+    pitch_coef = np.stack(
+        [
+            np.zeros(6),
+            _quintic_coefficients(0.0, 0.0, th_to, w_to, opts["heel_off_s"]),
+            _quintic_coefficients(th_to, w_to, th_hs, w_hs, opts["swing_s"]),
+            _quintic_coefficients(th_hs, w_hs, 0.0, 0.0, opts["foot_flat_s"]),
+        ]
+    )
+    th, th_d, th_dd = _polyval(pitch_coef[phase], u, dur)
+
+    # Blend g from the old footprint to the new one: 0 through heel-off, min-jerk while
+    # airborne, 1 through foot-flat. Heading, contact point and its position all follow it.
+    swing = phase == _SWING
+    g_s, g_d_s, g_dd_s = _smoothstep(u, opts["swing_s"])
+    g = np.where(swing, g_s, (phase == _FOOT_FLAT).astype(float))
+    g_d = np.where(swing, g_d_s, 0.0)
+    g_dd = np.where(swing, g_dd_s, 0.0)
+    b_s, b_d_s, b_dd_s = _bump(u, opts["swing_s"])
+    lift = opts["foot_lift_m"]
+
+    h_from, h_to = sw.heading_from[k], sw.heading_to[k]
+    dpsi = h_to - h_from
+    psi = h_from + dpsi * g
+    psi_d = dpsi * g_d
+    psi_dd = dpsi * g_dd
+
+    # Contact point X (nav): the toe where the foot leaves the ground, the heel where it lands.
+    toe_from = _horizontal_point(sw.xy_from[k], h_from, _TOE_B)
+    heel_to = _horizontal_point(sw.xy_to[k], h_to, _HEEL_B)
+    dx = heel_to - toe_from
+    x_pos = toe_from + dx * g[:, None]
+    x_vel = dx * g_d[:, None]
+    x_acc = dx * g_dd[:, None]
+    x_pos[:, 2] += np.where(swing, lift * b_s, 0.0)
+    x_vel[:, 2] += np.where(swing, lift * b_d_s, 0.0)
+    x_acc[:, 2] += np.where(swing, lift * b_dd_s, 0.0)
+    # Body-frame contact point c: toe -> heel with the same blend.
+    toe_to_heel = _HEEL_B - _TOE_B
+    c = _TOE_B + np.outer(g, toe_to_heel)
+    c_d = np.outer(g_d, toe_to_heel)
+    c_dd = np.outer(g_dd, toe_to_heel)
+
+    # Orientation C = Rz(psi) Ry(th); body angular rate and its derivative follow analytically.
+    q = quat.from_euler(np.zeros(n), th, psi)
+    cmat = quat.as_matrix(q)
+    s_th, c_th = np.sin(th), np.cos(th)
+    omega = np.stack([-s_th * psi_d, th_d, c_th * psi_d], axis=-1)
+    omega_d = np.stack(
+        [-c_th * th_d * psi_d - s_th * psi_dd, th_dd, -s_th * th_d * psi_d + c_th * psi_dd], axis=-1
+    )
+
+    # p = X - C c:  v = X' - C (w x c + c'),  a = X'' - C (w' x c + w x (w x c) + 2 w x c' + c'').
+    w_c = np.cross(omega, c)
+    vel = x_vel - np.einsum("nij,nj->ni", cmat, w_c + c_d)
+    body_terms = np.cross(omega_d, c) + np.cross(omega, w_c) + 2.0 * np.cross(omega, c_d) + c_dd
+    up = np.array([0.0, 0.0, GRAVITY_MPS2])
+    # f_b = C^T (a_n - g_n) with g_n = -up.
+    acc = np.einsum("nji,nj->ni", cmat, x_acc + up) - body_terms
+    pos = x_pos - np.einsum("nij,nj->ni", cmat, c)
+    return pos, vel, q, omega, acc
+
+
+def _horizontal_point(xy: NDArray, heading: NDArray, point_b: NDArray) -> NDArray:
+    """Nav position of foot point ``point_b`` when the foot stands flat at ``xy`` (sensor z = 0)."""
+    ch, sh = np.cos(heading), np.sin(heading)
+    return np.column_stack(
+        [
+            xy[:, 0] + ch * point_b[0] - sh * point_b[1],
+            xy[:, 1] + sh * point_b[0] + ch * point_b[1],
+            np.full(len(xy), point_b[2]),
+        ]
+    )
+
+
+def _nearest_index(times: NDArray, rate_hz: float, n: int) -> NDArray[np.int64]:
+    return np.clip(np.rint(times * rate_hz), 0, n - 1).astype(np.int64)
+
+
+def _sensor_errors(
+    rng: np.random.Generator, n: int, rate_hz: float, opts: dict[str, Any]
+) -> dict[str, NDArray[np.float64]]:
+    """Turn-on bias, bias random walk and white noise of one IMU (all zero without noise)."""
+    zeros3 = np.zeros(3)
+    if not opts["noise"]:
+        return {
+            "gyr_turn_on_radps": zeros3,
+            "acc_turn_on_mps2": zeros3,
+            "gyr_radps": np.zeros((n, 3)),
+            "acc_mps2": np.zeros((n, 3)),
+            "gyr_white": np.zeros((n, 3)),
+            "acc_white": np.zeros((n, 3)),
+        }
+    dt = 1.0 / rate_hz
+    sqrt_rate = math.sqrt(rate_hz)
+    out: dict[str, NDArray[np.float64]] = {}
+    for sensor, unit in (("gyr", "radps"), ("acc", "mps2")):
+        b0 = rng.normal(0.0, opts[f"{sensor}_bias_std_{unit}"], 3)
+        walk_key = "gyr_bias_walk_radps2_sqrthz" if sensor == "gyr" else "acc_bias_walk_mps3_sqrthz"
+        steps = rng.normal(0.0, opts[walk_key] * math.sqrt(dt), (n, 3))
+        steps[0] = 0.0  # the bias at the first sample is the turn-on bias
+        out[f"{sensor}_turn_on_{unit}"] = b0
+        out[f"{sensor}_{unit}"] = b0 + np.cumsum(steps, axis=0)
+        out[f"{sensor}_white"] = rng.normal(0.0, opts[f"{sensor}_noise_density_{unit}_sqrthz"] * sqrt_rate, (n, 3))
+    return out
+
+
+# -- public API ---------------------------------------------------------------------------------
+
+
+def simulate(scenario: str = "straight", *, seed: int = 0, rate_hz: float = 100.0, **options: Any) -> Recording:
+    """Simulate a walk with a foot-mounted IMU on each foot, with exact truth.
+
+    Parameters
+    ----------
+    scenario
+        ``"straight"``, ``"rectangle"`` or ``"path"`` (see Other Parameters for their options).
+    seed
+        Seed of ``numpy.random.default_rng``; each foot's sensor draws from its own child
+        generator, so the same seed gives identical recordings. Only the sensor errors are
+        random; the walk itself depends on the options alone.
+    rate_hz
+        Sampling rate of IMU and truth in Hz; samples at ``t = k / rate_hz`` s from 0.
+    **options
+        Scenario and walker options below; an unknown name raises InvalidParameterError.
+
+    Other Parameters
+    ----------------
+    distance_m : float, default 100.0
+        ``"straight"``: distance walked along +x in m.
+    width_m : float, default 105.0
+        ``"rectangle"``: side along x in m. The walk starts in the middle of this side (the
+        feet side by side at x = 0), goes round the rectangle and stops where it started, with
+        the same heading and footprints; the corners are arcs of ``turn_radius_m``.
+    height_m : float, default 68.0
+        ``"rectangle"``: side along y in m.
+    direction : {"ccw", "cw"}, default "ccw"
+        ``"rectangle"``: counter-clockwise (left turns, rectangle at y >= 0) or clockwise (right
+        turns, rectangle at y <= 0).
+    segments : sequence of (float, float)
+        ``"path"`` (required): ``(distance_m, turn_deg)`` pairs: walk ``distance_m`` m straight,
+        then turn by ``turn_deg`` deg (positive = left/CCW) along an arc of ``turn_radius_m``.
+    stride_length_m : float, default 1.4
+        Nominal distance between successive footprints of one foot in m (twice the step
+        length). Adjusted slightly so a whole number of steps covers the path (the value used
+        is in ``meta["stride_length_m_actual"]``).
+    stride_period_s : float, default 1.1
+        Duration of one stride (one foot's full gait cycle) in s; the feet are half a period
+        apart. Cadence is ``2 / stride_period_s`` steps/s.
+    step_width_m : float, default 0.2
+        Lateral distance between the feet in m; the left foot walks ``step_width_m / 2`` left of
+        the centre line.
+    standstill_s : float, default 2.0
+        Standstill with both feet flat before the first and after the last step, in s.
+    turn_radius_m : float, default 1.5
+        Radius of the centre line in turns in m; a 90 deg turn takes about three steps.
+    foot_lift_m : float, default 0.12
+        Peak lift of the foot's moving contact point (toe to heel) above the ground in swing,
+        in m; the sensor rises about as high.
+    heel_off_s, swing_s, foot_flat_s : float, default 0.1, 0.4, 0.1
+        Durations in s of heel-off (heel rises, foot pivots on the toe), swing (airborne, toe-off
+        to heel strike) and foot-flat (foot rotates flat about the heel). The rest of the stride
+        is flat-foot stance. Needs ``swing_s + max(heel_off_s, foot_flat_s) <= stride_period_s/2``.
+    toe_off_pitch_deg : float, default 30.0
+        Toe-down pitch of the foot at toe-off in deg.
+    heel_strike_pitch_deg : float, default 20.0
+        Toe-up pitch of the foot at heel strike in deg.
+    mounting_rpy_deg : (float, float, float), default (0, 0, 0)
+        Orientation of the sensor on the foot as ZYX roll, pitch, yaw in deg (sensor -> foot);
+        zero: sensor axes = foot axes (x forward, y left, z up).
+    noise : bool, default True
+        Add sensor errors. False gives the exact noise-free signals.
+    gyr_noise_density_radps_sqrthz : float, default 1.7e-4
+        Gyroscope white-noise density in rad/s/sqrt(Hz); per-sample std is density * sqrt(rate_hz).
+    acc_noise_density_mps2_sqrthz : float, default 1.0e-3
+        Accelerometer white-noise density in m/s^2/sqrt(Hz).
+    gyr_bias_std_radps : float, default 2.0e-3
+        Std of the gyroscope turn-on bias per axis in rad/s.
+    acc_bias_std_mps2 : float, default 2.0e-2
+        Std of the accelerometer turn-on bias per axis in m/s^2.
+    gyr_bias_walk_radps2_sqrthz : float, default 1.0e-5
+        Gyroscope bias random walk in rad/s^2/sqrt(Hz) (rad/s per sqrt(s)).
+    acc_bias_walk_mps3_sqrthz : float, default 1.0e-4
+        Accelerometer bias random walk in m/s^3/sqrt(Hz) (m/s^2 per sqrt(s)).
+
+    Returns
+    -------
+    Recording
+        ``left`` / ``right``: :class:`ImuData` in the sensor frame (specific force in m/s^2, +g
+        up at rest; angular rate in rad/s). ``truth_left`` / ``truth_right``: :class:`FootTruth` in
+        footnav's nav frame (z up, x the initial walking direction, origin midway between the
+        feet at the start, the sensors at z = 0 when flat): the sensor's position, velocity and
+        orientation (body -> nav) at the IMU's times, the stance mask (True exactly where the
+        foot's velocity and angular rate are zero), gait events (sample indices nearest to each
+        stride's ``heel_strike``, ``foot_flat``, ``heel_off``, ``toe_off``) and ``closed_loop``.
+        Truth ``meta`` holds the scenario, the options used, the seed, the noise parameters, the
+        sensor errors drawn (``"biases"``: turn-on biases and the bias time series), per-sample
+        gait ``"phases"`` (names in ``"phase_names"``) and ``stance_source="simulator"``.
+
+    Raises
+    ------
+    InvalidParameterError
+        Unknown scenario or option, or an invalid value; the message names the option and lists
+        the valid ones or the expected range.
+
+    Examples
+    --------
+    >>> rec = simulate("rectangle", width_m=20.0, height_m=10.0, noise=False)
+    >>> rec.truth_left.closed_loop
+    True
+    """
+    opts = _resolve_options(scenario, rate_hz, options)
+    rate_hz = float(rate_hz)
+    line, line_info = _centre_line(scenario, opts)
+    swings, plan_info = _plan(line, opts)
+    n = int(math.floor(plan_info["duration_s"] * rate_hz)) + 1
+    t = np.arange(n) / rate_hz
+
+    end_xy, _ = line(np.array([line.length_m]))
+    closed = scenario == "rectangle" or bool(np.linalg.norm(end_xy[0]) < _CLOSED_LOOP_TOL_M)
+    mount_q = quat.from_euler(*np.radians(opts["mounting_rpy_deg"]))
+    mount_t = quat.as_matrix(mount_q).T  # foot -> sensor
+    noise_params = {k: opts[k] for k in _NOISE_KEYS} | {"noise": opts["noise"]}
+    common_meta = {"scenario": scenario, "options": dict(opts), "seed": seed, "rate_hz": rate_hz}
+
+    rng_left, rng_right = np.random.default_rng(seed).spawn(2)
+    imus: dict[str, ImuData] = {}
+    truths: dict[str, FootTruth] = {}
+    biases_all: dict[str, dict[str, Any]] = {}
+    for foot, rng in (("left", rng_left), ("right", rng_right)):
+        sw = swings[foot]
+        motion = _foot_motion(t, sw, opts)
+        errors = _sensor_errors(rng, n, rate_hz, opts)
+        gyr_true = motion.gyr @ mount_t.T
+        acc_true = motion.acc @ mount_t.T
+        gyr = gyr_true + errors["gyr_radps"] + errors["gyr_white"]
+        acc = acc_true + errors["acc_mps2"] + errors["acc_white"]
+        biases = {k: errors[k] for k in ("gyr_turn_on_radps", "acc_turn_on_mps2", "gyr_radps", "acc_mps2")}
+        biases_all[foot] = {k: biases[k] for k in ("gyr_turn_on_radps", "acc_turn_on_mps2")}
+        imus[foot] = ImuData(
+            t=t,
+            acc=acc,
+            gyr=gyr,
+            meta={"source": "simulator", "scenario": scenario, "foot": foot, "seed": seed, "rate_hz": rate_hz},
+        )
+        events = {
+            "heel_strike": _nearest_index(sw.t_heel_strike, rate_hz, n),
+            "foot_flat": _nearest_index(sw.t_foot_flat, rate_hz, n),
+            "heel_off": _nearest_index(sw.t_heel_off, rate_hz, n),
+            "toe_off": _nearest_index(sw.t_toe_off, rate_hz, n),
+        }
+        truths[foot] = FootTruth(
+            t=t,
+            position=motion.position,
+            quaternion=quat.multiply(motion.quaternion, mount_q),
+            velocity=motion.velocity,
+            stance=motion.phase == _STANCE,
+            events=events,
+            closed_loop=closed,
+            frame="nav",
+            meta={
+                **common_meta,
+                "foot": foot,
+                "noise_params": noise_params,
+                "biases": biases,
+                "stance_source": "simulator",
+                "phases": motion.phase,
+                "phase_names": PHASE_NAMES,
+                "event_times_s": {
+                    "heel_strike": sw.t_heel_strike,
+                    "foot_flat": sw.t_foot_flat,
+                    "heel_off": sw.t_heel_off,
+                    "toe_off": sw.t_toe_off,
+                },
+                "foot_geometry_m": {"heel": _HEEL_B.copy(), "toe": _TOE_B.copy(), "sensor_height": _SENSOR_HEIGHT_M},
+                "gyr_true_radps": gyr_true,
+                "acc_true_mps2": acc_true,
+                **plan_info,
+                **line_info,
+            },
+        )
+    return Recording(
+        left=imus["left"],
+        right=imus["right"],
+        truth_left=truths["left"],
+        truth_right=truths["right"],
+        name=f"sim-{scenario}",
+        meta={
+            **common_meta,
+            "source": "simulator",
+            "noise_params": noise_params,
+            "biases": biases_all,
+            "stance_source": "simulator",
+            **plan_info,
+            **line_info,
+        },
+    )

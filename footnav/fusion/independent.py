@@ -1,0 +1,46 @@
+"""Independent feet: each foot is estimated alone; the pedestrian is the midpoint of the feet.
+
+The baseline every dual-foot method is compared with. With two feet the path is the midpoint of the
+feet on the left foot's time grid (the right foot interpolated linearly, within the common time
+span); with one foot the path is that foot.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from footnav.core.component import Fusion
+from footnav.core.types import FootTrajectory, FusionResult, Path
+
+__all__ = ["IndependentFusion", "midpoint_path"]
+
+
+def midpoint_path(left: FootTrajectory, right: FootTrajectory | None) -> Path:
+    """Midpoint of both feet on the left foot's times within the common span (or the one foot)."""
+    if right is None:
+        return Path(t=left.t, position=left.position, meta={"path": "single foot"})
+    lo, hi = max(left.t[0], right.t[0]), min(left.t[-1], right.t[-1])
+    keep = (left.t >= lo) & (left.t <= hi)
+    t = left.t[keep]
+    right_pos = np.stack([np.interp(t, right.t, right.position[:, i]) for i in range(3)], axis=1)
+    return Path(t=t, position=0.5 * (left.position[keep] + right_pos), meta={"path": "midpoint of the feet"})
+
+
+class IndependentFusion(Fusion):
+    """Each foot alone through the per-foot estimator; path = midpoint of the feet.
+
+    Takes no parameters.
+    """
+
+    name = "independent"
+
+    def __init__(self) -> None:
+        pass
+
+    def fuse(self, estimator, left, stance_left, right=None, stance_right=None) -> FusionResult:
+        """Estimate each foot with ``estimator`` and average them into the pedestrian path."""
+        traj_left = estimator.estimate(left, stance_left)
+        traj_right = None if right is None else estimator.estimate(right, stance_right)
+        return FusionResult(
+            left=traj_left, right=traj_right, path=midpoint_path(traj_left, traj_right), meta={"fusion": self.describe()}
+        )

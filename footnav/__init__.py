@@ -24,6 +24,7 @@ from footnav.core.errors import (
     PluginWarning,
     UnknownComponentError,
 )
+from footnav.core.evaluation import EvaluationReport, evaluate
 from footnav.core.pipeline import (
     Pipeline,
     list_components,
@@ -73,6 +74,8 @@ __all__ = [
     "load",
     "make_pipeline",
     "load_pipeline",
+    "evaluate",
+    "EvaluationReport",
     "make_detector",
     "make_estimator",
     "make_fusion",

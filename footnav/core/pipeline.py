@@ -1,0 +1,232 @@
+"""The pipeline factory: compose a detector, a per-foot estimator and a fusion by name.
+
+Nothing here knows any particular component: names are resolved through the plugin registry, so a
+new component needs no edit to this file.
+"""
+
+from __future__ import annotations
+
+import sys
+import time
+import warnings
+from pathlib import Path as FilePath
+from typing import Any, Mapping
+
+from footnav.core.component import Component, FootEstimator, Fusion, StanceDetector
+from footnav.core.errors import CompositionError, DataNotFoundError, InvalidInputError, InvalidParameterError
+from footnav.core.types import ImuData, PipelineResult, Recording
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover - exercised on 3.10 only
+    import tomli as tomllib
+
+__all__ = [
+    "Pipeline",
+    "make_detector",
+    "make_estimator",
+    "make_fusion",
+    "make_pipeline",
+    "load_pipeline",
+    "list_components",
+]
+
+_BASES = {"detector": StanceDetector, "estimator": FootEstimator, "fusion": Fusion}
+
+
+def _registry():
+    from footnav.plugins.manager import get_registry
+
+    return get_registry()
+
+
+def list_components() -> dict[str, list[str]]:
+    """Registered component names by kind: ``{"detector": [...], "estimator": [...], "fusion": [...]}``."""
+    reg = _registry()
+    return {kind: reg.names(kind) for kind in _BASES}
+
+
+def make_detector(name: str, **params: Any) -> StanceDetector:
+    """A stance detector by registry name, e.g. ``make_detector("threshold", window_s=0.2)``."""
+    return _registry().create("detector", name, **params)  # type: ignore[return-value]
+
+
+def make_estimator(name: str, **params: Any) -> FootEstimator:
+    """A per-foot estimator by registry name, e.g. ``make_estimator("ekf", zupt_std_mps=0.02)``."""
+    return _registry().create("estimator", name, **params)  # type: ignore[return-value]
+
+
+def make_fusion(name: str, **params: Any) -> Fusion:
+    """A dual-foot fusion by registry name, e.g. ``make_fusion("independent")``."""
+    return _registry().create("fusion", name, **params)  # type: ignore[return-value]
+
+
+def _resolve(kind: str, spec: Any, params: Mapping[str, Any] | None) -> Component:
+    """Component from a name, an instance or a TOML-style table ``{"name": ..., **params}``."""
+    base = _BASES[kind]
+    if isinstance(spec, base):
+        if params:
+            raise InvalidParameterError(
+                f"{kind} was given as an instance ({spec!r}); pass its parameters to its constructor, "
+                f"not as {kind}_params"
+            )
+        return spec
+    if isinstance(spec, Component):
+        raise CompositionError(f"{spec!r} is a {spec.kind}; it cannot be used as the {kind}")
+    if isinstance(spec, Mapping):
+        table = dict(spec)
+        if "name" not in table:
+            raise InvalidParameterError(f"{kind} table {table!r} has no 'name' key")
+        name = table.pop("name")
+        table.update(params or {})
+        return _registry().create(kind, name, **table)
+    if isinstance(spec, str):
+        return _registry().create(kind, spec, **dict(params or {}))
+    raise InvalidParameterError(f"{kind} must be a registered name, a {base.__name__} or a table; got {spec!r}")
+
+
+class Pipeline:
+    """A composed detector -> estimator -> fusion chain. Build it with :func:`make_pipeline`.
+
+    ``run`` checks that the components fit the data (two feet, magnetometer) before any work.
+    """
+
+    def __init__(self, detector: StanceDetector, estimator: FootEstimator, fusion: Fusion) -> None:
+        self.detector = detector
+        self.estimator = estimator
+        self.fusion = fusion
+
+    def __repr__(self) -> str:
+        return f"Pipeline(detector={self.detector!r}, estimator={self.estimator!r}, fusion={self.fusion!r})"
+
+    @property
+    def components(self) -> tuple[Component, Component, Component]:
+        return (self.detector, self.estimator, self.fusion)
+
+    def config(self) -> dict[str, dict[str, Any]]:
+        """``{"detector": {"name": ..., **params}, ...}``: the tables of the pipeline's TOML file."""
+        return {c.kind: {"name": c.name, **c.get_params()} for c in self.components}
+
+    def to_toml(self) -> str:
+        """The pipeline as TOML text that :func:`load_pipeline` reads back."""
+        lines = []
+        for kind, table in self.config().items():
+            lines.append(f"[{kind}]")
+            lines.extend(f"{key} = {_toml_value(value)}" for key, value in table.items())
+            lines.append("")
+        return "\n".join(lines)
+
+    def check(self, *, n_feet: int, magnetometer: bool) -> None:
+        """Raise CompositionError when a component needs what the data do not have."""
+        for c in self.components:
+            if c.needs_two_feet and n_feet < 2:
+                raise CompositionError(
+                    f"{c.kind} {c.name!r} needs both feet, but only one foot's data were given (pass right=...)"
+                )
+            if c.needs_magnetometer and not magnetometer:
+                raise CompositionError(f"{c.kind} {c.name!r} needs a magnetometer, but the data have none")
+
+    def run(self, left: ImuData | Recording, right: ImuData | None = None) -> PipelineResult:
+        """Detect stance, estimate each foot and fuse.
+
+        Parameters
+        ----------
+        left
+            The left foot (or the only foot), or a whole :class:`Recording`.
+        right
+            The right foot, or None for a one-foot recording.
+        """
+        if isinstance(left, Recording):
+            if right is not None:
+                raise InvalidInputError("give either a Recording or left/right ImuData, not both", field="right")
+            left, right = left.left, left.right
+        for name, imu in (("left", left), ("right", right)):
+            if imu is not None and not isinstance(imu, ImuData):
+                raise InvalidInputError(f"expected ImuData, got {type(imu).__name__}", field=name)
+        if left is None:
+            raise InvalidInputError("no data for the left (or only) foot", field="left")
+        self.check(
+            n_feet=1 if right is None else 2,
+            magnetometer=left.has_mag and (right is None or right.has_mag),
+        )
+        t0 = time.perf_counter()
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            stance_left, stance_right = self.detector.detect_pair(left, right)
+            fused = self.fusion.fuse(self.estimator, left, stance_left, right, stance_right)
+        for w in caught:  # recorded for provenance, and still shown to the caller
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+        from footnav import __version__
+
+        meta = {
+            "pipeline": self.config(),
+            "footnav_version": __version__,
+            "warnings": [f"{w.category.__name__}: {w.message}" for w in caught],
+            "runtime_s": time.perf_counter() - t0,
+            "input": {"left": dict(left.meta), "right": None if right is None else dict(right.meta)},
+        }
+        return PipelineResult(
+            left=fused.left,
+            right=fused.right,
+            path=fused.path,
+            stance_left=stance_left,
+            stance_right=stance_right,
+            meta=meta,
+        )
+
+
+def _toml_value(value: Any) -> str:
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, (int, float)):
+        return repr(value)
+    if isinstance(value, str):
+        return '"' + value.replace("\\", "\\\\").replace('"', '\\"') + '"'
+    if isinstance(value, (list, tuple)):
+        return "[" + ", ".join(_toml_value(v) for v in value) + "]"
+    raise InvalidParameterError(f"parameter value {value!r} cannot be written to TOML")
+
+
+def make_pipeline(
+    detector: str | StanceDetector | Mapping[str, Any] = "threshold",
+    estimator: str | FootEstimator | Mapping[str, Any] = "ekf",
+    fusion: str | Fusion | Mapping[str, Any] = "independent",
+    *,
+    detector_params: Mapping[str, Any] | None = None,
+    estimator_params: Mapping[str, Any] | None = None,
+    fusion_params: Mapping[str, Any] | None = None,
+) -> Pipeline:
+    """Compose a pipeline from registered names, component instances or TOML-style tables.
+
+    Examples
+    --------
+    >>> pipe = make_pipeline("threshold", "ekf", "independent", estimator_params={"zupt_std_mps": 0.02})
+    >>> result = pipe.run(left=left_imu, right=right_imu)  # doctest: +SKIP
+    """
+    return Pipeline(
+        detector=_resolve("detector", detector, detector_params),  # type: ignore[arg-type]
+        estimator=_resolve("estimator", estimator, estimator_params),  # type: ignore[arg-type]
+        fusion=_resolve("fusion", fusion, fusion_params),  # type: ignore[arg-type]
+    )
+
+
+def load_pipeline(path: str | FilePath) -> Pipeline:
+    """Read a pipeline TOML file: tables ``[detector]``, ``[estimator]``, ``[fusion]``, each with a
+    ``name`` and the component's parameters (missing tables take the defaults)."""
+    path = FilePath(path)
+    if not path.is_file():
+        raise DataNotFoundError(f"pipeline file {str(path)!r} does not exist")
+    try:
+        config = tomllib.loads(path.read_text(encoding="utf-8"))
+    except tomllib.TOMLDecodeError as exc:
+        raise InvalidInputError(f"not valid TOML: {exc}", path=str(path)) from None
+    unknown = set(config) - set(_BASES)
+    if unknown:
+        raise InvalidParameterError(
+            f"{path}: unknown table(s) {sorted(unknown)}; a pipeline file has [detector], [estimator], [fusion]"
+        )
+    defaults = {"detector": "threshold", "estimator": "ekf", "fusion": "independent"}
+    try:
+        return make_pipeline(**{kind: config.get(kind, defaults[kind]) for kind in _BASES})
+    except InvalidParameterError as exc:
+        raise InvalidParameterError(f"{path}: {exc}") from None

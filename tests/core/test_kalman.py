@@ -80,3 +80,21 @@ def test_rts_step_matches_filterpy_smoother():
         kalman.rts_step(xs[k], ps[k], xp[k + 1], pp[k + 1], f, x_s[k + 1], p_s[k + 1], x_s[k], p_s[k])
     np.testing.assert_allclose(x_s, x_ref, rtol=1e-9, atol=1e-10)
     np.testing.assert_allclose(p_s, p_ref, rtol=1e-9, atol=1e-10)
+
+
+@pytest.mark.parametrize("start, m", [(3, 3), (0, 2), (6, 3)])
+def test_update_block_equals_general_update(start, m):
+    rng = np.random.default_rng(start + m)
+    n = 9
+    p0, r = _random_spd(rng, n), _random_spd(rng, m) * 0.1
+    h = np.zeros((m, n))
+    h[:, start : start + m] = np.eye(m)
+    y = rng.normal(size=m)
+    x1, p1 = np.zeros(n), p0.copy()
+    x2, p2 = np.zeros(n), p0.copy()
+    ws = kalman.workspace(n, m)
+    assert kalman.update(x1, p1, h, r, y, *ws)
+    nn1, _, nm1, nm2, mm1, mm2, mm3 = kalman.workspace(n, m)
+    assert kalman.update_block(x2, p2, start, r, y, nn1, nm1, nm2, mm1, mm2, mm3)
+    np.testing.assert_allclose(x2, x1, rtol=1e-12, atol=1e-14)
+    np.testing.assert_allclose(p2, p1, rtol=1e-10, atol=1e-12)

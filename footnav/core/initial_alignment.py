@@ -5,6 +5,10 @@ Ry(pitch) Rx(roll) that gives roll = atan2(f_y, f_z) and pitch = atan2(-f_x, sqr
 (Groves, *Principles of GNSS, Inertial, and Multisensor Integrated Navigation*, 2nd ed., eq. 5.101).
 Heading is unobservable without a magnetometer and is set to zero. The mean angular rate of the
 standstill is the gyro bias (seed 001 section II-A, "initial calibration").
+
+A detected stance is not always a true standstill: a foot about to lift, or shifting weight,
+already turns at a few hundredths of a rad/s, and averaging those samples puts motion into the
+bias. Only the samples whose angular-rate norm is below ``still_gyr_max_radps`` are used.
 """
 
 from __future__ import annotations
@@ -23,16 +27,28 @@ __all__ = ["Alignment", "align_at_rest"]
 @dataclass(frozen=True)
 class Alignment:
     """Result of :func:`align_at_rest`: attitude [w, x, y, z] body -> nav (yaw 0), gyro bias (rad/s),
-    and the sample range used."""
+    the sample range and how many of its samples were still enough to be used."""
 
     quaternion: NDArray[np.float64]
     gyro_bias_radps: NDArray[np.float64]
     start: int
     stop: int
+    n_used: int
 
 
-def align_at_rest(acc: NDArray[np.float64], gyr: NDArray[np.float64], start: int = 0, stop: int | None = None) -> Alignment:
-    """Level the sensor and estimate the gyro bias from samples ``start:stop`` taken at rest.
+#: Fewest still samples an alignment accepts.
+MIN_STILL_SAMPLES = 10
+
+
+def align_at_rest(
+    acc: NDArray[np.float64],
+    gyr: NDArray[np.float64],
+    start: int = 0,
+    stop: int | None = None,
+    *,
+    still_gyr_max_radps: float = np.inf,
+) -> Alignment:
+    """Level the sensor and estimate the gyro bias from the still samples of ``start:stop``.
 
     Parameters
     ----------
@@ -42,16 +58,23 @@ def align_at_rest(acc: NDArray[np.float64], gyr: NDArray[np.float64], start: int
         Angular rate in rad/s, body frame, (N, 3).
     start, stop
         The standstill's sample range.
+    still_gyr_max_radps
+        Only samples with |w| below this (rad/s) are used; when fewer than ``MIN_STILL_SAMPLES``
+        are, the whole range is.
     """
     stop = len(acc) if stop is None else stop
     if stop <= start:
         raise InvalidInputError(f"empty standstill range {start}:{stop}", field="acc", index=start)
-    f = np.mean(acc[start:stop], axis=0)
+    still = np.linalg.norm(gyr[start:stop], axis=1) < still_gyr_max_radps
+    if still.sum() < MIN_STILL_SAMPLES:
+        still[:] = True
+    f = np.mean(acc[start:stop][still], axis=0)
     roll = np.arctan2(f[1], f[2])
     pitch = np.arctan2(-f[0], np.hypot(f[1], f[2]))
     return Alignment(
         quaternion=quat.from_euler(roll, pitch, 0.0),
-        gyro_bias_radps=np.mean(gyr[start:stop], axis=0),
+        gyro_bias_radps=np.mean(gyr[start:stop][still], axis=0),
         start=int(start),
         stop=int(stop),
+        n_used=int(still.sum()),
     )

@@ -171,7 +171,10 @@ class EkfEstimator(FootEstimator):
         Nav frame heading: "first-step" turns the result so the first step points along +x;
         "sensor" keeps the sensor's initial heading as x.
     gyro_bias : {"initial-standstill", "none"}
-        Subtract the mean angular rate of the first stance phase, or nothing.
+        Subtract the mean angular rate of the still samples of the first stance phase, or nothing.
+    still_gyr_max_radps : float
+        Samples of the first stance used for levelling and gyro bias must turn slower than this,
+        rad/s (a detected stance is not always a true standstill).
 
     Examples
     --------
@@ -191,6 +194,7 @@ class EkfEstimator(FootEstimator):
         init_velocity_std_mps: float = 0.01,
         heading: Literal["first-step", "sensor"] = "first-step",
         gyro_bias: Literal["initial-standstill", "none"] = "initial-standstill",
+        still_gyr_max_radps: float = 0.05,
     ) -> None:
         self.acc_noise_mps2_sqrthz = acc_noise_mps2_sqrthz
         self.gyr_noise_radps_sqrthz = gyr_noise_radps_sqrthz
@@ -199,6 +203,7 @@ class EkfEstimator(FootEstimator):
         self.init_velocity_std_mps = init_velocity_std_mps
         self.heading = heading
         self.gyro_bias = gyro_bias
+        self.still_gyr_max_radps = still_gyr_max_radps
 
     def validate_params(self) -> None:
         for name in (
@@ -207,6 +212,7 @@ class EkfEstimator(FootEstimator):
             "zupt_std_mps",
             "init_attitude_std_rad",
             "init_velocity_std_mps",
+            "still_gyr_max_radps",
         ):
             value = getattr(self, name)
             require(isinstance(value, (int, float)) and np.isfinite(value) and value > 0, self, name, "a positive number")
@@ -254,7 +260,8 @@ class EkfEstimator(FootEstimator):
                 DataQualityWarning,
                 stacklevel=2,
             )
-        align = align_at_rest(imu.acc, imu.gyr, s0, e0)
+        align = align_at_rest(imu.acc, imu.gyr, s0, e0, still_gyr_max_radps=self.still_gyr_max_radps)
+        meta["alignment_samples"] = [s0, e0, align.n_used]
         gyr = imu.gyr
         if self.gyro_bias == "initial-standstill":
             gyr = gyr - align.gyro_bias_radps

@@ -39,8 +39,10 @@ __all__ = [
 #: Standard gravity in m/s^2 (CGPM 1901); the magnitude of the nav-frame gravity vector.
 GRAVITY_MPS2 = 9.80665
 
-#: A sampling interval longer than GAP_FACTOR x the median interval is reported as a gap.
-GAP_FACTOR = 2.0
+#: A sampling interval longer than GAP_FACTOR x the median interval is reported as a gap. One lost
+#: sample makes an interval of about 2 x the median, which time-stamp rounding puts on either side
+#: of 2.0; logger jitter without loss stays below ~1.75 x (pyshoe VICON trials: 8.6 ms at 5 ms).
+GAP_FACTOR = 1.9
 
 _ACC_SCALE = {"m/s^2": 1.0, "g": GRAVITY_MPS2}
 _GYR_SCALE = {"rad/s": 1.0, "deg/s": np.pi / 180.0}

@@ -1,0 +1,50 @@
+"""File readers: every supported recording format -> :class:`~footnav.core.types.Recording`.
+
+Each reader converts to SI units, keeps the sensor's axes as the body frame (or says which proper
+rotation it applied), converts reference positions to z up, and records in meta what it read
+(``format``, ``source``), what it converted and every change it made (duplicates dropped, gaps,
+clipping). It never fixes data silently: duplicate time stamps raise unless
+``drop_duplicates=True``; bad files raise :class:`~footnav.core.errors.InvalidInputError` naming
+the file, line and column; missing files raise :class:`~footnav.core.errors.DataNotFoundError`.
+
+=============== ===================================== =========================================
+format          reader                                data
+=============== ===================================== =========================================
+footnav_csv     :func:`read_footnav_csv` (ImuData),   footnav's own CSV, one foot per file
+                :func:`read_footnav_recording`
+gaitmap         :func:`read_gaitmap`                  both feet, mocap, stride events
+azure_fgo       :func:`read_azure_fgo`                both feet, per-sample position truth
+xio             :func:`read_xio`                      one foot, closed loop
+openshoe        :func:`read_openshoe`                 one foot, 820 Hz, no truth
+pyshoe          :func:`read_pyshoe`                   one foot, Vicon truth, proxy stance labels
+xsens           :func:`read_xsens`                    Xsens MTw ASCII export, one sensor
+=============== ===================================== =========================================
+
+:func:`load` guesses the format; :data:`READERS` maps the names to the readers.
+"""
+
+from __future__ import annotations
+
+from footnav.core.io.azure_fgo import read_azure_fgo
+from footnav.core.io.footnav_csv import read_footnav_csv, read_footnav_recording, write_footnav_csv
+from footnav.core.io.gaitmap import read_gaitmap
+from footnav.core.io.load import READERS, guess_format, load
+from footnav.core.io.openshoe import read_openshoe
+from footnav.core.io.pyshoe import read_pyshoe
+from footnav.core.io.xio import read_xio
+from footnav.core.io.xsens import read_xsens
+
+__all__ = [
+    "read_footnav_csv",
+    "read_footnav_recording",
+    "write_footnav_csv",
+    "read_gaitmap",
+    "read_azure_fgo",
+    "read_xio",
+    "read_openshoe",
+    "read_pyshoe",
+    "read_xsens",
+    "load",
+    "guess_format",
+    "READERS",
+]

@@ -1,0 +1,425 @@
+"""Helpers shared by the file readers: text tables with line numbers, honest ImuData construction.
+
+Every reader goes through these functions so that all of them
+
+* raise :class:`~footnav.core.errors.DataNotFoundError` for a missing file;
+* raise :class:`~footnav.core.errors.InvalidInputError` naming the file, the 1-based line and the
+  column for an empty file, a wrong number of columns, a non-numeric or non-finite cell, a
+  truncated last line, a duplicate or backwards time stamp;
+* record every change they make (units converted, duplicates dropped, gaps, clipping) in meta.
+
+The fast path parses a whole table with :func:`numpy.loadtxt`; only when that fails is the table
+scanned line by line, to name the first bad line and column.
+"""
+
+from __future__ import annotations
+
+import warnings
+from dataclasses import dataclass, replace
+from pathlib import Path as FilePath
+from typing import Any, Mapping, Sequence
+
+import numpy as np
+from numpy.typing import NDArray
+
+from footnav.core.errors import DataNotFoundError, DataQualityWarning, InvalidInputError
+from footnav.core.types import GRAVITY_MPS2, ImuData
+
+__all__ = [
+    "TextFile",
+    "check_file",
+    "read_text",
+    "split_header",
+    "parse_table",
+    "build_imu",
+    "detect_clipping",
+    "remap_indices",
+    "changes_of",
+    "ROTATE_180_ABOUT_X",
+]
+
+#: Proper rotation of 180 degrees about x: (x, y, z) -> (x, -y, -z). Turns a z-down frame into a
+#: z-up one without mirroring (a z flip alone would be a reflection, det = -1).
+ROTATE_180_ABOUT_X = np.diag([1.0, -1.0, -1.0])
+
+#: An extreme value held by at least this many samples of one axis is a full-scale plateau.
+CLIP_MIN_REPEATS = 3
+#: Plateaus below this magnitude are the rest readings of a quantised sensor, not clipping.
+CLIP_MIN_ACC_MPS2 = 2.0 * GRAVITY_MPS2
+#: Gyroscope plateaus below this magnitude (rad/s, ~290 deg/s) are not clipping either.
+CLIP_MIN_GYR_RADPS = 5.0
+#: With a known full scale, readings at or above this fraction of it count as clipped: after the
+#: sensor's calibration (scale, cross-axis) a saturated raw axis is no longer one constant value.
+CLIP_FRACTION_OF_FULL_SCALE = 0.98
+
+
+@dataclass(frozen=True)
+class TextFile:
+    """A text file split into lines.
+
+    ``lines[k]`` is line ``k + 1`` of the file (without its line ending); ``ends_with_newline``
+    says whether the last line was terminated, which tells a cut-off file from a complete one.
+    """
+
+    path: str
+    lines: list[str]
+    ends_with_newline: bool
+
+
+def check_file(path: Any, *, what: str = "file") -> FilePath:
+    """Return ``path`` as a Path; DataNotFoundError if it does not exist, InvalidInputError if a folder."""
+    p = FilePath(path)
+    if not p.exists():
+        raise DataNotFoundError(f"{what} {str(p)!r} does not exist")
+    if p.is_dir():
+        raise InvalidInputError(f"is a folder; expected a {what}", path=str(p))
+    return p
+
+
+def read_text(path: Any, *, what: str = "file") -> TextFile:
+    """Read a text file (UTF-8, optional BOM). Empty files (only blank lines) are an error."""
+    p = check_file(path, what=what)
+    try:
+        text = p.read_text(encoding="utf-8-sig")
+    except UnicodeDecodeError as exc:
+        line = p.read_bytes()[: exc.start].count(b"\n") + 1
+        raise InvalidInputError(
+            f"not a UTF-8 text file ({exc.reason} at byte {exc.start})", path=str(p), line=line
+        ) from None
+    lines = text.splitlines()
+    if not any(s.strip() for s in lines):
+        raise InvalidInputError("file is empty; expected a header and data rows", path=str(p), line=1)
+    return TextFile(path=str(p), lines=lines, ends_with_newline=text.endswith(("\n", "\r")))
+
+
+def split_header(line: str, delimiter: str | None) -> list[str]:
+    """Cells of a header line, stripped of white space and surrounding double quotes."""
+    cells = line.split(delimiter) if delimiter is not None else line.split()
+    return [c.strip().strip('"').strip() for c in cells]
+
+
+def _cells(line: str, delimiter: str | None) -> list[str]:
+    return [c.strip() for c in line.split(delimiter)] if delimiter is not None else line.split()
+
+
+def parse_table(
+    tf: TextFile,
+    start: int,
+    names: Sequence[str],
+    *,
+    delimiter: str | None = ",",
+    stop: int | None = None,
+    allow_missing: bool = False,
+) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
+    """Parse lines ``start:stop`` (0-based into ``tf.lines``) as a numeric table.
+
+    Parameters
+    ----------
+    tf
+        The file.
+    start, stop
+        Range of lines holding the data rows. Blank lines are skipped.
+    names
+        One name per column (used in error messages); every row must have ``len(names)`` cells.
+    delimiter
+        Cell separator; None splits on any run of white space.
+    allow_missing
+        Empty cells become NaN (motion capture drop-outs) instead of an error.
+
+    Returns
+    -------
+    data
+        (N, len(names)) float64.
+    line_numbers
+        (N,) 1-based line number of each row in the file, for error messages.
+
+    Raises
+    ------
+    InvalidInputError
+        No data rows, wrong number of cells (a short last line of a file that does not end with a
+        newline is reported as truncated), non-numeric cell, NaN or infinite cell.
+    """
+    stop = len(tf.lines) if stop is None else stop
+    rows = [k for k in range(start, stop) if tf.lines[k].strip()]
+    if not rows:
+        raise InvalidInputError(
+            f"no data rows after the header; expected rows of {len(names)} columns {list(names)}",
+            path=tf.path,
+            line=start + 1,
+        )
+    line_numbers = np.asarray(rows, dtype=np.int64) + 1
+    texts = [tf.lines[k] for k in rows]
+    ncols = len(names)
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # numpy warns on empty input; handled below
+            data = np.loadtxt(texts, delimiter=delimiter, dtype=np.float64, ndmin=2, comments=None)
+    except ValueError:  # any bad cell or row: find and name it line by line
+        data = None
+    if data is None or data.shape[1] != ncols:
+        data = _scan(tf, rows, names, delimiter, allow_missing)
+    bad = ~np.isfinite(data)
+    if not allow_missing:
+        bad_rows = bad.any(axis=1)
+        if bad_rows.any():
+            i = int(np.argmax(bad_rows))
+            j = int(np.argmax(bad[i]))
+            raise InvalidInputError(
+                f"non-finite value {_cells(tf.lines[rows[i]], delimiter)[j]!r} in column {names[j]!r}; "
+                "every cell must be a finite number",
+                path=tf.path,
+                line=int(line_numbers[i]),
+                field=names[j],
+            )
+    return data, line_numbers
+
+
+def _scan(
+    tf: TextFile, rows: list[int], names: Sequence[str], delimiter: str | None, allow_missing: bool
+) -> NDArray[np.float64]:
+    """Slow path: convert line by line and raise on the first bad line (named by line and column)."""
+    ncols = len(names)
+    out = np.empty((len(rows), ncols), dtype=np.float64)
+    last_row = rows[-1]
+    for r, k in enumerate(rows):
+        cells = _cells(tf.lines[k], delimiter)
+        if len(cells) != ncols:
+            if k == last_row and k == len(tf.lines) - 1 and not tf.ends_with_newline and len(cells) < ncols:
+                msg = (
+                    f"truncated last line: {len(cells)} of {ncols} columns and no line ending; "
+                    "the file looks cut off (incomplete copy or interrupted recording)"
+                )
+            else:
+                msg = f"expected {ncols} columns {list(names)}, found {len(cells)}: {tf.lines[k]!r}"
+            raise InvalidInputError(msg, path=tf.path, line=k + 1)
+        for j, cell in enumerate(cells):
+            if cell == "" and allow_missing:
+                out[r, j] = np.nan
+                continue
+            try:
+                v = float(cell)
+            except ValueError:
+                raise InvalidInputError(
+                    f"non-numeric value {cell!r} in column {names[j]!r}; expected a number",
+                    path=tf.path,
+                    line=k + 1,
+                    field=names[j],
+                ) from None
+            out[r, j] = v
+    return out
+
+
+def detect_clipping(
+    acc: NDArray[np.float64], gyr: NDArray[np.float64], *, acc_full_scale_mps2: float | None = None
+) -> dict[str, Any] | None:
+    """Find samples at the sensor's full scale.
+
+    Two rules, either marks a sample of one axis as clipped:
+
+    * plateau: the axis' largest (or smallest) value is held by at least ``CLIP_MIN_REPEATS``
+      samples and its magnitude is at least ``CLIP_MIN_ACC_MPS2`` (``CLIP_MIN_GYR_RADPS`` for the
+      gyroscope) -- a saturated ADC repeats its maximum code;
+    * full scale (accelerometer, only when the format documents it): ``|a| >=
+      CLIP_FRACTION_OF_FULL_SCALE * acc_full_scale_mps2``.
+
+    Returns
+    -------
+    dict or None
+        ``{"acc": n, "first_index": i, "gyr": m, "gyr_first_index": j, "rule": ...}`` with ``n``
+        (``m``) the number of samples with at least one clipped accelerometer (gyroscope) axis,
+        ``i`` (``j``) the first such sample (None if none); None when nothing is clipped.
+    """
+
+    def plateau(x: NDArray[np.float64], floor: float) -> NDArray[np.bool_]:
+        hit = np.zeros(x.shape, dtype=bool)
+        for k in range(x.shape[1]):
+            col = x[:, k]
+            for extreme in (col.max(), col.min()):
+                if abs(extreme) >= floor:
+                    same = col == extreme
+                    if same.sum() >= CLIP_MIN_REPEATS:
+                        hit[:, k] |= same
+        return hit
+
+    acc_hit = plateau(acc, CLIP_MIN_ACC_MPS2)
+    if acc_full_scale_mps2 is not None:
+        acc_hit |= np.abs(acc) >= CLIP_FRACTION_OF_FULL_SCALE * acc_full_scale_mps2
+    gyr_hit = plateau(gyr, CLIP_MIN_GYR_RADPS)
+    acc_rows = acc_hit.any(axis=1)
+    gyr_rows = gyr_hit.any(axis=1)
+    if not acc_rows.any() and not gyr_rows.any():
+        return None
+    rule = f"extreme value repeated >= {CLIP_MIN_REPEATS} times"
+    if acc_full_scale_mps2 is not None:
+        rule += f", or |acc| >= {CLIP_FRACTION_OF_FULL_SCALE:g} x full scale {acc_full_scale_mps2:.4g} m/s^2"
+    return {
+        "acc": int(acc_rows.sum()),
+        "first_index": int(np.argmax(acc_rows)) if acc_rows.any() else None,
+        "gyr": int(gyr_rows.sum()),
+        "gyr_first_index": int(np.argmax(gyr_rows)) if gyr_rows.any() else None,
+        "acc_full_scale_mps2": acc_full_scale_mps2,
+        "rule": rule,
+    }
+
+
+def build_imu(
+    t: Any,
+    acc: Any,
+    gyr: Any,
+    mag: Any = None,
+    *,
+    path: str,
+    fmt: str,
+    line_numbers: NDArray[np.int64] | None = None,
+    acc_unit: str = "m/s^2",
+    gyr_unit: str = "rad/s",
+    t_unit: str = "s",
+    mag_unit: str = "uT",
+    drop_duplicates: bool = False,
+    acc_full_scale_mps2: float | None = None,
+    meta: Mapping[str, Any] | None = None,
+) -> tuple[ImuData, NDArray[np.bool_]]:
+    """ImuData from one foot's columns, checked and with every change recorded.
+
+    Duplicate time stamps raise (naming file, line and index of the first) unless
+    ``drop_duplicates``; then :meth:`ImuData.from_arrays` drops them and this function adds to
+    ``meta["duplicates_dropped"]`` the line of the first one, how many were exact copies of the
+    previous row and how many conflicting (same time, different values -- warned). Backwards
+    time always raises. Gaps are reported by ImuData. Clipping is detected with
+    :func:`detect_clipping` and recorded in ``meta["clipped"]`` with a DataQualityWarning.
+
+    Returns
+    -------
+    imu
+        The ImuData (``meta["source"]`` = ``path``, ``meta["format"]`` = ``fmt``).
+    keep
+        (N_rows,) bool: which input rows were kept, to drop the same rows of side arrays.
+    """
+    t = np.asarray(t, dtype=np.float64)
+    acc = np.asarray(acc, dtype=np.float64)
+    gyr = np.asarray(gyr, dtype=np.float64)
+    mag = None if mag is None else np.asarray(mag, dtype=np.float64)
+    meta = {"source": path, "format": fmt, **dict(meta or {})}
+    # Both feet of one file share the path: name the foot in warnings.
+    label = path + (f" ({meta['foot']} foot)" if meta.get("foot") in ("left", "right") else "")
+
+    def line_of(i: int) -> int | None:
+        return None if line_numbers is None else int(line_numbers[i])
+
+    dt = np.diff(t)
+    dup = np.flatnonzero(dt == 0) + 1
+    back = np.flatnonzero(dt < 0) + 1
+    if len(back):
+        i = int(back[0])
+        raise InvalidInputError(
+            f"time goes backwards: t={float(t[i])!r} {t_unit} after t={float(t[i - 1])!r} {t_unit}; "
+            "rows must be in time order",
+            path=path,
+            line=line_of(i),
+            field="t",
+            index=i,
+        )
+    if len(dup) and not drop_duplicates:
+        i = int(dup[0])
+        raise InvalidInputError(
+            f"duplicate time stamp t={float(t[i])!r} {t_unit} (same as the previous row"
+            + (f", line {line_of(i - 1)}" if line_numbers is not None else "")
+            + f"); {len(dup)} duplicate row(s) in total; pass drop_duplicates=True to drop them "
+            "(the count is recorded in meta['duplicates_dropped'])",
+            path=path,
+            line=line_of(i),
+            field="t",
+            index=i,
+        )
+    keep = np.ones(len(t), dtype=bool)
+    dup_info: dict[str, Any] = {}
+    if len(dup):
+        keep[dup] = False
+        cols = [t[:, None], acc, gyr] + ([] if mag is None else [mag])
+        rows = np.hstack(cols)
+        exact = (rows[dup] == rows[dup - 1]).all(axis=1)
+        dup_info = {
+            "first_line": line_of(int(dup[0])),
+            "exact_row_copies": int(exact.sum()),
+            "conflicting": int((~exact).sum()),
+        }
+        if (~exact).any():
+            i = int(dup[np.argmax(~exact)])
+            warnings.warn(
+                f"{label}: {int((~exact).sum())} dropped row(s) repeat the previous time stamp with different "
+                f"values (first at index {i}" + (f", line {line_of(i)}" if line_numbers is not None else "")
+                + "); the first row of each time stamp was kept",
+                DataQualityWarning,
+                stacklevel=3,
+            )
+    imu = ImuData.from_arrays(
+        t,
+        acc,
+        gyr,
+        mag,
+        acc_unit=acc_unit,
+        gyr_unit=gyr_unit,
+        t_unit=t_unit,
+        mag_unit=mag_unit,
+        drop_duplicates=drop_duplicates,
+        meta=meta,
+    )
+    new_meta = dict(imu.meta)
+    converted = {
+        q: f"{u} -> {si}"
+        for q, u, si in (("t", t_unit, "s"), ("acc", acc_unit, "m/s^2"), ("gyr", gyr_unit, "rad/s"))
+        if u != si
+    }
+    if mag is not None and mag_unit not in ("uT", "a.u."):
+        converted["mag"] = f"{mag_unit} -> uT"
+    new_meta["units_converted"] = converted
+    if dup_info:
+        new_meta["duplicates_dropped"] = {**new_meta["duplicates_dropped"], **dup_info}
+    clipped = detect_clipping(imu.acc, imu.gyr, acc_full_scale_mps2=acc_full_scale_mps2)
+    if clipped is not None:
+        new_meta["clipped"] = clipped
+        parts = []
+        if clipped["acc"]:
+            parts.append(f"{clipped['acc']} accelerometer sample(s) (first at index {clipped['first_index']})")
+        if clipped["gyr"]:
+            parts.append(f"{clipped['gyr']} gyroscope sample(s) (first at index {clipped['gyr_first_index']})")
+        warnings.warn(
+            f"{label}: {' and '.join(parts)} at the sensor's full scale: the true value is unknown there "
+            "(clipping); recorded in meta['clipped']",
+            DataQualityWarning,
+            stacklevel=3,
+        )
+    return replace(imu, meta=new_meta), keep
+
+
+def remap_indices(indices: NDArray[np.int64], keep: NDArray[np.bool_]) -> NDArray[np.int64]:
+    """Map sample indices of the file's rows to indices after dropping rows (``keep`` False).
+
+    An index of a dropped row maps to the kept row before it (a duplicate of it).
+    """
+    indices = np.asarray(indices, dtype=np.int64)
+    if keep.all():
+        return indices
+    new = np.cumsum(keep) - 1
+    return np.maximum(new[np.clip(indices, 0, len(keep) - 1)], 0)
+
+
+def changes_of(foot: str, imu: ImuData) -> list[str]:
+    """Human-readable list of what the reader changed or found in one foot's data."""
+    out = []
+    conv = imu.meta.get("units_converted") or {}
+    if conv:
+        out.append(f"{foot}: converted " + ", ".join(f"{k} {v}" for k, v in conv.items()))
+    dd = imu.meta.get("duplicates_dropped")
+    if dd:
+        where = f" (first at line {dd['first_line']})" if dd.get("first_line") else ""
+        out.append(f"{foot}: dropped {dd['count']} duplicate row(s){where}")
+    gaps = imu.meta.get("gaps")
+    if gaps:
+        out.append(f"{foot}: {len(gaps)} sampling gap(s), longest {max(g[1] for g in gaps) * 1e3:.3g} ms")
+    clipped = imu.meta.get("clipped")
+    if clipped:
+        out.append(f"{foot}: {clipped['acc']} accelerometer / {clipped['gyr']} gyroscope sample(s) clipped")
+    for note in imu.meta.get("changes", ()):
+        out.append(f"{foot}: {note}")
+    return out

@@ -1,0 +1,182 @@
+"""``load``: read any supported recording, guessing its format from the file when not told.
+
+Guessing looks at (in this order) whether the path is a folder (azure_fgo files; gaitmap example
+files), the extension (``.mat``: variable names) and the first lines of a text file (column
+header). The guess is logged (``logging`` INFO on ``footnav.core.io.load``) and recorded:
+``meta["format"]`` and ``meta["format_guessed"] = True``. A file matching no known format is an
+InvalidInputError listing the formats.
+"""
+
+from __future__ import annotations
+
+import logging
+from dataclasses import replace
+from pathlib import Path as FilePath
+from typing import Any, Callable
+
+from footnav.core.errors import DataNotFoundError, InvalidInputError
+from footnav.core.io.azure_fgo import AZURE_FGO_FILES, read_azure_fgo
+from footnav.core.io.footnav_csv import read_footnav_recording
+from footnav.core.io.gaitmap import read_gaitmap
+from footnav.core.io.openshoe import read_openshoe
+from footnav.core.io.pyshoe import read_pyshoe
+from footnav.core.io.xio import read_xio
+from footnav.core.io.xsens import read_xsens
+from footnav.core.types import Recording
+
+__all__ = ["load", "guess_format", "READERS"]
+
+log = logging.getLogger(__name__)
+
+#: Format name -> reader returning a Recording. ``footnav_csv`` reads one file as the left foot
+#: (:func:`read_footnav_recording`; :func:`read_footnav_csv` returns the ImuData itself).
+READERS: dict[str, Callable[..., Recording]] = {
+    "footnav_csv": read_footnav_recording,
+    "gaitmap": read_gaitmap,
+    "azure_fgo": read_azure_fgo,
+    "xio": read_xio,
+    "openshoe": read_openshoe,
+    "pyshoe": read_pyshoe,
+    "xsens": read_xsens,
+}
+
+#: Lines read from the top of a text file to recognise it.
+_SNIFF_LINES = 40
+_GAITMAP_COMPANIONS = {"mocap_path": "mocap_sample.csv", "events_path": "stride_events_sample.csv"}
+
+
+def _first_lines(path: FilePath) -> list[str]:
+    lines = []
+    with path.open("r", encoding="utf-8-sig", errors="replace") as fh:
+        for _ in range(_SNIFF_LINES):
+            line = fh.readline()
+            if not line:
+                break
+            lines.append(line.rstrip("\r\n"))
+    return lines
+
+
+def _is_numeric_row(line: str, ncols: int) -> bool:
+    cells = line.split(",")
+    if len(cells) != ncols:
+        return False
+    try:
+        [float(c) for c in cells]
+    except ValueError:
+        return False
+    return True
+
+
+def guess_format(path: Any) -> tuple[str, str, dict[str, Any]]:
+    """Guess the format of ``path``.
+
+    Returns
+    -------
+    name, reason, options
+        The READERS key, why it was chosen (for the log), and reader options the guess implies
+        (e.g. the gaitmap companion files of a folder).
+
+    Raises
+    ------
+    DataNotFoundError
+        ``path`` does not exist.
+    InvalidInputError
+        No known format matches (the message lists them).
+    """
+    p = FilePath(path)
+    if not p.exists():
+        raise DataNotFoundError(f"{str(p)!r} does not exist")
+    known = ", ".join(READERS)
+    if p.is_dir():
+        if (p / AZURE_FGO_FILES["left"]).exists() and (p / AZURE_FGO_FILES["right"]).exists():
+            return "azure_fgo", f"folder holds {AZURE_FGO_FILES['left']} and {AZURE_FGO_FILES['right']}", {}
+        if (p / "imu_sample.csv").exists():
+            opts = {k: p / v for k, v in _GAITMAP_COMPANIONS.items() if (p / v).exists()}
+            opts["_path"] = p / "imu_sample.csv"
+            return "gaitmap", "folder holds imu_sample.csv (gaitmap example data)", opts
+        raise InvalidInputError(
+            f"cannot tell the format of this folder (no azure_fgo or gaitmap files); known formats: {known}; "
+            "pass format=...",
+            path=str(p),
+        )
+    if p.suffix.lower() == ".mat":
+        from scipy.io import whosmat
+
+        try:
+            names = {name for name, _, _ in whosmat(p)}
+        except Exception as exc:  # corrupt or not a MATLAB file
+            raise InvalidInputError(f"cannot read MATLAB file ({exc}); known formats: {known}", path=str(p)) from None
+        if {"imu", "ts"} <= names:
+            return "pyshoe", "MATLAB file with variables imu and ts", {}
+        if names & {"ImuFootLeft", "posLeft", "posFoot"}:
+            return "azure_fgo", "azure_fgo full-length MATLAB file", {"_path": p.parent, "full_length": True}
+        raise InvalidInputError(
+            f"MATLAB file with variables {sorted(names)} matches no known format; known formats: {known}", path=str(p)
+        )
+    lines = _first_lines(p)
+    content = [s for s in lines if s.strip()]
+    if not content:
+        raise InvalidInputError(f"file is empty; cannot guess its format (known formats: {known})", path=str(p), line=1)
+    first = content[0].strip()
+    if any("PacketCounter" in s for s in content) or first.startswith("//"):
+        return "xsens", "Xsens export (PacketCounter column / '//' preamble)", {}
+    if first.startswith("Time (s)") and "Gyroscope" in first:
+        return "xio", "x-io header 'Time (s),Gyroscope ...'", {}
+    if first.startswith("time_index") and "is_zero_vel" in first:
+        return "azure_fgo", "azure_fgo IMU file header (reads the whole folder)", {"_path": p.parent}
+    if "left_sensor" in first or "right_sensor" in first:
+        return "gaitmap", "gaitmap two-row header (left_sensor/right_sensor)", {}
+    header = next((s.strip() for s in content if not s.lstrip().startswith("#")), "")
+    if header.replace(" ", "").startswith("t,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z"):
+        return "footnav_csv", "footnav CSV header 't,acc_x,...'", {}
+    if _is_numeric_row(first, 6):
+        return "openshoe", "no header, 6 numeric comma-separated columns (OpenShoe)", {}
+    raise InvalidInputError(
+        f"cannot tell the format from the first line {first[:80]!r}; known formats: {known}; pass format=...",
+        path=str(p),
+        line=1,
+    )
+
+
+def load(path: Any, format: str | None = None, **options: Any) -> Recording:
+    """Read a recording of any supported format.
+
+    Parameters
+    ----------
+    path
+        A file, or a folder (azure_fgo; gaitmap example folder with ``imu_sample.csv`` and, when
+        present, ``mocap_sample.csv`` and ``stride_events_sample.csv``).
+    format
+        One of ``READERS`` (``footnav_csv``, ``gaitmap``, ``azure_fgo``, ``xio``, ``openshoe``,
+        ``pyshoe``, ``xsens``) to force the reader; None guesses from the file.
+    **options
+        Passed to the reader (e.g. ``drop_duplicates=True``, ``rate_hz=...``).
+
+    Returns
+    -------
+    Recording
+        With ``meta["format"]`` the reader used and ``meta["format_guessed"]`` whether it was
+        guessed.
+
+    Raises
+    ------
+    DataNotFoundError
+        ``path`` does not exist.
+    InvalidInputError
+        Unknown ``format``, or a file no known format matches; the message lists the formats.
+    """
+    p = FilePath(path)
+    if format is not None:
+        if format not in READERS:
+            raise InvalidInputError(f"unknown format {format!r}; known formats: {', '.join(READERS)}", path=str(p))
+        if not p.exists():
+            raise DataNotFoundError(f"{str(p)!r} does not exist")
+        rec = READERS[format](p, **options)
+        guessed = False
+    else:
+        format, reason, implied = guess_format(p)
+        target = implied.pop("_path", p)
+        log.info("footnav.load: reading %s as %r (%s)", p, format, reason)
+        rec = READERS[format](target, **{**implied, **options})
+        guessed = True
+    return replace(rec, meta={**rec.meta, "format": format, "format_guessed": guessed})

@@ -12,6 +12,7 @@ __all__ = [
     "InvalidInputError",
     "InvalidParameterError",
     "UnknownComponentError",
+    "UnknownDatasetError",
     "CompositionError",
     "PluginError",
     "DataNotFoundError",
@@ -72,6 +73,10 @@ class InvalidParameterError(FootnavError, ValueError):
 
 class UnknownComponentError(FootnavError, LookupError):
     """No component of that kind is registered under that name."""
+
+
+class UnknownDatasetError(FootnavError, LookupError):
+    """No shared recording is known under that name."""
 
 
 class CompositionError(FootnavError):

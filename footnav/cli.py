@@ -1,0 +1,238 @@
+"""The ``footnav`` command.
+
+Exit codes: 0 success, 2 bad usage or bad input (one-line message, no traceback), 1 internal error.
+"""
+
+from __future__ import annotations
+
+import argparse
+import logging
+import sys
+from pathlib import Path as FilePath
+from typing import Sequence
+
+from footnav.core.errors import FootnavError
+
+EXIT_OK, EXIT_INTERNAL, EXIT_USAGE = 0, 1, 2
+
+EPILOG_RUN = """examples:
+  footnav run --left L.csv --right R.csv --acc-unit g --gyr-unit deg/s --out results/walk1
+  footnav run --left L.csv --pipeline pipeline.toml --out results/walk1 --force
+"""
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message: str):  # argparse exits 2 with usage; keep it, but one line of message
+        self.print_usage(sys.stderr)
+        self.exit(EXIT_USAGE, f"footnav: error: {message}\n")
+
+
+def _format_table(header: Sequence[str], rows: Sequence[Sequence[object]]) -> str:
+    cells = [[str(h) for h in header]] + [[_fmt(c) for c in r] for r in rows]
+    widths = [max(len(row[i]) for row in cells) for i in range(len(header))]
+    lines = ["  ".join(c.ljust(w) for c, w in zip(row, widths)).rstrip() for row in cells]
+    lines.insert(1, "  ".join("-" * w for w in widths))
+    return "\n".join(lines)
+
+
+def _fmt(value: object) -> str:
+    if isinstance(value, float):
+        return f"{value:.3f}"
+    return str(value)
+
+
+# -- commands ---------------------------------------------------------------------------------
+
+
+def cmd_plugins(args: argparse.Namespace) -> int:
+    from footnav.plugins.manager import get_registry
+
+    reg = get_registry()
+    rows = []
+    for e in reg:
+        params = ", ".join(
+            f"{p.name}={p.default!r}" + (f" [{p.unit}]" if p.unit else "") for p in e.cls.parameter_info()
+        )
+        needs = ",".join(n for n, f in (("two feet", e.cls.needs_two_feet), ("magnetometer", e.cls.needs_magnetometer)) if f)
+        rows.append((e.kind, e.name, e.origin, needs or "-", params or "-"))
+    print(_format_table(("kind", "name", "origin", "needs", "parameters"), rows))
+    for name, origin, err in reg.failed:
+        print(f"failed plugin: {name} ({origin}): {err}", file=sys.stderr)
+    return EXIT_OK
+
+
+def _pipeline_from_args(args: argparse.Namespace):
+    from footnav.core.pipeline import load_pipeline, make_pipeline
+
+    if args.pipeline:
+        if any(getattr(args, k) for k in ("detector", "estimator", "fusion")):
+            raise FootnavError("give either --pipeline or --detector/--estimator/--fusion, not both")
+        return load_pipeline(args.pipeline)
+    return make_pipeline(args.detector or "threshold", args.estimator or "ekf", args.fusion or "independent")
+
+
+def cmd_run(args: argparse.Namespace) -> int:
+    from footnav.core.io import read_footnav_csv
+    from footnav.core.results import write_results
+
+    pipeline = _pipeline_from_args(args)
+    units = dict(acc_unit=args.acc_unit, gyr_unit=args.gyr_unit, t_unit=args.t_unit, drop_duplicates=args.drop_duplicates)
+    left = read_footnav_csv(args.left, **units)
+    right = None if args.right is None else read_footnav_csv(args.right, **units)
+    result = pipeline.run(left, right)
+    summary = {
+        "left_path_length_m": result.left.path_length_m,
+        "left_stances": result.stance_left.n_stances,
+    }
+    if result.right is not None:
+        summary["right_path_length_m"] = result.right.path_length_m
+        summary["right_stances"] = result.stance_right.n_stances
+    out = write_results(result, args.out, force=args.force, summary=summary, pipeline_toml=pipeline.to_toml())
+    print(_format_table(("quantity", "value"), list(summary.items())))
+    print(f"results written to {out}")
+    return EXIT_OK
+
+
+def cmd_simulate(args: argparse.Namespace) -> int:
+    import footnav
+    from footnav.core.io import write_footnav_csv
+
+    out = FilePath(args.out)
+    if out.exists() and any(out.iterdir()) and not args.force:
+        raise FootnavError(f"output folder {str(out)!r} exists and is not empty; pass --force to overwrite")
+    rec = footnav.simulate(args.scenario, seed=args.seed, rate_hz=args.rate_hz)
+    out.mkdir(parents=True, exist_ok=True)
+    import numpy as np
+
+    for side, imu, truth in (("left", rec.left, rec.truth_left), ("right", rec.right, rec.truth_right)):
+        write_footnav_csv(imu, out / f"{side}.csv")
+        np.savetxt(
+            out / f"{side}_truth.csv",
+            np.column_stack([truth.t, truth.position, truth.quaternion, truth.stance.astype(float)]),
+            delimiter=",",
+            header="frame: nav (z up)\nt_s,pos_x_m,pos_y_m,pos_z_m,q_w,q_x,q_y,q_z,stance",
+            fmt="%.9g",
+        )
+    print(f"simulated {args.scenario!r} walk, {rec.left.duration_s:.1f} s at {args.rate_hz:g} Hz, written to {out}")
+    return EXIT_OK
+
+
+def cmd_demo(args: argparse.Namespace) -> int:
+    from footnav.demo import run_demo
+
+    report = run_demo(plot=None if args.no_plot else args.plot)
+    print(report.text)
+    return EXIT_OK
+
+
+def cmd_evaluate(args: argparse.Namespace) -> int:
+    from footnav.core.datasets import load_dataset
+    from footnav.core.evaluation import evaluate_many
+    from footnav.core.io import load
+    from footnav.core.pipeline import load_pipeline, make_pipeline
+
+    if not args.dataset and not args.recordings:
+        raise FootnavError("nothing to evaluate: give --dataset NAME and/or recording paths")
+    pipelines = [(FilePath(p).stem, load_pipeline(p)) for p in args.pipeline] or [("default", make_pipeline())]
+    recordings = [load_dataset(name, args.data_dir) for name in args.dataset]
+    recordings += [load(path) for path in args.recordings]
+    report = evaluate_many(pipelines, recordings)
+    print(report.to_text())
+    if args.csv:
+        FilePath(args.csv).write_text(report.to_csv(), encoding="utf-8")
+        print(f"table written to {args.csv}")
+    return EXIT_OK
+
+
+def build_parser() -> argparse.ArgumentParser:
+    from footnav import __version__
+
+    parser = _Parser(prog="footnav", description="Foot-mounted inertial navigation: one or both feet, composable methods.")
+    parser.add_argument("--version", action="version", version=f"footnav {__version__}")
+    parser.add_argument("-v", "--verbose", action="store_true", help="log what footnav does")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
+
+    p = sub.add_parser("plugins", help="list every registered component", description="List every registered component: kind, name, origin package, needs, parameters.")
+    p.set_defaults(func=cmd_plugins)
+
+    p = sub.add_parser(
+        "run",
+        help="run a pipeline on footnav CSV recordings",
+        description="Run a pipeline on footnav CSV files (t, acc_x..acc_z, gyr_x..gyr_z[, mag_x..mag_z]).",
+        epilog=EPILOG_RUN,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    p.add_argument("--left", required=True, help="left (or only) foot CSV")
+    p.add_argument("--right", help="right foot CSV")
+    p.add_argument("--acc-unit", default="m/s^2", choices=["m/s^2", "g"])
+    p.add_argument("--gyr-unit", default="rad/s", choices=["rad/s", "deg/s"])
+    p.add_argument("--t-unit", default="s", choices=["s", "ms"])
+    p.add_argument("--drop-duplicates", action="store_true", help="drop rows repeating the previous time stamp (recorded)")
+    p.add_argument("--pipeline", help="pipeline TOML file ([detector], [estimator], [fusion] tables)")
+    p.add_argument("--detector", help="detector name (see footnav plugins)")
+    p.add_argument("--estimator", help="estimator name")
+    p.add_argument("--fusion", help="fusion name")
+    p.add_argument("--out", required=True, help="output folder (must not exist or be empty)")
+    p.add_argument("--force", action="store_true", help="replace a non-empty output folder")
+    p.set_defaults(func=cmd_run)
+
+    p = sub.add_parser(
+        "simulate",
+        help="write a simulated two-foot walk to CSV",
+        description="Simulate a two-foot walk and write left.csv, right.csv (footnav CSV, SI) and their truth.",
+        epilog="example:\n  footnav simulate rectangle --rate-hz 100 --seed 1 --out sim/rect",
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    p.add_argument("scenario", nargs="?", default="straight", help="straight, rectangle or path (default straight)")
+    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--rate-hz", type=float, default=100.0)
+    p.add_argument("--out", required=True)
+    p.add_argument("--force", action="store_true")
+    p.set_defaults(func=cmd_simulate)
+
+    p = sub.add_parser(
+        "evaluate",
+        help="measure pipelines against the truth of recordings",
+        description="Run one or more pipelines on recordings with truth and print every metric each supports.",
+        epilog="examples:\n  footnav evaluate --dataset azure_fgo --dataset xio_short\n"
+        "  footnav evaluate --pipeline a.toml --pipeline b.toml --dataset gaitmap --csv report.csv\n"
+        "  footnav evaluate walk/left.csv",
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    p.add_argument("recordings", nargs="*", help="recording files or folders (format guessed)")
+    p.add_argument("--dataset", action="append", default=[], help="shared recording by name (repeatable)")
+    p.add_argument("--pipeline", action="append", default=[], help="pipeline TOML (repeatable; default pipeline if none)")
+    p.add_argument("--data-dir", help="shared data folder (default $FOOTNAV_DATA or ../shared/data)")
+    p.add_argument("--csv", help="also write the table as CSV")
+    p.set_defaults(func=cmd_evaluate)
+
+    p = sub.add_parser(
+        "demo",
+        help="run the default pipeline on the bundled real recording",
+        description="Run the default pipeline on the bundled azure_fgo recording (two feet, 60 Hz, with ground truth) and print the accuracy table.",
+    )
+    p.add_argument("--plot", default="footnav-demo.png", help="trajectory figure to write when matplotlib is installed")
+    p.add_argument("--no-plot", action="store_true", help="do not write the figure")
+    p.set_defaults(func=cmd_demo)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    logging.basicConfig(level=logging.INFO if args.verbose else logging.WARNING, format="footnav: %(message)s")
+    if args.command is None:
+        parser.print_help()
+        return EXIT_USAGE
+    try:
+        return args.func(args)
+    except FootnavError as exc:
+        print(f"footnav {args.command}: error: {exc}", file=sys.stderr)
+        return EXIT_USAGE
+    except KeyboardInterrupt:
+        print("footnav: interrupted", file=sys.stderr)
+        return EXIT_INTERNAL
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

@@ -21,6 +21,13 @@ Frames, as found in the data:
 * Vicon ``gt``: z UP in every shared trial (height ~0.12 m at rest, the foot rises in swing:
   mean height during the stance labels is below the mean outside them). The reader checks this
   per file (``truth_z="auto"``) and would turn a z-down ``gt`` 180 degrees about x.
+* Vicon ``gt`` is LEFT-handed: its x-y plane is the mirror image of the sensor's motion. The
+  sensor is a right-handed IMU (it reads -g on its z axis mounted z down), yet in every shared
+  walking trial footnav's trajectory fits ``gt`` after 2-D rigid alignment only when one of the
+  two is mirrored (e.g. trial 2017-11-22-11-22-03: 1.59 m RMSE as stored, 0.08 m mirrored),
+  which no rotation can produce. The file looks like a NED (z down) frame whose z alone was
+  flipped. The reader negates y (``truth_mirror_y=True``) to give a right-handed z-up frame and
+  records it in ``meta["truth_conversion"]``.
 """
 
 from __future__ import annotations
@@ -75,6 +82,7 @@ def read_pyshoe(
     *,
     sensor_z: str = "down",
     truth_z: str = "auto",
+    truth_mirror_y: bool = True,
     stance_proxy: str | None = None,
     drop_duplicates: bool = False,
     acc_full_scale_mps2: float | None = None,
@@ -94,6 +102,8 @@ def read_pyshoe(
     truth_z
         ``"auto"`` (decide from the trajectory: the foot is lower in stance than in swing),
         ``"up"`` or ``"down"`` (rotate ``gt`` 180 degrees about x).
+    truth_mirror_y
+        Negate ``gt``'s y to undo its left-handedness (see the module docstring); False keeps it.
     stance_proxy
         Detector whose labels become ``FootTruth.stance``: one of ``PYSHOE_DETECTORS`` or
         ``"best"`` (the trial's ``best_detector``); default ``"vicon"`` if ``zv_vicon_opt`` is
@@ -237,10 +247,19 @@ def read_pyshoe(
                     "matrix": ROTATE_180_ABOUT_X.tolist(),
                 }
             truth_rotation["evidence"] = evidence
+        truth_conversion: dict[str, Any] = {"mirror_y": False}
+        if len(gt) and truth_mirror_y:
+            gt = gt * np.array([1.0, -1.0, 1.0])
+            truth_conversion = {
+                "mirror_y": True,
+                "why": "gt is stored in a left-handed frame (its x-y plane mirrors the right-handed IMU's motion); "
+                "y negated to make it right-handed, z up",
+            }
         meta: dict[str, Any] = {
             "source": src,
             "position_source": "Vicon foot position, one row per IMU sample (align start and heading before comparing)",
             "truth_rotation": truth_rotation,
+            "truth_conversion": truth_conversion,
             "zv_labels": labels,
             "best_detector": best,
         }

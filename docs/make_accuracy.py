@@ -49,6 +49,10 @@ def main() -> None:
         "`steps_missed`/`steps_false` against the recording's stance labels (for pyshoe these are "
         "proxy labels of the best detector per trial, not hand labels).",
         "",
+        "The pyshoe reference is the per-trial error the dataset stores for its best zero-velocity "
+        "detector with a per-trial optimised threshold (`best_error`; the dataset's own error "
+        "definition, not necessarily the same alignment as ours).",
+        "",
         "| recording | foot | metric | footnav | reference |",
         "|---|---|---|---|---|",
     ]
@@ -61,6 +65,9 @@ def main() -> None:
             if m.name not in SHOWN:
                 continue
             ref = REFERENCE.get((name, m.name, m.foot), "")
+            if name.startswith("pyshoe_") and m.name == "ate_2d" and "best_error" in rec.truth_left.meta:
+                tm = rec.truth_left.meta
+                ref = f"{tm['best_error']:.3f} (pyshoe's own error of its best detector, {tm.get('best_detector')})"
             value = f"{m.value:.0f}" if m.unit == "count" else f"{m.value:.3f}"
             unit = f" {m.unit}" if m.unit and m.unit != "count" else ""
             lines.append(f"| {name} | {m.foot} | {m.name} | {value}{unit} | {ref} |")

@@ -1,0 +1,55 @@
+import numpy as np
+import pytest
+
+import footnav
+from footnav.core import metrics
+from footnav.core.evaluation import evaluate, evaluate_many, trajectory_at
+
+
+@pytest.fixture(scope="module")
+def loop():
+    return footnav.simulate("rectangle", seed=4, width_m=12.0, height_m=6.0)
+
+
+def test_metrics_equal_direct_computation(loop):
+    pipe = footnav.make_pipeline()
+    report = evaluate(pipe, loop, pipeline_name="p")
+    res = report.results[(loop.name, "p")]
+    for foot, traj, truth in (("left", res.left, loop.truth_left), ("right", res.right, loop.truth_right)):
+        assert report.value("ate_2d", foot) == pytest.approx(metrics.ate_rmse(traj.position, truth.position, dims=2))
+        assert report.value("loop_closure", foot) == pytest.approx(metrics.loop_closure_error(traj.position).error_m)
+        assert report.value("stance_f1", foot) == pytest.approx(metrics.sample_scores(res.stance_left.mask if foot == "left" else res.stance_right.mask, truth.stance).f1)
+        assert report.value("steps_missed", foot) == 0 and report.value("steps_false", foot) == 0
+    assert report.value("final_separation", "both") == pytest.approx(
+        float(np.linalg.norm(res.left.position[-1] - res.right.position[-1]))
+    )
+
+
+def test_one_foot_recording_has_no_two_foot_metrics(loop):
+    one = footnav.Recording(left=loop.left, truth_left=loop.truth_left, name="one")
+    report = evaluate(footnav.make_pipeline(), one)
+    assert {m.foot for m in report.metrics} == {"left", "both"}
+    with pytest.raises(KeyError):
+        report.value("final_separation", "both")
+
+
+def test_many_pipelines_side_by_side(loop):
+    pipes = [("loose", footnav.make_pipeline(estimator_params={"zupt_std_mps": 0.5})),
+             ("tight", footnav.make_pipeline(estimator_params={"zupt_std_mps": 0.01}))]
+    report = evaluate_many(pipes, [loop])
+    text = report.to_text().splitlines()
+    assert text[0].split()[-2:] == ["loose", "tight"]
+    assert report.value("ate_2d", pipeline="loose") != report.value("ate_2d", pipeline="tight")
+    csv_lines = report.to_csv().splitlines()
+    assert csv_lines[0] == "recording,pipeline,foot,name,value,unit"
+    assert len(csv_lines) == 1 + len(report.metrics)
+
+
+def test_trajectory_at_interpolates_inside_span_only(loop):
+    traj = footnav.make_pipeline().run(loop.left).left
+    t = np.array([traj.t[0] - 1.0, traj.t[10], 0.5 * (traj.t[10] + traj.t[11]), traj.t[-1] + 1.0])
+    pos, inside = trajectory_at(traj, t)
+    np.testing.assert_array_equal(inside, [False, True, True, False])
+    assert pos.shape == (2, 3)
+    np.testing.assert_allclose(pos[0], traj.position[10])
+    np.testing.assert_allclose(pos[1], 0.5 * (traj.position[10] + traj.position[11]))

@@ -69,6 +69,18 @@ def _predict_ins(cov, f_n, dt, var_gyr, var_acc, m):
 
 
 @njit(cache=True)
+def _store(k, q, v, p, cov, quat_out, vel, pos, pos_cov):
+    """Write sample k's attitude, velocity, position and position covariance (xx, xy, yy, zz)."""
+    quat_out[k] = q
+    vel[k] = v
+    pos[k] = p
+    pos_cov[k, 0] = cov[6, 6]
+    pos_cov[k, 1] = cov[6, 7]
+    pos_cov[k, 2] = cov[7, 7]
+    pos_cov[k, 3] = cov[8, 8]
+
+
+@njit(cache=True)
 def _ekf_loop(t, acc, gyr, stance, start, q0, var_gyr, var_acc, var_zupt, p0_diag, quat_out, vel, pos, pos_cov):
     """Run the filter over samples ``start:``; write attitude, velocity, position and the position
     covariance entries (xx, xy, yy, zz) per sample. No allocation inside the sample loop."""
@@ -99,13 +111,7 @@ def _ekf_loop(t, acc, gyr, stance, start, q0, var_gyr, var_acc, var_zupt, p0_dia
     for i in range(3):
         f_n[i] = c[i, 0] * acc[start, 0] + c[i, 1] * acc[start, 1] + c[i, 2] * acc[start, 2]
     for k in range(start + 1):
-        quat_out[k] = q
-        vel[k] = v
-        pos[k] = p
-        pos_cov[k, 0] = cov[6, 6]
-        pos_cov[k, 1] = cov[6, 7]
-        pos_cov[k, 2] = cov[7, 7]
-        pos_cov[k, 3] = cov[8, 8]
+        _store(k, q, v, p, cov, quat_out, vel, pos, pos_cov)
     for k in range(start + 1, n):
         dt = t[k] - t[k - 1]
         strapdown_step(q, v, p, f_n, acc[k - 1], gyr[k - 1], acc[k], gyr[k], dt, dq, q_tmp, c)
@@ -126,13 +132,7 @@ def _ekf_loop(t, acc, gyr, stance, start, q0, var_gyr, var_acc, var_zupt, p0_dia
                 for i in range(3):
                     v[i] -= dx[3 + i]
                     p[i] -= dx[6 + i]
-        quat_out[k] = q
-        vel[k] = v
-        pos[k] = p
-        pos_cov[k, 0] = cov[6, 6]
-        pos_cov[k, 1] = cov[6, 7]
-        pos_cov[k, 2] = cov[7, 7]
-        pos_cov[k, 3] = cov[8, 8]
+        _store(k, q, v, p, cov, quat_out, vel, pos, pos_cov)
 
 
 def heading_of_first_step(position: NDArray[np.float64], steps: NDArray[np.int64]) -> float | None:

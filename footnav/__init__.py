@@ -24,6 +24,7 @@ from footnav.core.errors import (
     PluginWarning,
     UnknownComponentError,
 )
+from footnav.core.comparison import DetectorComparison, compare_detectors
 from footnav.core.evaluation import EvaluationReport, evaluate
 from footnav.core.pipeline import (
     Pipeline,
@@ -76,6 +77,8 @@ __all__ = [
     "load_pipeline",
     "evaluate",
     "EvaluationReport",
+    "compare_detectors",
+    "DetectorComparison",
     "make_detector",
     "make_estimator",
     "make_fusion",

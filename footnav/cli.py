@@ -144,6 +144,37 @@ def cmd_evaluate(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+def cmd_compare_detectors(args: argparse.Namespace) -> int:
+    import footnav
+    from footnav.core.comparison import compare_detectors
+    from footnav.core.datasets import load_dataset
+    from footnav.core.io import load
+
+    sources = [x for x in (args.recording, args.dataset, args.simulate) if x]
+    if len(sources) != 1:
+        raise FootnavError("give exactly one of RECORDING, --dataset NAME or --simulate SCENARIO")
+    if args.recording:
+        rec = load(args.recording)
+    elif args.dataset:
+        rec = load_dataset(args.dataset, args.data_dir)
+    else:
+        rec = footnav.simulate(args.simulate, seed=args.seed, rate_hz=args.rate_hz)
+    names = [d.strip() for d in args.detectors.split(",") if d.strip()] if args.detectors else None
+    comparison = compare_detectors(rec, names, tolerance_s=args.tolerance_s)
+    print(comparison.to_text())
+    if args.csv:
+        FilePath(args.csv).write_text(comparison.to_csv(), encoding="utf-8")
+        print(f"table written to {args.csv}")
+    if args.plot:
+        try:
+            path = comparison.plot(args.plot, seconds=tuple(args.seconds) if args.seconds else None)
+        except ImportError:
+            print("(install the 'plot' extra for the figure)", file=sys.stderr)
+        else:
+            print(f"figure: {path}")
+    return EXIT_OK
+
+
 def build_parser() -> argparse.ArgumentParser:
     from footnav import __version__
 
@@ -205,6 +236,29 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--data-dir", help="shared data folder (default $FOOTNAV_DATA or ../shared/data)")
     p.add_argument("--csv", help="also write the table as CSV")
     p.set_defaults(func=cmd_evaluate)
+
+    p = sub.add_parser(
+        "compare-detectors",
+        help="compare stance detectors on one recording (table and figure)",
+        description="Run stance detectors on one recording and compare them against its reference: steps "
+        "found / missed / false, per-sample F1, event timing errors, runtime.",
+        epilog="examples:\n  footnav compare-detectors --simulate straight --plot detectors.png\n"
+        "  footnav compare-detectors --dataset gaitmap --detectors threshold,glrt,hmm --plot g.png --seconds 5 15\n"
+        "  footnav compare-detectors walk/left.csv --detectors threshold,glrt",
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    p.add_argument("recording", nargs="?", help="recording file or folder (format guessed)")
+    p.add_argument("--dataset", help="shared recording by name (see footnav evaluate)")
+    p.add_argument("--simulate", metavar="SCENARIO", help="a simulated walk: straight, rectangle")
+    p.add_argument("--seed", type=int, default=0, help="simulator seed")
+    p.add_argument("--rate-hz", type=float, default=100.0, help="simulator rate")
+    p.add_argument("--detectors", help="comma-separated names (default: every detector that fits)")
+    p.add_argument("--tolerance-s", type=float, default=0.15, help="matching tolerance for steps and events, s")
+    p.add_argument("--data-dir", help="shared data folder")
+    p.add_argument("--csv", help="also write the table as CSV")
+    p.add_argument("--plot", help="write the stance figure (PNG) here")
+    p.add_argument("--seconds", type=float, nargs=2, metavar=("START", "STOP"), help="time window of the figure")
+    p.set_defaults(func=cmd_compare_detectors)
 
     p = sub.add_parser(
         "demo",

@@ -1122,6 +1122,67 @@ def step_detection(
     )
 
 
+def step_detection_from_events(
+    detected_mask: ArrayLike,
+    reference_events: ArrayLike,
+    *,
+    tolerance_samples: float = 0.0,
+) -> StepDetection:
+    """Steps found / missed / false against one reference event per stance ([003] Table 1).
+
+    For references that mark each stance by one instant (mocap-derived mid-stance or foot-flat
+    events) instead of a stance mask. A reference event is found when it lies inside a detected
+    stance phase, widened by ``tolerance_samples`` on each side; each detected stance finds at most
+    one event (one to one, :func:`match_events` on the nearest anchor inside the phase). Detected
+    stances outside the span of the reference events (a standstill before the first labelled
+    stride or after the last) are neither found nor false: the reference says nothing there.
+
+    Parameters
+    ----------
+    detected_mask
+        Per-sample stance mask (N,).
+    reference_events
+        Reference stance events as sample indices (K,).
+    tolerance_samples
+        Widening of each detected stance phase, samples.
+    """
+    det = _mask(detected_mask, "detected_mask")
+    ref = np.sort(_events(reference_events, "reference_events").astype(np.float64))
+    if tolerance_samples < 0:
+        raise InvalidParameterError(f"tolerance_samples must be >= 0, got {tolerance_samples!r}")
+    runs = stance_intervals(det)
+    if len(ref):
+        inside_span = (runs[:, 1] - 1 + tolerance_samples >= ref[0]) & (runs[:, 0] - tolerance_samples <= ref[-1])
+        runs = runs[inside_span]
+    # each stance phase takes the free reference event nearest its centre among those inside it;
+    # phases are visited in time order, so a widened phase cannot take its neighbour's event twice
+    pairs: list[tuple[int, int]] = []
+    used_ref: set[int] = set()
+    for j, (a, b) in enumerate(runs):
+        hits = [i for i in np.flatnonzero((ref >= a - tolerance_samples) & (ref <= b - 1 + tolerance_samples)) if i not in used_ref]
+        if hits:
+            centre = 0.5 * (a + b - 1)
+            r = int(min(hits, key=lambda i: abs(ref[i] - centre)))
+            pairs.append((j, r))
+            used_ref.add(r)
+    used_det = {d for d, _ in pairs}
+    matches = np.array([[0.5 * (runs[d, 0] + runs[d, 1] - 1), ref[r]] for d, r in pairs]).reshape(-1, 2)
+    missed = np.array([ref[i] for i in range(len(ref)) if i not in used_ref])
+    false = np.array([0.5 * (runs[j, 0] + runs[j, 1] - 1) for j in range(len(runs)) if j not in used_det])
+    n_ref = len(ref)
+    return StepDetection(
+        len(runs),
+        n_ref,
+        len(pairs),
+        len(missed),
+        len(false),
+        _percent(len(missed), n_ref),
+        _percent(len(false), n_ref),
+        EventMatches(matches, missed, false),
+    )
+
+
+
 @dataclass(frozen=True)
 class SampleScores:
     """Per-sample classification scores of a stance mask (stance = positive class).

@@ -476,7 +476,7 @@ class FootTruth:
         what it is (simulator truth, mocap-derived, proxy labels of another detector).
     events
         Reference gait events as IMU sample indices (``heel_strike``, ``foot_flat``, ``heel_off``,
-        ``toe_off``), possibly empty.
+        ``toe_off``, ``mid_stance``), possibly empty.
     closed_loop
         True when the walk is known to end where it started.
     frame

@@ -473,3 +473,22 @@ def test_event_timing_error_hand_computed():
     assert math.isnan(event_timing_error([], [1], tolerance=1, rate_hz=100.0).mean_abs_error_s)
     with pytest.raises(InvalidParameterError):
         event_timing_error([1], [1], tolerance=1, rate_hz=0.0)
+
+
+def test_step_detection_from_events_hand_case():
+    from footnav.core.metrics import step_detection_from_events
+
+    #            stance phases: [2,5) [10,14) [20,22) [30,35)   [40,45)
+    mask = np.zeros(50, dtype=bool)
+    for a, b in [(2, 5), (10, 14), (20, 22), (30, 35), (40, 45)]:
+        mask[a:b] = True
+    # reference mid-stance events: 11 and 12 both in [10,14) (one can match), 25 in no phase,
+    # 31 in [30,35); [20,22) holds no event -> false; [2,5) and [40,45) lie outside the span
+    # [11, 31] of the reference -> ignored
+    res = step_detection_from_events(mask, [11, 12, 25, 31])
+    assert (res.n_found, res.n_missed, res.n_false) == (2, 2, 1)
+    assert res.n_detected == 3 and res.n_reference == 4
+    np.testing.assert_array_equal(res.matches.missed, [12, 25])
+    # widening by 4 samples lets [20,22) reach 25 (21 + 4 = 25) -> found
+    res = step_detection_from_events(mask, [11, 12, 25, 31], tolerance_samples=4)
+    assert (res.n_found, res.n_missed, res.n_false) == (3, 1, 0)

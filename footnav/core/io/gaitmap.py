@@ -62,9 +62,10 @@ _MARKER_SIDE = {"left": "L", "right": "R"}
 _MARKERS = ("TOE", "FCC", "FM5")
 #: Stride-event columns -> footnav event names. ``ic`` (initial contact) is the heel strike,
 #: ``tc`` (terminal contact) the toe off, ``min_vel`` (sample of minimum foot velocity, the
-#: stride border in gaitmap) mid-stance, reported as ``foot_flat``. ``pre_ic`` is the ``ic`` of
+#: stride border in gaitmap) mid-stance, reported as ``mid_stance`` (not foot flat, the start of
+#: the flat phase, which the file does not give). ``pre_ic`` is the ``ic`` of
 #: the stride before, so it adds heel strikes (the first one of each walk) to ``ic``.
-GAITMAP_EVENT_NAMES = {"ic": "heel_strike", "pre_ic": "heel_strike", "tc": "toe_off", "min_vel": "foot_flat"}
+GAITMAP_EVENT_NAMES = {"ic": "heel_strike", "pre_ic": "heel_strike", "tc": "toe_off", "min_vel": "mid_stance"}
 _EVENT_COLUMNS = ("foot", "start", "end", "ic", "tc", "min_vel")
 
 
@@ -263,7 +264,7 @@ def read_gaitmap(
         ``left``/``right`` ImuData in SI units and the file's sensor axes. With mocap or events,
         ``truth_left``/``truth_right`` are FootTruth with ``frame="mocap"`` (z up, m) at the
         mocap times and ``events`` (``heel_strike`` = ``ic`` and ``pre_ic``, ``toe_off`` = ``tc``,
-        ``foot_flat`` = ``min_vel``, i.e. mid-stance) as IMU sample indices; the stride borders
+        ``mid_stance`` = ``min_vel``) as IMU sample indices; the stride borders
         (``start``, ``end``) are in ``truth.meta["strides"]``.
 
     Notes
@@ -351,7 +352,7 @@ def read_gaitmap(
                     "ic": "heel_strike",
                     "pre_ic": "heel_strike",
                     "tc": "toe_off",
-                    "min_vel": "foot_flat (mid-stance)",
+                    "min_vel": "mid_stance",
                 },
                 strides=remap_indices(events[foot]["strides"].astype(np.int64), keeps[foot]),
                 missing_events=events[foot]["missing_events"],

@@ -83,7 +83,7 @@ def test_synthetic_units_mocap_events(tmp_path):
     assert tl.frame == "mocap"
     assert tl.events["heel_strike"].tolist() == [2, 12, 22]  # ic and pre_ic
     assert tl.events["toe_off"].tolist() == [8, 18]
-    assert tl.events["foot_flat"].tolist() == [5, 15]
+    assert tl.events["mid_stance"].tolist() == [5, 15]
     assert tr.events["heel_strike"].tolist() == [7, 17]
     assert tl.meta["strides"].tolist() == [[5, 15], [15, 25]]
 

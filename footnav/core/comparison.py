@@ -1,0 +1,141 @@
+"""Comparing stance detectors on one recording: the table (and picture) a gait class looks at.
+
+For each detector and foot, against whatever reference the recording has:
+
+* with a reference stance mask (simulator truth, proxy labels): steps found / missed / false by
+  matching stance phases (:func:`~footnav.core.metrics.step_detection`), per-sample precision,
+  recall and F1;
+* with one reference event per stance (mocap-derived ``mid_stance``, as in the gaitmap example):
+  steps found / missed / false by :func:`~footnav.core.metrics.step_detection_from_events`;
+* for every gait event both the detector and the reference give (heel strike, foot flat, heel
+  off, toe off): the mean absolute timing error (seed 003 Table 1 counts, plus timing);
+* the runtime of the detector on the recording.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from typing import Any, Sequence
+
+from footnav.core import metrics
+from footnav.core.component import StanceDetector
+from footnav.core.evaluation import EvaluationReport, Metric
+from footnav.core.types import FootTruth, Recording, StanceResult
+
+__all__ = ["DetectorComparison", "compare_detectors", "DEFAULT_TOLERANCE_S"]
+
+#: Largest distance between a detected and a reference stance or event for a match, s (about a
+#: quarter of a stride at normal walking speed).
+DEFAULT_TOLERANCE_S = 0.15
+_EVENTS = ("heel_strike", "foot_flat", "heel_off", "toe_off")
+
+
+@dataclass(frozen=True)
+class DetectorComparison:
+    """The metrics of each detector (``report``, one column per detector) and its stance results."""
+
+    recording: Recording
+    report: EvaluationReport
+    stances: dict[str, tuple[StanceResult, StanceResult | None]] = field(default_factory=dict)
+
+    def to_text(self) -> str:
+        return self.report.to_text()
+
+    def to_csv(self) -> str:
+        return self.report.to_csv()
+
+    def plot(self, path: Any, *, seconds: tuple[float, float] | None = None):
+        """Gyro norm with each detector's stance stacked below it (needs matplotlib)."""
+        from footnav.plot import plot_stance_comparison
+
+        return plot_stance_comparison(self, path, seconds=seconds)
+
+
+def _resolve(detectors: Sequence[Any] | None, two_feet: bool) -> list[tuple[str, StanceDetector]]:
+    from footnav.core.pipeline import _registry
+
+    reg = _registry()
+    if detectors is None:
+        detectors = [n for n in reg.names("detector") if two_feet or not reg.get("detector", n).cls.needs_two_feet]
+    out = []
+    for d in detectors:
+        if isinstance(d, tuple):
+            label, det = d
+        elif isinstance(d, StanceDetector):
+            label, det = d.name, d
+        else:
+            label, det = str(d), reg.create("detector", str(d))
+        out.append((label, det))
+    return out
+
+
+def _foot_metrics(stance: StanceResult, truth: FootTruth | None, rate_hz: float, tol_s: float) -> list[tuple[str, float, str]]:
+    rows: list[tuple[str, float, str]] = [("stances", float(stance.n_stances), "count")]
+    if truth is None:
+        return rows
+    tol = tol_s * rate_hz
+    steps = None
+    if truth.stance is not None and len(truth.stance) == len(stance.mask):
+        steps = metrics.step_detection(stance.mask, truth.stance, tolerance_samples=tol)
+        scores = metrics.sample_scores(stance.mask, truth.stance)
+        rows += [("precision", scores.precision, ""), ("recall", scores.recall, ""), ("f1", scores.f1, "")]
+    elif len(truth.events.get("mid_stance", ())):
+        steps = metrics.step_detection_from_events(stance.mask, truth.events["mid_stance"], tolerance_samples=tol)
+    if steps is not None:
+        rows = rows[:1] + [
+            ("steps_reference", float(steps.n_reference), "count"),
+            ("steps_found", float(steps.n_found), "count"),
+            ("steps_missed", float(steps.n_missed), "count"),
+            ("steps_false", float(steps.n_false), "count"),
+        ] + rows[1:]
+    for event in _EVENTS:
+        det, ref = stance.events.get(event), truth.events.get(event)
+        if det is None or ref is None or len(det) == 0 or len(ref) == 0:
+            continue
+        timing = metrics.event_timing_error(det, ref, tolerance=tol, rate_hz=rate_hz)
+        if timing.n_matched:
+            rows.append((f"{event}_error", 1e3 * timing.mean_abs_error_s, "ms"))
+    return rows
+
+
+def compare_detectors(
+    recording: Recording,
+    detectors: Sequence[str | StanceDetector | tuple[str, StanceDetector]] | None = None,
+    *,
+    tolerance_s: float = DEFAULT_TOLERANCE_S,
+) -> DetectorComparison:
+    """Run each detector on ``recording`` and measure it against the recording's reference.
+
+    Parameters
+    ----------
+    recording
+        One or two feet, with truth (:func:`footnav.simulate`, :func:`footnav.load`, a shared
+        dataset); without truth only stance counts and runtimes are reported.
+    detectors
+        Registered names, detector instances or ``(label, detector)`` pairs; default every
+        registered detector the recording can feed (two-foot detectors need two feet).
+    tolerance_s
+        Matching tolerance for stances and events, s.
+
+    Examples
+    --------
+    >>> cmp = compare_detectors(footnav.simulate("straight", distance_m=20), ["threshold", "glrt"])  # doctest: +SKIP
+    >>> print(cmp.to_text()); cmp.plot("detectors.png")  # doctest: +SKIP
+    """
+    rows: list[Metric] = []
+    stances: dict[str, tuple[StanceResult, StanceResult | None]] = {}
+    name = recording.name or "recording"
+    for label, det in _resolve(detectors, recording.right is not None):
+        t0 = time.perf_counter()
+        left, right = det.detect_pair(recording.left, recording.right)
+        runtime = time.perf_counter() - t0
+        stances[label] = (left, right)
+        feet = [("left", left, recording.truth_left, recording.left)]
+        if right is not None:
+            feet.append(("right", right, recording.truth_right, recording.right))
+        for foot, stance, truth, imu in feet:
+            for metric, value, unit in _foot_metrics(stance, truth, imu.rate_hz, tolerance_s):
+                rows.append(Metric(name, label, foot, metric, float(value), unit))
+        rows.append(Metric(name, label, "both", "runtime", 1e3 * runtime, "ms"))
+    return DetectorComparison(recording=recording, report=EvaluationReport(tuple(rows)), stances=stances)

@@ -15,7 +15,8 @@ import numpy as np
 from scipy.ndimage import uniform_filter1d
 
 from footnav.core.component import StanceDetector, require
-from footnav.core.types import GRAVITY_MPS2, ImuData, StanceResult, stance_intervals
+from footnav.core.types import GRAVITY_MPS2, ImuData, StanceResult
+from footnav.detectors._stance import stance_result, window_samples
 
 __all__ = ["ThresholdDetector"]
 
@@ -67,18 +68,8 @@ class ThresholdDetector(StanceDetector):
         """Stance mask, foot-flat / heel-off events (stance start / end) and the windowed gyro norm."""
         self.validate_params()
         rate = imu.rate_hz
-        win = max(1, int(round(self.window_s * rate)))
+        win = window_samples(self.window_s, rate)
         gyr_norm = uniform_filter1d(np.linalg.norm(imu.gyr, axis=1), win, mode="nearest")
         acc_dev = uniform_filter1d(np.abs(np.linalg.norm(imu.acc, axis=1) - GRAVITY_MPS2), win, mode="nearest")
         mask = (gyr_norm < self.gyr_threshold_radps) & (acc_dev < self.acc_tolerance_mps2)
-        min_len = int(round(self.min_stance_s * rate))
-        for a, b in stance_intervals(mask):
-            if b - a < min_len:
-                mask[a:b] = False
-        runs = stance_intervals(mask)
-        return StanceResult(
-            mask=mask,
-            events={"foot_flat": runs[:, 0], "heel_off": runs[:, 1] - 1},
-            score=gyr_norm,
-            meta={"detector": self.describe(), "window_samples": win},
-        )
+        return stance_result(mask, rate, self.min_stance_s, gyr_norm, {"detector": self.describe(), "window_samples": win})

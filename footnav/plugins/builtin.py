@@ -10,9 +10,11 @@ from footnav.plugins.hookspecs import hookimpl
 
 @hookimpl
 def footnav_register_detectors(register):
+    from footnav.detectors.glrt import GlrtDetector
     from footnav.detectors.threshold import ThresholdDetector
 
     register(ThresholdDetector)
+    register(GlrtDetector)
 
 
 @hookimpl

@@ -61,33 +61,32 @@ def plot_stance_comparison(comparison, path: str | FilePath, *, seconds: tuple[f
     rec = comparison.recording
     labels = list(comparison.stances)
     feet = [("left", rec.left, rec.truth_left, 0)] + ([("right", rec.right, rec.truth_right, 1)] if rec.right is not None else [])
-    rows_per_foot = 1 + len(labels) + 1
-    ratios = ([3] + [1] * (rows_per_foot - 1)) * len(feet)
+    # one signal row per foot, then one band per detector (and the reference stance when known)
+    rows: list[tuple] = []
+    for foot, imu, truth, col in feet:
+        rows.append(("signal", foot, imu, truth))
+        rows += [("band", lab, imu, comparison.stances[lab][col].mask) for lab in labels]
+        if truth is not None and truth.stance is not None and len(truth.stance) == imu.n_samples:
+            rows.append(("band", "reference", imu, truth.stance))
+    ratios = [3 if r[0] == "signal" else 1 for r in rows]
     fig, axes = plt.subplots(
-        len(ratios), 1, sharex=True, figsize=(11, 1.2 + 0.45 * len(ratios) + 1.5 * len(feet)),
+        len(rows), 1, sharex=True, figsize=(11, 1.0 + 0.5 * len(rows) + 1.2 * len(feet)),
         gridspec_kw={"height_ratios": ratios}, constrained_layout=True,
     )
     axes = np.atleast_1d(axes)
-    for f, (foot, imu, truth, col) in enumerate(feet):
-        base = f * rows_per_foot
-        ax = axes[base]
-        ax.plot(imu.t, np.linalg.norm(imu.gyr, axis=1), color="0.2", lw=0.7)
-        ax.set_ylabel(f"{foot}\n|w| (rad/s)")
-        bands = [(lab, comparison.stances[lab][col].mask) for lab in labels]
-        if truth is not None and truth.stance is not None and len(truth.stance) == imu.n_samples:
-            bands.append(("reference", truth.stance))
-        elif truth is not None and len(truth.events.get("mid_stance", ())):
-            ax.vlines(imu.t[truth.events["mid_stance"]], 0, 1, transform=ax.get_xaxis_transform(), color="tab:green",
-                      lw=0.8, alpha=0.6, label="reference mid-stance")
-            ax.legend(loc="upper right", fontsize="x-small")
-        for i, (lab, mask) in enumerate(bands):
-            b = axes[base + 1 + i]
-            b.fill_between(imu.t, 0, 1, where=mask, step="mid", color="tab:green" if lab == "reference" else "tab:blue", lw=0)
-            b.set_yticks([])
-            b.set_ylabel(lab, rotation=0, ha="right", va="center", fontsize="small")
-            b.set_ylim(0, 1)
-        for j in range(len(bands) + 1, rows_per_foot):
-            axes[base + j].set_visible(False)
+    for ax, (kind, name, imu, data) in zip(axes, rows):
+        if kind == "signal":
+            ax.plot(imu.t, np.linalg.norm(imu.gyr, axis=1), color="0.2", lw=0.7)
+            ax.set_ylabel(f"{name}\n|w| (rad/s)")
+            if data is not None and data.stance is None and len(data.events.get("mid_stance", ())):
+                ax.vlines(imu.t[data.events["mid_stance"]], 0, 1, transform=ax.get_xaxis_transform(),
+                          color="tab:green", lw=0.8, alpha=0.6, label="reference mid-stance")
+                ax.legend(loc="upper right", fontsize="x-small")
+        else:
+            ax.fill_between(imu.t, 0, 1, where=data, step="mid", color="tab:green" if name == "reference" else "tab:blue", lw=0)
+            ax.set_yticks([])
+            ax.set_ylim(0, 1)
+            ax.set_ylabel(name, rotation=0, ha="right", va="center", fontsize="small")
     axes[-1].set_xlabel("t (s)")
     if seconds is not None:
         axes[-1].set_xlim(*seconds)

@@ -1,0 +1,93 @@
+"""Regenerate docs/teaching-detectors.md and its figures: every stance detector compared on a
+simulated walk and on the gaitmap example (mocap-derived events).
+
+Run:  python docs/make_teaching.py [--data-dir ../shared/data]
+"""
+
+from __future__ import annotations
+
+import argparse
+import warnings
+from pathlib import Path
+
+import footnav
+from footnav.core.comparison import compare_detectors
+from footnav.core.datasets import load_dataset
+
+HERE = Path(__file__).parent
+
+INTRO = """# Teaching: comparing gait segmentation methods
+
+A foot-mounted IMU navigates only as well as it knows when the foot stands still. This page puts
+footnav's stance detectors side by side, the way a class would: the same recording, each
+detector's stance phases stacked under the angular-rate signal, and a table of what each got
+right. Everything here is produced by `python docs/make_teaching.py`; run the same comparison
+yourself with
+
+```
+footnav compare-detectors --simulate straight --plot detectors-sim.png --seconds 0 10
+footnav compare-detectors --dataset gaitmap --plot detectors-gaitmap.png --seconds 5 15
+```
+
+or in Python:
+
+```python
+import footnav
+cmp = footnav.compare_detectors(footnav.simulate("straight", distance_m=30))
+print(cmp.to_text())
+cmp.plot("detectors.png", seconds=(0, 10))
+```
+
+What the rows mean: `steps_found / missed / false` match each detected stance phase one to one
+with a reference stance (seed 003 Table 1); `f1` is the per-sample F1 of the stance mask against
+the simulator's exact zero-velocity truth; `*_error` rows are mean absolute timing errors of gait
+events in ms; `runtime` includes numba compilation the first time a detector runs in a process.
+"""
+
+
+def section(title: str, cmp, figure: str, note: str) -> str:
+    return f"""
+## {title}
+
+{note}
+
+![{title}](figures/{figure})
+
+```
+{cmp.to_text()}
+```
+"""
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--data-dir")
+    args = ap.parse_args()
+    parts = [INTRO]
+    sim = footnav.simulate("straight", seed=0, rate_hz=100.0, distance_m=30.0)
+    cmp = compare_detectors(sim)
+    cmp.plot(HERE / "figures" / "detectors-sim.png", seconds=(0.0, 10.0))
+    parts.append(section(
+        "A simulated walk (30 m, 100 Hz)", cmp, "detectors-sim.png",
+        "The simulator knows exactly when each foot is still, so every detector can be scored per sample."))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # clipping is recorded in meta
+        rec = load_dataset("gaitmap", args.data_dir)
+        cmp = compare_detectors(rec)
+    cmp.plot(HERE / "figures" / "detectors-gaitmap.png", seconds=(5.0, 15.0))
+    parts.append(section(
+        "The gaitmap example (both feet, 204.8 Hz, 2 x 20 m)", cmp, "detectors-gaitmap.png",
+        "Reference: the 28 + 29 strides of the motion-capture event file; a stride is found when its "
+        "minimum-velocity (mid-stance) sample lies inside a detected stance. Detectors that report heel "
+        "strike or toe off are timed against the mocap initial and terminal contacts; threshold and GLRT "
+        "report only the start and end of stance, which the mocap file does not give. The one extra "
+        "left-foot stance both find (near sample 3620) is the turn at the end of the first 20 m: the "
+        "stride file labels the turn as one stride from mid-stance 3359 to 3826, but the mocap heel "
+        "speed in the detected stance is 0.014 m/s (median), the same as in a normal stance: the foot "
+        "really stood still there. Use this as a discussion point: a reference is a method too."))
+    (HERE / "teaching-detectors.md").write_text("".join(parts), encoding="utf-8")
+    print("wrote", HERE / "teaching-detectors.md")
+
+
+if __name__ == "__main__":
+    main()

@@ -11,9 +11,12 @@ from footnav.plugins.hookspecs import hookimpl
 @hookimpl
 def footnav_register_detectors(register):
     from footnav.detectors.glrt import GlrtDetector
-    from footnav.detectors.threshold import ThresholdDetector
+    from footnav.detectors.threshold import AccMagnitudeDetector, AccVarianceDetector, AredDetector, ThresholdDetector
 
     register(ThresholdDetector)
+    register(AccMagnitudeDetector)
+    register(AccVarianceDetector)
+    register(AredDetector)
     register(GlrtDetector)
 
 

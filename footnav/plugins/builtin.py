@@ -10,6 +10,7 @@ from footnav.plugins.hookspecs import hookimpl
 
 @hookimpl
 def footnav_register_detectors(register):
+    from footnav.detectors.dual_gait import DualGaitDetector
     from footnav.detectors.glrt import GlrtDetector
     from footnav.detectors.threshold import AccMagnitudeDetector, AccVarianceDetector, AredDetector, ThresholdDetector
 
@@ -18,6 +19,7 @@ def footnav_register_detectors(register):
     register(AccVarianceDetector)
     register(AredDetector)
     register(GlrtDetector)
+    register(DualGaitDetector)
 
 
 @hookimpl

@@ -1,0 +1,83 @@
+import warnings
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+import footnav
+from footnav import CompositionError, InvalidInputError
+from footnav.core import metrics
+from footnav.detectors.dual_gait import DualGaitDetector
+from footnav.testing import DetectorContract
+
+
+class TestDualGaitContract(DetectorContract):
+    component = DualGaitDetector
+
+
+@pytest.fixture(scope="module")
+def walk():
+    return footnav.simulate("straight", seed=2, distance_m=20.0)
+
+
+def test_one_foot_is_a_composition_error(walk):
+    with pytest.raises(CompositionError, match="needs both feet"):
+        DualGaitDetector().detect(walk.left)
+    with pytest.raises(CompositionError, match="needs both feet"):
+        DualGaitDetector().detect_pair(walk.left, None)
+    with pytest.raises(CompositionError, match="needs both feet"):
+        footnav.make_pipeline("dual-gait").run(walk.left)
+
+
+def test_stance_ends_at_the_contralateral_heel_strike(walk):
+    left, right = DualGaitDetector().detect_pair(walk.left, walk.right)
+    for me, other, imu in ((left, right, walk.left), (right, left, walk.right)):
+        hs_other = other.events["heel_strike"]
+        for start, stop in me.meta["support_intervals"]:
+            later = hs_other[hs_other > start]
+            assert stop == (later[0] if len(later) else imu.n_samples)  # same clock, same rate
+        # ZUPT only inside a support interval (or before the first heel strike: the initial standstill)
+        support = me.phases != 2
+        assert (me.mask <= (support | (np.arange(imu.n_samples) < me.events["heel_strike"][0]))).all()
+
+
+def test_simulated_steps_are_all_found_within_tolerance(walk):
+    left, right = DualGaitDetector().detect_pair(walk.left, walk.right)
+    for stance, truth in ((left, walk.truth_left), (right, walk.truth_right)):
+        # the simulator has no heel-strike impact, so heel strikes are found early and cut the
+        # stance early: match onsets, which the cut does not move
+        steps = metrics.step_detection(stance.mask, truth.stance, tolerance_samples=15, anchor="onset")
+        assert steps.n_missed == 0 and steps.n_false == 0
+
+
+def test_feet_on_different_clocks_are_refused(walk):
+    shifted = replace(walk.right, t=walk.right.t + 1000.0)
+    with pytest.raises(InvalidInputError, match="one clock"):
+        DualGaitDetector().detect_pair(walk.left, shifted)
+
+
+def test_all_standstill_gives_one_stance_and_no_heel_strike():
+    t = np.arange(300) / 100.0
+    still = footnav.ImuData(t, np.tile([0.0, 0.0, footnav.GRAVITY_MPS2], (300, 1)), np.zeros((300, 3)))
+    left, right = DualGaitDetector().detect_pair(still, still)
+    assert left.mask.all() and len(left.events["heel_strike"]) == 0
+
+
+def test_gaitmap_strides_and_heel_strike_timing(shared_data):
+    from footnav.core.datasets import load_dataset
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", footnav.DataQualityWarning)
+        rec = load_dataset("gaitmap", shared_data)
+    left, right = DualGaitDetector().detect_pair(rec.left, rec.right)
+    found = false = 0
+    for stance, truth in ((left, rec.truth_left), (right, rec.truth_right)):
+        steps = metrics.step_detection_from_events(stance.mask, truth.events["mid_stance"])
+        found, false = found + steps.n_found, false + steps.n_false
+        timing = metrics.event_timing_error(stance.events["heel_strike"], truth.events["heel_strike"],
+                                            tolerance=0.3 * rec.left.rate_hz, rate_hz=rec.left.rate_hz)
+        assert timing.n_missed == 0 and timing.mean_abs_error_s < 0.04  # measured 28 ms
+    # measured: 53 of 57 found, 1 false. Ending each stance at the other foot's heel strike (the
+    # paper's rule) cuts 4 flat zones before the mocap's minimum-velocity sample, which here lies
+    # late in stance: on this walk the rear foot is still flat after the front foot's heel strike
+    assert found >= 52 and false <= 1

@@ -62,7 +62,7 @@ def test_missing_file_and_unknown_component_exit_2(sim_csv, tmp_path, capsys):
     assert main(["run", "--left", str(tmp_path / "nope.csv"), "--out", str(tmp_path / "o")]) == 2
     assert main(["run", "--left", str(sim_csv / "left.csv"), "--detector", "nope", "--out", str(tmp_path / "o")]) == 2
     err = capsys.readouterr().err
-    assert "available: threshold" in err
+    assert "no detector named 'nope'; available:" in err and "threshold" in err
 
 
 def test_usage_error_exits_2(capsys):

@@ -57,7 +57,7 @@ def test_unknown_name_lists_available_and_suggests():
     with pytest.raises(UnknownComponentError) as err:
         footnav.make_detector("treshold")
     msg = str(err.value)
-    assert "available: threshold" in msg and "Did you mean 'threshold'" in msg
+    assert "available: " in msg and "glrt" in msg and "threshold" in msg and "Did you mean 'threshold'" in msg
     assert isinstance(err.value, LookupError)
 
 
@@ -115,7 +115,7 @@ def test_misspelt_hook_is_a_warning_and_others_still_load():
 
     with pytest.warns(PluginWarning, match="fake_plugin"):
         reg = build_registry([_plugin(footnav_register_detector=footnav_register_detector)], autoload=False)
-    assert reg.names("detector") == ["threshold"]
+    assert "half" not in reg.names("detector") and "threshold" in reg.names("detector")
     assert reg.failed and reg.failed[0][0] == "fake_plugin"
 
 
@@ -152,7 +152,7 @@ def test_hook_that_raises_is_a_warning(monkeypatch):
 
     with pytest.warns(PluginWarning, match="boom"):
         reg = build_registry([_plugin(footnav_register_detectors=footnav_register_detectors)], autoload=False)
-    assert reg.names("detector") == ["threshold"]
+    assert "threshold" in reg.names("detector")  # the built-ins are untouched
 
 
 def test_autoload_can_be_disabled_by_environment(monkeypatch):

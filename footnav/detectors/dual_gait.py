@@ -43,9 +43,9 @@ class DualGaitDetector(StanceDetector):
     window_s : float
         Window of the flat-zone statistics, s.
     gyr_threshold_radps : float
-        Flat zone needs the windowed mean of |w| below this, rad/s.
+        Flat zone needs the windowed RMS of |w| below this, rad/s (the "threshold" detector's test).
     acc_tolerance_mps2 : float
-        Flat zone needs the windowed mean of ||f| - g| below this, m/s^2.
+        Flat zone needs the windowed RMS of |f| - g below this, m/s^2.
     min_stance_s : float
         Flat zones shorter than this are discarded, s.
     hs_search_s : float

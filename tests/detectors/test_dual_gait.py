@@ -72,11 +72,11 @@ def test_gaitmap_strides_and_heel_strike_timing(shared_data):
     left, right = DualGaitDetector().detect_pair(rec.left, rec.right)
     found = false = 0
     for stance, truth in ((left, rec.truth_left), (right, rec.truth_right)):
-        steps = metrics.step_detection_from_events(stance.mask, truth.events["mid_stance"])
+        steps = metrics.step_detection_from_events(stance.mask, truth.events["mid_stance"], tolerance_samples=0.15 * rec.left.rate_hz)
         found, false = found + steps.n_found, false + steps.n_false
         timing = metrics.event_timing_error(stance.events["heel_strike"], truth.events["heel_strike"],
                                             tolerance=0.3 * rec.left.rate_hz, rate_hz=rec.left.rate_hz)
         assert timing.n_missed == 0 and timing.mean_abs_error_s < 0.04  # measured 28 ms
-    # measured: 57 of 57 found; the one extra is the left foot standing still in the turn, which
+    # measured (0.15 s tolerance, as compare_detectors): 57 of 57 found; the one extra is the left foot standing still in the turn, which
     # the stride file labels as part of one turning stride (mocap heel speed there 0.014 m/s)
     assert found == 57 and false <= 1

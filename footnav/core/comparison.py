@@ -20,6 +20,7 @@ from typing import Any, Sequence
 
 from footnav.core import metrics
 from footnav.core.component import StanceDetector
+from footnav.core.errors import FootnavError
 from footnav.core.evaluation import EvaluationReport, Metric
 from footnav.core.types import FootTruth, Recording, StanceResult
 
@@ -38,9 +39,12 @@ class DetectorComparison:
     recording: Recording
     report: EvaluationReport
     stances: dict[str, tuple[StanceResult, StanceResult | None]] = field(default_factory=dict)
+    #: Detectors that raised a footnav error on this recording, with the message.
+    failures: dict[str, str] = field(default_factory=dict)
 
     def to_text(self) -> str:
-        return self.report.to_text()
+        text = self.report.to_text()
+        return text + "".join(f"\n{label} failed: {msg}" for label, msg in self.failures.items())
 
     def to_csv(self) -> str:
         return self.report.to_csv()
@@ -125,10 +129,16 @@ def compare_detectors(
     """
     rows: list[Metric] = []
     stances: dict[str, tuple[StanceResult, StanceResult | None]] = {}
+    failures: dict[str, str] = {}
     name = recording.name or "recording"
     for label, det in _resolve(detectors, recording.right is not None):
         t0 = time.perf_counter()
-        left, right = det.detect_pair(recording.left, recording.right)
+        try:
+            left, right = det.detect_pair(recording.left, recording.right)
+        except FootnavError as exc:  # a method that cannot handle this recording is a result too
+            rows.append(Metric(name, label, "both", "failed", 1.0, ""))
+            failures[label] = str(exc)
+            continue
         runtime = time.perf_counter() - t0
         stances[label] = (left, right)
         feet = [("left", left, recording.truth_left, recording.left)]
@@ -138,4 +148,4 @@ def compare_detectors(
             for metric, value, unit in _foot_metrics(stance, truth, imu.rate_hz, tolerance_s):
                 rows.append(Metric(name, label, foot, metric, float(value), unit))
         rows.append(Metric(name, label, "both", "runtime", 1e3 * runtime, "ms"))
-    return DetectorComparison(recording=recording, report=EvaluationReport(tuple(rows)), stances=stances)
+    return DetectorComparison(recording=recording, report=EvaluationReport(tuple(rows)), stances=stances, failures=failures)

@@ -12,6 +12,7 @@ from footnav.plugins.hookspecs import hookimpl
 def footnav_register_detectors(register):
     from footnav.detectors.dual_gait import DualGaitDetector
     from footnav.detectors.glrt import GlrtDetector
+    from footnav.detectors.hmm import HmmDetector
     from footnav.detectors.threshold import AccMagnitudeDetector, AccVarianceDetector, AredDetector, ThresholdDetector
 
     register(ThresholdDetector)
@@ -20,6 +21,7 @@ def footnav_register_detectors(register):
     register(AredDetector)
     register(GlrtDetector)
     register(DualGaitDetector)
+    register(HmmDetector)
 
 
 @hookimpl

@@ -53,3 +53,19 @@ def test_cli_compare_detectors_writes_table_and_figure(tmp_path, capsys):
 def test_cli_compare_detectors_needs_one_source(capsys):
     assert main(["compare-detectors"]) == 2
     assert "exactly one" in capsys.readouterr().err
+
+
+def test_a_detector_that_fails_is_reported_not_fatal(walk):
+    from footnav.core.errors import InvalidInputError
+
+    class Refuses(ThresholdDetector):
+        name = "refuses"
+
+        def detect(self, imu):
+            raise InvalidInputError("cannot learn from this recording", field="acc")
+
+    cmp = compare_detectors(walk, [("ok", ThresholdDetector()), ("refuses", Refuses())])
+    assert "refuses" in cmp.failures and "cannot learn" in cmp.failures["refuses"]
+    assert cmp.report.value("failed", "both", pipeline="refuses") == 1.0
+    assert cmp.report.value("steps_found", "left", pipeline="ok") > 0
+    assert "refuses failed: " in cmp.to_text()

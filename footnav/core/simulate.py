@@ -65,6 +65,9 @@ _BUMP_GAIN = 64.0
 # to second order, so the motion this ignores is ~1e-15 m/s.
 _EVENT_TIME_TOL_S = 1e-9
 
+# The heel-strike impact wavelet is cut this many sigma from its centre.
+_IMPACT_CUT = 6.0
+
 # A closed walk ends within this distance of its start (m); the geometry is exact up to rounding.
 _CLOSED_LOOP_TOL_M = 1e-6
 
@@ -76,10 +79,15 @@ _COMMON_DEFAULTS: dict[str, Any] = {
     "turn_radius_m": 1.5,
     "foot_lift_m": 0.12,
     "heel_off_s": 0.1,
-    "swing_s": 0.4,
+    "swing_s": 0.45,
     "foot_flat_s": 0.1,
     "toe_off_pitch_deg": 30.0,
     "heel_strike_pitch_deg": 20.0,
+    # Heel-strike impact: 4 g peak, sigma 10 ms (a 20-40 ms transient), so the sole compresses by
+    # A sigma^2 = 4 mm. Heel- and instep-mounted IMUs read 3-5 g spikes at initial contact
+    # (gaitmap example at 204.8 Hz), above the 3-4 g of the foot's deceleration late in swing.
+    "heel_strike_impact_mps2": 40.0,
+    "heel_strike_impact_s": 0.01,
     "mounting_rpy_deg": (0.0, 0.0, 0.0),
     "noise": True,
     # Consumer/industrial MEMS grade (BMI160 / MPU-9250 / MTi-3 class): ~0.01 deg/s/sqrt(Hz) and
@@ -162,7 +170,8 @@ def _resolve_options(scenario: Any, rate_hz: Any, options: Mapping[str, Any]) ->
     for name in ("stride_length_m", "stride_period_s", "turn_radius_m", "foot_lift_m", "heel_off_s",
                  "swing_s", "foot_flat_s"):
         opts[name] = _positive(opts, name)
-    for name in ("step_width_m", "standstill_s", *_NOISE_KEYS):
+    opts["heel_strike_impact_s"] = _positive(opts, "heel_strike_impact_s")
+    for name in ("step_width_m", "standstill_s", "heel_strike_impact_mps2", *_NOISE_KEYS):
         opts[name] = _non_negative(opts, name)
     for name in ("toe_off_pitch_deg", "heel_strike_pitch_deg"):
         value = _number(opts, name)
@@ -189,6 +198,13 @@ def _resolve_options(scenario: Any, rate_hz: Any, options: Mapping[str, Any]) ->
             opts["swing_s"],
             f"swing_s + max(heel_off_s, foot_flat_s) <= stride_period_s / 2 = {half:g} s so that one foot is "
             "flat while the other swings",
+        )
+    if opts["heel_strike_impact_mps2"] > 0 and _IMPACT_CUT * opts["heel_strike_impact_s"] > min(opts["swing_s"], opts["foot_flat_s"]):
+        raise _fail(
+            "heel_strike_impact_s",
+            opts["heel_strike_impact_s"],
+            f"<= min(swing_s, foot_flat_s) / {_IMPACT_CUT:g} = "
+            f"{min(opts['swing_s'], opts['foot_flat_s']) / _IMPACT_CUT:g} s so the impact ends before the foot is flat",
         )
     if opts["turn_radius_m"] <= opts["step_width_m"] / 2:
         raise _fail("turn_radius_m", opts["turn_radius_m"], f"> step_width_m / 2 = {opts['step_width_m'] / 2:g} m")
@@ -539,6 +555,30 @@ def _moving_motion(
     return pos, vel, q, omega, acc
 
 
+def _heel_strike_impact(
+    t: NDArray[np.float64], t_heel_strike: NDArray[np.float64], opts: dict[str, Any]
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    """Vertical (nav z) displacement, velocity and acceleration of the heel-strike impact, (N,) each.
+
+    The acceleration is a Ricker wavelet ``A (1 - u^2) exp(-u^2/2)``, ``u = (t - t_hs) / sigma``:
+    minus sigma^2 times the second derivative of ``G = exp(-u^2/2)``, so the displacement is
+    ``-A sigma^2 G`` (the sole compresses by A sigma^2, 4 mm by default, and springs back) and the
+    velocity ``A sigma u G``; both vanish outside the pulse. Cut at 6 sigma (G < 1.6e-8).
+    """
+    disp, vel, acc = np.zeros(len(t)), np.zeros(len(t)), np.zeros(len(t))
+    amp, sigma = opts["heel_strike_impact_mps2"], opts["heel_strike_impact_s"]
+    if amp == 0:
+        return disp, vel, acc
+    for t_hs in t_heel_strike:
+        sl = slice(*np.searchsorted(t, [t_hs - _IMPACT_CUT * sigma, t_hs + _IMPACT_CUT * sigma]))
+        u = (t[sl] - t_hs) / sigma
+        g = np.exp(-0.5 * u * u)
+        disp[sl] -= amp * sigma * sigma * g
+        vel[sl] += amp * sigma * u * g
+        acc[sl] += amp * (1.0 - u * u) * g
+    return disp, vel, acc
+
+
 def _horizontal_point(xy: NDArray, heading: NDArray, point_b: NDArray) -> NDArray:
     """Nav position of foot point ``point_b`` when the foot stands flat at ``xy`` (sensor z = 0)."""
     ch, sh = np.cos(heading), np.sin(heading)
@@ -635,14 +675,28 @@ def simulate(scenario: str = "straight", *, seed: int = 0, rate_hz: float = 100.
     foot_lift_m : float, default 0.12
         Peak lift of the foot's moving contact point (toe to heel) above the ground in swing,
         in m; the sensor rises about as high.
-    heel_off_s, swing_s, foot_flat_s : float, default 0.1, 0.4, 0.1
+    heel_off_s, swing_s, foot_flat_s : float, default 0.1, 0.45, 0.1
         Durations in s of heel-off (heel rises, foot pivots on the toe), swing (airborne, toe-off
         to heel strike) and foot-flat (foot rotates flat about the heel). The rest of the stride
         is flat-foot stance. Needs ``swing_s + max(heel_off_s, foot_flat_s) <= stride_period_s/2``.
+        With the defaults ``heel_off_s + swing_s = stride_period_s / 2``: the rear foot's heel
+        rises as the front foot's heel strikes (seed 001 Sec. III-A), swing is 41 % of the
+        stride and each double support 0.1 s (9 %), as in normal walking.
     toe_off_pitch_deg : float, default 30.0
         Toe-down pitch of the foot at toe-off in deg.
     heel_strike_pitch_deg : float, default 20.0
         Toe-up pitch of the foot at heel strike in deg.
+    heel_strike_impact_mps2 : float, default 40.0
+        Peak of the heel-strike impact transient in m/s^2 (0 turns it off): a Ricker wavelet
+        ``A (1 - u^2) exp(-u^2 / 2)``, ``u = (t - t_hs) / heel_strike_impact_s``, added to the
+        specific force along the foot's z axis (sole normal) at each heel strike. It models the
+        shoe and soft-tissue vibration the sensor feels, not a motion of the rigid foot: its
+        integral and that of its integral are zero, so it leaves velocity and position unchanged
+        after the pulse (the truth includes the 4 mm dip; ``truth.meta["acc_impact_mps2"]``
+        holds the transient's specific force, sensor frame). Needs ``6 heel_strike_impact_s <=
+        min(swing_s, foot_flat_s)``: the pulse stays between toe-off and stance.
+    heel_strike_impact_s : float, default 0.01
+        Width (sigma) of the impact wavelet in s; the transient lasts about 6 sigma (+-3 sigma).
     mounting_rpy_deg : (float, float, float), default (0, 0, 0)
         Orientation of the sensor on the foot as ZYX roll, pitch, yaw in deg (sensor -> foot);
         zero: sensor axes = foot axes (x forward, y left, z up).
@@ -691,7 +745,8 @@ def simulate(scenario: str = "straight", *, seed: int = 0, rate_hz: float = 100.
     rate_hz = float(rate_hz)
     line, line_info = _centre_line(scenario, opts)
     swings, plan_info = _plan(line, opts)
-    n = int(math.floor(plan_info["duration_s"] * rate_hz)) + 1
+    # the last sample at or before the end; 1e-9 keeps 8.7 s x 400 Hz = 3479.9999... from losing it
+    n = int(math.floor(plan_info["duration_s"] * rate_hz + 1e-9)) + 1
     t = np.arange(n) / rate_hz
 
     end_xy, _ = line(np.array([line.length_m]))
@@ -709,8 +764,14 @@ def simulate(scenario: str = "straight", *, seed: int = 0, rate_hz: float = 100.
         sw = swings[foot]
         motion = _foot_motion(t, sw, opts)
         errors = _sensor_errors(rng, n, rate_hz, opts)
+        # The impact moves the sensor along nav z; the foot frame sees it through C^T e_z.
+        imp_p, imp_v, imp_a = _heel_strike_impact(t, sw.t_heel_strike, opts)
+        impact_foot = imp_a[:, None] * quat.as_matrix(motion.quaternion)[:, 2, :]
+        motion.position[:, 2] += imp_p
+        motion.velocity[:, 2] += imp_v
+        impact = impact_foot @ mount_t.T
         gyr_true = motion.gyr @ mount_t.T
-        acc_true = motion.acc @ mount_t.T
+        acc_true = (motion.acc + impact_foot) @ mount_t.T
         gyr = gyr_true + errors["gyr_radps"] + errors["gyr_white"]
         acc = acc_true + errors["acc_mps2"] + errors["acc_white"]
         biases = {k: errors[k] for k in ("gyr_turn_on_radps", "acc_turn_on_mps2", "gyr_radps", "acc_mps2")}
@@ -753,6 +814,7 @@ def simulate(scenario: str = "straight", *, seed: int = 0, rate_hz: float = 100.
                 "foot_geometry_m": {"heel": _HEEL_B.copy(), "toe": _TOE_B.copy(), "sensor_height": _SENSOR_HEIGHT_M},
                 "gyr_true_radps": gyr_true,
                 "acc_true_mps2": acc_true,
+                "acc_impact_mps2": impact,
                 **plan_info,
                 **line_info,
             },

@@ -161,17 +161,20 @@ def test_gyro_and_acc_match_finite_differences_of_truth():
         qdot = (q[2:] - q[:-2]) / (2 * dt)
         w_fd = 2.0 * quat.multiply(quat.conjugate(q[1:-1]), qdot)[:, 1:]
         np.testing.assert_allclose(w_fd, imu.gyr[1:-1], atol=1.5e-3)  # rad/s, peaks ~9 rad/s
-        v_fd = (truth.position[2:] - truth.position[:-2]) / (2 * dt)
-        np.testing.assert_allclose(v_fd, truth.velocity[1:-1], atol=2e-4)  # m/s
+        # Fourth-order central differences: the 10 ms heel-strike impact is too sharp for second order.
+        p = truth.position
+        v_fd = (8 * (p[3:-1] - p[1:-3]) - (p[4:] - p[:-4])) / (12 * dt)
+        np.testing.assert_allclose(v_fd, truth.velocity[2:-2], atol=2e-4)  # m/s
         # The jerk jumps where the gait phase changes (profiles are C2), so the central
         # difference of velocity is only second-order accurate away from those samples.
         phase = truth.meta["phases"]
         near = np.zeros(len(phase), dtype=bool)
         for i in np.flatnonzero(np.diff(phase) != 0):
             near[max(i - 2, 0) : i + 4] = True
-        a_fd = (truth.velocity[2:] - truth.velocity[:-2]) / (2 * dt)
-        a_imu = quat.rotate(q[1:-1], imu.acc[1:-1]) + G_N
-        keep = ~near[1:-1]
+        v = truth.velocity
+        a_fd = (8 * (v[3:-1] - v[1:-3]) - (v[4:] - v[:-4])) / (12 * dt)
+        a_imu = quat.rotate(q[2:-2], imu.acc[2:-2]) + G_N
+        keep = ~near[2:-2]
         np.testing.assert_allclose(a_fd[keep], a_imu[keep], atol=2e-2)  # m/s^2, peaks ~40 m/s^2
 
 
@@ -230,11 +233,14 @@ def test_foot_motion_is_realistic():
         to, hs = truth.events["toe_off"], truth.events["heel_strike"]
         assert (pitch[to] > 15).all() and (pitch[hs] < -10).all()
         assert 0.08 < truth.position[:, 2].max() < 0.2  # foot lift, m
-        # Heel and toe never go through the ground (the sensor is 6 cm above it when flat).
+        # Heel and toe never go through the ground (the sensor is 6 cm above it when flat) but by
+        # the sole's compression at the heel-strike impact, A sigma^2 = 4 mm.
         geo = truth.meta["foot_geometry_m"]
+        opts = truth.meta["options"]
+        squeeze = opts["heel_strike_impact_mps2"] * opts["heel_strike_impact_s"] ** 2
         for point in (geo["heel"], geo["toe"]):
             z = truth.position[:, 2] + quat.rotate(truth.quaternion, point)[:, 2]
-            assert z.min() > -geo["sensor_height"] - 1e-9
+            assert z.min() > -geo["sensor_height"] - squeeze - 1e-9
         # No zero-velocity instant outside stance (a detector could mistake it for a stance).
         speed = np.linalg.norm(truth.velocity, axis=1)
         assert speed[~truth.stance].min() > 0.01
@@ -391,3 +397,32 @@ def test_long_walk_is_fast():
     elapsed = time.perf_counter() - start
     assert rec.left.duration_s > 3600.0
     assert elapsed < 8.0
+
+
+@pytest.mark.parametrize("rate", [100.0, 400.0])
+def test_heel_strike_impact_is_the_spike_at_each_heel_strike_and_moves_nothing(rate):
+    rec = simulate("straight", rate_hz=rate, noise=False, **SHORT)
+    flat = simulate("straight", rate_hz=rate, noise=False, heel_strike_impact_mps2=0.0, **SHORT)
+    for (_, imu, truth), (_, imu0, truth0) in zip(_feet(rec), _feet(flat)):
+        hs = truth.events["heel_strike"]
+        f = np.linalg.norm(imu.acc, axis=1)
+        half = int(0.02 * rate)
+        # the largest |f| near each heel strike is the impact, at the heel strike, above 2 g
+        for k in hs:
+            win = f[k - half : k + half + 1]
+            assert abs(int(np.argmax(win)) - half) <= max(1, int(0.005 * rate))
+            assert win.max() > 2 * GRAVITY_MPS2
+        # it is a vibration of the sole, A sigma^2 = 4 mm deep, gone 60 ms after the heel strike
+        dz = truth.position[:, 2] - truth0.position[:, 2]
+        assert 3.0e-3 < -dz.min() < 4.1e-3
+        after = np.zeros(len(dz), dtype=bool)
+        for k in hs:
+            after[k + int(0.06 * rate) : k + int(0.1 * rate)] = True
+        assert np.abs(dz[after]).max() < 1e-9
+        np.testing.assert_array_equal(truth.stance, truth0.stance)
+        np.testing.assert_allclose(imu.acc - imu0.acc, truth.meta["acc_impact_mps2"], atol=1e-12)
+
+
+def test_impact_longer_than_foot_flat_is_refused():
+    with pytest.raises(InvalidParameterError, match="heel_strike_impact_s"):
+        simulate("straight", distance_m=5.0, heel_strike_impact_s=0.03)

@@ -189,7 +189,9 @@ def test_cyclic_order_rejects_bad_labels():
 # -- learned model ------------------------------------------------------------------------------
 @lru_cache(maxsize=None)
 def _fitted() -> HmmDetector:
-    rec = _walk("straight", 100.0)
+    # a walk with turns: a model fitted on straight walking alone has no yaw or roll rate in any
+    # state and cannot classify turning steps
+    rec = _walk("rectangle", 100.0)
     return HmmDetector(seed=0).fit([rec.left, rec.right])
 
 

@@ -1,138 +1,35 @@
-"""Error-state ZUPT-aided INS: the closed-loop 9-state extended Kalman filter.
+"""Error-state ZUPT-aided INS estimator: closed-loop 9- or 15-state EKF with RTS smoothing.
 
-Error state dx = [dphi, dv, dp] (attitude, velocity, position errors in the nav frame; seed 001
-eq. 1-3, seed 002 eq. 1-3 and Alg. 1 without the smoother). With the estimated attitude
-C^ = (I - [dphi x]) C and dv = v^ - v, dp = p^ - p, the continuous error model is (seed 001 eq. 2)::
-
-    d(dphi)/dt = -C^ dw,   d(dv)/dt = [f^n x] dphi + C^ df,   d(dp)/dt = dv
-
-discretised per sample as F = I + A dt and Q = diag(sigma_g^2 dt I, sigma_a^2 dt I, 0), with
-sigma_a, sigma_g the sensor noise *densities*: the filter then behaves the same at any rate. In
-stance the pseudo-measurement z = v^ (the foot is still) updates the error state (H = [0 I 0]),
-which is fed back into attitude, velocity and position and reset to zero (closed loop).
+Seed 001 eq. 1-3 (Zhao et al. 2019) and seed 002 Alg. 1 (Chistyakov et al. 2021): the filter of
+:mod:`footnav.core.ins_filter` (error state [attitude, velocity, position] and optionally the
+accelerometer and gyro biases; ZUPT in stance, optional zero angular rate; closed-loop feedback),
+initial roll, pitch and gyro bias from the first standstill, and the smoother of
+:mod:`footnav.core.smoothing` (step-wise or over the whole walk). When the walk returns to its
+start (``closed_loop=True``), the final standstill gets the start position as a measurement and
+the whole-walk smoother spreads that correction back over the trajectory (seed 002).
 """
 
 from __future__ import annotations
 
 import time
 import warnings
-from typing import Literal
+from typing import Literal, Sequence
 
 import numpy as np
-from numba import njit
 from numpy.typing import NDArray
 
-from footnav.core import kalman
 from footnav.core import quaternion as quat
 from footnav.core.component import FootEstimator, require
-from footnav.core.errors import DataQualityWarning, InvalidInputError
+from footnav.core.errors import DataQualityWarning, InvalidInputError, InvalidParameterError
 from footnav.core.initial_alignment import align_at_rest
-from footnav.core.mechanization import strapdown_step
-from footnav.core.quaternion import as_matrix_nb, from_rotvec_nb, multiply_nb, normalize_nb
+from footnav.core.ins_filter import FilterNoise, InsFilter
+from footnav.core.smoothing import SMOOTHERS, StepSmoother, smooth
 from footnav.core.types import FootTrajectory, ImuData, StanceResult
 
 __all__ = ["EkfEstimator", "heading_of_first_step"]
 
-N_STATES = 9
 #: Footprints closer than this (m) do not define a walking direction.
 MIN_FIRST_STEP_M = 0.2
-
-
-@njit(cache=True)
-def _predict_ins(cov, f_n, dt, var_gyr, var_acc, m):
-    """P <- F P F' + Q for F = [[I,0,0],[S,I,0],[0,dt I,I]], S = [f^n x] dt (seed 001 eq. 2-3),
-    using the block structure (about a seventh of the flops of a dense 9x9 product)."""
-    # S = [f^n x] dt = [[0, -z, y], [z, 0, -x], [-y, x, 0]]
-    x, y, z = f_n[0] * dt, f_n[1] * dt, f_n[2] * dt
-    # M = F P (rows): [P0; P1 + S P0; P2 + dt P1]
-    for j in range(N_STATES):
-        p0, p1, p2 = cov[0, j], cov[1, j], cov[2, j]
-        m[0, j], m[1, j], m[2, j] = p0, p1, p2
-        m[3, j] = cov[3, j] - z * p1 + y * p2
-        m[4, j] = cov[4, j] + z * p0 - x * p2
-        m[5, j] = cov[5, j] - y * p0 + x * p1
-        for i in range(3):
-            m[6 + i, j] = cov[6 + i, j] + dt * cov[3 + i, j]
-    # P = M F' (columns): [M0, M1 + M0 S', M2 + dt M1]
-    for i in range(N_STATES):
-        m0, m1, m2 = m[i, 0], m[i, 1], m[i, 2]
-        cov[i, 0], cov[i, 1], cov[i, 2] = m0, m1, m2
-        cov[i, 3] = m[i, 3] - z * m1 + y * m2
-        cov[i, 4] = m[i, 4] + z * m0 - x * m2
-        cov[i, 5] = m[i, 5] - y * m0 + x * m1
-        for j in range(3):
-            cov[i, 6 + j] = m[i, 6 + j] + dt * m[i, 3 + j]
-    for i in range(3):
-        cov[i, i] += var_gyr * dt  # C Sg C' dt = sigma_g^2 dt I (C orthonormal)
-        cov[3 + i, 3 + i] += var_acc * dt
-    kalman.symmetrize(cov)
-
-
-@njit(cache=True)
-def _store(k, q, v, p, cov, quat_out, vel, pos, pos_cov):
-    """Write sample k's attitude, velocity, position and position covariance (xx, xy, yy, zz)."""
-    quat_out[k] = q
-    vel[k] = v
-    pos[k] = p
-    pos_cov[k, 0] = cov[6, 6]
-    pos_cov[k, 1] = cov[6, 7]
-    pos_cov[k, 2] = cov[7, 7]
-    pos_cov[k, 3] = cov[8, 8]
-
-
-@njit(cache=True)
-def _ekf_loop(t, acc, gyr, stance, start, q0, var_gyr, var_acc, var_zupt, p0_diag, quat_out, vel, pos, pos_cov):
-    """Run the filter over samples ``start:``; write attitude, velocity, position and the position
-    covariance entries (xx, xy, yy, zz) per sample. No allocation inside the sample loop."""
-    n = len(t)
-    q = q0.copy()
-    v = np.zeros(3)
-    p = np.zeros(3)
-    f_n = np.zeros(3)
-    dq = np.zeros(4)
-    q_tmp = np.zeros(4)
-    c = np.zeros((3, 3))
-    cov = np.zeros((N_STATES, N_STATES))
-    for i in range(N_STATES):
-        cov[i, i] = p0_diag[i]
-    r = np.zeros((3, 3))
-    for i in range(3):
-        r[i, i] = var_zupt
-    dx = np.zeros(N_STATES)
-    innov = np.zeros(3)
-    nn1 = np.zeros((N_STATES, N_STATES))
-    nm1 = np.zeros((N_STATES, 3))
-    nm2 = np.zeros((N_STATES, 3))
-    mm1 = np.zeros((3, 3))
-    mm2 = np.zeros((3, 3))
-    mm3 = np.zeros((3, 3))
-
-    as_matrix_nb(q, c)
-    for i in range(3):
-        f_n[i] = c[i, 0] * acc[start, 0] + c[i, 1] * acc[start, 1] + c[i, 2] * acc[start, 2]
-    for k in range(start + 1):
-        _store(k, q, v, p, cov, quat_out, vel, pos, pos_cov)
-    for k in range(start + 1, n):
-        dt = t[k] - t[k - 1]
-        strapdown_step(q, v, p, f_n, acc[k - 1], gyr[k - 1], acc[k], gyr[k], dt, dq, q_tmp, c)
-        _predict_ins(cov, f_n, dt, var_gyr, var_acc, nn1)  # P = F P F' + Q  (seed 001 eq. 3)
-        if stance[k]:
-            for i in range(N_STATES):
-                dx[i] = 0.0
-            for i in range(3):
-                innov[i] = v[i]  # z = v^ - 0 = dv + noise
-            # K = P H' (H P H' + R)^-1, Joseph-form P  (seed 001 eq. 3, seed 002 Alg. 1)
-            if kalman.update_block(dx, cov, 3, r, innov, nn1, nm1, nm2, mm1, mm2, mm3):
-                # feedback: C <- (I + [dphi x]) C^, v <- v^ - dv, p <- p^ - dp; error reset to 0
-                from_rotvec_nb(dx[0], dx[1], dx[2], dq)
-                multiply_nb(dq, q, q_tmp)
-                for i in range(4):
-                    q[i] = q_tmp[i]
-                normalize_nb(q)
-                for i in range(3):
-                    v[i] -= dx[3 + i]
-                    p[i] -= dx[6 + i]
-        _store(k, q, v, p, cov, quat_out, vel, pos, pos_cov)
 
 
 def heading_of_first_step(position: NDArray[np.float64], steps: NDArray[np.int64]) -> float | None:
@@ -149,11 +46,11 @@ def heading_of_first_step(position: NDArray[np.float64], steps: NDArray[np.int64
 
 
 class EkfEstimator(FootEstimator):
-    """Closed-loop error-state ZUPT EKF, 9 states [attitude, velocity, position].
+    """Closed-loop error-state ZUPT EKF, 9 or 15 states, with RTS smoothing.
 
-    Seed 001 eq. 1-3 (Zhao et al. 2019) and seed 002 Alg. 1 (Chistyakov et al. 2021), forward
-    filter. Initial roll, pitch and gyro bias come from the first stance phase; heading starts at
-    zero. Noise parameters are densities, so results do not depend on the sampling rate.
+    Seed 001 eq. 1-3 (Zhao et al. 2019) and seed 002 Alg. 1 (Chistyakov et al. 2021). Initial
+    roll, pitch and gyro bias come from the first stance phase; heading starts at zero. Noise
+    parameters are densities, so results do not depend on the sampling rate.
 
     Parameters
     ----------
@@ -171,14 +68,34 @@ class EkfEstimator(FootEstimator):
         Nav frame heading: "first-step" turns the result so the first step points along +x;
         "sensor" keeps the sensor's initial heading as x.
     gyro_bias : {"initial-standstill", "none"}
-        Subtract the mean angular rate of the still samples of the first stance phase, or nothing.
+        Start from the mean angular rate of the still samples of the first stance phase, or zero.
     still_gyr_max_radps : float
         Samples of the first stance used for levelling and gyro bias must turn slower than this,
         rad/s (a detected stance is not always a true standstill).
+    bias_states : bool
+        Estimate accelerometer and gyro biases as six more error states (15 in all).
+    acc_bias_walk_mps3_sqrthz : float
+        Accelerometer bias random walk, m/s^3/sqrt(Hz) (15 states only).
+    gyr_bias_walk_radps2_sqrthz : float
+        Gyroscope bias random walk, rad/s^2/sqrt(Hz) (15 states only).
+    init_acc_bias_std_mps2 : float
+        Initial accelerometer bias uncertainty, m/s^2 (15 states only).
+    init_gyr_bias_std_radps : float
+        Initial gyro bias uncertainty after the initial-standstill estimate, rad/s (15 states only).
+    zaru_std_radps : float
+        Standard deviation of the zero-angular-rate update in stance, rad/s; 0 turns it off
+        (15 states only: it observes the gyro bias).
+    smoother : {"step", "whole", "none"}
+        RTS smoothing: within each step (bounded memory), over the whole walk, or none.
+    closed_loop : bool
+        The walk ends where it started: the final standstill gets the start position as a
+        measurement (seed 002); needs ``smoother="whole"`` to correct the whole trajectory.
+    closed_loop_std_m : float
+        Standard deviation of that start-equals-end measurement, m.
 
     Examples
     --------
-    >>> est = EkfEstimator(zupt_std_mps=0.02)
+    >>> est = EkfEstimator(bias_states=True, smoother="whole")
     >>> traj = est.estimate(imu, make_detector("threshold").detect(imu))  # doctest: +SKIP
     """
 
@@ -195,6 +112,15 @@ class EkfEstimator(FootEstimator):
         heading: Literal["first-step", "sensor"] = "first-step",
         gyro_bias: Literal["initial-standstill", "none"] = "initial-standstill",
         still_gyr_max_radps: float = 0.05,
+        bias_states: bool = False,
+        acc_bias_walk_mps3_sqrthz: float = 1e-3,
+        gyr_bias_walk_radps2_sqrthz: float = 1e-4,
+        init_acc_bias_std_mps2: float = 0.05,
+        init_gyr_bias_std_radps: float = 2e-3,
+        zaru_std_radps: float = 0.0,
+        smoother: Literal["step", "whole", "none"] = "step",
+        closed_loop: bool = False,
+        closed_loop_std_m: float = 0.01,
     ) -> None:
         self.acc_noise_mps2_sqrthz = acc_noise_mps2_sqrthz
         self.gyr_noise_radps_sqrthz = gyr_noise_radps_sqrthz
@@ -204,6 +130,15 @@ class EkfEstimator(FootEstimator):
         self.heading = heading
         self.gyro_bias = gyro_bias
         self.still_gyr_max_radps = still_gyr_max_radps
+        self.bias_states = bias_states
+        self.acc_bias_walk_mps3_sqrthz = acc_bias_walk_mps3_sqrthz
+        self.gyr_bias_walk_radps2_sqrthz = gyr_bias_walk_radps2_sqrthz
+        self.init_acc_bias_std_mps2 = init_acc_bias_std_mps2
+        self.init_gyr_bias_std_radps = init_gyr_bias_std_radps
+        self.zaru_std_radps = zaru_std_radps
+        self.smoother = smoother
+        self.closed_loop = closed_loop
+        self.closed_loop_std_m = closed_loop_std_m
 
     def validate_params(self) -> None:
         for name in (
@@ -213,12 +148,149 @@ class EkfEstimator(FootEstimator):
             "init_attitude_std_rad",
             "init_velocity_std_mps",
             "still_gyr_max_radps",
+            "acc_bias_walk_mps3_sqrthz",
+            "gyr_bias_walk_radps2_sqrthz",
+            "init_acc_bias_std_mps2",
+            "init_gyr_bias_std_radps",
+            "closed_loop_std_m",
         ):
             value = getattr(self, name)
-            require(isinstance(value, (int, float)) and np.isfinite(value) and value > 0, self, name, "a positive number")
+            require(_is_number(value) and value > 0, self, name, "a positive number")
+        require(_is_number(self.zaru_std_radps) and self.zaru_std_radps >= 0, self, "zaru_std_radps", "a number >= 0 (0: off)")
         require(self.heading in ("first-step", "sensor"), self, "heading", "'first-step' or 'sensor'")
         require(self.gyro_bias in ("initial-standstill", "none"), self, "gyro_bias", "'initial-standstill' or 'none'")
+        require(isinstance(self.bias_states, (bool, np.bool_)), self, "bias_states", "True or False")
+        require(isinstance(self.closed_loop, (bool, np.bool_)), self, "closed_loop", "True or False")
+        require(self.smoother in SMOOTHERS, self, "smoother", " or ".join(repr(m) for m in SMOOTHERS))
+        if self.closed_loop and self.smoother != "whole":
+            raise InvalidParameterError(
+                f"{self.name}: closed_loop=True needs smoother='whole' (got {self.smoother!r}): only the "
+                "whole-walk smoother carries the start-equals-end correction back over the trajectory"
+            )
+        if self.zaru_std_radps > 0 and not self.bias_states:
+            raise InvalidParameterError(
+                f"{self.name}: zaru_std_radps > 0 needs bias_states=True: the zero-angular-rate update "
+                "observes the gyro bias, which the 9-state filter does not estimate"
+            )
 
+    @property
+    def n_states(self) -> int:
+        """Error states per foot: 15 with bias states, else 9."""
+        return 15 if self.bias_states else 9
+
+    # -- the step-able filter ---------------------------------------------------------------------
+    def start(
+        self,
+        imus: Sequence[ImuData],
+        stances: Sequence[StanceResult],
+        *,
+        initial_yaw_rad: Sequence[float] | None = None,
+        initial_position_m: Sequence[NDArray[np.float64]] | None = None,
+    ) -> InsFilter:
+        """Align each foot at its first standstill and return the filter, ready to run.
+
+        Parameters
+        ----------
+        imus, stances
+            One or two feet (two share one joint filter, on one clock).
+        initial_yaw_rad
+            Heading of each foot's nav frame at the start (rad about z); default 0, the
+            sensor's own heading.
+        initial_position_m
+            Start position of each foot in nav, m; default the origin.
+
+        Returns
+        -------
+        InsFilter
+            Its ``meta`` holds the alignment of each foot.
+        """
+        self.validate_params()
+        n_feet = len(imus)
+        yaws = [0.0] * n_feet if initial_yaw_rad is None else list(initial_yaw_rad)
+        p0 = [np.zeros(3)] * n_feet if initial_position_m is None else [np.asarray(x, float) for x in initial_position_m]
+        starts, q0, bg0, metas = [], [], [], []
+        for imu, stance, yaw in zip(imus, stances, yaws):
+            s0, align, meta = self._align(imu, stance)
+            starts.append(s0)
+            q0.append(quat.multiply(quat.from_yaw(yaw), align.quaternion))
+            bg0.append(align.gyro_bias_radps if self.gyro_bias == "initial-standstill" else np.zeros(3))
+            metas.append(meta)
+        var_att, var_vel = self.init_attitude_std_rad**2, self.init_velocity_std_mps**2
+        cov0 = [var_att] * 3 + [var_vel] * 3 + [0.0] * 3
+        if self.bias_states:
+            cov0 += [self.init_acc_bias_std_mps2**2] * 3 + [self.init_gyr_bias_std_radps**2] * 3
+        noise = FilterNoise(
+            acc_mps2_sqrthz=float(self.acc_noise_mps2_sqrthz),
+            gyr_radps_sqrthz=float(self.gyr_noise_radps_sqrthz),
+            zupt_std_mps=float(self.zupt_std_mps),
+            acc_bias_walk_mps3_sqrthz=float(self.acc_bias_walk_mps3_sqrthz),
+            gyr_bias_walk_radps2_sqrthz=float(self.gyr_bias_walk_radps2_sqrthz),
+            zaru_std_radps=float(self.zaru_std_radps),
+        )
+        filt = InsFilter(
+            [imu.t for imu in imus], [imu.acc for imu in imus], [imu.gyr for imu in imus],
+            [np.asarray(st.mask, dtype=bool) for st in stances], starts, q0, p0, bg0,
+            np.array(cov0), noise, self.n_states,
+        )
+        filt.meta = metas
+        if self.smoother == "step":
+            filt.recorder = StepSmoother(filt)
+        else:  # whole-walk smoothing re-runs segments of any length; no need to stop every step
+            filt.step_stops = False
+        return filt
+
+    def _align(self, imu: ImuData, stance: StanceResult):
+        """First stance phase -> (start index, Alignment, meta); warns when it is not sample 0."""
+        if len(stance.mask) != imu.n_samples:
+            raise InvalidInputError(
+                f"stance mask has {len(stance.mask)} samples but the IMU data has {imu.n_samples}",
+                field="stance.mask",
+                path=imu.meta.get("source"),
+            )
+        steps = stance.intervals
+        if len(steps) == 0:
+            raise InvalidInputError(
+                "no stance phase detected, so the filter cannot be aligned or aided; "
+                "check the detector's thresholds against this recording",
+                field="stance.mask",
+                path=imu.meta.get("source"),
+            )
+        meta: dict = {}
+        s0, e0 = int(steps[0, 0]), int(steps[0, 1])
+        if s0 > 0:
+            meta["estimate_start_index"] = s0
+            warnings.warn(
+                f"{imu.meta.get('source') or 'ImuData'}: recording does not start at standstill; the estimate "
+                f"starts at the first stance phase (index {s0}) and holds that state before it",
+                DataQualityWarning,
+                stacklevel=3,
+            )
+        align = align_at_rest(imu.acc, imu.gyr, s0, e0, still_gyr_max_radps=self.still_gyr_max_radps)
+        meta["alignment_samples"] = [s0, e0, align.n_used]
+        if self.gyro_bias == "initial-standstill":
+            meta["gyro_bias_radps"] = align.gyro_bias_radps.tolist()
+        return s0, align, meta
+
+    def trajectory(self, filt: InsFilter, foot: int, stance: StanceResult, smoothed=None) -> FootTrajectory:
+        """Foot ``foot``'s result of a finished filter run (``smoothed``: the output of
+        :func:`footnav.core.smoothing.smooth` for the run, or None for the forward filter)."""
+        q_out, vel, pos, pos_cov = filt.outputs(foot)
+        if smoothed is not None:
+            sl = slice(filt.global_index(foot, 0), filt.global_index(foot, len(q_out) - 1) + 1)
+            q_out, vel, pos = (x[sl] for x in smoothed)
+        meta = {"estimator": self.describe(), **filt.meta[foot], "smoother": self.smoother if smoothed is not None else "none"}
+        if self.bias_states:
+            ba, bg = filt.biases(foot)
+            cov = filt.covariance
+            meta["acc_bias_mps2"], meta["gyr_bias_radps"] = ba.tolist(), bg.tolist()
+            meta["acc_bias_std_mps2"] = np.sqrt(np.diag(cov)[filt.block(foot, "acc_bias")]).tolist()
+            meta["gyr_bias_std_radps"] = np.sqrt(np.diag(cov)[filt.block(foot, "gyr_bias")]).tolist()
+        # the smoothed covariance is at most the filtered one: std is the forward filter's
+        std = np.sqrt(np.maximum(pos_cov[:, [0, 2, 3]], 0.0))
+        t = filt._t[filt.global_index(foot, 0) : filt.global_index(foot, len(q_out) - 1) + 1]
+        return FootTrajectory(t=t, position=pos.copy(), velocity=vel.copy(), quaternion=q_out.copy(), position_std=std, steps=stance.intervals, meta=meta)
+
+    # -- the estimator ---------------------------------------------------------------------------
     def estimate(self, imu: ImuData, stance: StanceResult) -> FootTrajectory:
         """Estimate the foot's trajectory from its IMU data and stance phases.
 
@@ -234,68 +306,32 @@ class EkfEstimator(FootEstimator):
         FootTrajectory
             Nav-frame (z up) trajectory, starting at the origin.
         """
-        self.validate_params()
-        if len(stance.mask) != imu.n_samples:
-            raise InvalidInputError(
-                f"stance mask has {len(stance.mask)} samples but the IMU data has {imu.n_samples}",
-                field="stance.mask",
-                path=imu.meta.get("source"),
-            )
-        steps = stance.intervals
-        if len(steps) == 0:
-            raise InvalidInputError(
-                "no stance phase detected, so the filter cannot be aligned or aided; "
-                "check the detector's thresholds against this recording",
-                field="stance.mask",
-                path=imu.meta.get("source"),
-            )
         t0 = time.perf_counter()
-        meta: dict = {"estimator": self.describe()}
-        s0, e0 = int(steps[0, 0]), int(steps[0, 1])
-        if s0 > 0:
-            meta["estimate_start_index"] = s0
-            warnings.warn(
-                f"{imu.meta.get('source') or 'ImuData'}: recording does not start at standstill; the estimate "
-                f"starts at the first stance phase (index {s0}) and holds that state before it",
-                DataQualityWarning,
-                stacklevel=2,
-            )
-        align = align_at_rest(imu.acc, imu.gyr, s0, e0, still_gyr_max_radps=self.still_gyr_max_radps)
-        meta["alignment_samples"] = [s0, e0, align.n_used]
-        gyr = imu.gyr
-        if self.gyro_bias == "initial-standstill":
-            gyr = gyr - align.gyro_bias_radps
-            meta["gyro_bias_radps"] = align.gyro_bias_radps.tolist()
-        n = imu.n_samples
-        q_out, vel, pos, pos_cov = np.empty((n, 4)), np.empty((n, 3)), np.empty((n, 3)), np.empty((n, 4))
-        var_att = self.init_attitude_std_rad**2
-        var_vel = self.init_velocity_std_mps**2
-        p0_diag = np.array([var_att] * 3 + [var_vel] * 3 + [0.0] * 3)
-        _ekf_loop(
-            imu.t,
-            np.ascontiguousarray(imu.acc),
-            np.ascontiguousarray(gyr),
-            np.ascontiguousarray(stance.mask),
-            s0,
-            align.quaternion,
-            float(self.gyr_noise_radps_sqrthz) ** 2,
-            float(self.acc_noise_mps2_sqrthz) ** 2,
-            float(self.zupt_std_mps) ** 2,
-            p0_diag,
-            q_out,
-            vel,
-            pos,
-            pos_cov,
-        )
-        psi = heading_of_first_step(pos, steps) if self.heading == "first-step" else None
+        filt = self.start([imu], [stance])
+        if self.closed_loop:
+            steps = stance.intervals
+            last = int(steps[-1, 1]) - 1  # last sample of the final standstill
+            filt.run_until(imu.t[last])
+            filt.update_position(0, np.zeros(3), self.closed_loop_std_m)
+        filt.run_until()
+        smoothed = None if self.smoother == "none" else smooth(filt, self.smoother)
+        traj = self.trajectory(filt, 0, stance, smoothed)
+        meta = dict(traj.meta)
+        if self.closed_loop:
+            meta["closed_loop"] = {"index": last, "std_m": self.closed_loop_std_m}
+        psi = heading_of_first_step(traj.position, traj.steps) if self.heading == "first-step" else None
+        pos, vel, q_out, std = traj.position, traj.velocity, traj.quaternion, traj.position_std
         if psi is not None:
+            pos_cov = filt.outputs(0)[3]
             pos, vel, q_out, pos_cov = _rotate_about_z(-psi, pos, vel, q_out, pos_cov)
+            std = np.sqrt(np.maximum(pos_cov[:, [0, 2, 3]], 0.0))
             meta["heading_rotation_rad"] = -psi
-        std = np.sqrt(np.maximum(pos_cov[:, [0, 2, 3]], 0.0))
         meta["runtime_s"] = time.perf_counter() - t0
-        return FootTrajectory(
-            t=imu.t, position=pos, velocity=vel, quaternion=q_out, position_std=std, steps=steps, meta=meta
-        )
+        return FootTrajectory(t=imu.t, position=pos, velocity=vel, quaternion=q_out, position_std=std, steps=traj.steps, meta=meta)
+
+
+def _is_number(value) -> bool:
+    return isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool) and bool(np.isfinite(value))
 
 
 def _rotate_about_z(angle: float, pos, vel, q_out, pos_cov):
@@ -308,4 +344,7 @@ def _rotate_about_z(angle: float, pos, vel, q_out, pos_cov):
         [c * c * xx - 2 * c * s * xy + s * s * yy, c * s * (xx - yy) + (c * c - s * s) * xy, s * s * xx + 2 * c * s * xy + c * c * yy, pos_cov[:, 3]],
         axis=1,
     )
-    return pos @ rot.T, vel @ rot.T, quat.multiply(quat.from_yaw(angle), q_out), cov
+    # r (x) q for every row q is q @ L(r)' with L(r) the left-multiplication matrix of r
+    w, _, _, z = quat.from_yaw(angle)
+    left = np.array([[w, 0.0, 0.0, -z], [0.0, w, -z, 0.0], [0.0, z, w, 0.0], [z, 0.0, 0.0, w]])
+    return pos @ rot.T, vel @ rot.T, q_out @ left.T, cov

@@ -95,23 +95,3 @@ def test_azure_fgo_accuracy_regression(shared_data):
     # measured 0.280 m left, 0.074 m right; gaitmap RtsKalman reference: 0.36 m left, 0.76 m right
     assert report.value("ate_2d", "left") < 0.33
     assert report.value("ate_2d", "right") < 0.15
-
-
-def test_structured_predict_equals_dense_predict():
-    from footnav.core import kalman
-    from footnav.estimators.ekf import _predict_ins
-
-    rng = np.random.default_rng(0)
-    a = rng.normal(size=(9, 9))
-    p0 = a @ a.T
-    f_n, dt, vg, va = np.array([0.3, -1.2, 9.9]), 0.01, 1e-4, 2e-3
-    x, y, z = f_n * dt
-    f = np.eye(9)
-    f[3:6, 0:3] = [[0, -z, y], [z, 0, -x], [-y, x, 0]]
-    f[6:9, 3:6] = np.eye(3) * dt
-    q = np.diag([vg * dt] * 3 + [va * dt] * 3 + [0.0] * 3)
-    dense = p0.copy()
-    kalman.predict(dense, f, q, np.empty((9, 9)))
-    fast = p0.copy()
-    _predict_ins(fast, f_n, dt, vg, va, np.empty((9, 9)))
-    np.testing.assert_allclose(fast, dense, rtol=1e-12, atol=1e-12)

@@ -1,0 +1,199 @@
+"""Rauch-Tung-Striebel smoothing of an :class:`~footnav.core.ins_filter.InsFilter` run.
+
+Seed 002 Alg. 1 (Chistyakov et al. 2021) smooths the closed-loop error-state filter backwards
+over the whole recording; OpenShoe's smoothed variant does it step by step. Both are computed
+here in the Bryson-Frazier form of the RTS smoother (Bierman 1977; Simon 2006 sec. 9.4), which
+needs no n x n inversion: with the adjoint ``mu`` (mu = 0 after the last sample),
+
+    delta_e = P+_e mu                                 (smoothed minus filtered error at event e)
+    mu <- H' S^-1 y + (I - K H)' mu                   (each update at e, in reverse order)
+    mu <- F_e' mu                                     (the transition into e)
+
+and the smoothed state is the filtered nominal state corrected by ``-delta`` like a filter
+update (attitude C <- (I + [delta_phi x]) C). The filter's closed-loop resets only move the
+linearisation point: the recursion runs on the error relative to each sample's predicted
+nominal state.
+
+Memory: the filter keeps a checkpoint (state, covariance) per step; each segment between two
+checkpoints is re-run from its first checkpoint to record what the backward pass needs, so the
+smoother holds one segment at a time: O(steps + longest segment), not O(samples).
+"""
+
+from __future__ import annotations
+
+from typing import Literal
+
+import numpy as np
+from numba import njit
+from numpy.typing import NDArray
+
+from footnav.core import quaternion as quat
+from footnav.core.ins_filter import MAX_SEGMENT_EVENTS, InsFilter, _empty_record, _ft_apply
+from footnav.core.quaternion import from_rotvec_nb, multiply_nb, normalize_nb
+
+__all__ = ["smooth", "StepSmoother", "backward", "SMOOTHERS"]
+
+#: Smoothing modes: over the whole run, within each step, or none.
+SMOOTHERS = ("whole", "step", "none")
+
+
+@njit(cache=True)
+def _undo_update(mu, idx, gain, sy, m):
+    """mu <- H' S^-1 y + (I - K H)' mu for a measurement of the states idx[:m]."""
+    kt = np.zeros(m)
+    for a in range(m):
+        acc = 0.0
+        for i in range(len(mu)):
+            acc += gain[i, a] * mu[i]
+        kt[a] = acc
+    for a in range(m):
+        mu[idx[a]] += sy[a] - kt[a]
+
+
+@njit(cache=True)
+def backward(mu, n, ev_foot, ev_k, ev_f, ev_c, ev_dt, ev_prows, ev_m, ev_idx, ev_gain, ev_sy, out_q, out_v, out_p, sm_q, sm_v, sm_p):
+    """Backward pass over one recorded segment: sm[k] = filtered out[k] corrected by -delta."""
+    big = len(mu)
+    d = np.zeros(9)
+    dq = np.zeros(4)
+    q_tmp = np.zeros(4)
+    kt = np.zeros(6)
+    for e in range(len(ev_foot) - 1, -1, -1):
+        f = ev_foot[e]
+        o = f * n
+        k = ev_k[e]
+        for i in range(9):
+            acc = 0.0
+            for j in range(big):
+                acc += ev_prows[e, i, j] * mu[j]
+            d[i] = acc
+        from_rotvec_nb(d[0], d[1], d[2], dq)
+        multiply_nb(dq, out_q[k], q_tmp)
+        normalize_nb(q_tmp)
+        for i in range(4):
+            sm_q[k, i] = q_tmp[i]
+        for i in range(3):
+            sm_v[k, i] = out_v[k, i] - d[3 + i]
+            sm_p[k, i] = out_p[k, i] - d[6 + i]
+        m = ev_m[e]
+        for a in range(m):
+            acc = 0.0
+            for i in range(big):
+                acc += ev_gain[e, i, a] * mu[i]
+            kt[a] = acc
+        for a in range(m):
+            mu[ev_idx[e, a]] += ev_sy[e, a] - kt[a]
+        _ft_apply(mu, o, n, ev_f[e, 0], ev_f[e, 1], ev_f[e, 2], ev_c[e], ev_dt[e])
+
+
+def _correct_initial(filt: InsFilter, mu: NDArray[np.float64], sm: tuple) -> None:
+    """Smooth each foot's initial state (and the samples before it) with what mu carries back."""
+    sm_q, sm_v, sm_p = sm
+    cov0 = filt.checkpoints[0].cov
+    n = filt.n_states
+    for f in range(filt.n_feet):
+        d = cov0[f * n : f * n + 9] @ mu
+        a, k = filt.global_index(f, 0), int(filt.checkpoints[0].k[f])
+        dq = quat.from_rotvec(d[:3])
+        sm_q[a : k + 1] = quat.normalize(quat.multiply(dq, filt._out_q[a : k + 1]))
+        sm_v[a : k + 1] = filt._out_v[a : k + 1] - d[3:6]
+        sm_p[a : k + 1] = filt._out_p[a : k + 1] - d[6:9]
+
+
+class StepSmoother:
+    """Step-wise RTS smoothing during the forward run (OpenShoe's smoothed variant).
+
+    The filter records each segment it runs; when the next step starts, the finished step is
+    smoothed backwards from its end (mu = 0 there) and its buffer is reused. Memory: two buffers
+    of ``capacity`` samples, whatever the length of the recording; no sample is run twice. A
+    foot standing still longer than ``capacity`` samples is cut into pieces (the zero-velocity
+    updates pin the state there, so the cut changes nothing measurable).
+    """
+
+    def __init__(self, filt: InsFilter, capacity: int = MAX_SEGMENT_EVENTS) -> None:
+        big = filt.n_states * filt.n_feet
+        self.capacity = capacity
+        self._bufs = [_empty_record(big, capacity), _empty_record(big, capacity)]
+        self._cur = 0
+        self._used = 0
+        self._target = (0, 0)
+        self._pending: list[tuple[int, int, int]] = []  # (offset, events, index of end checkpoint)
+        self._sm = tuple(x.copy() for x in (filt._out_q, filt._out_v, filt._out_p))
+
+    def before_run(self, filt: InsFilter) -> tuple[tuple, int]:
+        last = filt.checkpoints[-1]
+        if self._used >= self.capacity:
+            last.step_end = True
+        if last.step_end and self._pending:
+            self._target = (1 - self._cur, 0)
+        else:
+            self._target = (self._cur, self._used)
+        b, off = self._target
+        return tuple(x[off:] for x in self._bufs[b]), self.capacity - off
+
+    def after_run(self, filt: InsFilter, events: int) -> None:
+        if events == 0:
+            return
+        b, off = self._target
+        if b != self._cur:  # a new step began: no more updates can come for the previous one
+            self._flush(filt)
+            self._cur = b
+        self._pending.append((off, events, len(filt.checkpoints) - 1))
+        self._used = off + events
+
+    def _flush(self, filt: InsFilter) -> None:
+        mu = np.zeros(filt.n_states * filt.n_feet)
+        buf = self._bufs[self._cur]
+        out = (filt._out_q, filt._out_v, filt._out_p)
+        for off, events, b in reversed(self._pending):
+            for idx, gain, sy in reversed(filt.checkpoints[b].updates):
+                _undo_update(mu, idx, gain, sy, len(idx))
+            backward(mu, filt.n_states, *(x[off : off + events] for x in buf), *out, *self._sm)
+        if self._pending and self._pending[0][2] == 1:
+            _correct_initial(filt, mu, self._sm)
+        self._pending = []
+        self._used = 0
+
+    def result(self, filt: InsFilter) -> tuple[NDArray, NDArray, NDArray]:
+        """Smoothed attitude, velocity, position of all samples (the run so far ends a step)."""
+        self._flush(filt)
+        return self._sm
+
+
+def smooth(filt: InsFilter, mode: Literal["whole", "step"] = "whole") -> tuple[NDArray, NDArray, NDArray]:
+    """Smoothed attitude, velocity and position of every sample of a finished filter run.
+
+    Parameters
+    ----------
+    filt
+        The filter after its last :meth:`~InsFilter.run_until`.
+    mode
+        ``"whole"``: one RTS pass over the whole run (seed 002 Alg. 1), so a measurement at the
+        end (the closed-loop constraint) corrects everything before it. ``"step"``: the backward
+        pass restarts at every step end (each step smoothed by its own zero-velocity updates);
+        taken from the filter's :class:`StepSmoother` when it ran with one.
+
+    Returns
+    -------
+    tuple of ndarray
+        Attitude (M, 4), velocity (M, 3), position (M, 3) of the concatenated samples of all
+        feet (foot f's rows: :meth:`InsFilter.outputs` order); nav frame, SI units.
+    """
+    if mode not in ("whole", "step"):
+        raise ValueError(f"unknown smoothing mode {mode!r}")
+    if mode == "step" and isinstance(filt.recorder, StepSmoother):
+        return filt.recorder.result(filt)
+    out = (filt._out_q, filt._out_v, filt._out_p)
+    sm = tuple(x.copy() for x in out)
+    n = filt.n_states
+    mu = np.zeros(n * filt.n_feet)
+    cps = filt.checkpoints
+    for b in range(len(cps) - 1, 0, -1):
+        cb = cps[b]
+        if mode == "step" and cb.step_end:
+            mu[:] = 0.0
+        for idx, gain, sy in reversed(cb.updates):
+            _undo_update(mu, idx, gain, sy, len(idx))
+        backward(mu, n, *filt.replay(b - 1, b), *out, *sm)
+    _correct_initial(filt, mu, sm)
+    return sm

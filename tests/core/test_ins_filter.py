@@ -1,0 +1,196 @@
+"""The step-able error-state filter and its RTS smoother, against dense reference computations."""
+
+import numpy as np
+import pytest
+
+import footnav
+from footnav import StanceResult
+from footnav.core import kalman
+from footnav.core import quaternion as quat
+from footnav.core.ins_filter import FilterNoise, _predict_cov
+from footnav.core.smoothing import smooth
+from footnav.estimators.ekf import EkfEstimator
+
+
+def _dense_f(n, f_n, c, dt):
+    """F = I + A dt of one foot's error model, written out in full (module docstring)."""
+    x, y, z = f_n * dt
+    f = np.eye(n)
+    f[3:6, 0:3] = [[0, -z, y], [z, 0, -x], [-y, x, 0]]
+    f[6:9, 3:6] = np.eye(3) * dt
+    if n == 15:
+        f[0:3, 12:15] = c * dt
+        f[3:6, 9:12] = -c * dt
+    return f
+
+
+@pytest.mark.parametrize("n, n_feet, foot", [(9, 1, 0), (15, 1, 0), (9, 2, 1), (15, 2, 0)])
+def test_structured_predict_equals_dense_predict(n, n_feet, foot):
+    rng = np.random.default_rng(0)
+    big = n * n_feet
+    a = rng.normal(size=(big, big))
+    p0 = a @ a.T
+    f_n, dt = np.array([0.3, -1.2, 9.9]), 0.01
+    c = quat.as_matrix(quat.normalize(rng.normal(size=4)))
+    noise = FilterNoise(2e-3, 1e-2, 0.01, 1e-3, 1e-4)
+    q_diag = noise.q_diag(n)
+    f = np.eye(big)
+    o = foot * n
+    f[o : o + n, o : o + n] = _dense_f(n, f_n, c, dt)
+    q = np.zeros((big, big))
+    q[o : o + n, o : o + n] = np.diag(q_diag * dt)
+    dense = p0.copy()
+    kalman.predict(dense, f, q, np.empty((big, big)))
+    fast = p0.copy()
+    _predict_cov(fast, o, n, f_n, c, dt, q_diag, np.empty(n), np.empty(n))
+    np.testing.assert_allclose(fast, dense, rtol=1e-12, atol=1e-12)
+
+
+def _reference_rts(est, imu, stance):
+    """Closed-loop error-state filter and RTS smoother written densely in numpy (Simon 2006
+    eq. 9.94 on the error state): the independent reference for the compiled Bryson-Frazier pass."""
+    filt = est.start([imu], [stance])
+    n = filt.n_states
+    noise = filt.noise
+    q_diag = noise.q_diag(n)
+    q, v, p = filt.quaternion(0), np.zeros(3), np.zeros(3)
+    ba, bg = filt.biases(0)
+    cov = filt.covariance
+    k0 = filt.index(0)
+    c = quat.as_matrix(q)
+    f_prev = c @ (imu.acc[k0] - ba)
+    hist = []  # per sample k: (P_pred, P_filt, F, dx, nominal after update)
+    out = {k0: (q.copy(), v.copy(), p.copy())}
+    for k in range(k0 + 1, imu.n_samples):
+        dt = imu.t[k] - imu.t[k - 1]
+        c = quat.as_matrix(q)
+        w = 0.5 * ((imu.gyr[k - 1] - bg) + (imu.gyr[k] - bg)) * dt
+        q = quat.normalize(quat.multiply(q, quat.from_rotvec(w)))
+        f_new = quat.as_matrix(q) @ (imu.acc[k] - ba)
+        a_mean = 0.5 * (f_prev + f_new) - [0, 0, footnav.GRAVITY_MPS2]
+        v_new = v + a_mean * dt
+        p = p + 0.5 * (v + v_new) * dt
+        v = v_new
+        f = _dense_f(n, f_prev, c, dt)
+        f_prev = f_new
+        p_pred = f @ cov @ f.T + np.diag(q_diag * dt)
+        dx = np.zeros(n)
+        cov = p_pred
+        if stance.mask[k]:
+            h = np.zeros((3, n))
+            h[:, 3:6] = np.eye(3)
+            s = h @ p_pred @ h.T + np.eye(3) * noise.zupt_std_mps**2
+            gain = p_pred @ h.T @ np.linalg.inv(s)
+            dx = gain @ v
+            cov = p_pred - gain @ h @ p_pred
+            q = quat.normalize(quat.multiply(quat.from_rotvec(dx[:3]), q))
+            v, p = v - dx[3:6], p - dx[6:9]
+            if n == 15:
+                ba, bg = ba - dx[9:12], bg - dx[12:15]
+        hist.append((p_pred, cov.copy(), f, dx))
+        out[k] = (q.copy(), v.copy(), p.copy())
+    # backward: delta_k = C_k (delta_{k+1} + dx_{k+1}), C_k = P_k F_{k+1}' P_pred_{k+1}^-1
+    delta = np.zeros(n)
+    sm_p = np.empty((imu.n_samples, 3))
+    sm_p[-1] = out[imu.n_samples - 1][2]
+    for k in range(imu.n_samples - 2, k0 - 1, -1):
+        p_pred_next, _, f_next, dx_next = hist[k - k0]
+        p_filt = hist[k - k0 - 1][1] if k > k0 else filt.checkpoints[0].cov
+        gain = p_filt @ f_next.T @ np.linalg.inv(p_pred_next)
+        delta = gain @ (delta + dx_next)
+        sm_p[k] = out[k][2] - delta[6:9]
+    return np.array([out[k][2] for k in range(k0, imu.n_samples)]), sm_p[k0:]
+
+
+@pytest.mark.parametrize("bias_states", [False, True])
+def test_smoother_matches_dense_rts_reference(bias_states):
+    rec = footnav.simulate("straight", seed=4, distance_m=6.0, standstill_s=1.0)
+    imu, stance = rec.left, StanceResult(rec.truth_left.stance)
+    est = EkfEstimator(bias_states=bias_states, smoother="whole", heading="sensor")
+    ref_filtered, ref_smoothed = _reference_rts(est, imu, stance)
+    filt = est.start([imu], [stance])
+    filt.run_until()
+    _, _, pos, _ = filt.outputs(0)
+    np.testing.assert_allclose(pos, ref_filtered, atol=1e-9)
+    _, _, sm_pos = smooth(filt, "whole")
+    np.testing.assert_allclose(sm_pos, ref_smoothed, atol=1e-7)
+    assert np.abs(sm_pos - pos).max() > 1e-4  # the smoother did change something
+
+
+def test_step_wise_smoothing_leaves_step_ends_alone_and_needs_no_replay_beyond_a_step():
+    rec = footnav.simulate("straight", seed=5, distance_m=10.0, standstill_s=1.0)
+    est = EkfEstimator(smoother="step", heading="sensor")
+    filt = est.start([rec.left], [StanceResult(rec.truth_left.stance)])
+    filt.run_until()
+    _, _, pos, _ = filt.outputs(0)
+    _, _, sm_pos = smooth(filt, "step")
+    ends = [cp.k[0] for cp in filt.checkpoints if cp.step_end]
+    assert len(ends) >= 6
+    np.testing.assert_allclose(sm_pos[ends], pos[ends], atol=1e-12)  # mu = 0 at each step end
+    # segments are steps: the longest replay is a stride plus the standstill, not the recording
+    lengths = np.diff([cp.n_events for cp in filt.checkpoints])
+    assert lengths.max() < 0.5 * rec.left.n_samples
+
+
+def test_external_position_update_is_smoothed_backwards():
+    rec = footnav.simulate("straight", seed=6, distance_m=6.0, standstill_s=1.0)
+    imu, stance = rec.left, StanceResult(rec.truth_left.stance)
+    est = EkfEstimator(smoother="whole", heading="sensor")
+    filt = est.start([imu], [stance])
+    filt.run_until(imu.t[-1])
+    before = filt.position(0)
+    dx = filt.update_position(0, before + [0.3, 0.0, 0.0], std_m=0.001)
+    assert dx[6] == pytest.approx(-0.3, abs=0.01)  # dp = p^ - z
+    np.testing.assert_allclose(filt.position(0), before + [0.3, 0, 0], atol=0.01)
+    _, _, sm_pos = smooth(filt, "whole")
+    _, _, pos, _ = filt.outputs(0)
+    # the correction reaches back along the walk (position is a random walk through the steps)
+    mid = imu.n_samples // 2
+    assert 0.05 < sm_pos[mid, 0] - pos[mid, 0] < 0.3
+    assert abs(sm_pos[0, 0] - pos[0, 0]) < 1e-9  # the start position is known exactly
+
+
+def test_joint_filter_of_two_independent_feet_equals_two_single_filters():
+    rec = footnav.simulate("straight", seed=7, distance_m=6.0, standstill_s=1.0)
+    est = EkfEstimator(smoother="none", heading="sensor", bias_states=True)
+    stances = [StanceResult(rec.truth_left.stance), StanceResult(rec.truth_right.stance)]
+    joint = est.start([rec.left, rec.right], stances)
+    joint.run_until()
+    for foot, (imu, st) in enumerate(zip((rec.left, rec.right), stances)):
+        single = est.start([imu], [st])
+        single.run_until()
+        np.testing.assert_allclose(joint.outputs(foot)[2], single.outputs(0)[2], atol=1e-10)
+    cov = joint.covariance
+    assert np.abs(cov[:15, 15:]).max() == 0.0  # nothing links the feet yet
+
+
+@pytest.mark.parametrize("bias_states", [False, True])
+def test_in_pass_step_smoothing_equals_replayed_step_smoothing(bias_states):
+    rec = footnav.simulate("rectangle", seed=8, width_m=8.0, height_m=5.0, standstill_s=1.0)
+    stance = StanceResult(rec.truth_left.stance)
+    in_pass = EkfEstimator(smoother="step", bias_states=bias_states, heading="sensor").start([rec.left], [stance])
+    in_pass.run_until()
+    replayed = EkfEstimator(smoother="none", bias_states=bias_states, heading="sensor").start([rec.left], [stance])
+    replayed.step_stops = True  # the replay needs the same step boundaries
+    replayed.run_until()
+    a, b = smooth(in_pass, "step"), smooth(replayed, "step")
+    for x, y in zip(a, b):
+        np.testing.assert_allclose(x, y, atol=1e-12)
+
+
+def test_in_pass_step_smoothing_with_a_tiny_buffer_still_smooths_every_sample():
+    from footnav.core.smoothing import StepSmoother
+
+    rec = footnav.simulate("straight", seed=9, distance_m=6.0, standstill_s=1.0)
+    stance = StanceResult(rec.truth_left.stance)
+    est = EkfEstimator(smoother="step", heading="sensor")
+    filt = est.start([rec.left], [stance])
+    filt.recorder = StepSmoother(filt, capacity=37)  # forces cuts inside stances and swings
+    filt.run_until()
+    _, _, sm_p = smooth(filt, "step")
+    ref = est.start([rec.left], [stance])
+    ref.run_until()
+    _, _, ref_p = smooth(ref, "step")
+    assert np.isfinite(sm_p).all()
+    # cut pieces lose a little of the backward information but stay close to the real thing
+    assert np.abs(sm_p - ref_p).max() < 0.05

@@ -42,6 +42,9 @@ ATT, VEL, POS, ACC_BIAS, GYR_BIAS = 0, 3, 6, 9, 12
 #: stands still for minutes.
 MAX_SEGMENT_EVENTS = 4096
 
+#: Chi-square gate of the zero-angular-rate update: 3 degrees of freedom, 99.9 %.
+ZARU_GATE = 16.27
+
 # run loop stop reasons
 _DONE, _STEP_END, _FULL = 0, 1, 2
 
@@ -244,6 +247,22 @@ def _update_vel(cov, dx, o, v, r, gain, sy, hp):
     return True
 
 
+@njit(cache=True, inline="always")
+def _nis3(cov, o, y0, y1, y2, r):
+    """Normalised innovation squared y' (P_block + r I)^-1 y of a measurement of the 3 states at o."""
+    a = cov[o, o] + r
+    b = cov[o, o + 1]
+    c = cov[o, o + 2]
+    d = cov[o + 1, o + 1] + r
+    e = cov[o + 1, o + 2]
+    f = cov[o + 2, o + 2] + r
+    i00, i01, i02 = d * f - e * e, c * e - b * f, b * e - c * d
+    det = a * i00 + b * i01 + c * i02
+    i11, i12, i22 = a * f - c * c, b * c - a * e, a * d - b * b
+    quad = i00 * y0 * y0 + i11 * y1 * y1 + i22 * y2 * y2 + 2.0 * (i01 * y0 * y1 + i02 * y0 * y2 + i12 * y1 * y2)
+    return quad / det
+
+
 @njit(cache=True)
 def feedback(q, v, p, ba, bg, dx, o, n, dq, q_tmp):
     """Closed-loop reset of one foot: C <- (I + [dphi x]) C^, v -= dv, p -= dp, b -= db."""
@@ -333,7 +352,10 @@ def _run(
                 y[i] = v[f, i]  # z = v^ - 0 = dv + noise
                 r_diag[i] = r_zupt
             m = 3
-            if r_zaru > 0.0 and n == 15:
+            # a detected stance is not always still: the zero-angular-rate update is skipped when
+            # the rate is implausible for a still foot (chi-square gate), or it would turn real
+            # rotation into gyro bias
+            if r_zaru > 0.0 and n == 15 and _nis3(cov, o + GYR_BIAS, w_cur[0], w_cur[1], w_cur[2], r_zaru) < ZARU_GATE:
                 for i in range(3):
                     idx[3 + i] = o + GYR_BIAS + i
                     y[3 + i] = -w_cur[i]  # w^ = w - dbg: -w^ = dbg + noise

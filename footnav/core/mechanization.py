@@ -7,7 +7,8 @@ rotation, curvature, Coriolis and centrifugal terms are neglected (seed 001 sect
 
 with g^n = [0, 0, -GRAVITY_MPS2] (nav z up). Sample k holds the instantaneous rates at t_k; the
 step from k-1 to k integrates attitude with the mean angular rate (rotation vector
-(w_{k-1} + w_k) dt / 2), and velocity and position with the trapezoidal rule.
+(w_{k-1} + w_k) dt / 2), velocity by Simpson's rule with the mid-interval attitude, and position
+with the trapezoidal rule.
 """
 
 from __future__ import annotations
@@ -26,6 +27,12 @@ __all__ = ["strapdown_step", "strapdown"]
 def strapdown_step(q, v, p, f_n, acc_prev, gyr_prev, acc, gyr, dt, dq, q_tmp, c):
     """Advance attitude, velocity and position by one sample, in place.
 
+    Attitude turns by the rotation vector (w_{k-1} + w_k) dt / 2. Velocity integrates C f by
+    Simpson's rule with the attitude at mid-interval: the trapezoidal rule on C_{k-1} f_{k-1} and
+    C_k f_k errs by [w x]^2 f dt^3 / 12 per sample, which does not cancel over a swing (a foot
+    turns at up to 10 rad/s: 2 mm/s per swing at 100 Hz); Simpson's rule is exact for the
+    rotation's second-order term. Position: trapezoidal rule on v.
+
     Parameters
     ----------
     q
@@ -41,21 +48,28 @@ def strapdown_step(q, v, p, f_n, acc_prev, gyr_prev, acc, gyr, dt, dq, q_tmp, c)
     dq, q_tmp, c
         Scratch: (4,), (4,), (3, 3).
     """
-    h = 0.5 * dt
+    h = 0.25 * dt  # half of the half-interval rotation: two half turns make the whole one
     from_rotvec_nb((gyr_prev[0] + gyr[0]) * h, (gyr_prev[1] + gyr[1]) * h, (gyr_prev[2] + gyr[2]) * h, dq)
-    multiply_nb(q, dq, q_tmp)  # body-side increment: C_k = C_{k-1} exp([w dt x])
-    for i in range(4):
-        q[i] = q_tmp[i]
+    multiply_nb(q, dq, q_tmp)  # body-side increment: C_mid = C_{k-1} exp([w dt/2 x])
+    normalize_nb(q_tmp)
+    as_matrix_nb(q_tmp, c)
+    f_mid = (
+        c[0, 0] * (acc_prev[0] + acc[0]) + c[0, 1] * (acc_prev[1] + acc[1]) + c[0, 2] * (acc_prev[2] + acc[2]),
+        c[1, 0] * (acc_prev[0] + acc[0]) + c[1, 1] * (acc_prev[1] + acc[1]) + c[1, 2] * (acc_prev[2] + acc[2]),
+        c[2, 0] * (acc_prev[0] + acc[0]) + c[2, 1] * (acc_prev[1] + acc[1]) + c[2, 2] * (acc_prev[2] + acc[2]),
+    )  # 2 C_mid f_mid, with f_mid the mean of the two samples
+    multiply_nb(q_tmp, dq, q)
     normalize_nb(q)
     as_matrix_nb(q, c)
+    sixth = dt / 6.0
     for i in range(3):
         fi = c[i, 0] * acc[0] + c[i, 1] * acc[1] + c[i, 2] * acc[2]
         a_prev = f_n[i]
         f_n[i] = fi
-        a_mean = 0.5 * (a_prev + fi)
+        dv = sixth * (a_prev + 2.0 * f_mid[i] + fi)
         if i == 2:
-            a_mean -= GRAVITY_MPS2
-        v_new = v[i] + a_mean * dt
+            dv -= GRAVITY_MPS2 * dt
+        v_new = v[i] + dv
         p[i] += 0.5 * (v[i] + v_new) * dt
         v[i] = v_new
 

@@ -86,13 +86,50 @@ def backward(mu, n, ev_foot, ev_k, ev_f, ev_c, ev_dt, ev_prows, ev_m, ev_idx, ev
         _ft_apply(mu, o, n, ev_f[e, 0], ev_f[e, 1], ev_f[e, 2], ev_c[e], ev_dt[e])
 
 
-def _correct_initial(filt: InsFilter, mu: NDArray[np.float64], sm: tuple) -> None:
-    """Smooth each foot's initial state (and the samples before it) with what mu carries back."""
-    sm_q, sm_v, sm_p = sm
-    cov0 = filt.checkpoints[0].cov
+@njit(cache=True)
+def _shift(ev_foot, ev_k, offset, sm_p):
+    """Add ``offset[f]`` (m) to the smoothed position of every event of foot f."""
+    for e in range(len(ev_foot)):
+        f = ev_foot[e]
+        k = ev_k[e]
+        for i in range(3):
+            sm_p[k, i] += offset[f, i]
+
+
+def _smooth_group(filt: InsFilter, segments: list, mu: NDArray[np.float64], sm: tuple, relative: bool) -> None:
+    """Backward pass over consecutive segments, newest first; ``segments`` holds (record, index of
+    the checkpoint that ends the segment) in forward order and ``mu`` the adjoint after the last.
+
+    ``relative``: the group is one step, smoothed by its own measurements (mu = 0 at its end).
+    Position is an integral, so the step's position corrections are taken relative to its
+    start: the step starts where the step before it ended (continuity), and its smoothed
+    displacement is added. Velocity and attitude are the step's smoothed values as they are.
+    """
+    out = (filt._out_q, filt._out_v, filt._out_p)
     n = filt.n_states
+    for rec, b in reversed(segments):
+        for idx, gain, sy in reversed(filt.checkpoints[b].updates):
+            _undo_update(mu, idx, gain, sy, len(idx))
+        backward(mu, n, *rec, *out, *sm)
+    start = segments[0][1] - 1
+    d_start = (filt.checkpoints[start].cov @ mu).reshape(filt.n_feet, n)[:, :9]
+    if relative:
+        # sm_p = out_p - d_k + d_start + (what the step before moved the start sample by)
+        offset = np.empty((filt.n_feet, 3))
+        for f in range(filt.n_feet):
+            k = int(filt.checkpoints[start].k[f])
+            offset[f] = d_start[f, 6:9] + sm[2][k] - filt._out_p[k]
+        for rec, _ in segments:
+            _shift(rec[0], rec[1], offset, sm[2])
+    elif start == 0:
+        _correct_initial(filt, d_start, sm)
+
+
+def _correct_initial(filt: InsFilter, d_start: NDArray[np.float64], sm: tuple) -> None:
+    """Smooth each foot's initial state (and the samples before it) by its correction d_start[f]."""
+    sm_q, sm_v, sm_p = sm
     for f in range(filt.n_feet):
-        d = cov0[f * n : f * n + 9] @ mu
+        d = d_start[f]
         a, k = filt.global_index(f, 0), int(filt.checkpoints[0].k[f])
         dq = quat.from_rotvec(d[:3])
         sm_q[a : k + 1] = quat.normalize(quat.multiply(dq, filt._out_q[a : k + 1]))
@@ -104,10 +141,10 @@ class StepSmoother:
     """Step-wise RTS smoothing during the forward run (OpenShoe's smoothed variant).
 
     The filter records each segment it runs; when the next step starts, the finished step is
-    smoothed backwards from its end (mu = 0 there) and its buffer is reused. Memory: two buffers
-    of ``capacity`` samples, whatever the length of the recording; no sample is run twice. A
-    foot standing still longer than ``capacity`` samples is cut into pieces (the zero-velocity
-    updates pin the state there, so the cut changes nothing measurable).
+    smoothed backwards from its end (mu = 0 there) given its start state, and its buffer is
+    reused. Memory: two buffers of ``capacity`` samples, whatever the length of the recording;
+    no sample is run twice. A foot standing still longer than ``capacity`` samples is cut into
+    pieces there.
     """
 
     def __init__(self, filt: InsFilter, capacity: int = MAX_SEGMENT_EVENTS) -> None:
@@ -142,15 +179,10 @@ class StepSmoother:
         self._used = off + events
 
     def _flush(self, filt: InsFilter) -> None:
-        mu = np.zeros(filt.n_states * filt.n_feet)
-        buf = self._bufs[self._cur]
-        out = (filt._out_q, filt._out_v, filt._out_p)
-        for off, events, b in reversed(self._pending):
-            for idx, gain, sy in reversed(filt.checkpoints[b].updates):
-                _undo_update(mu, idx, gain, sy, len(idx))
-            backward(mu, filt.n_states, *(x[off : off + events] for x in buf), *out, *self._sm)
-        if self._pending and self._pending[0][2] == 1:
-            _correct_initial(filt, mu, self._sm)
+        if self._pending:
+            buf = self._bufs[self._cur]
+            segments = [(tuple(x[off : off + ev] for x in buf), b) for off, ev, b in self._pending]
+            _smooth_group(filt, segments, np.zeros(filt.n_states * filt.n_feet), self._sm, relative=True)
         self._pending = []
         self._used = 0
 
@@ -169,9 +201,9 @@ def smooth(filt: InsFilter, mode: Literal["whole", "step"] = "whole") -> tuple[N
         The filter after its last :meth:`~InsFilter.run_until`.
     mode
         ``"whole"``: one RTS pass over the whole run (seed 002 Alg. 1), so a measurement at the
-        end (the closed-loop constraint) corrects everything before it. ``"step"``: the backward
-        pass restarts at every step end (each step smoothed by its own zero-velocity updates);
-        taken from the filter's :class:`StepSmoother` when it ran with one.
+        end (the closed-loop constraint) corrects everything before it. ``"step"``: each step,
+        from one step end to the next, is smoothed by its own zero-velocity updates given its
+        start state; taken from the filter's :class:`StepSmoother` when it ran with one.
 
     Returns
     -------
@@ -183,17 +215,20 @@ def smooth(filt: InsFilter, mode: Literal["whole", "step"] = "whole") -> tuple[N
         raise ValueError(f"unknown smoothing mode {mode!r}")
     if mode == "step" and isinstance(filt.recorder, StepSmoother):
         return filt.recorder.result(filt)
-    out = (filt._out_q, filt._out_v, filt._out_p)
-    sm = tuple(x.copy() for x in out)
-    n = filt.n_states
-    mu = np.zeros(n * filt.n_feet)
+    sm = tuple(x.copy() for x in (filt._out_q, filt._out_v, filt._out_p))
+    big = filt.n_states * filt.n_feet
     cps = filt.checkpoints
-    for b in range(len(cps) - 1, 0, -1):
-        cb = cps[b]
-        if mode == "step" and cb.step_end:
-            mu[:] = 0.0
-        for idx, gain, sy in reversed(cb.updates):
-            _undo_update(mu, idx, gain, sy, len(idx))
-        backward(mu, n, *filt.replay(b - 1, b), *out, *sm)
-    _correct_initial(filt, mu, sm)
+    if mode == "whole":
+        mu = np.zeros(big)
+        for b in range(len(cps) - 1, 0, -1):  # one segment at a time: memory O(one segment)
+            _smooth_group(filt, [(filt.replay(b - 1, b), b)], mu, sm, relative=False)
+        return sm
+    # step-wise from checkpoints: the segments between two step ends make a group; groups in
+    # forward order, as the StepSmoother meets them, so each starts where the one before ended
+    group: list = []
+    for b in range(1, len(cps)):
+        group.append((filt.replay(b - 1, b), b))
+        if cps[b].step_end or b == len(cps) - 1:
+            _smooth_group(filt, group, np.zeros(big), sm, relative=True)
+            group = []
     return sm

@@ -85,8 +85,9 @@ class EkfEstimator(FootEstimator):
     zaru_std_radps : float
         Standard deviation of the zero-angular-rate update in stance, rad/s; 0 turns it off
         (15 states only: it observes the gyro bias).
-    smoother : {"step", "whole", "none"}
-        RTS smoothing: within each step (bounded memory), over the whole walk, or none.
+    smoother : {"whole", "step", "none"}
+        RTS smoothing over the whole walk (seed 002 Alg. 1; re-runs the filter a step at a time,
+        memory O(steps)), within each step during the forward pass (no re-run), or none.
     closed_loop : bool
         The walk ends where it started: the final standstill gets the start position as a
         measurement (seed 002); needs ``smoother="whole"`` to correct the whole trajectory.
@@ -118,7 +119,7 @@ class EkfEstimator(FootEstimator):
         init_acc_bias_std_mps2: float = 0.05,
         init_gyr_bias_std_radps: float = 2e-3,
         zaru_std_radps: float = 0.0,
-        smoother: Literal["step", "whole", "none"] = "step",
+        smoother: Literal["whole", "step", "none"] = "whole",
         closed_loop: bool = False,
         closed_loop_std_m: float = 0.01,
     ) -> None:

@@ -1,10 +1,13 @@
-"""EKF speed: microseconds per sample on a simulated recording, warm, one core; first-call cost.
+"""EKF speed and memory: microseconds per sample on a simulated recording, warm, one core.
 
-Run:  python benchmarks/bench_ekf.py [--minutes 10] [--rate-hz 100] [--repeat 5]
+Run:  python benchmarks/bench_ekf.py [--minutes 10] [--rate-hz 100] [--repeat 3]
+      NUMBA_CACHE_DIR=$(mktemp -d) python benchmarks/bench_ekf.py --minutes 1 --repeat 1   # cold compile
 
-Prints the machine, the per-sample time of the ``ekf`` estimator (truth stance, so only the
-filter is timed), of the ``threshold`` detector, and of the whole default pipeline on both feet.
-The first call in a fresh process includes loading numba's cache (or compiling when there is none).
+Prints the machine, then for the ``ekf`` estimator with 9 and 15 error states and each smoother
+(none, step, whole): the warm time per sample (truth stance, so only the filter is timed) and the
+peak memory the call allocates beyond its input (tracemalloc), next to the size of its output.
+Also the ``threshold`` detector and the default pipeline on both feet. The first call in a fresh
+process includes loading numba's cache, or compiling when there is none.
 """
 
 from __future__ import annotations
@@ -13,6 +16,7 @@ import argparse
 import os
 import platform
 import time
+import tracemalloc
 
 import numpy as np
 
@@ -21,7 +25,7 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--minutes", type=float, default=10.0)
     ap.add_argument("--rate-hz", type=float, default=100.0)
-    ap.add_argument("--repeat", type=int, default=5)
+    ap.add_argument("--repeat", type=int, default=3)
     args = ap.parse_args()
 
     t0 = time.perf_counter()
@@ -34,10 +38,12 @@ def main() -> None:
     rec = footnav.simulate("straight", seed=0, rate_hz=args.rate_hz, distance_m=args.minutes * 60 * speed_mps)
     n = rec.left.n_samples
     stance = StanceResult(rec.truth_left.stance)
-    est = EkfEstimator()
 
+    short = rec.left.slice(0, 2000), StanceResult(rec.truth_left.stance[:2000])
     t0 = time.perf_counter()
-    est.estimate(rec.left.slice(0, 2000), StanceResult(rec.truth_left.stance[:2000]))
+    for bias in (False, True):
+        for smoother in ("none", "step", "whole"):
+            EkfEstimator(bias_states=bias, smoother=smoother, zaru_std_radps=0.005 if bias else 0.0).estimate(*short)
     first_s = time.perf_counter() - t0
 
     def best(fn) -> float:
@@ -48,18 +54,32 @@ def main() -> None:
             times.append(time.perf_counter() - t0)
         return min(times)
 
-    ekf_s = best(lambda: est.estimate(rec.left, stance))
-    det = footnav.make_detector("threshold")
-    det_s = best(lambda: det.detect(rec.left))
-    pipe = footnav.make_pipeline()
-    pipe_s = best(lambda: pipe.run(rec.left, rec.right))
+    def peak_mb(fn) -> float:
+        tracemalloc.start()
+        fn()
+        _, peak = tracemalloc.get_traced_memory()
+        tracemalloc.stop()
+        return peak / 1e6
 
     print(f"machine: {platform.machine()}, {platform.processor() or 'cpu'}, {os.cpu_count()} cores, "
           f"Python {platform.python_version()}, numpy {np.__version__}")
     print(f"recording: {rec.left.duration_s / 60:.1f} min simulated at {args.rate_hz:g} Hz, {n} samples per foot")
-    print(f"import footnav: {import_s:.2f} s; first ekf call (cache load or compile): {first_s:.2f} s")
-    print(f"ekf estimate (one foot, warm):      {ekf_s / n * 1e6:.3f} us/sample  ({ekf_s:.3f} s)")
-    print(f"threshold detect (one foot, warm):  {det_s / n * 1e6:.3f} us/sample  ({det_s:.3f} s)")
+    print(f"import footnav: {import_s:.2f} s; first calls of the six ekf variants (cache load or compile): {first_s:.2f} s")
+    out_mb = n * (3 + 3 + 4 + 3) * 8 / 1e6
+    print(f"output of one foot (position, velocity, attitude, std): {out_mb:.1f} MB")
+    print("| states | smoother | us/sample | peak MB |")
+    print("|---|---|---|---|")
+    for bias in (False, True):
+        for smoother in ("none", "step", "whole"):
+            est = EkfEstimator(bias_states=bias, smoother=smoother, zaru_std_radps=0.005 if bias else 0.0)
+            s = best(lambda: est.estimate(rec.left, stance))
+            mb = peak_mb(lambda: est.estimate(rec.left, stance))
+            print(f"| {est.n_states} | {smoother} | {s / n * 1e6:.3f} | {mb:.1f} |")
+    det = footnav.make_detector("threshold")
+    det_s = best(lambda: det.detect(rec.left))
+    pipe = footnav.make_pipeline()
+    pipe_s = best(lambda: pipe.run(rec.left, rec.right))
+    print(f"threshold detect (one foot, warm):  {det_s / n * 1e6:.3f} us/sample")
     print(f"default pipeline (two feet, warm):  {pipe_s / (2 * n) * 1e6:.3f} us/sample/foot  ({pipe_s:.3f} s)")
 
 

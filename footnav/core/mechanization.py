@@ -23,7 +23,7 @@ from footnav.core.types import GRAVITY_MPS2, ImuData
 __all__ = ["strapdown_step", "strapdown"]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def strapdown_step(q, v, p, f_n, acc_prev, gyr_prev, acc, gyr, dt, dq, q_tmp, c):
     """Advance attitude, velocity and position by one sample, in place.
 

@@ -179,12 +179,16 @@ def multiply_nb(p: NDArray, q: NDArray, out: NDArray) -> None:
 @njit(cache=True, inline="always")
 def from_rotvec_nb(rx: float, ry: float, rz: float, out: NDArray) -> None:
     """out = quaternion of rotation vector (rx, ry, rz) in rad."""
-    angle = np.sqrt(rx * rx + ry * ry + rz * rz)
-    if angle > 1e-8:
-        k = np.sin(0.5 * angle) / angle
+    a2 = rx * rx + ry * ry + rz * rz
+    if a2 < 0.01:
+        # below 0.1 rad (every per-sample turn of a foot at >= 100 Hz) the series to angle^6 is
+        # exact to rounding (next terms < 1e-17) and avoids sin, cos and sqrt
+        out[0] = 1.0 - a2 * (1.0 / 8.0 - a2 * (1.0 / 384.0 - a2 / 46080.0))
+        k = 0.5 - a2 * (1.0 / 48.0 - a2 * (1.0 / 3840.0 - a2 / 645120.0))
     else:
-        k = 0.5 - angle * angle / 48.0
-    out[0] = np.cos(0.5 * angle)
+        angle = np.sqrt(a2)
+        k = np.sin(0.5 * angle) / angle
+        out[0] = np.cos(0.5 * angle)
     out[1] = k * rx
     out[2] = k * ry
     out[3] = k * rz

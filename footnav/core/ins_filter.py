@@ -86,7 +86,7 @@ class Checkpoint:
     cov: NDArray[np.float64]
     step_end: bool  # a foot's stance ended here (a step boundary for step-wise smoothing)
     #: measurement updates applied at this instant after the per-sample ones, in order, as
-    #: (indices, K, S^-1 y): what the smoother needs to undo them backwards
+    #: (H, K, S^-1 y): what the smoother needs to undo them backwards
     updates: list = field(default_factory=list)
 
 
@@ -546,41 +546,80 @@ class InsFilter:
             if reason == _DONE:
                 return
 
-    def update(self, indices: NDArray[np.int64], innovation: NDArray[np.float64], r: NDArray[np.float64]) -> NDArray[np.float64]:
-        """Measurement of the error states ``indices``: ``innovation = h(x^) - z = dx[indices] + noise``.
+    def update(
+        self,
+        h: NDArray[np.float64],
+        innovation: NDArray[np.float64],
+        r: NDArray[np.float64],
+        *,
+        gate: float | None = None,
+    ) -> NDArray[np.float64] | None:
+        """Linear measurement of the error state: ``innovation = h(x^) - z = H dx + noise``.
 
-        ``r`` is the measurement noise variance per component (same units squared). The
-        correction is fed back into the nominal states and recorded for the smoother. Returns
-        the correction ``dx`` that was applied.
+        Parameters
+        ----------
+        h
+            H, (m, N) over the joint error state (see :meth:`block` for the columns).
+        innovation
+            h(x^) - z, (m,), in the measurement's units.
+        r
+            Measurement noise variance per component, (m,) or scalar, units squared.
+        gate
+            If given, skip the update (return None) when the normalised innovation squared
+            y' S^-1 y exceeds it (a chi-square gate against outliers).
+
+        Returns
+        -------
+        ndarray or None
+            The correction dx that was fed back into the nominal states (and recorded for the
+            smoother), or None when the gate rejected the measurement.
         """
-        idx = np.asarray(indices, dtype=np.int64)
-        y = np.asarray(innovation, dtype=float)
-        r = np.broadcast_to(np.asarray(r, dtype=float), y.shape).copy()
-        m = len(idx)
-        if m == 0 or len(y) != m or not (np.all(np.isfinite(y)) and np.all(r > 0)):
-            raise InvalidInputError(f"measurement update needs finite innovations and positive variances; got {y!r}, {r!r}", field="innovation")
         big = self._cov.shape[0]
-        dx = np.zeros(big)
-        gain = np.zeros((big, m))
-        sy = np.zeros(m)
-        ok = _update(self._cov, dx, idx, m, y, r, gain, sy, np.zeros((m, m)), np.zeros((m, m)), np.zeros((m, m)), np.zeros((m, big)))
-        if not ok:
-            raise InvalidInputError("measurement update: innovation covariance is not positive definite", field="r")
+        hm = np.atleast_2d(np.asarray(h, dtype=float))
+        y = np.atleast_1d(np.asarray(innovation, dtype=float))
+        m = len(y)
+        r = np.broadcast_to(np.asarray(r, dtype=float), (m,))
+        if hm.shape != (m, big) or not (np.all(np.isfinite(y)) and np.all(np.isfinite(hm)) and np.all(r > 0)):
+            raise InvalidInputError(
+                f"measurement update needs H of shape ({m}, {big}), finite innovations and positive variances; "
+                f"got H {hm.shape}, innovation {y!r}, r {r!r}",
+                field="innovation",
+            )
+        ph = self._cov @ hm.T
+        s = hm @ ph + np.diag(r)
+        try:
+            chol = np.linalg.cholesky(s)
+        except np.linalg.LinAlgError:
+            raise InvalidInputError("measurement update: innovation covariance is not positive definite", field="r") from None
+        sy = np.linalg.solve(chol.T, np.linalg.solve(chol, y))
+        if gate is not None and float(y @ sy) > gate:
+            return None
+        gain = np.linalg.solve(chol.T, np.linalg.solve(chol, ph.T)).T  # K = P H' S^-1
+        dx = gain @ y
+        cov = self._cov - gain @ ph.T
+        self._cov[:] = 0.5 * (cov + cov.T)
         self._apply(dx)
         if self.checkpoints[-1].n_events != self._n_events:
             self.checkpoints.append(self._checkpoint(step_end=False))
         cp = self.checkpoints[-1]
-        cp.updates.append((idx, gain, sy))
+        cp.updates.append((hm, gain, sy))
         # the checkpoint holds the state after every update at this instant
         self._fill_checkpoint(cp)
         return dx
 
+    def selection(self, indices: NDArray[np.int64]) -> NDArray[np.float64]:
+        """H that measures the error states ``indices`` (one row each)."""
+        idx = np.asarray(indices, dtype=np.int64)
+        h = np.zeros((len(idx), self._cov.shape[0]))
+        h[np.arange(len(idx)), idx] = 1.0
+        return h
+
     def update_position(self, foot: int, z: NDArray[np.float64], std_m: float | NDArray[np.float64], axes: int = 3) -> NDArray[np.float64]:
         """Position measurement ``z`` (m, nav) of ``foot``'s first ``axes`` axes (2: horizontal)."""
         sl = self.block(foot, "pos")
-        idx = np.arange(sl.start, sl.start + axes)
+        h = self.selection(np.arange(sl.start, sl.start + axes))
         innov = self._p[foot, :axes] - np.asarray(z, float)[:axes]
-        return self.update(idx, innov, np.broadcast_to(np.asarray(std_m, float) ** 2, (axes,)))
+        return self.update(h, innov, np.broadcast_to(np.asarray(std_m, float) ** 2, (axes,)))
 
     def _apply(self, dx: NDArray[np.float64]) -> None:
         dq, q_tmp = np.zeros(4), np.zeros(4)

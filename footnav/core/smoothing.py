@@ -38,19 +38,6 @@ SMOOTHERS = ("whole", "step", "none")
 
 
 @njit(cache=True)
-def _undo_update(mu, idx, gain, sy, m):
-    """mu <- H' S^-1 y + (I - K H)' mu for a measurement of the states idx[:m]."""
-    kt = np.zeros(m)
-    for a in range(m):
-        acc = 0.0
-        for i in range(len(mu)):
-            acc += gain[i, a] * mu[i]
-        kt[a] = acc
-    for a in range(m):
-        mu[idx[a]] += sy[a] - kt[a]
-
-
-@njit(cache=True)
 def backward(mu, n, ev_foot, ev_k, ev_f, ev_c, ev_dt, ev_prows, ev_m, ev_idx, ev_gain, ev_sy, out_q, out_v, out_p, sm_q, sm_v, sm_p):
     """Backward pass over one recorded segment: sm[k] = filtered out[k] corrected by -delta."""
     big = len(mu)
@@ -108,8 +95,8 @@ def _smooth_group(filt: InsFilter, segments: list, mu: NDArray[np.float64], sm: 
     out = (filt._out_q, filt._out_v, filt._out_p)
     n = filt.n_states
     for rec, b in reversed(segments):
-        for idx, gain, sy in reversed(filt.checkpoints[b].updates):
-            _undo_update(mu, idx, gain, sy, len(idx))
+        for h, gain, sy in reversed(filt.checkpoints[b].updates):
+            mu += h.T @ (sy - gain.T @ mu)  # mu <- H' S^-1 y + (I - K H)' mu
         backward(mu, n, *rec, *out, *sm)
     start = segments[0][1] - 1
     d_start = (filt.checkpoints[start].cov @ mu).reshape(filt.n_feet, n)[:, :9]

@@ -34,5 +34,9 @@ def footnav_register_estimators(register):
 @hookimpl
 def footnav_register_fusions(register):
     from footnav.fusion.independent import IndependentFusion
+    from footnav.fusion.range_constraint import RangeConstraintFusion
+    from footnav.fusion.step_vector import StepVectorFusion
 
     register(IndependentFusion)
+    register(RangeConstraintFusion)
+    register(StepVectorFusion)

@@ -1,0 +1,114 @@
+"""Range constraint: the feet cannot be further apart than a bound (the baseline seed 004 compares with).
+
+Prateek et al. (2013, seed 004's reference) and the methods seed 001 reviews ([14]-[16]) limit the
+distance between the feet to a sphere of radius ``max_separation_m`` (1 m in [15], [16]). Here the
+constraint is checked every ``check_interval_s`` and at every landing; when the feet are further
+apart than the bound, the estimate is projected onto it and the projection applied as a position
+measurement to the joint filter:
+
+* ``projection="moving"`` (sphere limit): the standing foot is the centre; the moving foot is
+  moved onto the sphere around it. With both feet moving or both standing, both are moved.
+* ``projection="symmetric"``: both feet move symmetrically about their centroid.
+"""
+
+from __future__ import annotations
+
+from numbers import Real
+from typing import ClassVar, Literal
+
+import numpy as np
+
+from footnav.core.component import Fusion, require
+from footnav.core.errors import CompositionError
+from footnav.core.types import FusionResult
+from footnav.fusion.joint import LEFT, RIGHT, finish_joint, require_stepable, start_joint
+
+__all__ = ["RangeConstraintFusion"]
+
+PROJECTIONS = ("moving", "symmetric")
+
+
+class RangeConstraintFusion(Fusion):
+    """Feet at most ``max_separation_m`` apart, enforced as position measurements.
+
+    Parameters
+    ----------
+    max_separation_m : float
+        Largest distance between the two feet's sensors, m (1 m in seed 001's refs. [15], [16]).
+    projection : {"moving", "symmetric"}
+        Move the moving foot onto the sphere around the standing one, or both feet about their
+        centroid.
+    check_interval_s : float
+        How often the constraint is checked between landings, s.
+    constraint_std_m : float
+        Standard deviation of the projected position used as a measurement, m.
+    step_width_m : float
+        Lateral distance between the feet at the start, m (sets the initial positions).
+
+    Examples
+    --------
+    >>> pipe = footnav.make_pipeline("threshold", "ekf", "range", fusion_params={"max_separation_m": 1.0})  # doctest: +SKIP
+    """
+
+    name = "range"
+    needs_two_feet: ClassVar[bool] = True
+
+    def __init__(
+        self,
+        *,
+        max_separation_m: float = 1.0,
+        projection: Literal["moving", "symmetric"] = "moving",
+        check_interval_s: float = 0.05,
+        constraint_std_m: float = 0.01,
+        step_width_m: float = 0.2,
+    ) -> None:
+        self.max_separation_m = max_separation_m
+        self.projection = projection
+        self.check_interval_s = check_interval_s
+        self.constraint_std_m = constraint_std_m
+        self.step_width_m = step_width_m
+
+    def validate_params(self) -> None:
+        for name in ("max_separation_m", "check_interval_s", "constraint_std_m"):
+            v = getattr(self, name)
+            require(isinstance(v, Real) and not isinstance(v, bool) and np.isfinite(v) and v > 0, self, name, "a positive number")
+        v = self.step_width_m
+        require(isinstance(v, Real) and not isinstance(v, bool) and np.isfinite(v) and 0 <= v < self.max_separation_m, self, "step_width_m", "a number >= 0 below max_separation_m")
+        require(self.projection in PROJECTIONS, self, "projection", " or ".join(map(repr, PROJECTIONS)))
+
+    def fuse(self, estimator, left, stance_left, right=None, stance_right=None) -> FusionResult:
+        """Both feet in one filter; separations beyond the bound are projected back onto it."""
+        self.validate_params()
+        if right is None or stance_right is None:
+            raise CompositionError(f"fusion {self.name!r} needs both feet")
+        require_stepable(self, estimator)
+        imus, stances = (left, right), (stance_left, stance_right)
+        filt = start_joint(estimator, left, stance_left, right, stance_right, self.step_width_m)
+        t0, t1 = max(left.t[0], right.t[0]), min(left.t[-1], right.t[-1])
+        checks = np.arange(t0, t1, self.check_interval_s)
+        landings = [imu.t[stance.intervals[1:, 0]] for imu, stance in zip(imus, stances)]
+        times = np.unique(np.concatenate([checks, *landings]))
+        bound = float(self.max_separation_m)
+        applied = 0
+        for t in times:
+            filt.run_until(t)
+            p = [filt.position(LEFT), filt.position(RIGHT)]
+            d = p[LEFT] - p[RIGHT]
+            dist = float(np.linalg.norm(d))
+            if dist <= bound:
+                continue
+            u = d / dist
+            standing = [bool(st.mask[min(filt.index(f), len(st.mask) - 1)]) for f, st in enumerate(stances)]
+            if self.projection == "moving" and standing[LEFT] != standing[RIGHT]:
+                anchor = LEFT if standing[LEFT] else RIGHT
+                mover = 1 - anchor
+                sign = 1.0 if mover == LEFT else -1.0  # d points from right to left
+                z = p[anchor] + sign * bound * u
+                filt.update_position(mover, z, self.constraint_std_m)
+            else:
+                centre = 0.5 * (p[LEFT] + p[RIGHT])
+                filt.update_position(LEFT, centre + 0.5 * bound * u, self.constraint_std_m)
+                filt.update_position(RIGHT, centre - 0.5 * bound * u, self.constraint_std_m)
+            applied += 1
+        meta = {"fusion": self.describe(), "constraint_updates": applied, "checks": len(times)}
+        return finish_joint(estimator, filt, stance_left, stance_right, meta)

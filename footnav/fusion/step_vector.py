@@ -139,24 +139,36 @@ class StepVectorFusion(Fusion):
         out.sort()
         return out
 
+    def _support(self, imu_r: ImuData, stance_r: StanceResult, t: float) -> tuple[int, int] | None:
+        """(heel strike, sample at time t) of the rear foot if it supported the step ending at t
+        (its last stance ended at most ``heel_strike_before_stance_s`` + 0.1 s before t)."""
+        k = int(np.searchsorted(imu_r.t, t, side="right")) - 1
+        runs = stance_r.intervals
+        j = int(np.searchsorted(runs[:, 0], k, side="right")) - 1
+        if k < 0 or j < 0 or imu_r.t[runs[j, 1] - 1] < t - self.heel_strike_before_stance_s - 0.1:
+            return None
+        hs = self._heel_strike(imu_r, stance_r, int(runs[j, 0]))
+        return hs, max(hs, k)
+
     def _fit_leg_length(self, imus, stances, singles) -> float:
-        """Median of (half stride) / (2 sin(theta/2)) over the non-turning steps (module docstring)."""
+        """Median of (half the front foot's stride) / (2 sin(theta/2)) over the straight steps,
+        theta measured exactly as :meth:`fuse` does (module docstring)."""
         ratios = []
         turn = np.radians(self.turn_threshold_deg)
-        for foot, (imu, stance, traj) in enumerate(zip(imus, stances, singles)):
-            runs = stance.intervals
-            for j in range(1, len(runs)):
-                a0, a1 = runs[j - 1, 0], runs[j, 0]
-                stride = np.linalg.norm(traj.position[a1, :2] - traj.position[a0, :2])
-                if stride < 0.2 or abs(_wrap(quat.yaw(traj.quaternion[a1]) - quat.yaw(traj.quaternion[a0]))) > turn:
-                    continue
-                # this foot supports the next step: from its heel strike to the end of its stance
-                hs = self._heel_strike(imu, stance, int(a1))
-                end = int(runs[j, 1]) - 1
-                q1, q2 = traj.quaternion[hs], traj.quaternion[end]
-                s1 = pendulum_step_length(q1, q2, 1.0)
-                if s1 > 1e-3:
-                    ratios.append(0.5 * stride / s1)
+        for t, front, hs_front, j in self._landings(imus, stances):
+            rear = 1 - front
+            support = self._support(imus[rear], stances[rear], t)
+            if support is None:
+                continue
+            runs_f, traj_f = stances[front].intervals, singles[front]
+            a0, a1 = runs_f[j - 1, 0], runs_f[j, 0]
+            stride = np.linalg.norm(traj_f.position[a1, :2] - traj_f.position[a0, :2])
+            if stride < 0.2 or abs(_wrap(quat.yaw(traj_f.quaternion[a1]) - quat.yaw(traj_f.quaternion[a0]))) > turn:
+                continue
+            q_r = singles[rear].quaternion
+            s1 = pendulum_step_length(q_r[support[0]], q_r[support[1]], 1.0)
+            if s1 > 1e-3:
+                ratios.append(0.5 * stride / s1)
         if not ratios:
             raise CompositionError(
                 f"fusion {self.name!r}: no straight steps to fit the leg length to; give leg_length_m"
@@ -184,21 +196,15 @@ class StepVectorFusion(Fusion):
         for t, front, _, _ in self._landings(imus, stances):
             rear = 1 - front
             filt.run_until(t)
-            imu_r, stance_r = imus[rear], stances[rear]
-            k_r = int(np.searchsorted(imu_r.t, t, side="right")) - 1
-            # the rear foot supported this step: its last stance ended at most a stance-gap ago
-            runs = stance_r.intervals
-            j = int(np.searchsorted(runs[:, 0], k_r, side="right")) - 1
-            if j < 0 or imu_r.t[runs[j, 1] - 1] < t - self.heel_strike_before_stance_s - 0.1:
+            support = self._support(imus[rear], stances[rear], t)
+            if support is None:
                 skipped += 1  # the rear foot was not on the ground: no pendulum to read
                 continue
-            run_start = int(runs[j, 0])
+            hs_rear, k_q2 = support
             q_out = filt.outputs(rear)[0]
-            hs_rear = self._heel_strike(imu_r, stance_r, run_start)
-            k_q2 = max(hs_rear, k_r)
-            yaw_r = float(quat.yaw(q_out[min(k_r, int(runs[j, 1]) - 1)])) - yaw0[rear]
+            yaw_r = float(quat.yaw(q_out[hs_rear])) - yaw0[rear]
             prev = last_stance_yaw.get(rear)
-            last_stance_yaw[rear] = yaw_r
+            last_stance_yaw[rear] = yaw_r  # heading of the rear foot's footprint
             if prev is not None and abs(_wrap(yaw_r - prev)) > turn:
                 suspended += 1
                 continue

@@ -25,6 +25,7 @@ from footnav.core.errors import (
     UnknownComponentError,
 )
 from footnav.core.comparison import DetectorComparison, compare_detectors
+from footnav.core.batch import evaluate_many
 from footnav.core.evaluation import EvaluationReport, evaluate
 from footnav.core.pipeline import (
     Pipeline,
@@ -76,6 +77,7 @@ __all__ = [
     "make_pipeline",
     "load_pipeline",
     "evaluate",
+    "evaluate_many",
     "EvaluationReport",
     "compare_detectors",
     "DetectorComparison",

@@ -127,7 +127,7 @@ def cmd_demo(args: argparse.Namespace) -> int:
 
 def cmd_evaluate(args: argparse.Namespace) -> int:
     from footnav.core.datasets import load_dataset
-    from footnav.core.evaluation import evaluate_many
+    from footnav.core.batch import evaluate_many
     from footnav.core.io import load
     from footnav.core.pipeline import load_pipeline, make_pipeline
 

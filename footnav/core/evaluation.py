@@ -168,11 +168,3 @@ def evaluate(
     rows.append(Metric(rec_name, name, "both", "runtime", runtime, "s"))
     return EvaluationReport(tuple(rows), {(rec_name, name): result})
 
-
-def evaluate_many(pipelines: Sequence[tuple[str, Pipeline]], recordings: Sequence[Recording]) -> EvaluationReport:
-    """:func:`evaluate` over every (pipeline, recording) pair, serially, into one report."""
-    report = EvaluationReport(())
-    for rec in recordings:
-        for pname, pipe in pipelines:
-            report = report + evaluate(pipe, rec, pipeline_name=pname)
-    return report

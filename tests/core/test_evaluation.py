@@ -3,7 +3,8 @@ import pytest
 
 import footnav
 from footnav.core import metrics
-from footnav.core.evaluation import evaluate, evaluate_many, trajectory_at
+from footnav.core.batch import evaluate_many
+from footnav.core.evaluation import evaluate, trajectory_at
 
 
 @pytest.fixture(scope="module")

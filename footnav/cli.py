@@ -18,6 +18,7 @@ EXIT_OK, EXIT_INTERNAL, EXIT_USAGE = 0, 1, 2
 EPILOG_RUN = """examples:
   footnav run --left L.csv --right R.csv --acc-unit g --gyr-unit deg/s --out results/walk1
   footnav run --left L.csv --pipeline pipeline.toml --out results/walk1 --force
+  footnav run --left L.csv --right R.csv --fusion step-vector --out results/walk1 --plot walk1.png
 """
 
 
@@ -80,6 +81,8 @@ def cmd_run(args: argparse.Namespace) -> int:
     left = read_footnav_csv(args.left, **units)
     right = None if args.right is None else read_footnav_csv(args.right, **units)
     result = pipeline.run(left, right)
+    if args.plot:
+        _plot_run(result, None, args.plot)
     summary = {
         "left_path_length_m": result.left.path_length_m,
         "left_stances": result.stance_left.n_stances,
@@ -95,24 +98,17 @@ def cmd_run(args: argparse.Namespace) -> int:
 
 def cmd_simulate(args: argparse.Namespace) -> int:
     import footnav
-    from footnav.core.io import write_footnav_csv
+    from footnav.core.io.footnav_csv import write_footnav_csv, write_footnav_truth
+    from footnav.core.results import atomic_folder
 
     out = FilePath(args.out)
     if out.exists() and any(out.iterdir()) and not args.force:
         raise FootnavError(f"output folder {str(out)!r} exists and is not empty; pass --force to overwrite")
     rec = footnav.simulate(args.scenario, seed=args.seed, rate_hz=args.rate_hz)
-    out.mkdir(parents=True, exist_ok=True)
-    import numpy as np
-
-    for side, imu, truth in (("left", rec.left, rec.truth_left), ("right", rec.right, rec.truth_right)):
-        write_footnav_csv(imu, out / f"{side}.csv")
-        np.savetxt(
-            out / f"{side}_truth.csv",
-            np.column_stack([truth.t, truth.position, truth.quaternion, truth.stance.astype(float)]),
-            delimiter=",",
-            header="frame: nav (z up)\nt_s,pos_x_m,pos_y_m,pos_z_m,q_w,q_x,q_y,q_z,stance",
-            fmt="%.9g",
-        )
+    with atomic_folder(out, force=args.force) as tmp:
+        for side, imu, truth in (("left", rec.left, rec.truth_left), ("right", rec.right, rec.truth_right)):
+            write_footnav_csv(imu, tmp / f"{side}.csv")
+            write_footnav_truth(truth, tmp / f"{side}_truth.csv")
     print(f"simulated {args.scenario!r} walk, {rec.left.duration_s:.1f} s at {args.rate_hz:g} Hz, written to {out}")
     return EXIT_OK
 
@@ -125,22 +121,56 @@ def cmd_demo(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+def _plot_run(result, recording, path) -> None:
+    try:
+        from footnav.plot import plot_trajectories
+    except ImportError:
+        print("(install the 'plot' extra for figures)", file=sys.stderr)
+        return
+    print(f"figure: {plot_trajectories(result, recording, path)}")
+
+
 def cmd_evaluate(args: argparse.Namespace) -> int:
-    from footnav.core.datasets import load_dataset
     from footnav.core.batch import evaluate_many
+    from footnav.core.datasets import load_dataset
     from footnav.core.io import load
     from footnav.core.pipeline import load_pipeline, make_pipeline
+    from footnav.core.results import atomic_folder, write_report
 
     if not args.dataset and not args.recordings:
         raise FootnavError("nothing to evaluate: give --dataset NAME and/or recording paths")
+    if args.out and FilePath(args.out).exists() and any(FilePath(args.out).iterdir()) and not args.force:
+        raise FootnavError(f"output folder {args.out!r} exists and is not empty; choose another or pass --force")
     pipelines = [(FilePath(p).stem, load_pipeline(p)) for p in args.pipeline] or [("default", make_pipeline())]
     recordings = [load_dataset(name, args.data_dir) for name in args.dataset]
     recordings += [load(path) for path in args.recordings]
-    report = evaluate_many(pipelines, recordings)
+    backend = "dask" if args.dask_scheduler else "loky"
+    logging.getLogger("footnav").info("evaluating %d pipeline(s) on %d recording(s)", len(pipelines), len(recordings))
+    report = evaluate_many(pipelines, recordings, n_jobs=args.jobs, backend=backend, scheduler=args.dask_scheduler)
     print(report.to_text())
     if args.csv:
         FilePath(args.csv).write_text(report.to_csv(), encoding="utf-8")
         print(f"table written to {args.csv}")
+    if args.out:
+        write_report(report, args.out, force=args.force, pipelines={name: pipe.to_toml() for name, pipe in pipelines})
+        print(f"report written to {args.out}")
+    if args.plot:
+        try:
+            from footnav.plot import plot_trajectories
+        except ImportError:
+            print("(install the 'plot' extra for figures)", file=sys.stderr)
+            return EXIT_OK
+        from footnav.plot import plot_position_errors
+
+        by_name = {rec.name: rec for rec in recordings}
+        with atomic_folder(args.plot, force=args.force) as tmp:
+            for (rec_name, pname), result in report.results.items():
+                safe = "".join(c if c.isalnum() or c in "-_." else "_" for c in f"{rec_name}-{pname}")
+                rec = by_name.get(rec_name)
+                plot_trajectories(result, rec, tmp / f"{safe}.png")
+                if rec is not None and rec.truth_left is not None:
+                    plot_position_errors(result, rec, tmp / f"{safe}-errors.png")
+        print(f"figures written to {args.plot}")
     return EXIT_OK
 
 
@@ -205,6 +235,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--fusion", help="fusion name")
     p.add_argument("--out", required=True, help="output folder (must not exist or be empty)")
     p.add_argument("--force", action="store_true", help="replace a non-empty output folder")
+    p.add_argument("--plot", help="also write the trajectory figure (PNG) here")
     p.set_defaults(func=cmd_run)
 
     p = sub.add_parser(
@@ -226,7 +257,9 @@ def build_parser() -> argparse.ArgumentParser:
         help="measure pipelines against the truth of recordings",
         description="Run one or more pipelines on recordings with truth and print every metric each supports.",
         epilog="examples:\n  footnav evaluate --dataset azure_fgo --dataset xio_short\n"
-        "  footnav evaluate --pipeline a.toml --pipeline b.toml --dataset gaitmap --csv report.csv\n"
+        "  footnav evaluate --pipeline a.toml --pipeline b.toml --dataset gaitmap --out results/ab --plot results/ab-figs\n"
+        "  footnav evaluate --dataset gaitmap --jobs 2\n"
+        "  footnav evaluate --dataset gaitmap --dask-scheduler tcp://10.0.0.5:8786\n"
         "  footnav evaluate walk/left.csv",
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
@@ -235,6 +268,11 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--pipeline", action="append", default=[], help="pipeline TOML (repeatable; default pipeline if none)")
     p.add_argument("--data-dir", help="shared data folder (default $FOOTNAV_DATA or ../shared/data)")
     p.add_argument("--csv", help="also write the table as CSV")
+    p.add_argument("--out", help="write the report (CSV, JSON with versions and input hashes, pipelines) to this folder")
+    p.add_argument("--force", action="store_true", help="replace a non-empty --out / --plot folder")
+    p.add_argument("--plot", help="write a trajectory figure per run (PNG) into this folder")
+    p.add_argument("--jobs", type=int, default=1, help="parallel worker processes (-1: every core)")
+    p.add_argument("--dask-scheduler", metavar="ADDRESS", help="run on a Dask cluster (tcp://host:8786)")
     p.set_defaults(func=cmd_evaluate)
 
     p = sub.add_parser(

@@ -18,7 +18,7 @@ from footnav.core.types import PipelineResult, Recording  # noqa: E402
 
 import numpy as np  # noqa: E402
 
-__all__ = ["plot_trajectories", "plot_stance_comparison"]
+__all__ = ["plot_trajectories", "plot_stance_comparison", "plot_position_errors"]
 
 
 def plot_trajectories(result: PipelineResult, recording: Recording | None, path: str | FilePath) -> FilePath:
@@ -39,6 +39,9 @@ def plot_trajectories(result: PipelineResult, recording: Recording | None, path:
             ax.plot(aligned[:, 0], aligned[:, 1], color=color, lw=1, label=f"{foot} estimate (aligned)")
         else:
             ax.plot(traj.position[:, 0], traj.position[:, 1], color=color, lw=1, label=f"{foot} estimate")
+    if result.right is not None and not (recording is not None and recording.truth_left is not None):
+        # the pedestrian (the fusion's path) in the estimate's own frame
+        ax.plot(result.path.position[:, 0], result.path.position[:, 1], color="0.2", lw=1, ls="--", label="pedestrian path")
     ax.set_aspect("equal", adjustable="datalim")
     ax.set_xlabel("x (m)")
     ax.set_ylabel("y (m)")
@@ -91,6 +94,32 @@ def plot_stance_comparison(comparison, path: str | FilePath, *, seconds: tuple[f
     if seconds is not None:
         axes[-1].set_xlim(*seconds)
     fig.suptitle(f"stance per detector: {rec.name or 'recording'}")
+    path = FilePath(path)
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
+
+
+def plot_position_errors(result: PipelineResult, recording: Recording, path: str | FilePath) -> FilePath:
+    """Horizontal position error of each foot against its truth over time, after the same 2-D rigid
+    alignment as the ``ate_2d`` metric, with the stance phases shaded. Writes a PNG, returns it."""
+    fig, ax = plt.subplots(figsize=(10, 4), constrained_layout=True)
+    for foot, color in (("left", "tab:blue"), ("right", "tab:red")):
+        traj, truth = getattr(result, foot), getattr(recording, f"truth_{foot}")
+        if traj is None or truth is None or len(truth.t) < 2:
+            continue
+        est, inside = trajectory_at(traj, truth.t)
+        aligned, _, _ = metrics.rigid_align(est, truth.position[inside], dims=2)
+        err = np.linalg.norm(aligned[:, :2] - truth.position[inside, :2], axis=1)
+        ax.plot(truth.t[inside], err, color=color, lw=1, label=f"{foot} (RMSE {np.sqrt(np.mean(err**2)):.3f} m)")
+    stance = result.stance_left
+    t_left = result.left.t
+    ax.fill_between(t_left, 0, 1, where=stance.mask, transform=ax.get_xaxis_transform(), color="0.85", lw=0, step="mid", label="left stance")
+    ax.set_xlabel("t (s)")
+    ax.set_ylabel("horizontal error (m)")
+    ax.legend(loc="upper left", fontsize="small")
+    ax.grid(True, alpha=0.3)
+    ax.set_title(f"position error: {recording.name or 'recording'}")
     path = FilePath(path)
     fig.savefig(path, dpi=110)
     plt.close(fig)

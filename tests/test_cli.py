@@ -33,9 +33,17 @@ def test_run_writes_results_and_refuses_to_overwrite(sim_csv, tmp_path, capsys):
     out = tmp_path / "res"
     args = ["run", "--left", str(sim_csv / "left.csv"), "--right", str(sim_csv / "right.csv"), "--out", str(out)]
     assert main(args) == 0
-    assert {p.name for p in out.iterdir()} == {"left.csv", "right.csv", "path.csv", "summary.json", "pipeline.toml"}
+    assert {p.name for p in out.iterdir()} == {"left.csv", "right.csv", "path.csv", "trajectories.npz", "summary.json", "pipeline.toml"}
     doc = json.loads((out / "summary.json").read_text())
     assert doc["provenance"]["footnav_version"] == footnav.__version__
+    assert doc["versions"]["numpy"] == np.__version__ and doc["versions"]["footnav"] is not None
+    import hashlib
+
+    left_csv = str(sim_csv / "left.csv")
+    assert doc["input_sha256"][left_csv] == hashlib.sha256(open(left_csv, "rb").read()).hexdigest()
+    arrays = np.load(out / "trajectories.npz", allow_pickle=False)
+    csv_left = np.loadtxt(out / "left.csv", delimiter=",")
+    np.testing.assert_allclose(arrays["left_position"], csv_left[:, 1:4], rtol=1e-8, atol=1e-9)
     assert doc["summary"]["left_path_length_m"] == pytest.approx(100.0, rel=0.05)
     left = np.loadtxt(out / "left.csv", delimiter=",")
     assert left.shape[1] == 15
@@ -81,3 +89,58 @@ def test_demo_prints_the_accuracy_table(tmp_path, capsys):
         assert 0.0 < rmse < 1.0
     assert "final foot separation" in out
     assert fig.exists() and fig.stat().st_size > 10_000
+
+
+def test_evaluate_writes_a_report_folder_and_figures(sim_csv, tmp_path, capsys):
+    pytest.importorskip("matplotlib")
+    out, figs = tmp_path / "report", tmp_path / "figs"
+    args = ["evaluate", str(sim_csv), "--out", str(out), "--plot", str(figs), "--jobs", "2"]
+    assert main(args) == 0
+    assert {p.name for p in out.iterdir()} == {"report.csv", "report.json", "pipeline-default.toml"}
+    doc = json.loads((out / "report.json").read_text())
+    names = {m["name"] for m in doc["metrics"]}
+    assert {"ate_2d", "final_separation", "runtime"} <= names
+    pngs = sorted(figs.glob("*.png"))
+    assert [p.name for p in pngs] == ["walk-default-errors.png", "walk-default.png"]
+    assert all(p.read_bytes()[:4] == b"\x89PNG" for p in pngs)
+    capsys.readouterr()
+    assert main(args) == 2  # no silent overwrite
+    assert "--force" in capsys.readouterr().err
+
+
+def test_interrupted_evaluate_leaves_no_partial_result(sim_csv, tmp_path):
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    out = tmp_path / "report"
+    # the simulated walk 40 times over: several seconds of work to interrupt
+    cmd = [sys.executable, "-m", "footnav.cli", "-v", "evaluate", *[str(sim_csv)] * 40, "--out", str(out)]
+    proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    for line in proc.stderr:  # -v logs each file read, then the start of the runs
+        if b"evaluating" in line:
+            break
+    time.sleep(0.5)
+    assert proc.poll() is None, "the evaluation finished before it could be interrupted"
+    proc.send_signal(signal.SIGINT)
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode == 1 and b"interrupted" in err, (proc.returncode, err[-500:])
+    assert not out.exists()
+    assert not [p for p in tmp_path.iterdir() if p.name.endswith(".partial")]
+
+
+def test_interrupt_while_writing_leaves_no_partial_result(sim_csv, tmp_path, monkeypatch):
+    from footnav.core import results
+
+    calls = {"n": 0}
+
+    def interrupted():
+        calls["n"] += 1
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(results, "versions", interrupted)
+    out = tmp_path / "report"
+    assert main(["evaluate", str(sim_csv), "--out", str(out)]) == 1
+    assert calls["n"] == 1 and not out.exists()
+    assert not [p for p in tmp_path.iterdir() if p.name.endswith(".partial")]

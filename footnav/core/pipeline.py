@@ -132,14 +132,16 @@ class Pipeline:
         Parameters
         ----------
         left
-            The left foot (or the only foot), or a whole :class:`Recording`.
+            The left foot (or the only foot), or a whole :class:`Recording`; a pandas DataFrame
+            with columns ``t, acc_x..gyr_z`` in SI units is read with :meth:`ImuData.from_dataframe`.
         right
-            The right foot, or None for a one-foot recording.
+            The right foot (ImuData or DataFrame), or None for a one-foot recording.
         """
         if isinstance(left, Recording):
             if right is not None:
                 raise InvalidInputError("give either a Recording or left/right ImuData, not both", field="right")
             left, right = left.left, left.right
+        left, right = (ImuData.from_dataframe(x) if hasattr(x, "columns") and hasattr(x, "iloc") else x for x in (left, right))
         for name, imu in (("left", left), ("right", right)):
             if imu is not None and not isinstance(imu, ImuData):
                 raise InvalidInputError(f"expected ImuData, got {type(imu).__name__}", field=name)

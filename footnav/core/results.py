@@ -1,26 +1,32 @@
-"""Writing a pipeline's result to a folder that lasts: trajectories as CSV, summary and provenance
-as JSON, the exact pipeline as TOML.
+"""Results that last: a folder per run with the trajectories (CSV and npz), the summary and the
+provenance (JSON: the pipeline, footnav's and its dependencies' versions, the input files'
+SHA-256), and the exact pipeline as TOML; or, for an evaluation, the report as CSV and JSON.
 
-The folder is written under a temporary name beside its target and renamed at the end, so an
-interrupted run never leaves a half-written result; an existing non-empty folder is replaced only
-with ``force=True``.
+Every folder is written under a temporary name beside its target and renamed at the end, so an
+interrupted run (Ctrl-C included) never leaves a half-written result; an existing non-empty folder
+is replaced only with ``force=True``.
 """
 
 from __future__ import annotations
 
+import hashlib
 import json
 import os
 import shutil
 import tempfile
+from contextlib import contextmanager
 from pathlib import Path as FilePath
-from typing import Any, Mapping
+from typing import Any, Iterator, Mapping
 
 import numpy as np
 
 from footnav.core.errors import InvalidInputError
 from footnav.core.types import FootTrajectory, Path, PipelineResult
 
-__all__ = ["write_results", "TRAJECTORY_COLUMNS"]
+__all__ = ["write_results", "write_report", "versions", "file_sha256", "atomic_folder", "TRAJECTORY_COLUMNS"]
+
+#: Packages whose versions are recorded with every result.
+_DEPENDENCIES = ("numpy", "scipy", "numba", "hmmlearn", "scikit-learn", "pluggy", "joblib")
 
 TRAJECTORY_COLUMNS = (
     "t_s,pos_x_m,pos_y_m,pos_z_m,vel_x_mps,vel_y_mps,vel_z_mps,"
@@ -49,16 +55,45 @@ def _jsonable(value: Any) -> Any:
     return value
 
 
-def write_results(
-    result: PipelineResult,
-    folder: str | os.PathLike,
-    *,
-    force: bool = False,
-    summary: Mapping[str, Any] | None = None,
-    pipeline_toml: str | None = None,
-) -> FilePath:
-    """Write ``result`` into ``folder``: ``left.csv`` (``right.csv``), ``path.csv``, ``summary.json``
-    (``summary`` plus provenance: pipeline, version, warnings, inputs) and ``pipeline.toml``.
+def versions() -> dict[str, str | None]:
+    """Python's, footnav's and its dependencies' versions (None where not installed)."""
+    import platform
+    from importlib import metadata
+
+    out: dict[str, str | None] = {"python": platform.python_version()}
+    for name in ("footnav",) + _DEPENDENCIES:
+        try:
+            out[name] = metadata.version(name)
+        except metadata.PackageNotFoundError:
+            out[name] = None
+    return out
+
+
+def file_sha256(path: str | os.PathLike) -> str:
+    """SHA-256 of a file's bytes, hex."""
+    h = hashlib.sha256()
+    with open(path, "rb") as fh:
+        for block in iter(lambda: fh.read(1 << 20), b""):
+            h.update(block)
+    return h.hexdigest()
+
+
+def _input_hashes(metas: list[Mapping[str, Any]]) -> dict[str, str]:
+    """SHA-256 of every input file named in the inputs' meta (``source``), by path."""
+    out = {}
+    for meta in metas:
+        src = (meta or {}).get("source")
+        if isinstance(src, str) and os.path.isfile(src):
+            out[src] = file_sha256(src)
+    return out
+
+
+@contextmanager
+def atomic_folder(folder: str | os.PathLike, *, force: bool = False) -> Iterator[FilePath]:
+    """Write into a temporary folder beside ``folder`` and rename it into place on success.
+
+    On any exception (KeyboardInterrupt included) the temporary folder is removed and ``folder``
+    is left as it was.
 
     Raises
     ------
@@ -74,9 +109,53 @@ def write_results(
     folder.parent.mkdir(parents=True, exist_ok=True)
     tmp = FilePath(tempfile.mkdtemp(prefix=f".{folder.name}.", suffix=".partial", dir=folder.parent))
     try:
-        _write_trajectory(result.left, result.stance_left.mask, tmp / "left.csv")
-        if result.right is not None:
-            _write_trajectory(result.right, result.stance_right.mask, tmp / "right.csv")
+        yield tmp
+        if folder.exists():
+            shutil.rmtree(folder) if folder.is_dir() else folder.unlink()
+        os.replace(tmp, folder)
+    except BaseException:
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise
+
+
+def write_report(report: Any, folder: str | os.PathLike, *, force: bool = False, pipelines: Mapping[str, str] | None = None) -> FilePath:
+    """Write an evaluation report into ``folder``: ``report.csv``, ``report.json`` (metrics,
+    versions, input hashes) and each pipeline's TOML (``pipelines``: name -> TOML text)."""
+    with atomic_folder(folder, force=force) as tmp:
+        (tmp / "report.csv").write_text(report.to_csv(), encoding="utf-8")
+        metas = [m for res in report.results.values() for m in res.meta.get("input", {}).values() if m]
+        doc = {"metrics": report.rows(), "versions": versions(), "input_sha256": _input_hashes(metas)}
+        (tmp / "report.json").write_text(json.dumps(_jsonable(doc), indent=2) + "\n", encoding="utf-8")
+        for name, toml in (pipelines or {}).items():
+            (tmp / f"pipeline-{name}.toml").write_text(toml, encoding="utf-8")
+    return FilePath(folder)
+
+
+def write_results(
+    result: PipelineResult,
+    folder: str | os.PathLike,
+    *,
+    force: bool = False,
+    summary: Mapping[str, Any] | None = None,
+    pipeline_toml: str | None = None,
+) -> FilePath:
+    """Write ``result`` into ``folder``: ``left.csv`` (``right.csv``), ``path.csv``,
+    ``trajectories.npz`` (the same arrays), ``summary.json`` (``summary`` plus provenance: pipeline,
+    versions, warnings, inputs and their SHA-256) and ``pipeline.toml``.
+
+    Raises
+    ------
+    InvalidInputError
+        ``folder`` exists and is not empty, and ``force`` is False.
+    """
+    with atomic_folder(folder, force=force) as tmp:
+        arrays = {}
+        for foot, traj, stance in (("left", result.left, result.stance_left), ("right", result.right, result.stance_right)):
+            if traj is None:
+                continue
+            _write_trajectory(traj, stance.mask, tmp / f"{foot}.csv")
+            arrays.update({f"{foot}_{k}": getattr(traj, k) for k in ("t", "position", "velocity", "quaternion", "position_std")})
+            arrays[f"{foot}_stance"] = np.asarray(stance.mask)
         path: Path = result.path
         np.savetxt(
             tmp / "path.csv",
@@ -85,14 +164,16 @@ def write_results(
             header="frame: nav (z up)\nt_s,pos_x_m,pos_y_m,pos_z_m",
             fmt="%.9g",
         )
-        doc = {"summary": dict(summary or {}), "provenance": dict(result.meta)}
+        arrays.update(path_t=path.t, path_position=path.position)
+        np.savez_compressed(tmp / "trajectories.npz", **arrays)  # plain arrays: np.load(..., allow_pickle=False)
+        inputs = [m for m in result.meta.get("input", {}).values() if m]
+        doc = {
+            "summary": dict(summary or {}),
+            "provenance": dict(result.meta),
+            "versions": versions(),
+            "input_sha256": _input_hashes(inputs),
+        }
         (tmp / "summary.json").write_text(json.dumps(_jsonable(doc), indent=2) + "\n", encoding="utf-8")
         if pipeline_toml is not None:
             (tmp / "pipeline.toml").write_text(pipeline_toml, encoding="utf-8")
-        if folder.exists():
-            shutil.rmtree(folder) if folder.is_dir() else folder.unlink()
-        os.replace(tmp, folder)
-    except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
-        raise
-    return folder
+    return FilePath(folder)

@@ -243,6 +243,31 @@ class ImuData:
                 )
         return cls(t=t_arr, acc=acc_arr, gyr=gyr_arr, mag=mag_arr, meta=meta)
 
+    @classmethod
+    def from_dataframe(cls, frame: Any, *, time_column: str = "t", **units: Any) -> "ImuData":
+        """Build from a pandas DataFrame with columns ``t, acc_x..acc_z, gyr_x..gyr_z`` (and
+        ``mag_x..mag_z`` if present), in the units given as for :meth:`from_arrays`.
+
+        The time may also be the index (``time_column=None``). A missing column raises
+        InvalidInputError naming it and the columns there are.
+        """
+        columns = [str(c) for c in getattr(frame, "columns", [])]
+        needed = [f"{s}_{a}" for s in ("acc", "gyr") for a in "xyz"] + ([time_column] if time_column else [])
+        missing = [c for c in needed if c not in columns]
+        if missing:
+            raise InvalidInputError(
+                f"DataFrame lacks column(s) {missing}; it has {columns}. Expected {time_column or '(index)'}, "
+                "acc_x, acc_y, acc_z, gyr_x, gyr_y, gyr_z (optional mag_x..mag_z)",
+                field=missing[0],
+            )
+        t = frame[time_column] if time_column else frame.index
+        mag_cols = [f"mag_{a}" for a in "xyz"]
+        mag = frame[mag_cols] if all(c in columns for c in mag_cols) else None
+        return cls.from_arrays(
+            t, frame[[f"acc_{a}" for a in "xyz"]], frame[[f"gyr_{a}" for a in "xyz"]], mag,
+            meta={"source": units.pop("source", "DataFrame")}, **units,
+        )
+
     # -- views --------------------------------------------------------------------------------
     def __len__(self) -> int:
         return len(self.t)

@@ -122,3 +122,21 @@ def test_stance_intervals_and_result():
     assert res.n_stances == 3
     with pytest.raises(InvalidInputError):
         StanceResult(mask, score=np.zeros(3))
+
+
+def test_imu_from_a_pandas_dataframe_and_a_pipeline_on_dataframes():
+    pd = pytest.importorskip("pandas")
+    import footnav
+
+    rec = footnav.simulate("straight", distance_m=5.0)
+    cols = ["t", "acc_x", "acc_y", "acc_z", "gyr_x", "gyr_y", "gyr_z"]
+    frames = [pd.DataFrame(np.column_stack([imu.t, imu.acc, imu.gyr]), columns=cols) for imu in (rec.left, rec.right)]
+    imu = ImuData.from_dataframe(frames[0])
+    np.testing.assert_array_equal(imu.gyr, rec.left.gyr)
+    deg = frames[0].assign(**{c: np.degrees(frames[0][c]) for c in ("gyr_x", "gyr_y", "gyr_z")})
+    np.testing.assert_allclose(ImuData.from_dataframe(deg, gyr_unit="deg/s").gyr, rec.left.gyr, atol=1e-12)
+    by_frame = footnav.make_pipeline().run(*frames)
+    by_imu = footnav.make_pipeline().run(rec.left, rec.right)
+    np.testing.assert_array_equal(by_frame.left.position, by_imu.left.position)
+    with pytest.raises(InvalidInputError, match="gyr_y"):
+        ImuData.from_dataframe(frames[0].drop(columns=["gyr_y"]))

@@ -22,9 +22,18 @@ import numpy as np
 
 from footnav.core.errors import InvalidInputError
 from footnav.core.io._text import build_imu, changes_of, parse_table, read_text, split_header
-from footnav.core.types import ImuData, Recording
+from footnav.core.types import FootTruth, ImuData, Recording
 
-__all__ = ["read_footnav_csv", "read_footnav_recording", "write_footnav_csv", "FOOTNAV_COLUMNS", "FOOTNAV_MAG_COLUMNS"]
+__all__ = [
+    "read_footnav_csv",
+    "read_footnav_recording",
+    "read_footnav_folder",
+    "write_footnav_csv",
+    "write_footnav_truth",
+    "FOOTNAV_COLUMNS",
+    "FOOTNAV_MAG_COLUMNS",
+    "TRUTH_COLUMNS",
+]
 
 FORMAT = "footnav_csv"
 #: Required columns, in the order the writer writes them.
@@ -213,3 +222,49 @@ def write_footnav_csv(imu: ImuData, path: Any) -> FilePath:
         fh.write(",".join(names) + "\n")
         fh.writelines(",".join(map(repr, row)) + "\n" for row in table)
     return path
+
+
+#: Columns of the truth files ``footnav simulate`` writes beside the recordings.
+TRUTH_COLUMNS = ("t_s", "pos_x_m", "pos_y_m", "pos_z_m", "q_w", "q_x", "q_y", "q_z", "stance")
+
+
+def write_footnav_truth(truth: FootTruth, path: Any) -> FilePath:
+    """Write a foot's truth (time, nav position, attitude, stance) as CSV with a header that
+    :func:`read_footnav_folder` reads back (``# closed_loop: true`` when the walk returns to its start)."""
+    path = FilePath(path)
+    stance = np.zeros(len(truth.t)) if truth.stance is None else truth.stance.astype(float)
+    quat = np.full((len(truth.t), 4), np.nan) if truth.quaternion is None else truth.quaternion
+    np.savetxt(
+        path,
+        np.column_stack([truth.t, truth.position, quat, stance]),
+        delimiter=",",
+        header=f"frame: {truth.frame} (z up)\nclosed_loop: {str(bool(truth.closed_loop)).lower()}\n" + ",".join(TRUTH_COLUMNS),
+        fmt="%.17g",
+    )
+    return path
+
+
+def _read_truth(path: FilePath) -> FootTruth:
+    text = path.read_text(encoding="utf-8")
+    closed = any(line.strip().lstrip("#").strip() == "closed_loop: true" for line in text.splitlines() if line.startswith("#"))
+    data = np.loadtxt(path, delimiter=",", comments="#", ndmin=2)
+    if data.shape[1] != len(TRUTH_COLUMNS):
+        raise InvalidInputError(
+            f"truth file has {data.shape[1]} columns; expected {len(TRUTH_COLUMNS)}: {','.join(TRUTH_COLUMNS)}", path=str(path)
+        )
+    quat = None if np.isnan(data[:, 4:8]).any() else data[:, 4:8]
+    return FootTruth(t=data[:, 0], position=data[:, 1:4], quaternion=quat, stance=data[:, 8] > 0.5, closed_loop=closed,
+                     meta={"source": str(path), "stance_source": "file"})
+
+
+def read_footnav_folder(path: Any, **options: Any) -> Recording:
+    """A folder holding ``left.csv`` (and ``right.csv``) in footnav CSV, with the truth files
+    ``left_truth.csv`` / ``right_truth.csv`` when present (what ``footnav simulate`` writes)."""
+    folder = FilePath(path)
+    left, right = folder / "left.csv", folder / "right.csv"
+    if not left.exists():
+        raise InvalidInputError("footnav folder has no left.csv", path=str(folder))
+    rec = read_footnav_recording(left, right if right.exists() else None, **options)
+    truths = {foot: _read_truth(folder / f"{foot}_truth.csv") if (folder / f"{foot}_truth.csv").exists() else None for foot in ("left", "right")}
+    return replace(rec, truth_left=truths["left"], truth_right=truths["right"] if rec.right is not None else None, name=folder.name,
+                   meta={**rec.meta, "format": "footnav_folder", "source": str(folder)})

@@ -16,7 +16,7 @@ from typing import Any, Callable
 
 from footnav.core.errors import DataNotFoundError, InvalidInputError
 from footnav.core.io.azure_fgo import AZURE_FGO_FILES, read_azure_fgo
-from footnav.core.io.footnav_csv import read_footnav_recording
+from footnav.core.io.footnav_csv import read_footnav_folder, read_footnav_recording
 from footnav.core.io.gaitmap import read_gaitmap
 from footnav.core.io.openshoe import read_openshoe
 from footnav.core.io.pyshoe import read_pyshoe
@@ -32,6 +32,7 @@ log = logging.getLogger(__name__)
 #: (:func:`read_footnav_recording`; :func:`read_footnav_csv` returns the ImuData itself).
 READERS: dict[str, Callable[..., Recording]] = {
     "footnav_csv": read_footnav_recording,
+    "footnav_folder": read_footnav_folder,
     "gaitmap": read_gaitmap,
     "azure_fgo": read_azure_fgo,
     "xio": read_xio,
@@ -94,8 +95,10 @@ def guess_format(path: Any) -> tuple[str, str, dict[str, Any]]:
             opts = {k: p / v for k, v in _GAITMAP_COMPANIONS.items() if (p / v).exists()}
             opts["_path"] = p / "imu_sample.csv"
             return "gaitmap", "folder holds imu_sample.csv (gaitmap example data)", opts
+        if (p / "left.csv").exists():
+            return "footnav_folder", "folder holds left.csv (footnav CSV, as footnav simulate writes)", {}
         raise InvalidInputError(
-            f"cannot tell the format of this folder (no azure_fgo or gaitmap files); known formats: {known}; "
+            f"cannot tell the format of this folder (no azure_fgo, gaitmap or footnav files); known formats: {known}; "
             "pass format=...",
             path=str(p),
         )

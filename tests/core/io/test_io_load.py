@@ -13,7 +13,7 @@ from footnav.core.errors import DataNotFoundError, DataQualityWarning, InvalidIn
 from footnav.core.io import READERS, load, write_footnav_csv
 from footnav.core.types import GRAVITY_MPS2, ImuData
 
-KNOWN = {"footnav_csv", "gaitmap", "azure_fgo", "xio", "openshoe", "pyshoe", "xsens"}
+KNOWN = {"footnav_folder", "footnav_csv", "gaitmap", "azure_fgo", "xio", "openshoe", "pyshoe", "xsens"}
 
 
 def _rows(n, sep=",", first=lambda i: repr(i * 0.01)):
@@ -28,6 +28,17 @@ def _make(kind, tmp):
         t = np.arange(10) * 0.01
         imu = ImuData.from_arrays(t, np.tile([0, 0, GRAVITY_MPS2], (10, 1)), np.zeros((10, 3)) + t[:, None])
         return write_footnav_csv(imu, tmp / "walk.csv")
+    if kind == "footnav_folder":
+        import footnav
+        from footnav.core.io.footnav_csv import write_footnav_truth
+
+        rec = footnav.simulate("straight", distance_m=3.0, standstill_s=0.5)
+        folder = tmp / "sim"
+        folder.mkdir()
+        for foot in ("left", "right"):
+            write_footnav_csv(getattr(rec, foot), folder / f"{foot}.csv")
+            write_footnav_truth(getattr(rec, f"truth_{foot}"), folder / f"{foot}_truth.csv")
+        return folder
     if kind == "xio":
         p = tmp / "walk.csv"
         p.write_text(
@@ -141,3 +152,15 @@ def test_shared_folders_and_files(shared_data):
             rec = load(shared_data / "gaitmap_example")
             # The folder guess brings the mocap and the events along.
             assert len(rec.truth_left.t) == 3870 and "heel_strike" in rec.truth_left.events
+
+
+def test_footnav_folder_round_trips_the_simulated_truth(tmp_path):
+    import footnav
+
+    folder = _make("footnav_folder", tmp_path)
+    rec = load(folder)
+    sim = footnav.simulate("straight", distance_m=3.0, standstill_s=0.5)
+    np.testing.assert_array_equal(rec.left.acc, sim.left.acc)
+    np.testing.assert_array_equal(rec.truth_right.position, sim.truth_right.position)
+    np.testing.assert_array_equal(rec.truth_left.stance, sim.truth_left.stance)
+    assert rec.truth_left.closed_loop is False and rec.name == "sim"

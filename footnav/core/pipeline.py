@@ -147,6 +147,9 @@ class Pipeline:
                 raise InvalidInputError(f"expected ImuData, got {type(imu).__name__}", field=name)
         if left is None:
             raise InvalidInputError("no data for the left (or only) foot", field="left")
+        for imu in (left, right):
+            if imu is not None:
+                imu.check_units()
         self.check(
             n_feet=1 if right is None else 2,
             magnetometer=left.has_mag and (right is None or right.has_mag),

@@ -79,6 +79,37 @@ def _first_true(mask: NDArray[np.bool_]) -> int:
     return int(np.argmax(mask))
 
 
+#: A foot-mounted IMU reads about 1 g of specific force over a recording (the foot stands still
+#: much of the time); a median |f| outside these bounds (m/s^2) is not a foot in m/s^2.
+ACC_MEDIAN_BOUNDS_MPS2 = (2.5, 30.0)
+#: MEMS gyroscopes measure up to about 2000 deg/s (35 rad/s); a 99th percentile of |w| above
+#: this (rad/s) is angular rate in deg/s read as rad/s.
+GYR_P99_MAX_RADPS = 40.0
+
+
+def _check_units(acc: NDArray[np.float64], gyr: NDArray[np.float64], path: str | None) -> None:
+    """Raise InvalidInputError when the magnitudes say the units are not the declared SI ones."""
+    f = float(np.median(np.linalg.norm(acc, axis=1)))
+    lo, hi = ACC_MEDIAN_BOUNDS_MPS2
+    if not lo <= f <= hi:
+        hint = "the data look like g: read them with acc_unit='g'" if 0.5 <= f < lo else (
+            "is the accelerometer in another unit, or is its column mapping wrong?")
+        raise InvalidInputError(
+            f"implausible specific force: median |acc| = {f:.3g} m/s^2, but a foot-mounted IMU reads gravity "
+            f"({GRAVITY_MPS2:g} m/s^2) whenever the foot stands still; {hint}",
+            field="acc",
+            path=path,
+        )
+    w = float(np.percentile(np.linalg.norm(gyr, axis=1), 99))
+    if w > GYR_P99_MAX_RADPS:
+        raise InvalidInputError(
+            f"implausible angular rate: 99th percentile of |gyr| = {w:.3g} rad/s, beyond any MEMS gyroscope's "
+            f"range (~35 rad/s = 2000 deg/s); the data look like deg/s: read them with gyr_unit='deg/s'",
+            field="gyr",
+            path=path,
+        )
+
+
 @dataclass(frozen=True, eq=False)
 class ImuData:
     """One inertial sensor's recording, in SI units and the sensor's body frame.
@@ -186,6 +217,7 @@ class ImuData:
         mag_unit: str = "uT",
         drop_duplicates: bool = False,
         meta: Mapping[str, Any] | None = None,
+        check_units: bool = True,
     ) -> "ImuData":
         """Build from arrays in the given units, converting to SI.
 
@@ -207,6 +239,8 @@ class ImuData:
             The count and the dropped indices are recorded in ``meta["duplicates_dropped"]``.
         meta
             Extra provenance to keep.
+        check_units
+            Check that the converted magnitudes are plausible (:meth:`check_units`).
         """
         meta = dict(meta or {})
         scales = {}
@@ -241,7 +275,18 @@ class ImuData:
                     DataQualityWarning,
                     stacklevel=2,
                 )
-        return cls(t=t_arr, acc=acc_arr, gyr=gyr_arr, mag=mag_arr, meta=meta)
+        imu = cls(t=t_arr, acc=acc_arr, gyr=gyr_arr, mag=mag_arr, meta=meta)
+        if check_units:
+            imu.check_units()
+        return imu
+
+    def check_units(self) -> None:
+        """Raise InvalidInputError when the magnitudes say the data are not in the SI units they
+        are declared in: a median |acc| far from gravity (g read as m/s^2), or angular rates no
+        MEMS gyroscope measures (deg/s read as rad/s). Readers, :meth:`from_arrays` and
+        :meth:`footnav.Pipeline.run` call it; the constructor does not, so synthetic test data
+        can be anything."""
+        _check_units(self.acc, self.gyr, self.meta.get("source"))
 
     @classmethod
     def from_dataframe(cls, frame: Any, *, time_column: str = "t", **units: Any) -> "ImuData":

@@ -103,7 +103,7 @@ def test_from_arrays_converts_units(kwargs, acc_scale, gyr_scale, t_scale):
     t = np.arange(5.0) * 10
     acc = np.ones((5, 3))
     gyr = np.full((5, 3), 2.0)
-    imu = ImuData.from_arrays(t, acc, gyr, **kwargs)
+    imu = ImuData.from_arrays(t, acc, gyr, check_units=False, **kwargs)  # conversion only
     np.testing.assert_allclose(imu.acc, acc * acc_scale)
     np.testing.assert_allclose(imu.gyr, gyr * gyr_scale)
     np.testing.assert_allclose(imu.t, t * t_scale)
@@ -140,3 +140,20 @@ def test_imu_from_a_pandas_dataframe_and_a_pipeline_on_dataframes():
     np.testing.assert_array_equal(by_frame.left.position, by_imu.left.position)
     with pytest.raises(InvalidInputError, match="gyr_y"):
         ImuData.from_dataframe(frames[0].drop(columns=["gyr_y"]))
+
+
+@pytest.mark.parametrize(
+    "acc_scale, gyr_scale, unit, field",
+    [(1 / GRAVITY_MPS2, 1.0, "acc_unit='g'", "acc"), (1.0, 180 / np.pi, "gyr_unit='deg/s'", "gyr")],
+)
+def test_units_declared_wrong_are_caught_at_the_edge(acc_scale, gyr_scale, unit, field):
+    import footnav
+
+    rec = footnav.simulate("straight", distance_m=10.0)
+    imu = rec.left
+    with pytest.raises(InvalidInputError, match=unit) as err:
+        ImuData.from_arrays(imu.t, imu.acc * acc_scale, imu.gyr * gyr_scale)
+    assert err.value.field == field
+    wrong = ImuData(imu.t, imu.acc * acc_scale, imu.gyr * gyr_scale)  # the constructor trusts its caller
+    with pytest.raises(InvalidInputError, match=unit):
+        footnav.make_pipeline().run(wrong)  # but a pipeline checks before it runs

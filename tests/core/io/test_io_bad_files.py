@@ -12,8 +12,9 @@ from footnav.core.io import read_azure_fgo, read_footnav_csv, read_gaitmap, read
 N_ROWS = 8
 
 
-def _rows(sep, ncols, first=lambda i: f"{i * 0.01!r}"):
-    return [sep.join([first(i)] + [repr(0.1 * (i + j)) for j in range(ncols - 1)]) for i in range(N_ROWS)]
+def _rows(sep, ncols, first=lambda i: f"{i * 0.01!r}", base=6.0):
+    """Rows of plausible values (|acc| near gravity in the file's unit): readers check the units."""
+    return [sep.join([first(i)] + [repr(base + 0.1 * (i + j)) for j in range(ncols - 1)]) for i in range(N_ROWS)]
 
 
 def _footnav(tmp: Path):
@@ -34,7 +35,7 @@ def _gaitmap(tmp: Path):
 
 def _azure(tmp: Path):
     header = "time_index,acc_x,acc_y,acc_z,gyro_x,gyro_y,gyro_z,is_zero_vel"
-    rows = [",".join([str(i)] + [repr(0.1 * (i + j)) for j in range(6)] + ["1"]) for i in range(N_ROWS)]
+    rows = [",".join([str(i)] + [repr(6.0 + 0.1 * (i + j)) for j in range(6)] + ["1"]) for i in range(N_ROWS)]
     for name in ("imuMeasLeft.csv", "imuMeasRight.csv"):
         (tmp / name).write_text(header + "\n" + "\n".join(rows) + "\n")
     return tmp / "imuMeasLeft.csv", lambda: read_azure_fgo(tmp), 2, ","
@@ -46,7 +47,7 @@ def _xio(tmp: Path):
         "Time (s),Gyroscope X (deg/s),Gyroscope Y (deg/s),Gyroscope Z (deg/s),"
         "Accelerometer X (g),Accelerometer Y (g),Accelerometer Z (g)"
     )
-    p.write_text(header + "\n" + "\n".join(_rows(",", 7)) + "\n")
+    p.write_text(header + "\n" + "\n".join(_rows(",", 7, base=0.6)) + "\n")
     return p, lambda: read_xio(p), 2, ","
 
 

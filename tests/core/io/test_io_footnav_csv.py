@@ -18,7 +18,7 @@ def _imu(n=40, mag=False, seed=1):
     gyr = 0.005 * rng.standard_normal((n, 3))
     # Awkward floats: many digits, tiny and huge magnitudes, negative zero.
     acc[0] = [1e-300, -0.0, 1 / 3]
-    gyr[1] = [np.pi, -np.e, 123456789.123456789]
+    gyr[1] = [np.pi, -np.e, 12.3456789123456789]
     t = np.cumsum(rng.uniform(0.009, 0.011, n))
     m = rng.standard_normal((n, 3)) * 40 if mag else None
     return ImuData.from_arrays(t, acc, gyr, m)

@@ -43,7 +43,8 @@ def _make(kind, tmp):
         p = tmp / "walk.csv"
         p.write_text(
             "Time (s),Gyroscope X (deg/s),Gyroscope Y (deg/s),Gyroscope Z (deg/s),Accelerometer X (g),"
-            "Accelerometer Y (g),Accelerometer Z (g)\n" + "\n".join(_rows(10)) + "\n"
+            "Accelerometer Y (g),Accelerometer Z (g)\n"
+            + "\n".join(f"{i * 0.01!r},0.1,-0.2,0.3,0.01,-0.02,{1.0 + 0.001 * i!r}" for i in range(10)) + "\n"
         )
         return p
     if kind == "xsens":

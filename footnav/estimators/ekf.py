@@ -268,6 +268,18 @@ class EkfEstimator(FootEstimator):
             )
         align = align_at_rest(imu.acc, imu.gyr, s0, e0, still_gyr_max_radps=self.still_gyr_max_radps)
         meta["alignment_samples"] = [s0, e0, align.n_used]
+        gaps = [(int(i), float(dt)) for i, dt in imu.meta.get("gaps", ()) if i > s0]
+        if gaps:
+            # the strapdown step spans a gap as one interval: right in stance, a guess in swing
+            longest = max(gaps, key=lambda g: g[1])
+            meta["gaps_bridged"] = gaps
+            warnings.warn(
+                f"{imu.meta.get('source') or 'ImuData'}: the filter integrates across {len(gaps)} sampling gap(s) "
+                f"(longest {longest[1] * 1e3:.3g} ms before index {longest[0]}); positions after a gap in a swing "
+                "are less certain; listed in the trajectory's meta['gaps_bridged']",
+                DataQualityWarning,
+                stacklevel=3,
+            )
         if self.gyro_bias == "initial-standstill":
             meta["gyro_bias_radps"] = align.gyro_bias_radps.tolist()
         return s0, align, meta

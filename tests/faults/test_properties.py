@@ -1,0 +1,94 @@
+"""Property tests (hypothesis) of the math every component relies on."""
+
+from __future__ import annotations
+
+import numpy as np
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from hypothesis.extra.numpy import arrays
+
+import footnav
+from footnav.core import metrics
+from footnav.core import quaternion as quat
+from footnav.core.ins_filter import _update, _update_vel
+
+finite = st.floats(-10.0, 10.0, allow_nan=False, allow_infinity=False)
+unit_q = arrays(np.float64, 4, elements=finite).filter(lambda q: np.linalg.norm(q) > 1e-3).map(lambda q: q / np.linalg.norm(q))
+
+
+@given(unit_q, unit_q, arrays(np.float64, 3, elements=finite))
+def test_composition_and_rotation_round_trip(p, q, v):
+    pq = quat.multiply(p, q)
+    assert abs(np.linalg.norm(pq) - 1.0) < 1e-12
+    np.testing.assert_allclose(quat.rotate(pq, v), quat.rotate(p, quat.rotate(q, v)), atol=1e-9)
+    back = quat.rotate(quat.conjugate(q), quat.rotate(q, v))
+    np.testing.assert_allclose(back, v, atol=1e-9)
+    np.testing.assert_allclose(quat.as_matrix(pq), quat.as_matrix(p) @ quat.as_matrix(q), atol=1e-12)
+
+
+@given(arrays(np.float64, 4, elements=finite).filter(lambda q: np.linalg.norm(q) > 1e-6))
+def test_normalisation_gives_a_unit_quaternion_of_the_same_rotation(q):
+    n = quat.normalize(q)
+    assert abs(np.linalg.norm(n) - 1.0) < 1e-12
+    np.testing.assert_allclose(quat.as_matrix(n) @ quat.as_matrix(n).T, np.eye(3), atol=1e-12)
+
+
+@given(arrays(np.float64, 3, elements=st.floats(-3.0, 3.0)))
+def test_rotation_vector_round_trip(r):
+    q = quat.from_rotvec(r)
+    back = quat.as_rotvec(q)
+    # equal rotations: same matrix (the vector is defined up to 2 pi)
+    np.testing.assert_allclose(quat.as_matrix(quat.from_rotvec(back)), quat.as_matrix(q), atol=1e-10)
+
+
+def _spd(rng, n):
+    a = rng.standard_normal((n, n))
+    return a @ a.T + 1e-3 * np.eye(n)
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(0, 2**31 - 1), st.sampled_from([9, 15, 18, 30]), st.floats(1e-6, 10.0))
+def test_kalman_updates_keep_the_covariance_symmetric_positive_definite(seed, n, r):
+    rng = np.random.default_rng(seed)
+    cov = _spd(rng, n)
+    m = 3
+    idx = np.sort(rng.choice(n, m, replace=False)).astype(np.int64)
+    y = rng.standard_normal(m)
+    dx = np.zeros(n)
+    ok = _update(cov, dx, idx, m, y, np.full(m, r), np.zeros((n, 6)), np.zeros(6), np.zeros((6, 6)), np.zeros((6, 6)), np.zeros((6, 6)), np.zeros((6, n)))
+    assert ok
+    assert np.array_equal(cov, cov.T)
+    assert np.linalg.eigvalsh(cov).min() > -1e-12 * np.abs(cov).max()
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(0, 2**31 - 1), st.sampled_from([9, 15, 18, 30]), st.floats(1e-6, 1.0))
+def test_written_out_zupt_update_equals_the_general_one(seed, n, r):
+    rng = np.random.default_rng(seed)
+    cov = _spd(rng, n)
+    v = rng.standard_normal(3)
+    o = 3
+    a, b = cov.copy(), cov.copy()
+    dxa, dxb = np.zeros(n), np.zeros(n)
+    _update_vel(a, dxa, o, v, r, np.zeros((n, 6)), np.zeros(6), np.zeros((6, n)))
+    _update(b, dxb, np.arange(o, o + 3, dtype=np.int64), 3, v, np.full(3, r), np.zeros((n, 6)), np.zeros(6),
+            np.zeros((6, 6)), np.zeros((6, 6)), np.zeros((6, 6)), np.zeros((6, n)))
+    np.testing.assert_allclose(a, b, rtol=1e-9, atol=1e-9 * np.abs(cov).max())
+    np.testing.assert_allclose(dxa, dxb, rtol=1e-9, atol=1e-12)
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(0, 2**31 - 1), st.floats(-np.pi, np.pi), arrays(np.float64, 2, elements=st.floats(-100, 100)))
+def test_metrics_are_invariant_to_a_rigid_motion_of_the_estimate(seed, angle, shift):
+    rng = np.random.default_rng(seed)
+    ref = np.cumsum(rng.standard_normal((60, 3)), axis=0)
+    est = ref + 0.1 * rng.standard_normal((60, 3))
+    c, s = np.cos(angle), np.sin(angle)
+    rot = np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]])
+    moved = est @ rot.T + np.r_[shift, 0.0]
+    # ATE aligns rigidly first: a heading and an offset of the whole estimate do not count
+    assert abs(metrics.ate_rmse(moved, ref, dims=2) - metrics.ate_rmse(est, ref, dims=2)) < 1e-7
+    # distances between the feet and path lengths do not depend on the frame
+    other = est[::-1]
+    assert abs(metrics.final_separation(moved, other @ rot.T + np.r_[shift, 0.0]) - metrics.final_separation(est, other)) < 1e-9
+    assert abs(metrics.travelled_distance(moved, dims=2) - metrics.travelled_distance(est, dims=2)) < 1e-7

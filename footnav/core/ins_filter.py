@@ -476,6 +476,7 @@ class InsFilter:
             o = f * n_states + POS
             self._out_pcov[a : k + 1] = [self._cov[o, o], self._cov[o, o + 1], self._cov[o + 1, o + 1], self._cov[o + 2, o + 2]]
         self._n_events = 0
+        self._since_checkpoint = 0
         self._empty = _empty_record(big)
         #: Optional observer of the run with ``before_run(filt) -> (buffers, max_events)`` and
         #: ``after_run(filt, events)``: :class:`footnav.core.smoothing.StepSmoother`.
@@ -528,10 +529,13 @@ class InsFilter:
     def run_until(self, t_stop: float = np.inf) -> None:
         """Process every sample with time <= ``t_stop`` (s) of each foot, in time order."""
         while True:
+            # a checkpoint at least every MAX_SEGMENT_EVENTS: the smoother re-runs one at a time
+            max_events = MAX_SEGMENT_EVENTS - self._since_checkpoint
             if self.recorder is not None:
-                record, (buffers, max_events) = True, self.recorder.before_run(self)
+                buffers, room = self.recorder.before_run(self)
+                record, max_events = True, min(max_events, room)
             else:
-                record, buffers, max_events = False, self._empty, MAX_SEGMENT_EVENTS
+                record, buffers = False, self._empty
             reason, events = _run(
                 self._t, self._acc, self._gyr, self._stance, self._stop_at, self._k, float(t_stop),
                 max_events, self.step_stops, self._q, self._v, self._p, self._ba, self._bg, self._f_n, self._cov,
@@ -539,12 +543,27 @@ class InsFilter:
                 self._out_q, self._out_v, self._out_p, self._out_pcov, record, *buffers,
             )
             self._n_events += events
-            if events:
-                self.checkpoints.append(self._checkpoint(step_end=reason == _STEP_END))
+            self._since_checkpoint += events
             if self.recorder is not None:
                 self.recorder.after_run(self, events)
+            # checkpoints where a step ends or a segment is full; a stop for the caller needs one
+            # only if the caller then updates (see update): memory grows with steps, not with stops
+            if events and reason != _DONE:
+                # a full buffer of a step-wise smoother is a forced step boundary
+                self._add_checkpoint(step_end=reason == _STEP_END or self.recorder is not None)
             if reason == _DONE:
                 return
+
+    def _add_checkpoint(self, step_end: bool) -> None:
+        self.checkpoints.append(self._checkpoint(step_end=step_end))
+        self._since_checkpoint = 0
+        if self.recorder is not None:
+            self.recorder.on_checkpoint(self)
+
+    def close(self) -> None:
+        """Leave a checkpoint at the current state (the smoother needs one after the last sample)."""
+        if self._since_checkpoint:
+            self._add_checkpoint(step_end=False)
 
     def update(
         self,
@@ -599,8 +618,7 @@ class InsFilter:
         cov = self._cov - gain @ ph.T
         self._cov[:] = 0.5 * (cov + cov.T)
         self._apply(dx)
-        if self.checkpoints[-1].n_events != self._n_events:
-            self.checkpoints.append(self._checkpoint(step_end=False))
+        self.close()  # the update belongs to a checkpoint at this instant
         cp = self.checkpoints[-1]
         cp.updates.append((hm, gain, sy))
         # the checkpoint holds the state after every update at this instant

@@ -127,11 +127,10 @@ def _correct_initial(filt: InsFilter, d_start: NDArray[np.float64], sm: tuple) -
 class StepSmoother:
     """Step-wise RTS smoothing during the forward run (OpenShoe's smoothed variant).
 
-    The filter records each segment it runs; when the next step starts, the finished step is
-    smoothed backwards from its end (mu = 0 there) given its start state, and its buffer is
-    reused. Memory: two buffers of ``capacity`` samples, whatever the length of the recording;
-    no sample is run twice. A foot standing still longer than ``capacity`` samples is cut into
-    pieces there.
+    The filter records every sample into this smoother's buffer; when the next step starts, the
+    finished step is smoothed backwards from its end (mu = 0 there) and its buffer is reused.
+    Memory: two buffers of ``capacity`` samples, whatever the length of the recording; no sample
+    is run twice. A foot standing still longer than ``capacity`` samples is cut into pieces there.
     """
 
     def __init__(self, filt: InsFilter, capacity: int = MAX_SEGMENT_EVENTS) -> None:
@@ -139,19 +138,15 @@ class StepSmoother:
         self.capacity = capacity
         self._bufs = [_empty_record(big, capacity), _empty_record(big, capacity)]
         self._cur = 0
-        self._used = 0
+        self._used = 0  # events recorded in the current buffer
+        self._open = 0  # where the events not yet closed by a checkpoint start
         self._target = (0, 0)
         self._pending: list[tuple[int, int, int]] = []  # (offset, events, index of end checkpoint)
         self._sm = tuple(x.copy() for x in (filt._out_q, filt._out_v, filt._out_p))
 
     def before_run(self, filt: InsFilter) -> tuple[tuple, int]:
-        last = filt.checkpoints[-1]
-        if self._used >= self.capacity:
-            last.step_end = True
-        if last.step_end and self._pending:
-            self._target = (1 - self._cur, 0)
-        else:
-            self._target = (self._cur, self._used)
+        step_done = filt.checkpoints[-1].step_end and self._pending and self._open == self._used
+        self._target = (1 - self._cur, 0) if step_done else (self._cur, self._used)
         b, off = self._target
         return tuple(x[off:] for x in self._bufs[b]), self.capacity - off
 
@@ -161,9 +156,13 @@ class StepSmoother:
         b, off = self._target
         if b != self._cur:  # a new step began: no more updates can come for the previous one
             self._flush(filt)
-            self._cur = b
-        self._pending.append((off, events, len(filt.checkpoints) - 1))
+            self._cur, self._used, self._open = b, 0, 0
         self._used = off + events
+
+    def on_checkpoint(self, filt: InsFilter) -> None:
+        if self._used > self._open:
+            self._pending.append((self._open, self._used - self._open, len(filt.checkpoints) - 1))
+            self._open = self._used
 
     def _flush(self, filt: InsFilter) -> None:
         if self._pending:
@@ -171,11 +170,12 @@ class StepSmoother:
             segments = [(tuple(x[off : off + ev] for x in buf), b) for off, ev, b in self._pending]
             _smooth_group(filt, segments, np.zeros(filt.n_states * filt.n_feet), self._sm, relative=True)
         self._pending = []
-        self._used = 0
 
     def result(self, filt: InsFilter) -> tuple[NDArray, NDArray, NDArray]:
         """Smoothed attitude, velocity, position of all samples (the run so far ends a step)."""
+        filt.close()
         self._flush(filt)
+        self._used = self._open = 0
         return self._sm
 
 
@@ -202,6 +202,7 @@ def smooth(filt: InsFilter, mode: Literal["whole", "step"] = "whole") -> tuple[N
         raise ValueError(f"unknown smoothing mode {mode!r}")
     if mode == "step" and isinstance(filt.recorder, StepSmoother):
         return filt.recorder.result(filt)
+    filt.close()
     sm = tuple(x.copy() for x in (filt._out_q, filt._out_v, filt._out_p))
     big = filt.n_states * filt.n_feet
     cps = filt.checkpoints

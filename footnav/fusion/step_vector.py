@@ -139,11 +139,11 @@ class StepVectorFusion(Fusion):
         out.sort()
         return out
 
-    def _support(self, imu_r: ImuData, stance_r: StanceResult, t: float) -> tuple[int, int] | None:
+    def _support(self, imu_r: ImuData, stance_r: StanceResult, t: float, runs: np.ndarray) -> tuple[int, int] | None:
         """(heel strike, sample at time t) of the rear foot if it supported the step ending at t
-        (its last stance ended at most ``heel_strike_before_stance_s`` + 0.1 s before t)."""
+        (its last stance ended at most ``heel_strike_before_stance_s`` + 0.1 s before t);
+        ``runs`` its stance intervals."""
         k = int(np.searchsorted(imu_r.t, t, side="right")) - 1
-        runs = stance_r.intervals
         j = int(np.searchsorted(runs[:, 0], k, side="right")) - 1
         if k < 0 or j < 0 or imu_r.t[runs[j, 1] - 1] < t - self.heel_strike_before_stance_s - 0.1:
             return None
@@ -155,12 +155,13 @@ class StepVectorFusion(Fusion):
         theta measured exactly as :meth:`fuse` does (module docstring)."""
         ratios = []
         turn = np.radians(self.turn_threshold_deg)
+        runs = [st.intervals for st in stances]
         for t, front, hs_front, j in self._landings(imus, stances):
             rear = 1 - front
-            support = self._support(imus[rear], stances[rear], t)
+            support = self._support(imus[rear], stances[rear], t, runs[rear])
             if support is None:
                 continue
-            runs_f, traj_f = stances[front].intervals, singles[front]
+            runs_f, traj_f = runs[front], singles[front]
             a0, a1 = runs_f[j - 1, 0], runs_f[j, 0]
             stride = np.linalg.norm(traj_f.position[a1, :2] - traj_f.position[a0, :2])
             if stride < 0.2 or abs(_wrap(quat.yaw(traj_f.quaternion[a1]) - quat.yaw(traj_f.quaternion[a0]))) > turn:
@@ -191,12 +192,13 @@ class StepVectorFusion(Fusion):
         turn = np.radians(self.turn_threshold_deg)
         r = np.array([self.step_length_std_m, self.step_width_std_m, self.step_elevation_std_m]) ** 2
         last_stance_yaw: dict[int, float] = {}
+        runs = [st.intervals for st in stances]
         applied = suspended = skipped = 0
         lengths = []
         for t, front, _, _ in self._landings(imus, stances):
             rear = 1 - front
             filt.run_until(t)
-            support = self._support(imus[rear], stances[rear], t)
+            support = self._support(imus[rear], stances[rear], t, runs[rear])
             if support is None:
                 skipped += 1  # the rear foot was not on the ground: no pendulum to read
                 continue

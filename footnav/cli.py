@@ -11,7 +11,7 @@ import sys
 from pathlib import Path as FilePath
 from typing import Sequence
 
-from footnav.core.errors import FootnavError
+from footnav.core.errors import FootnavError, PluginError
 
 EXIT_OK, EXIT_INTERNAL, EXIT_USAGE = 0, 1, 2
 
@@ -318,6 +318,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         return EXIT_USAGE
     try:
         return args.func(args)
+    except PluginError as exc:  # not the user's input: a component package's bug
+        print(f"footnav {args.command}: error: {exc}", file=sys.stderr)
+        return EXIT_INTERNAL
     except FootnavError as exc:
         print(f"footnav {args.command}: error: {exc}", file=sys.stderr)
         return EXIT_USAGE

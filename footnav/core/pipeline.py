@@ -9,11 +9,19 @@ from __future__ import annotations
 import sys
 import time
 import warnings
+from contextlib import contextmanager
 from pathlib import Path as FilePath
 from typing import Any, Mapping
 
 from footnav.core.component import Component, FootEstimator, Fusion, StanceDetector
-from footnav.core.errors import CompositionError, DataNotFoundError, InvalidInputError, InvalidParameterError
+from footnav.core.errors import (
+    CompositionError,
+    DataNotFoundError,
+    FootnavError,
+    InvalidInputError,
+    InvalidParameterError,
+    PluginError,
+)
 from footnav.core.types import ImuData, PipelineResult, Recording
 
 if sys.version_info >= (3, 11):
@@ -126,6 +134,27 @@ class Pipeline:
             if c.needs_magnetometer and not magnetometer:
                 raise CompositionError(f"{c.kind} {c.name!r} needs a magnetometer, but the data have none")
 
+    @contextmanager
+    def _blame(self, *components: Component):
+        """Turn an unexpected exception of a third-party component into a PluginError naming it."""
+        try:
+            yield
+        except FootnavError:
+            raise
+        except Exception as exc:
+            reg = _registry()
+            for comp in components:
+                try:
+                    origin = reg.get(comp.kind, comp.name).origin
+                except FootnavError:
+                    origin = type(comp).__module__
+                if origin != "footnav":
+                    raise PluginError(
+                        f"{comp.kind} {comp.name!r} from {origin} failed: {type(exc).__name__}: {exc} "
+                        f"(a bug in that package; the other components are unaffected)"
+                    ) from exc
+            raise
+
     def run(self, left: ImuData | Recording, right: ImuData | None = None) -> PipelineResult:
         """Detect stance, estimate each foot and fuse.
 
@@ -157,8 +186,11 @@ class Pipeline:
         t0 = time.perf_counter()
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
-            stance_left, stance_right = self.detector.detect_pair(left, right)
-            fused = self.fusion.fuse(self.estimator, left, stance_left, right, stance_right)
+            with self._blame(self.detector):
+                stance_left, stance_right = self.detector.detect_pair(left, right)
+            # the fusion drives the estimator: a failure inside names whichever is not footnav's
+            with self._blame(self.fusion, self.estimator):
+                fused = self.fusion.fuse(self.estimator, left, stance_left, right, stance_right)
         for w in caught:  # recorded for provenance, and still shown to the caller
             warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
         from footnav import __version__

@@ -188,3 +188,32 @@ def test_parameter_info_has_units_and_descriptions():
     assert info["acc_noise_mps2_sqrthz"].unit == "m/s^2/sqrt(Hz)"
     assert "zero-velocity" in info["zupt_std_mps"].description
     assert info["zupt_std_mps"].default == 0.01
+
+
+def test_plugin_component_raising_during_run_is_reported_by_name_and_the_rest_keep_working():
+    class Broken(HalfDetector):
+        name = "broken"
+
+        def detect(self, imu):
+            raise ZeroDivisionError("oops")
+
+    def footnav_register_detectors(register):
+        register(Broken)
+
+    reg = build_registry([_plugin(footnav_register_detectors=footnav_register_detectors)], autoload=False)
+    reset_registry(reg)
+    rec = footnav.simulate("straight", distance_m=5.0)
+    with pytest.raises(PluginError, match="detector 'broken' from <direct> failed: ZeroDivisionError: oops") as err:
+        footnav.make_pipeline("broken").run(rec)
+    assert isinstance(err.value.__cause__, ZeroDivisionError)
+    assert footnav.make_pipeline("threshold").run(rec).left.path_length_m > 4.0  # the rest work
+    from footnav.cli import EXIT_INTERNAL, main
+
+    # the CLI says so in one line, exit code 1 (not the user's fault)
+    import footnav.core.io.footnav_csv as fc
+    import tempfile, pathlib
+
+    tmp = pathlib.Path(tempfile.mkdtemp())
+    fc.write_footnav_csv(rec.left, tmp / "l.csv")
+    assert main(["run", "--left", str(tmp / "l.csv"), "--detector", "broken", "--out", str(tmp / "out")]) == EXIT_INTERNAL
+    assert not (tmp / "out").exists()

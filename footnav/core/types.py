@@ -13,6 +13,8 @@ its frame in a ``frame`` attribute:
 
 from __future__ import annotations
 
+import functools
+
 import warnings
 from dataclasses import dataclass, field, replace
 from typing import Any, Mapping
@@ -327,9 +329,9 @@ class ImuData:
         """Time from first to last sample, in s."""
         return float(self.t[-1] - self.t[0])
 
-    @property
+    @functools.cached_property
     def rate_hz(self) -> float:
-        """Nominal sampling rate in Hz: 1 / median sampling interval."""
+        """Nominal sampling rate in Hz: 1 / median sampling interval (computed once: t is read-only)."""
         return float(1.0 / np.median(np.diff(self.t)))
 
     @property

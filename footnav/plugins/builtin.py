@@ -33,6 +33,7 @@ def footnav_register_estimators(register):
 
 @hookimpl
 def footnav_register_fusions(register):
+    from footnav.fusion.dtw import DtwFusion
     from footnav.fusion.independent import IndependentFusion
     from footnav.fusion.range_constraint import RangeConstraintFusion
     from footnav.fusion.step_vector import StepVectorFusion
@@ -40,3 +41,4 @@ def footnav_register_fusions(register):
     register(IndependentFusion)
     register(RangeConstraintFusion)
     register(StepVectorFusion)
+    register(DtwFusion)

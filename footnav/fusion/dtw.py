@@ -1,0 +1,216 @@
+"""DTW fusion: two feet aligned by dynamic time warping and tied at mid-swing (seed 002, Alg. 2).
+
+Seed 002 (Chistyakov et al. 2021), Sec. 4, for two IMUs:
+
+1. Each foot alone (Alg. 1), and the initial heading mismatch of the two IMUs "by choosing the
+   initial angles that minimise the DTW metric" between the two trajectories. The DTW is
+   band-limited: "the maximum allowed difference between the indices of matched points".
+2. The feet processed step by step, alternately; at the middle of each step of one foot
+   (``n = k + step_len / 2``) its horizontal position is updated with the other foot's position
+   (Alg. 2: ``H = [I_2x2 O_2x7]``): "when one foot rests and the other is in the middle of its
+   step, the sensors' horizontal positions are a few centimetres apart".
+3. RTS smoothing of both (as Alg. 1).
+4. One averaged trajectory: the midpoints of the point pairs DTW matches ("timeless": the
+   paired points may come from different times), or the midpoint on a common time grid ("timed").
+
+footnav's reading. Both feet run in one joint filter, so the mid-swing measurement is the
+*relative* horizontal position ``p_moving - p_standing = offset + noise`` (``H = [I -I]``): it
+corrects both feet by their uncertainties instead of treating the standing foot as exact. The
+heading search turns the right foot's start about z (coarse grid, then bounded refinement) on the
+single-foot solutions decimated to ``dtw_rate_hz``.
+"""
+
+from __future__ import annotations
+
+from numbers import Real
+from typing import ClassVar, Literal
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.optimize import minimize_scalar
+
+from footnav.core import metrics
+from footnav.core import quaternion as quat
+from footnav.core.component import Fusion, require
+from footnav.core.errors import CompositionError
+from footnav.core.types import FootTrajectory, FusionResult, Path
+from footnav.fusion.joint import LEFT, RIGHT, finish_joint, require_stepable, start_joint
+
+__all__ = ["DtwFusion", "heading_mismatch", "timeless_average"]
+
+PATHS = ("timeless", "timed")
+
+
+def _decimate(traj: FootTrajectory, rate_hz: float) -> NDArray[np.float64]:
+    """Horizontal positions on a uniform grid at ``rate_hz`` (linear interpolation)."""
+    t = np.arange(traj.t[0], traj.t[-1], 1.0 / rate_hz)
+    return np.column_stack([np.interp(t, traj.t, traj.position[:, i]) for i in range(2)])
+
+
+def _rotated(xy: NDArray[np.float64], angle: float) -> NDArray[np.float64]:
+    c, s = np.cos(angle), np.sin(angle)
+    return xy @ np.array([[c, -s], [s, c]]).T
+
+
+def heading_mismatch(a: NDArray[np.float64], b: NDArray[np.float64], band: int, grid: int = 36) -> tuple[float, float]:
+    """Rotation of ``b`` about its start (rad) minimising the banded DTW distance to ``a``.
+
+    Seed 002 Sec. 4 step 1. ``a``, ``b`` are horizontal tracks (N, 2), (M, 2) starting at their
+    first point; a coarse grid of ``grid`` angles, then a bounded scalar refinement around the
+    best. Returns (angle, mean DTW distance in m).
+    """
+    a0 = a - a[0]
+    b0 = b - b[0]
+
+    def cost(angle: float) -> float:
+        return metrics.dtw_distance(a0, _rotated(b0, angle), band=band, dims=2).distance_m
+
+    angles = np.linspace(-np.pi, np.pi, grid, endpoint=False)
+    costs = [cost(x) for x in angles]
+    best = float(angles[int(np.argmin(costs))])
+    step = 2 * np.pi / grid
+    res = minimize_scalar(cost, bounds=(best - step, best + step), method="bounded", options={"xatol": 1e-4})
+    return float((res.x + np.pi) % (2 * np.pi) - np.pi), float(res.fun)
+
+
+def timeless_average(left: FootTrajectory, right: FootTrajectory, band_s: float, rate_hz: float) -> Path:
+    """Midpoints of the point pairs of the banded DTW between the feet (seed 002 Sec. 4 step 4).
+
+    Both feet are resampled to ``rate_hz`` over their common time span (the pairing then costs
+    O(N x band) at that rate, and feet sampled at different rates pair correctly). The time of
+    each midpoint is the mean of its pair's times (non-decreasing along the path): the path is
+    "timeless" in the paper's sense, paired points need not be simultaneous.
+    """
+    t = np.arange(max(left.t[0], right.t[0]), min(left.t[-1], right.t[-1]), 1.0 / rate_hz)
+    a = np.column_stack([np.interp(t, left.t, left.position[:, i]) for i in range(3)])
+    b = np.column_stack([np.interp(t, right.t, right.position[:, i]) for i in range(3)])
+    res = metrics.dtw_distance(a, b, band=max(1, int(round(band_s * rate_hz))), dims=3, return_path=True)
+    i, j = res.path[:, 0], res.path[:, 1]
+    return Path(
+        t=0.5 * (t[i] + t[j]),
+        position=0.5 * (a[i] + b[j]),
+        meta={"path": "DTW pairing (timeless)", "rate_hz": rate_hz, "dtw_distance_m": res.distance_m},
+    )
+
+
+class DtwFusion(Fusion):
+    """Two feet tied at every mid-swing, aligned and averaged by DTW (seed 002, Alg. 2).
+
+    Parameters
+    ----------
+    midswing_std_m : float
+        Standard deviation of the mid-swing relative horizontal position, m (the sensors pass
+        within "a few centimetres" plus the step width).
+    lateral_offset_m : float
+        Expected horizontal distance of the swinging foot's sensor from the standing one at
+        mid-swing, across the walking direction, m (0 as in the paper).
+    band_s : float
+        Largest time difference between matched points of the DTW, s (the paper's maximum
+        index difference, here in seconds so that it does not depend on the rate).
+    dtw_rate_hz : float
+        Rate the single-foot tracks are resampled to for the heading search, Hz.
+    initial_heading : {"dtw", "first-step"}
+        Align the right foot's heading to the left by minimising the DTW distance (the paper),
+        or by each foot's first step.
+    path : {"timeless", "timed"}
+        The pedestrian path: midpoints of DTW-paired points (at ``dtw_rate_hz``), or midpoints
+        at the left foot's times.
+    step_width_m : float
+        Lateral distance between the feet at the start, m.
+
+    Examples
+    --------
+    >>> pipe = footnav.make_pipeline("glrt", "ekf", "dtw")  # doctest: +SKIP
+    """
+
+    name = "dtw"
+    needs_two_feet: ClassVar[bool] = True
+
+    def __init__(
+        self,
+        *,
+        midswing_std_m: float = 0.15,
+        lateral_offset_m: float = 0.0,
+        band_s: float = 2.0,
+        dtw_rate_hz: float = 10.0,
+        initial_heading: Literal["dtw", "first-step"] = "dtw",
+        path: Literal["timeless", "timed"] = "timeless",
+        step_width_m: float = 0.2,
+    ) -> None:
+        self.midswing_std_m = midswing_std_m
+        self.lateral_offset_m = lateral_offset_m
+        self.band_s = band_s
+        self.dtw_rate_hz = dtw_rate_hz
+        self.initial_heading = initial_heading
+        self.path = path
+        self.step_width_m = step_width_m
+
+    def validate_params(self) -> None:
+        def number(v) -> bool:
+            return isinstance(v, Real) and not isinstance(v, bool) and bool(np.isfinite(v))
+
+        for name in ("midswing_std_m", "band_s", "dtw_rate_hz"):
+            require(number(getattr(self, name)) and getattr(self, name) > 0, self, name, "a positive number")
+        for name in ("lateral_offset_m", "step_width_m"):
+            require(number(getattr(self, name)) and getattr(self, name) >= 0, self, name, "a number >= 0")
+        require(self.initial_heading in ("dtw", "first-step"), self, "initial_heading", "'dtw' or 'first-step'")
+        require(self.path in PATHS, self, "path", " or ".join(map(repr, PATHS)))
+
+    def fuse(self, estimator, left, stance_left, right=None, stance_right=None) -> FusionResult:
+        """Both feet in one filter, tied at each mid-swing; smoothed; averaged."""
+        self.validate_params()
+        if right is None or stance_right is None:
+            raise CompositionError(f"fusion {self.name!r} needs both feet")
+        require_stepable(self, estimator)
+        filt0, singles = start_joint(estimator, left, stance_left, right, stance_right, self.step_width_m, return_singles=True)
+        meta: dict = {"fusion": self.describe()}
+        if self.initial_heading == "dtw":
+            a, b = (_decimate(s, self.dtw_rate_hz) for s in singles)
+            band = max(int(round(self.band_s * self.dtw_rate_hz)), abs(len(a) - len(b)))
+            angle, dist = heading_mismatch(a, b, band)
+            meta["heading_mismatch_rad"], meta["initial_dtw_distance_m"] = angle, dist
+            yaws = [float(s.meta.get("heading_rotation_rad", 0.0)) for s in singles]
+            yaws[RIGHT] += angle
+            half = 0.5 * self.step_width_m
+            filt = estimator.start(
+                [left, right], [stance_left, stance_right], initial_yaw_rad=yaws,
+                initial_position_m=[np.array([0.0, half, 0.0]), np.array([0.0, -half, 0.0])],
+            )
+        else:
+            filt = filt0
+        imus, stances = (left, right), (stance_left, stance_right)
+        runs = [st.intervals for st in stances]
+        events = []  # (mid-swing time, moving foot)
+        for foot in (LEFT, RIGHT):
+            r = runs[foot]
+            for j in range(len(r) - 1):
+                t_off, t_on = imus[foot].t[r[j, 1] - 1], imus[foot].t[r[j + 1, 0]]
+                events.append((0.5 * (t_off + t_on), foot))
+        events.sort()
+        big = filt.covariance.shape[0]
+        applied = skipped = 0
+        for t, moving in events:
+            other = 1 - moving
+            k = int(np.searchsorted(imus[other].t, t, side="right")) - 1
+            if k < 0 or k >= len(stances[other].mask) or not stances[other].mask[k]:
+                skipped += 1  # the other foot is not standing: no anchor (running, turning on the spot)
+                continue
+            filt.run_until(t)
+            h = np.zeros((2, big))
+            h[:, filt.block(moving, "pos").start : filt.block(moving, "pos").start + 2] = np.eye(2)
+            h[:, filt.block(other, "pos").start : filt.block(other, "pos").start + 2] = -np.eye(2)
+            offset = np.zeros(2)
+            if self.lateral_offset_m:
+                # across the standing foot's heading, towards the moving foot's side
+                yaw = float(quat.yaw(filt.quaternion(other)))
+                side = 1.0 if moving == LEFT else -1.0
+                offset = side * self.lateral_offset_m * np.array([-np.sin(yaw), np.cos(yaw)])
+            y = (filt.position(moving) - filt.position(other))[:2] - offset
+            filt.update(h, y, self.midswing_std_m**2)
+            applied += 1
+        meta.update(midswing_updates=applied, skipped_other_foot_moving=skipped)
+        result = finish_joint(estimator, filt, stance_left, stance_right, meta)
+        if self.path == "timeless":
+            path = timeless_average(result.left, result.right, self.band_s, self.dtw_rate_hz)
+            result = FusionResult(left=result.left, right=result.right, path=path, meta={**result.meta, "path": path.meta})
+        return result

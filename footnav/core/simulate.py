@@ -90,6 +90,12 @@ _COMMON_DEFAULTS: dict[str, Any] = {
     "heel_strike_impact_s": 0.01,
     "mounting_rpy_deg": (0.0, 0.0, 0.0),
     "noise": True,
+    # The right sensor's own clock against true time (the left's is true time), and the
+    # message exchanges a master would log for seed 002's clock synchronisation.
+    "clock_offset_s": 0.0,
+    "clock_drift_ppm": 0.0,
+    "clock_exchanges": 0,
+    "exchange_delay_s": 0.02,
     # Consumer/industrial MEMS grade (BMI160 / MPU-9250 / MTi-3 class): ~0.01 deg/s/sqrt(Hz) and
     # ~100 ug/sqrt(Hz) white noise, ~0.1 deg/s and ~2 mg turn-on bias after factory calibration.
     "gyr_noise_density_radps_sqrthz": 1.7e-4,
@@ -171,6 +177,15 @@ def _resolve_options(scenario: Any, rate_hz: Any, options: Mapping[str, Any]) ->
                  "swing_s", "foot_flat_s"):
         opts[name] = _positive(opts, name)
     opts["heel_strike_impact_s"] = _positive(opts, "heel_strike_impact_s")
+    opts["clock_offset_s"] = _number(opts, "clock_offset_s")
+    drift = _number(opts, "clock_drift_ppm")
+    if not -1e5 < drift < 1e5:
+        raise _fail("clock_drift_ppm", opts["clock_drift_ppm"], "a rate error in (-1e5, 1e5) ppm")
+    opts["clock_drift_ppm"] = drift
+    n_ex = opts["clock_exchanges"]
+    if isinstance(n_ex, bool) or not isinstance(n_ex, (int, np.integer)) or n_ex < 0 or n_ex == 1:
+        raise _fail("clock_exchanges", n_ex, "0 (none) or an integer >= 2")
+    opts["exchange_delay_s"] = _non_negative(opts, "exchange_delay_s")
     for name in ("step_width_m", "standstill_s", "heel_strike_impact_mps2", *_NOISE_KEYS):
         opts[name] = _non_negative(opts, name)
     for name in ("toe_off_pitch_deg", "heel_strike_pitch_deg"):
@@ -697,6 +712,17 @@ def simulate(scenario: str = "straight", *, seed: int = 0, rate_hz: float = 100.
         min(swing_s, foot_flat_s)``: the pulse stays between toe-off and stance.
     heel_strike_impact_s : float, default 0.01
         Width (sigma) of the impact wavelet in s; the transient lasts about 6 sigma (+-3 sigma).
+    clock_offset_s, clock_drift_ppm : float, default 0, 0
+        The right sensor's clock: its time stamps are ``(1 + drift 1e-6) t + offset`` for true
+        time t (the left sensor's are true time; the truth stays on true time). The map back,
+        ``t = a t_imu + b``, is in ``meta["clock"]``.
+    clock_exchanges : int, default 0
+        Message exchanges between a master on true time and the right sensor, as seed 002 Sec. 5B
+        logs them: half in the first and half in the last 10 s of the walk, each
+        ``[TM1, TI, TM2]`` with one-way delays ``exchange_delay_s`` plus an exponential jitter of
+        the same mean (drawn from the seed), in ``meta["clock_exchanges"]``.
+    exchange_delay_s : float, default 0.02
+        Mean fixed part of the one-way radio delay of the exchanges, s.
     mounting_rpy_deg : (float, float, float), default (0, 0, 0)
         Orientation of the sensor on the foot as ZYX roll, pitch, yaw in deg (sensor -> foot);
         zero: sensor axes = foot axes (x forward, y left, z up).
@@ -819,6 +845,28 @@ def simulate(scenario: str = "straight", *, seed: int = 0, rate_hz: float = 100.
                 **line_info,
             },
         )
+    clock_meta = {}
+    if opts["clock_offset_s"] or opts["clock_drift_ppm"] or opts["clock_exchanges"]:
+        rate = 1.0 + opts["clock_drift_ppm"] * 1e-6
+        offset = opts["clock_offset_s"]
+        imus["right"] = ImuData(
+            t=rate * t + offset,
+            acc=imus["right"].acc,
+            gyr=imus["right"].gyr,
+            meta={**imus["right"].meta, "clock": "sensor's own (see the recording's meta['clock'])"},
+        )
+        clock_meta["clock"] = {"foot": "right", "offset_s": offset, "drift_ppm": opts["clock_drift_ppm"], "a": 1.0 / rate, "b": -offset / rate}
+        n_ex = opts["clock_exchanges"]
+        if n_ex:
+            rng_ex = np.random.default_rng(seed).spawn(3)[2]  # the feet's streams stay as they were
+            half = n_ex // 2
+            duration = float(t[-1])
+            tm1 = np.concatenate([np.linspace(0.0, min(10.0, duration / 3), half),
+                                  np.linspace(max(duration - 10.0, 2 * duration / 3), duration, n_ex - half)])
+            delay = opts["exchange_delay_s"]
+            d1 = delay + rng_ex.exponential(delay if delay > 0 else 1e-3, n_ex)
+            d2 = delay + rng_ex.exponential(delay if delay > 0 else 1e-3, n_ex)
+            clock_meta["clock_exchanges"] = {"tm1": tm1, "ti": rate * (tm1 + d1) + offset, "tm2": tm1 + d1 + d2}
     return Recording(
         left=imus["left"],
         right=imus["right"],
@@ -833,5 +881,6 @@ def simulate(scenario: str = "straight", *, seed: int = 0, rate_hz: float = 100.
             "stance_source": "simulator",
             **plan_info,
             **line_info,
+            **clock_meta,
         },
     )

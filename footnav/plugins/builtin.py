@@ -27,8 +27,10 @@ def footnav_register_detectors(register):
 @hookimpl
 def footnav_register_estimators(register):
     from footnav.estimators.ekf import EkfEstimator
+    from footnav.estimators.madgwick import MadgwickEstimator
 
     register(EkfEstimator)
+    register(MadgwickEstimator)
 
 
 @hookimpl

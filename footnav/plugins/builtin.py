@@ -37,6 +37,7 @@ def footnav_register_estimators(register):
 def footnav_register_fusions(register):
     from footnav.fusion.dtw import DtwFusion
     from footnav.fusion.independent import IndependentFusion
+    from footnav.fusion.particle import ParticleFusion
     from footnav.fusion.range_constraint import RangeConstraintFusion
     from footnav.fusion.step_vector import StepVectorFusion
 
@@ -44,3 +45,4 @@ def footnav_register_fusions(register):
     register(RangeConstraintFusion)
     register(StepVectorFusion)
     register(DtwFusion)
+    register(ParticleFusion)

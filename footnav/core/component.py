@@ -11,13 +11,26 @@ method starts (``validate_params``). Parameters carry their unit in their name (
 from __future__ import annotations
 
 import inspect
+import math
 import re
 from dataclasses import dataclass
 from typing import Any, ClassVar, Mapping
 
+from numbers import Real
+
 from footnav.core.errors import InvalidParameterError
 
-__all__ = ["Component", "ParameterInfo", "StanceDetector", "FootEstimator", "Fusion", "KINDS"]
+__all__ = [
+    "Component",
+    "ParameterInfo",
+    "StanceDetector",
+    "FootEstimator",
+    "Fusion",
+    "KINDS",
+    "is_number",
+    "require_positive",
+    "require_non_negative",
+]
 
 #: Unit suffix of a parameter name -> unit, longest suffix first.
 _UNIT_SUFFIXES = (
@@ -221,3 +234,22 @@ class Fusion(Component):
 
 
 KINDS = {"detector": StanceDetector, "estimator": FootEstimator, "fusion": Fusion}
+
+
+def is_number(value: Any) -> bool:
+    """A finite real number (not a bool)."""
+    return isinstance(value, Real) and not isinstance(value, bool) and math.isfinite(value)
+
+
+def require_positive(component: Component, *names: str) -> None:
+    """InvalidParameterError naming the first of ``names`` that is not a positive number."""
+    for name in names:
+        value = getattr(component, name)
+        require(is_number(value) and value > 0, component, name, "a positive number")
+
+
+def require_non_negative(component: Component, *names: str) -> None:
+    """InvalidParameterError naming the first of ``names`` that is not a number >= 0."""
+    for name in names:
+        value = getattr(component, name)
+        require(is_number(value) and value >= 0, component, name, "a number >= 0")

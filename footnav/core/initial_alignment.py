@@ -13,15 +13,17 @@ bias. Only the samples whose angular-rate norm is below ``still_gyr_max_radps`` 
 
 from __future__ import annotations
 
+import warnings
+
 from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
 
 from footnav.core import quaternion as quat
-from footnav.core.errors import InvalidInputError
+from footnav.core.errors import DataQualityWarning, InvalidInputError
 
-__all__ = ["Alignment", "align_at_rest"]
+__all__ = ["Alignment", "align_at_rest", "align_first_stance"]
 
 
 @dataclass(frozen=True)
@@ -78,3 +80,64 @@ def align_at_rest(
         stop=int(stop),
         n_used=int(still.sum()),
     )
+
+
+def align_first_stance(imu, stance, *, still_gyr_max_radps: float, stacklevel: int = 3) -> tuple[int, Alignment, dict]:
+    """Check a stance mask against its recording and align at its first stance phase.
+
+    What every per-foot estimator does first: the mask must have one value per sample and at
+    least one stance; a recording that does not start at standstill starts its estimate at the
+    first stance (DataQualityWarning, ``meta["estimate_start_index"]``); sampling gaps the
+    integration will cross are listed (DataQualityWarning, ``meta["gaps_bridged"]``).
+
+    Returns
+    -------
+    start, alignment, meta
+        Index of the first stance sample, :class:`Alignment` there, and what to record.
+
+    Raises
+    ------
+    InvalidInputError
+        The mask's length differs from the recording's, or it has no stance (field
+        ``stance.mask``).
+    """
+    source = imu.meta.get("source")
+    if len(stance.mask) != imu.n_samples:
+        raise InvalidInputError(
+            f"stance mask has {len(stance.mask)} samples but the IMU data has {imu.n_samples}",
+            field="stance.mask",
+            path=source,
+        )
+    steps = stance.intervals
+    if len(steps) == 0:
+        raise InvalidInputError(
+            "no stance phase detected, so the filter cannot be aligned or aided; "
+            "check the detector's thresholds against this recording",
+            field="stance.mask",
+            path=source,
+        )
+    meta: dict = {}
+    s0, e0 = int(steps[0, 0]), int(steps[0, 1])
+    if s0 > 0:
+        meta["estimate_start_index"] = s0
+        warnings.warn(
+            f"{source or 'ImuData'}: recording does not start at standstill; the estimate "
+            f"starts at the first stance phase (index {s0}) and holds that state before it",
+            DataQualityWarning,
+            stacklevel=stacklevel,
+        )
+    align = align_at_rest(imu.acc, imu.gyr, s0, e0, still_gyr_max_radps=still_gyr_max_radps)
+    meta["alignment_samples"] = [s0, e0, align.n_used]
+    gaps = [(int(i), float(dt)) for i, dt in imu.meta.get("gaps", ()) if i > s0]
+    if gaps:
+        # the strapdown step spans a gap as one interval: right in stance, a guess in swing
+        longest = max(gaps, key=lambda g: g[1])
+        meta["gaps_bridged"] = gaps
+        warnings.warn(
+            f"{source or 'ImuData'}: the filter integrates across {len(gaps)} sampling gap(s) "
+            f"(longest {longest[1] * 1e3:.3g} ms before index {longest[0]}); positions after a gap in a swing "
+            "are less certain; listed in the trajectory's meta['gaps_bridged']",
+            DataQualityWarning,
+            stacklevel=stacklevel,
+        )
+    return s0, align, meta

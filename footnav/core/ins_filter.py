@@ -199,31 +199,28 @@ def _update(cov, dx, idx, m, y, r_diag, gain, sy, s, s_inv, low, hp):
     return True
 
 
+@njit(cache=True, inline="always")
+def sym3_inverse(a, b, c, d, e, f):
+    """Inverse of the symmetric [[a b c] [b d e] [c e f]] by cofactors: (i00, i01, i02, i11, i12,
+    i22, det); the entries are undefined when det <= 0 (not positive definite)."""
+    i00 = d * f - e * e
+    i01 = c * e - b * f
+    i02 = b * e - c * d
+    det = a * i00 + b * i01 + c * i02
+    inv = 1.0 / det if det != 0.0 else 0.0
+    return (i00 * inv, i01 * inv, i02 * inv, (a * f - c * c) * inv, (b * c - a * e) * inv, (a * d - b * b) * inv, det)
+
+
 @njit(cache=True)
 def _update_vel(cov, dx, o, v, r, gain, sy, hp):
     """The ZUPT update of :func:`_update` for the velocity block at ``o`` (y = v^, H = [0 I 0]),
     with the 3 x 3 inverse written out: the update runs at every stance sample."""
     big = cov.shape[0]
-    a = cov[o, o] + r
-    b = cov[o, o + 1]
-    c = cov[o, o + 2]
-    d = cov[o + 1, o + 1] + r
-    e = cov[o + 1, o + 2]
-    f = cov[o + 2, o + 2] + r
-    # cofactors of the symmetric S = [[a b c] [b d e] [c e f]]
-    i00 = d * f - e * e
-    i01 = c * e - b * f
-    i02 = b * e - c * d
-    det = a * i00 + b * i01 + c * i02
+    i00, i01, i02, i11, i12, i22, det = sym3_inverse(
+        cov[o, o] + r, cov[o, o + 1], cov[o, o + 2], cov[o + 1, o + 1] + r, cov[o + 1, o + 2], cov[o + 2, o + 2] + r
+    )
     if not det > 0.0:
         return False
-    inv = 1.0 / det
-    i00 *= inv
-    i01 *= inv
-    i02 *= inv
-    i11 = (a * f - c * c) * inv
-    i12 = (b * c - a * e) * inv
-    i22 = (a * d - b * b) * inv
     sy[0] = i00 * v[0] + i01 * v[1] + i02 * v[2]
     sy[1] = i01 * v[0] + i11 * v[1] + i12 * v[2]
     sy[2] = i02 * v[0] + i12 * v[1] + i22 * v[2]
@@ -250,17 +247,10 @@ def _update_vel(cov, dx, o, v, r, gain, sy, hp):
 @njit(cache=True, inline="always")
 def _nis3(cov, o, y0, y1, y2, r):
     """Normalised innovation squared y' (P_block + r I)^-1 y of a measurement of the 3 states at o."""
-    a = cov[o, o] + r
-    b = cov[o, o + 1]
-    c = cov[o, o + 2]
-    d = cov[o + 1, o + 1] + r
-    e = cov[o + 1, o + 2]
-    f = cov[o + 2, o + 2] + r
-    i00, i01, i02 = d * f - e * e, c * e - b * f, b * e - c * d
-    det = a * i00 + b * i01 + c * i02
-    i11, i12, i22 = a * f - c * c, b * c - a * e, a * d - b * b
-    quad = i00 * y0 * y0 + i11 * y1 * y1 + i22 * y2 * y2 + 2.0 * (i01 * y0 * y1 + i02 * y0 * y2 + i12 * y1 * y2)
-    return quad / det
+    i00, i01, i02, i11, i12, i22, _ = sym3_inverse(
+        cov[o, o] + r, cov[o, o + 1], cov[o, o + 2], cov[o + 1, o + 1] + r, cov[o + 1, o + 2], cov[o + 2, o + 2] + r
+    )
+    return i00 * y0 * y0 + i11 * y1 * y1 + i22 * y2 * y2 + 2.0 * (i01 * y0 * y1 + i02 * y0 * y2 + i12 * y1 * y2)
 
 
 @njit(cache=True)

@@ -54,14 +54,13 @@ on the ground, standing included), ``2`` swing (from toe-off to the next heel st
 
 from __future__ import annotations
 
-from numbers import Real
-from typing import Any, ClassVar, Literal
+from typing import ClassVar, Literal
 
 import numpy as np
 from numpy.typing import NDArray
 from scipy.signal import find_peaks
 
-from footnav.core.component import StanceDetector, require
+from footnav.core.component import StanceDetector, is_number, require
 from footnav.core.errors import CompositionError, InvalidInputError
 from footnav.core.types import ImuData, StanceResult, stance_intervals
 from footnav.detectors.threshold import ThresholdDetector
@@ -85,9 +84,6 @@ _TOE_OFF_MIN_PROMINENCE_RADPS = 1.0
 #: Samples in the flat zone per foot and the feet's names, in detect_pair's order.
 _FEET = ("left", "right")
 
-
-def _is_number(value: Any) -> bool:
-    return isinstance(value, Real) and not isinstance(value, bool) and bool(np.isfinite(value))
 
 
 def _at_times(mask: NDArray[np.bool_], t_from: NDArray[np.float64], t_to: NDArray[np.float64]) -> NDArray[np.bool_]:
@@ -241,9 +237,9 @@ class DualGaitDetector(StanceDetector):
     # -- parameters ---------------------------------------------------------------------------
     def validate_params(self) -> None:
         for name in ("window_s", "gyr_threshold_radps", "acc_tolerance_mps2", "hs_min_interval_s", "hs_search_s", "standing_s"):
-            require(_is_number(getattr(self, name)) and getattr(self, name) > 0, self, name, "a positive number")
+            require(is_number(getattr(self, name)) and getattr(self, name) > 0, self, name, "a positive number")
         for name in ("min_flat_s", "min_swing_s", "hs_min_acc_mps2"):
-            require(_is_number(getattr(self, name)) and getattr(self, name) >= 0, self, name, "a number >= 0")
+            require(is_number(getattr(self, name)) and getattr(self, name) >= 0, self, name, "a number >= 0")
         require(
             isinstance(self.zupt_rule, str) and self.zupt_rule in ZUPT_RULES,
             self,

@@ -49,7 +49,7 @@ import logging
 import math
 import warnings
 from dataclasses import dataclass
-from numbers import Integral, Real
+from numbers import Integral
 from os import PathLike
 from pathlib import Path as FilePath
 from typing import Any, ClassVar, Sequence
@@ -58,7 +58,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.signal import butter, find_peaks, sosfiltfilt
 
-from footnav.core.component import StanceDetector, require
+from footnav.core.component import StanceDetector, is_number, require
 from footnav.core.errors import FootnavError, FootnavWarning, InvalidInputError, InvalidParameterError
 from footnav.core.types import GRAVITY_MPS2, ImuData, StanceResult, stance_intervals
 
@@ -427,9 +427,6 @@ class _Capture(logging.Handler):
 # ---------------------------------------------------------------------------------------------
 # the detector
 # ---------------------------------------------------------------------------------------------
-def _is_number(value: Any) -> bool:
-    return isinstance(value, Real) and not isinstance(value, bool) and math.isfinite(value)
-
 
 def _is_int(value: Any) -> bool:
     return isinstance(value, Integral) and not isinstance(value, bool)
@@ -569,7 +566,7 @@ class HmmDetector(StanceDetector):
         require(isinstance(self.features, str) and self.features in FEATURES, self, "features",
                 " or ".join(repr(f) for f in FEATURES))
         for name in ("model_rate_hz", "lowpass_cutoff_hz", "reorder_min_stance_s", "tol", "min_std"):
-            require(_is_number(getattr(self, name)) and getattr(self, name) > 0, self, name, "a positive number")
+            require(is_number(getattr(self, name)) and getattr(self, name) > 0, self, name, "a positive number")
         require(self.lowpass_cutoff_hz < 0.5 * self.model_rate_hz, self, "lowpass_cutoff_hz",
                 f"below the Nyquist frequency of the model rate ({0.5 * self.model_rate_hz:g} Hz)")
         require(_is_int(self.max_iter) and self.max_iter >= 1, self, "max_iter", "an integer >= 1")

@@ -27,14 +27,13 @@ durations and gait events (:func:`stance_result`); :class:`WindowedStanceDetecto
 
 from __future__ import annotations
 
-from numbers import Real
 from typing import Any, ClassVar, Literal, Mapping
 
 import numpy as np
 from numpy.typing import NDArray
 from scipy.ndimage import maximum_filter1d, minimum_filter1d
 
-from footnav.core.component import StanceDetector, require
+from footnav.core.component import StanceDetector, is_number, require
 from footnav.core.types import GRAVITY_MPS2, ImuData, StanceResult, stance_intervals
 
 __all__ = [
@@ -166,9 +165,6 @@ def stance_result(
     )
 
 
-def _is_number(value: Any) -> bool:
-    return isinstance(value, Real) and not isinstance(value, bool) and bool(np.isfinite(value))
-
 
 class WindowedStanceDetector(StanceDetector):
     """Base of the detectors that threshold a statistic of W-sample windows.
@@ -200,7 +196,7 @@ class WindowedStanceDetector(StanceDetector):
 
     def validate_params(self) -> None:
         for name in self._positive_params:
-            require(_is_number(getattr(self, name)) and getattr(self, name) > 0, self, name, "a positive number")
+            require(is_number(getattr(self, name)) and getattr(self, name) > 0, self, name, "a positive number")
         require(
             isinstance(self.combine, str) and self.combine in COMBINE_RULES,
             self,
@@ -208,7 +204,7 @@ class WindowedStanceDetector(StanceDetector):
             " or ".join(repr(c) for c in COMBINE_RULES),
         )
         for name in ("min_stance_s", "min_swing_s"):
-            require(_is_number(getattr(self, name)) and getattr(self, name) >= 0, self, name, "a number >= 0 (s)")
+            require(is_number(getattr(self, name)) and getattr(self, name) >= 0, self, name, "a number >= 0 (s)")
 
     def window_statistic(self, imu: ImuData, win: int) -> NDArray[np.float64]:  # pragma: no cover - abstract
         """The statistic of every full window, by start index, shape (N-W+1,)."""

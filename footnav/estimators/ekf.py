@@ -12,38 +12,21 @@ the whole-walk smoother spreads that correction back over the trajectory (seed 0
 from __future__ import annotations
 
 import time
-import warnings
 from typing import Literal, Sequence
 
 import numpy as np
 from numpy.typing import NDArray
 
 from footnav.core import quaternion as quat
-from footnav.core.component import FootEstimator, require
-from footnav.core.errors import DataQualityWarning, InvalidInputError, InvalidParameterError
-from footnav.core.initial_alignment import align_at_rest
+from footnav.core.component import FootEstimator, require, require_non_negative, require_positive
+from footnav.core.errors import InvalidParameterError
+from footnav.core.heading import turn_to_first_step
+from footnav.core.initial_alignment import align_first_stance
 from footnav.core.ins_filter import FilterNoise, InsFilter
 from footnav.core.smoothing import SMOOTHERS, StepSmoother, smooth
 from footnav.core.types import FootTrajectory, ImuData, StanceResult
 
-__all__ = ["EkfEstimator", "heading_of_first_step"]
-
-#: Footprints closer than this (m) do not define a walking direction.
-MIN_FIRST_STEP_M = 0.2
-
-
-def heading_of_first_step(position: NDArray[np.float64], steps: NDArray[np.int64]) -> float | None:
-    """Heading (rad, about nav z) of the first footprint-to-footprint displacement longer than
-    ``MIN_FIRST_STEP_M``, or None when the foot never moved that far."""
-    if len(steps) < 2:
-        return None
-    first = position[steps[0, 0] : steps[0, 1]].mean(axis=0)
-    for a, b in steps[1:]:
-        d = position[a:b].mean(axis=0) - first
-        if np.hypot(d[0], d[1]) > MIN_FIRST_STEP_M:
-            return float(np.arctan2(d[1], d[0]))
-    return None
-
+__all__ = ["EkfEstimator"]
 
 class EkfEstimator(FootEstimator):
     """Closed-loop error-state ZUPT EKF, 9 or 15 states, with RTS smoothing.
@@ -142,7 +125,8 @@ class EkfEstimator(FootEstimator):
         self.closed_loop_std_m = closed_loop_std_m
 
     def validate_params(self) -> None:
-        for name in (
+        require_positive(
+            self,
             "acc_noise_mps2_sqrthz",
             "gyr_noise_radps_sqrthz",
             "zupt_std_mps",
@@ -154,10 +138,8 @@ class EkfEstimator(FootEstimator):
             "init_acc_bias_std_mps2",
             "init_gyr_bias_std_radps",
             "closed_loop_std_m",
-        ):
-            value = getattr(self, name)
-            require(_is_number(value) and value > 0, self, name, "a positive number")
-        require(_is_number(self.zaru_std_radps) and self.zaru_std_radps >= 0, self, "zaru_std_radps", "a number >= 0 (0: off)")
+        )
+        require_non_negative(self, "zaru_std_radps")
         require(self.heading in ("first-step", "sensor"), self, "heading", "'first-step' or 'sensor'")
         require(self.gyro_bias in ("initial-standstill", "none"), self, "gyro_bias", "'initial-standstill' or 'none'")
         require(isinstance(self.bias_states, (bool, np.bool_)), self, "bias_states", "True or False")
@@ -241,45 +223,8 @@ class EkfEstimator(FootEstimator):
         return filt
 
     def _align(self, imu: ImuData, stance: StanceResult):
-        """First stance phase -> (start index, Alignment, meta); warns when it is not sample 0."""
-        if len(stance.mask) != imu.n_samples:
-            raise InvalidInputError(
-                f"stance mask has {len(stance.mask)} samples but the IMU data has {imu.n_samples}",
-                field="stance.mask",
-                path=imu.meta.get("source"),
-            )
-        steps = stance.intervals
-        if len(steps) == 0:
-            raise InvalidInputError(
-                "no stance phase detected, so the filter cannot be aligned or aided; "
-                "check the detector's thresholds against this recording",
-                field="stance.mask",
-                path=imu.meta.get("source"),
-            )
-        meta: dict = {}
-        s0, e0 = int(steps[0, 0]), int(steps[0, 1])
-        if s0 > 0:
-            meta["estimate_start_index"] = s0
-            warnings.warn(
-                f"{imu.meta.get('source') or 'ImuData'}: recording does not start at standstill; the estimate "
-                f"starts at the first stance phase (index {s0}) and holds that state before it",
-                DataQualityWarning,
-                stacklevel=3,
-            )
-        align = align_at_rest(imu.acc, imu.gyr, s0, e0, still_gyr_max_radps=self.still_gyr_max_radps)
-        meta["alignment_samples"] = [s0, e0, align.n_used]
-        gaps = [(int(i), float(dt)) for i, dt in imu.meta.get("gaps", ()) if i > s0]
-        if gaps:
-            # the strapdown step spans a gap as one interval: right in stance, a guess in swing
-            longest = max(gaps, key=lambda g: g[1])
-            meta["gaps_bridged"] = gaps
-            warnings.warn(
-                f"{imu.meta.get('source') or 'ImuData'}: the filter integrates across {len(gaps)} sampling gap(s) "
-                f"(longest {longest[1] * 1e3:.3g} ms before index {longest[0]}); positions after a gap in a swing "
-                "are less certain; listed in the trajectory's meta['gaps_bridged']",
-                DataQualityWarning,
-                stacklevel=3,
-            )
+        """First stance phase -> (start index, Alignment, meta), checks and warnings included."""
+        s0, align, meta = align_first_stance(imu, stance, still_gyr_max_radps=self.still_gyr_max_radps, stacklevel=4)
         if self.gyro_bias == "initial-standstill":
             meta["gyro_bias_radps"] = align.gyro_bias_radps.tolist()
         return s0, align, meta
@@ -332,32 +277,10 @@ class EkfEstimator(FootEstimator):
         meta = dict(traj.meta)
         if self.closed_loop:
             meta["closed_loop"] = {"index": last, "std_m": self.closed_loop_std_m}
-        psi = heading_of_first_step(traj.position, traj.steps) if self.heading == "first-step" else None
         pos, vel, q_out, std = traj.position, traj.velocity, traj.quaternion, traj.position_std
-        if psi is not None:
-            pos_cov = filt.outputs(0)[3]
-            pos, vel, q_out, pos_cov = _rotate_about_z(-psi, pos, vel, q_out, pos_cov)
-            std = np.sqrt(np.maximum(pos_cov[:, [0, 2, 3]], 0.0))
-            meta["heading_rotation_rad"] = -psi
+        if self.heading == "first-step":
+            pos, vel, q_out, std = turn_to_first_step(pos, vel, q_out, filt.outputs(0)[3], traj.steps, meta)
         meta["runtime_s"] = time.perf_counter() - t0
         return FootTrajectory(t=imu.t, position=pos, velocity=vel, quaternion=q_out, position_std=std, steps=traj.steps, meta=meta)
 
 
-def _is_number(value) -> bool:
-    return isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool) and bool(np.isfinite(value))
-
-
-def _rotate_about_z(angle: float, pos, vel, q_out, pos_cov):
-    """Turn a nav-frame solution by ``angle`` rad about z (positions, velocities, attitude, and the
-    horizontal position covariance stored as xx, xy, yy, zz)."""
-    c, s = np.cos(angle), np.sin(angle)
-    rot = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
-    xx, xy, yy = pos_cov[:, 0], pos_cov[:, 1], pos_cov[:, 2]
-    cov = np.stack(
-        [c * c * xx - 2 * c * s * xy + s * s * yy, c * s * (xx - yy) + (c * c - s * s) * xy, s * s * xx + 2 * c * s * xy + c * c * yy, pos_cov[:, 3]],
-        axis=1,
-    )
-    # r (x) q for every row q is q @ L(r)' with L(r) the left-multiplication matrix of r
-    w, _, _, z = quat.from_yaw(angle)
-    left = np.array([[w, 0.0, 0.0, -z], [0.0, w, -z, 0.0], [0.0, z, w, 0.0], [z, 0.0, 0.0, w]])
-    return pos @ rot.T, vel @ rot.T, q_out @ left.T, cov

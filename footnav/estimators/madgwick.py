@@ -27,32 +27,52 @@ stance only, which leaves the swing uncorrected).
 from __future__ import annotations
 
 import time
-import warnings
 from typing import Literal
 
 import numpy as np
 from numba import njit
-from numpy.typing import NDArray
 
-from footnav.core import quaternion as quat
-from footnav.core.component import FootEstimator, require
-from footnav.core.errors import DataQualityWarning, InvalidInputError
-from footnav.core.initial_alignment import align_at_rest
+from footnav.core.component import FootEstimator, require, require_non_negative, require_positive
+from footnav.core.heading import turn_to_first_step
+from footnav.core.initial_alignment import align_first_stance
+from footnav.core.ins_filter import sym3_inverse
 from footnav.core.quaternion import as_matrix_nb
 from footnav.core.types import GRAVITY_MPS2, FootTrajectory, ImuData, StanceResult
-from footnav.estimators.ekf import _rotate_about_z, heading_of_first_step
 
 __all__ = ["MadgwickEstimator", "madgwick_imu_step", "madgwick_marg_step"]
+
+
+@njit(cache=True, inline="always")
+def _rate(q0, q1, q2, q3, gx, gy, gz):
+    """q_dot = 1/2 q (x) [0, w] (Madgwick 2011 eq. 12)."""
+    return (
+        0.5 * (-q1 * gx - q2 * gy - q3 * gz),
+        0.5 * (q0 * gx + q2 * gz - q3 * gy),
+        0.5 * (q0 * gy - q1 * gz + q3 * gx),
+        0.5 * (q0 * gz + q1 * gy - q2 * gx),
+    )
+
+
+@njit(cache=True, inline="always")
+def _step(q, d0, d1, d2, d3, s0, s1, s2, s3, beta, dt):
+    """q <- normalise(q + (q_dot - beta s / |s|) dt): one Euler step down the gradient s."""
+    sn = np.sqrt(s0 * s0 + s1 * s1 + s2 * s2 + s3 * s3)
+    if sn > 0.0:
+        d0 -= beta * s0 / sn
+        d1 -= beta * s1 / sn
+        d2 -= beta * s2 / sn
+        d3 -= beta * s3 / sn
+    q0, q1, q2, q3 = q[0] + d0 * dt, q[1] + d1 * dt, q[2] + d2 * dt, q[3] + d3 * dt
+    n = np.sqrt(q0 * q0 + q1 * q1 + q2 * q2 + q3 * q3)
+    q[0], q[1], q[2], q[3] = q0 / n, q1 / n, q2 / n, q3 / n
 
 
 @njit(cache=True)
 def madgwick_imu_step(q, gx, gy, gz, ax, ay, az, beta, dt):
     """One Madgwick IMU update of q (in place): gyro rate (rad/s), specific force (any unit)."""
     q0, q1, q2, q3 = q[0], q[1], q[2], q[3]
-    d0 = 0.5 * (-q1 * gx - q2 * gy - q3 * gz)
-    d1 = 0.5 * (q0 * gx + q2 * gz - q3 * gy)
-    d2 = 0.5 * (q0 * gy - q1 * gz + q3 * gx)
-    d3 = 0.5 * (q0 * gz + q1 * gy - q2 * gx)
+    d0, d1, d2, d3 = _rate(q0, q1, q2, q3, gx, gy, gz)
+    s0 = s1 = s2 = s3 = 0.0
     norm = np.sqrt(ax * ax + ay * ay + az * az)
     if norm > 0.0:
         ax /= norm
@@ -66,18 +86,7 @@ def madgwick_imu_step(q, gx, gy, gz, ax, ay, az, beta, dt):
         s1 = 2.0 * q3 * f0 + 2.0 * q0 * f1 - 4.0 * q1 * f2
         s2 = -2.0 * q0 * f0 + 2.0 * q3 * f1 - 4.0 * q2 * f2
         s3 = 2.0 * q1 * f0 + 2.0 * q2 * f1
-        sn = np.sqrt(s0 * s0 + s1 * s1 + s2 * s2 + s3 * s3)
-        if sn > 0.0:
-            d0 -= beta * s0 / sn
-            d1 -= beta * s1 / sn
-            d2 -= beta * s2 / sn
-            d3 -= beta * s3 / sn
-    q0 += d0 * dt
-    q1 += d1 * dt
-    q2 += d2 * dt
-    q3 += d3 * dt
-    n = np.sqrt(q0 * q0 + q1 * q1 + q2 * q2 + q3 * q3)
-    q[0], q[1], q[2], q[3] = q0 / n, q1 / n, q2 / n, q3 / n
+    _step(q, d0, d1, d2, d3, s0, s1, s2, s3, beta, dt)
 
 
 @njit(cache=True)
@@ -91,10 +100,7 @@ def madgwick_marg_step(q, gx, gy, gz, ax, ay, az, mx, my, mz, beta, dt):
     ax, ay, az = ax / an, ay / an, az / an
     mx, my, mz = mx / mn, my / mn, mz / mn
     q0, q1, q2, q3 = q[0], q[1], q[2], q[3]
-    d0 = 0.5 * (-q1 * gx - q2 * gy - q3 * gz)
-    d1 = 0.5 * (q0 * gx + q2 * gz - q3 * gy)
-    d2 = 0.5 * (q0 * gy - q1 * gz + q3 * gx)
-    d3 = 0.5 * (q0 * gz + q1 * gy - q2 * gx)
+    d0, d1, d2, d3 = _rate(q0, q1, q2, q3, gx, gy, gz)
     # earth field h = q (x) m (x) q*, reference b = [sqrt(hx^2 + hy^2), 0, hz]
     hx = mx * (q0 * q0 + q1 * q1 - q2 * q2 - q3 * q3) + 2.0 * my * (q1 * q2 - q0 * q3) + 2.0 * mz * (q1 * q3 + q0 * q2)
     hy = 2.0 * mx * (q1 * q2 + q0 * q3) + my * (q0 * q0 - q1 * q1 + q2 * q2 - q3 * q3) + 2.0 * mz * (q2 * q3 - q0 * q1)
@@ -114,18 +120,7 @@ def madgwick_marg_step(q, gx, gy, gz, ax, ay, az, mx, my, mz, beta, dt):
     s2 = (-2.0 * q0 * f0 + 2.0 * q3 * f1 - 4.0 * q2 * f2 + (-4.0 * bx * q2 - 2.0 * bz * q0) * f3
           + (2.0 * bx * q1 + 2.0 * bz * q3) * f4 + (2.0 * bx * q0 - 4.0 * bz * q2) * f5)
     s3 = 2.0 * q1 * f0 + 2.0 * q2 * f1 + (-4.0 * bx * q3 + 2.0 * bz * q1) * f3 + (-2.0 * bx * q0 + 2.0 * bz * q2) * f4 + 2.0 * bx * q1 * f5
-    sn = np.sqrt(s0 * s0 + s1 * s1 + s2 * s2 + s3 * s3)
-    if sn > 0.0:
-        d0 -= beta * s0 / sn
-        d1 -= beta * s1 / sn
-        d2 -= beta * s2 / sn
-        d3 -= beta * s3 / sn
-    q0 += d0 * dt
-    q1 += d1 * dt
-    q2 += d2 * dt
-    q3 += d3 * dt
-    n = np.sqrt(q0 * q0 + q1 * q1 + q2 * q2 + q3 * q3)
-    q[0], q[1], q[2], q[3] = q0 / n, q1 / n, q2 / n, q3 / n
+    _step(q, d0, d1, d2, d3, s0, s1, s2, s3, beta, dt)
 
 
 @njit(cache=True)
@@ -196,18 +191,11 @@ def _loop(t, acc, gyr, mag, use_mag, stance, start, q0, beta, var_acc, var_da, v
                 for j in range(3):
                     s[i, j] = p[3 + i, 3 + j]
                 s[i, i] += var_zupt
-            i00 = s[1, 1] * s[2, 2] - s[1, 2] * s[2, 1]
-            i01 = s[0, 2] * s[2, 1] - s[0, 1] * s[2, 2]
-            i02 = s[0, 1] * s[1, 2] - s[0, 2] * s[1, 1]
-            det = s[0, 0] * i00 + s[1, 0] * i01 + s[2, 0] * i02
+            i00, i01, i02, i11, i12, i22, det = sym3_inverse(s[0, 0], s[0, 1], s[0, 2], s[1, 1], s[1, 2], s[2, 2])
             if det > 0.0:
-                s_inv[0, 0], s_inv[0, 1], s_inv[0, 2] = i00 / det, i01 / det, i02 / det
-                s_inv[1, 0] = (s[1, 2] * s[2, 0] - s[1, 0] * s[2, 2]) / det
-                s_inv[1, 1] = (s[0, 0] * s[2, 2] - s[0, 2] * s[2, 0]) / det
-                s_inv[1, 2] = (s[0, 2] * s[1, 0] - s[0, 0] * s[1, 2]) / det
-                s_inv[2, 0] = (s[1, 0] * s[2, 1] - s[1, 1] * s[2, 0]) / det
-                s_inv[2, 1] = (s[0, 1] * s[2, 0] - s[0, 0] * s[2, 1]) / det
-                s_inv[2, 2] = (s[0, 0] * s[1, 1] - s[0, 1] * s[1, 0]) / det
+                s_inv[0, 0], s_inv[0, 1], s_inv[0, 2] = i00, i01, i02
+                s_inv[1, 0], s_inv[1, 1], s_inv[1, 2] = i01, i11, i12
+                s_inv[2, 0], s_inv[2, 1], s_inv[2, 2] = i02, i12, i22
                 for i in range(3):
                     innov[i] = v[i] - de[3 + i]
                 for i in range(9):
@@ -297,11 +285,8 @@ class MadgwickEstimator(FootEstimator):
         self.still_gyr_max_radps = still_gyr_max_radps
 
     def validate_params(self) -> None:
-        for name in ("acc_noise_mps2_sqrthz", "acc_error_walk_mps3_sqrthz", "init_acc_error_std_mps2", "zupt_std_mps", "still_gyr_max_radps"):
-            v = getattr(self, name)
-            require(isinstance(v, (int, float)) and not isinstance(v, bool) and np.isfinite(v) and v > 0, self, name, "a positive number")
-        v = self.beta_radps
-        require(isinstance(v, (int, float)) and not isinstance(v, bool) and np.isfinite(v) and v >= 0, self, "beta_radps", "a number >= 0")
+        require_positive(self, "acc_noise_mps2_sqrthz", "acc_error_walk_mps3_sqrthz", "init_acc_error_std_mps2", "zupt_std_mps", "still_gyr_max_radps")
+        require_non_negative(self, "beta_radps")
         require(isinstance(self.use_magnetometer, (bool, np.bool_)), self, "use_magnetometer", "True or False")
         require(self.heading in ("first-step", "sensor"), self, "heading", "'first-step' or 'sensor'")
         require(self.gyro_bias in ("initial-standstill", "none"), self, "gyro_bias", "'initial-standstill' or 'none'")
@@ -322,33 +307,10 @@ class MadgwickEstimator(FootEstimator):
             Nav-frame (z up) trajectory, starting at the origin.
         """
         self.validate_params()
-        if len(stance.mask) != imu.n_samples:
-            raise InvalidInputError(
-                f"stance mask has {len(stance.mask)} samples but the IMU data has {imu.n_samples}",
-                field="stance.mask",
-                path=imu.meta.get("source"),
-            )
-        steps = stance.intervals
-        if len(steps) == 0:
-            raise InvalidInputError(
-                "no stance phase detected, so the filter cannot be aligned or aided; "
-                "check the detector's thresholds against this recording",
-                field="stance.mask",
-                path=imu.meta.get("source"),
-            )
         t0 = time.perf_counter()
-        meta: dict = {"estimator": self.describe()}
-        s0, e0 = int(steps[0, 0]), int(steps[0, 1])
-        if s0 > 0:
-            meta["estimate_start_index"] = s0
-            warnings.warn(
-                f"{imu.meta.get('source') or 'ImuData'}: recording does not start at standstill; the estimate "
-                f"starts at the first stance phase (index {s0}) and holds that state before it",
-                DataQualityWarning,
-                stacklevel=2,
-            )
-        align = align_at_rest(imu.acc, imu.gyr, s0, e0, still_gyr_max_radps=self.still_gyr_max_radps)
-        meta["alignment_samples"] = [s0, e0, align.n_used]
+        s0, align, align_meta = align_first_stance(imu, stance, still_gyr_max_radps=self.still_gyr_max_radps)
+        meta: dict = {"estimator": self.describe(), **align_meta}
+        steps = stance.intervals
         gyr = imu.gyr
         if self.gyro_bias == "initial-standstill":
             gyr = gyr - align.gyro_bias_radps
@@ -365,11 +327,8 @@ class MadgwickEstimator(FootEstimator):
             float(self.acc_noise_mps2_sqrthz) ** 2, float(self.acc_error_walk_mps3_sqrthz) ** 2,
             float(self.zupt_std_mps) ** 2, p0, q_out, v_out, r_out, std,
         )
-        psi = heading_of_first_step(r_out, steps) if self.heading == "first-step" else None
-        if psi is not None:
+        if self.heading == "first-step":
             cov = np.column_stack([std[:, 0] ** 2, np.zeros(n), std[:, 1] ** 2, std[:, 2] ** 2])
-            r_out, v_out, q_out, cov = _rotate_about_z(-psi, r_out, v_out, q_out, cov)
-            std = np.sqrt(np.maximum(cov[:, [0, 2, 3]], 0.0))
-            meta["heading_rotation_rad"] = -psi
+            r_out, v_out, q_out, std = turn_to_first_step(r_out, v_out, q_out, cov, steps, meta)
         meta["runtime_s"] = time.perf_counter() - t0
         return FootTrajectory(t=imu.t, position=r_out, velocity=v_out, quaternion=q_out, position_std=std, steps=steps, meta=meta)

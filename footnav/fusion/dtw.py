@@ -22,7 +22,6 @@ single-foot solutions decimated to ``dtw_rate_hz``.
 
 from __future__ import annotations
 
-from numbers import Real
 from typing import ClassVar, Literal
 
 import numpy as np
@@ -31,10 +30,9 @@ from scipy.optimize import minimize_scalar
 
 from footnav.core import metrics
 from footnav.core import quaternion as quat
-from footnav.core.component import Fusion, require
-from footnav.core.errors import CompositionError
+from footnav.core.component import Fusion, require, require_non_negative, require_positive
 from footnav.core.types import FootTrajectory, FusionResult, Path
-from footnav.fusion.joint import LEFT, RIGHT, finish_joint, require_stepable, start_joint
+from footnav.fusion.joint import LEFT, RIGHT, finish_joint, check_two_feet, start_joint
 
 __all__ = ["DtwFusion", "heading_mismatch", "timeless_average"]
 
@@ -146,22 +144,14 @@ class DtwFusion(Fusion):
         self.step_width_m = step_width_m
 
     def validate_params(self) -> None:
-        def number(v) -> bool:
-            return isinstance(v, Real) and not isinstance(v, bool) and bool(np.isfinite(v))
-
-        for name in ("midswing_std_m", "band_s", "dtw_rate_hz"):
-            require(number(getattr(self, name)) and getattr(self, name) > 0, self, name, "a positive number")
-        for name in ("lateral_offset_m", "step_width_m"):
-            require(number(getattr(self, name)) and getattr(self, name) >= 0, self, name, "a number >= 0")
+        require_positive(self, "midswing_std_m", "band_s", "dtw_rate_hz")
+        require_non_negative(self, "lateral_offset_m", "step_width_m")
         require(self.initial_heading in ("dtw", "first-step"), self, "initial_heading", "'dtw' or 'first-step'")
         require(self.path in PATHS, self, "path", " or ".join(map(repr, PATHS)))
 
     def fuse(self, estimator, left, stance_left, right=None, stance_right=None) -> FusionResult:
         """Both feet in one filter, tied at each mid-swing; smoothed; averaged."""
-        self.validate_params()
-        if right is None or stance_right is None:
-            raise CompositionError(f"fusion {self.name!r} needs both feet")
-        require_stepable(self, estimator)
+        check_two_feet(self, estimator, right, stance_right)
         filt0, singles = start_joint(estimator, left, stance_left, right, stance_right, self.step_width_m, return_singles=True)
         meta: dict = {"fusion": self.describe()}
         if self.initial_heading == "dtw":

@@ -20,10 +20,18 @@ from footnav.core.smoothing import smooth
 from footnav.core.types import FusionResult, ImuData, StanceResult
 from footnav.fusion.independent import midpoint_path
 
-__all__ = ["start_joint", "finish_joint", "require_stepable"]
+__all__ = ["start_joint", "finish_joint", "require_stepable", "check_two_feet"]
 
 #: Feet indices in the joint filter.
 LEFT, RIGHT = 0, 1
+
+
+def check_two_feet(fusion: Any, estimator: Any, right: Any, stance_right: Any) -> None:
+    """What every coupled fusion checks first: its parameters, both feet, a step-able estimator."""
+    fusion.validate_params()
+    if right is None or stance_right is None:
+        raise CompositionError(f"fusion {fusion.name!r} needs both feet")
+    require_stepable(fusion, estimator)
 
 
 def require_stepable(fusion: Any, estimator: Any) -> None:

@@ -27,17 +27,16 @@ pedestrian position (between the feet) would otherwise pull every foot forward a
 
 from __future__ import annotations
 
-from numbers import Integral, Real
+from numbers import Integral
 from typing import ClassVar
 
 import numpy as np
 from numpy.typing import NDArray
 
 from footnav.core import quaternion as quat
-from footnav.core.component import Fusion, require
-from footnav.core.errors import CompositionError
+from footnav.core.component import Fusion, require, require_non_negative
 from footnav.core.types import FusionResult
-from footnav.fusion.joint import LEFT, RIGHT, finish_joint, require_stepable, start_joint
+from footnav.fusion.joint import LEFT, RIGHT, finish_joint, check_two_feet, start_joint
 
 __all__ = ["ParticleFusion", "systematic_resample", "offset_rayleigh", "gaussian_sum"]
 
@@ -108,16 +107,11 @@ class ParticleFusion(Fusion):
         require(isinstance(self.n_particles, Integral) and not isinstance(self.n_particles, bool) and self.n_particles >= 2,
                 self, "n_particles", "an integer >= 2")
         require(isinstance(self.seed, Integral) and not isinstance(self.seed, bool), self, "seed", "an integer")
-        for name in ("sigma_sys_m", "step_width_m"):
-            v = getattr(self, name)
-            require(isinstance(v, Real) and not isinstance(v, bool) and np.isfinite(v) and v >= 0, self, name, "a number >= 0")
+        require_non_negative(self, "sigma_sys_m", "step_width_m")
 
     def fuse(self, estimator, left, stance_left, right=None, stance_right=None) -> FusionResult:
         """Both feet's EKFs with their horizontal positions carried by particle clouds."""
-        self.validate_params()
-        if right is None or stance_right is None:
-            raise CompositionError(f"fusion {self.name!r} needs both feet")
-        require_stepable(self, estimator)
+        check_two_feet(self, estimator, right, stance_right)
         rng = np.random.default_rng(self.seed)
         imus, stances = (left, right), (stance_left, stance_right)
         filt = start_joint(estimator, left, stance_left, right, stance_right, self.step_width_m)

@@ -13,15 +13,13 @@ measurement to the joint filter:
 
 from __future__ import annotations
 
-from numbers import Real
 from typing import ClassVar, Literal
 
 import numpy as np
 
-from footnav.core.component import Fusion, require
-from footnav.core.errors import CompositionError
+from footnav.core.component import Fusion, is_number, require, require_positive
 from footnav.core.types import FusionResult
-from footnav.fusion.joint import LEFT, RIGHT, finish_joint, require_stepable, start_joint
+from footnav.fusion.joint import LEFT, RIGHT, finish_joint, check_two_feet, start_joint
 
 __all__ = ["RangeConstraintFusion"]
 
@@ -69,19 +67,14 @@ class RangeConstraintFusion(Fusion):
         self.step_width_m = step_width_m
 
     def validate_params(self) -> None:
-        for name in ("max_separation_m", "check_interval_s", "constraint_std_m"):
-            v = getattr(self, name)
-            require(isinstance(v, Real) and not isinstance(v, bool) and np.isfinite(v) and v > 0, self, name, "a positive number")
+        require_positive(self, "max_separation_m", "check_interval_s", "constraint_std_m")
         v = self.step_width_m
-        require(isinstance(v, Real) and not isinstance(v, bool) and np.isfinite(v) and 0 <= v < self.max_separation_m, self, "step_width_m", "a number >= 0 below max_separation_m")
+        require(is_number(v) and 0 <= v < self.max_separation_m, self, "step_width_m", "a number >= 0 below max_separation_m")
         require(self.projection in PROJECTIONS, self, "projection", " or ".join(map(repr, PROJECTIONS)))
 
     def fuse(self, estimator, left, stance_left, right=None, stance_right=None) -> FusionResult:
         """Both feet in one filter; separations beyond the bound are projected back onto it."""
-        self.validate_params()
-        if right is None or stance_right is None:
-            raise CompositionError(f"fusion {self.name!r} needs both feet")
-        require_stepable(self, estimator)
+        check_two_feet(self, estimator, right, stance_right)
         imus, stances = (left, right), (stance_left, stance_right)
         filt = start_joint(estimator, left, stance_left, right, stance_right, self.step_width_m)
         t0, t1 = max(left.t[0], right.t[0]), min(left.t[-1], right.t[-1])

@@ -26,16 +26,15 @@ step, so a sensor mounted askew on the shoe does not turn the step vector.
 
 from __future__ import annotations
 
-from numbers import Real
-from typing import Any, ClassVar
+from typing import ClassVar
 
 import numpy as np
 
 from footnav.core import quaternion as quat
-from footnav.core.component import Fusion, require
+from footnav.core.component import Fusion, is_number, require, require_non_negative, require_positive
 from footnav.core.errors import CompositionError
 from footnav.core.types import FusionResult, ImuData, StanceResult
-from footnav.fusion.joint import LEFT, RIGHT, finish_joint, require_stepable, start_joint
+from footnav.fusion.joint import LEFT, RIGHT, finish_joint, check_two_feet, start_joint
 
 __all__ = ["StepVectorFusion", "pendulum_step_length"]
 
@@ -106,15 +105,10 @@ class StepVectorFusion(Fusion):
         self.heel_strike_before_stance_s = heel_strike_before_stance_s
 
     def validate_params(self) -> None:
-        def number(v: Any) -> bool:
-            return isinstance(v, Real) and not isinstance(v, bool) and bool(np.isfinite(v))
-
-        require(self.leg_length_m is None or (number(self.leg_length_m) and self.leg_length_m > 0), self, "leg_length_m", "None (fit to the walk) or a positive number")
-        for name in ("step_length_std_m", "step_width_std_m", "step_elevation_std_m", "turn_threshold_deg"):
-            require(number(getattr(self, name)) and getattr(self, name) > 0, self, name, "a positive number")
-        for name in ("step_width_m", "heel_strike_before_stance_s"):
-            require(number(getattr(self, name)) and getattr(self, name) >= 0, self, name, "a number >= 0")
-        require(number(self.step_elevation_m), self, "step_elevation_m", "a finite number")
+        require(self.leg_length_m is None or (is_number(self.leg_length_m) and self.leg_length_m > 0), self, "leg_length_m", "None (fit to the walk) or a positive number")
+        require_positive(self, "step_length_std_m", "step_width_std_m", "step_elevation_std_m", "turn_threshold_deg")
+        require_non_negative(self, "step_width_m", "heel_strike_before_stance_s")
+        require(is_number(self.step_elevation_m), self, "step_elevation_m", "a finite number")
 
     # -- the steps ------------------------------------------------------------------------------
     def _heel_strike(self, imu: ImuData, stance: StanceResult, start: int) -> int:
@@ -179,10 +173,7 @@ class StepVectorFusion(Fusion):
     # -- the fusion -----------------------------------------------------------------------------
     def fuse(self, estimator, left, stance_left, right=None, stance_right=None) -> FusionResult:
         """Both feet in one filter with a relative-position update at every straight step."""
-        self.validate_params()
-        if right is None or stance_right is None:
-            raise CompositionError(f"fusion {self.name!r} needs both feet")
-        require_stepable(self, estimator)
+        check_two_feet(self, estimator, right, stance_right)
         imus, stances = (left, right), (stance_left, stance_right)
         filt, singles = start_joint(estimator, left, stance_left, right, stance_right, self.step_width_m, return_singles=True)
         leg = self.leg_length_m if self.leg_length_m is not None else self._fit_leg_length(imus, stances, singles)

@@ -15,7 +15,6 @@ from typing import Iterable
 
 import pluggy
 
-from footnav.core.component import KINDS
 from footnav.core.errors import PluginError, PluginWarning
 from footnav.plugins import hookspecs
 from footnav.plugins.registry import Registry

@@ -5,7 +5,7 @@ import pytest
 
 import footnav
 from footnav import InvalidInputError
-from footnav.core.clock_sync import ClockMap, align_from_data, apply_clock, fit_clock
+from footnav.core.clock_sync import align_from_data, apply_clock, fit_clock
 
 
 def test_symmetric_constant_delays_give_the_exact_map():

@@ -4,7 +4,6 @@ import pytest
 import footnav
 from footnav import InvalidInputError, StanceResult
 from footnav.core import metrics
-from footnav.core.types import stance_intervals
 from footnav.estimators.ekf import EkfEstimator
 from footnav.testing import EstimatorContract
 

@@ -7,7 +7,6 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
-import footnav
 from footnav.core import metrics
 from footnav.core import quaternion as quat
 from footnav.core.ins_filter import _update, _update_vel

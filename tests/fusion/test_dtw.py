@@ -5,7 +5,7 @@ import pytest
 
 import footnav
 from footnav.estimators.ekf import EkfEstimator
-from footnav.fusion.dtw import DtwFusion, _decimate, _rotated, heading_mismatch, timeless_average
+from footnav.fusion.dtw import DtwFusion, _rotated, heading_mismatch, timeless_average
 from footnav.fusion.independent import IndependentFusion
 from footnav.testing import FusionContract
 

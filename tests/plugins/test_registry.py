@@ -1,5 +1,4 @@
 import types
-import warnings
 
 import numpy as np
 import pytest

@@ -83,7 +83,9 @@ class ParticleFusion(Fusion):
     n_particles : int
         Particles per foot (seed 004: 100).
     sigma_sys_m : float
-        Scale of the offset-Rayleigh lateral drift added per step, m (seed 004 eq. 12).
+        Scale of the offset-Rayleigh lateral drift added per step, m (seed 004 eq. 12; 0.05 m
+        measured best of 0.01 / 0.05 on the simulator's straight walk, the rectangles are within
+        5 % either way).
     seed : int
         Seed of the particles' random generator.
     step_width_m : float
@@ -97,7 +99,7 @@ class ParticleFusion(Fusion):
     name = "particle"
     needs_two_feet: ClassVar[bool] = True
 
-    def __init__(self, *, n_particles: int = 100, sigma_sys_m: float = 0.01, seed: int = 0, step_width_m: float = 0.2) -> None:
+    def __init__(self, *, n_particles: int = 100, sigma_sys_m: float = 0.05, seed: int = 0, step_width_m: float = 0.2) -> None:
         self.n_particles = n_particles
         self.sigma_sys_m = sigma_sys_m
         self.seed = seed
@@ -118,51 +120,63 @@ class ParticleFusion(Fusion):
         n = int(self.n_particles)
         clouds = [np.tile(filt.position(f)[:2], (n, 1)) + 1e-6 * rng.standard_normal((n, 2)) for f in (LEFT, RIGHT)]
         last_p = [filt.position(f)[:2].copy() for f in (LEFT, RIGHT)]
-        last_cov = [filt.covariance[filt.block(f, "pos"), filt.block(f, "pos")][:2, :2].copy() for f in (LEFT, RIGHT)]
         events = sorted(
             (float(imu.t[stop - 1]), foot)
             for foot, (imu, st) in enumerate(zip(imus, stances))
             for _, stop in st.intervals[:-1]  # the end of each zero-velocity phase but the last
         )
+        def pos_cov(f: int) -> NDArray[np.float64]:
+            sl = filt.block(f, "pos")
+            return filt._cov[sl.start : sl.start + 2, sl.start : sl.start + 2].copy()
+
+        def moments(c: NDArray[np.float64]) -> tuple[NDArray, NDArray]:
+            m = c.mean(axis=0)
+            d = c - m
+            return m, d.T @ d / len(c)
+
+        def psd(a: NDArray[np.float64]) -> tuple[NDArray, NDArray]:
+            vals, vecs = np.linalg.eigh(0.5 * (a + a.T))
+            return np.maximum(vals, 0.0), vecs
+
+        last_cov = [pos_cov(f) for f in (LEFT, RIGHT)]
+        summary = [moments(c) for c in clouds]
         updates = 0
         for t, foot in events:
             filt.run_until(t)
-            for f in (LEFT, RIGHT):  # eq. 10-12: propagate both clouds to now
-                p = filt.position(f)[:2]
-                cov = filt.covariance[filt.block(f, "pos"), filt.block(f, "pos")][:2, :2]
-                grow = cov - last_cov[f]
-                vals, vecs = np.linalg.eigh(0.5 * (grow + grow.T))
-                noise = (rng.standard_normal((n, 2)) * np.sqrt(np.maximum(vals, 0.0))) @ vecs.T
-                clouds[f] += (p - last_p[f]) + noise
-                if f == foot and self.sigma_sys_m > 0:
-                    # lateral drift in the foot's frame, mirrored between the feet (eq. 12)
-                    yaw = float(quat.yaw(filt.quaternion(f)))
-                    lateral = np.array([-np.sin(yaw), np.cos(yaw)])
-                    side = 1.0 if f == LEFT else -1.0
-                    clouds[f] += side * offset_rayleigh(self.sigma_sys_m, n, rng)[:, None] * lateral
-                last_p[f], last_cov[f] = p.copy(), cov.copy()
+            # eq. 10-12: the cloud of the foot that stood is drawn forward; the other foot's is
+            # needed only through its mean and covariance, which move without drawing
+            other = 1 - foot
+            p_o = filt.position(other)[:2]
+            vals_o, vecs_o = psd(pos_cov(other) - last_cov[other])
+            mean_o = summary[other][0] + (p_o - last_p[other])
+            cov_o = summary[other][1] + (vecs_o * vals_o) @ vecs_o.T
+            p = filt.position(foot)[:2]
+            vals, vecs = psd(pos_cov(foot) - last_cov[foot])
+            clouds[foot] += (p - last_p[foot]) + (rng.standard_normal((n, 2)) * np.sqrt(vals)) @ vecs.T
+            yaw = float(quat.yaw(filt.quaternion(foot)))
+            lateral = np.array([-np.sin(yaw), np.cos(yaw)])
+            if self.sigma_sys_m > 0:
+                # lateral drift in the foot's frame, mirrored between the feet (eq. 12)
+                side = 1.0 if foot == LEFT else -1.0
+                clouds[foot] += side * offset_rayleigh(self.sigma_sys_m, n, rng)[:, None] * lateral
+            mean_f, cov_f = moments(clouds[foot])
             # eq. 13-14: each cloud as a Gaussian, their sum is the pedestrian
-            means = np.array([c.mean(axis=0) for c in clouds])
-            covs = np.array([np.cov(c.T, bias=True) for c in clouds])
-            z, s = gaussian_sum(means, covs, np.ones(2))
+            z, _ = gaussian_sum(np.array([mean_f, mean_o]), np.array([cov_f, cov_o]), np.ones(2))
             # eq. 15-16: L = N(p_fused | x_n, Sigma_i) with the foot's own spread, across the
             # foot's heading only: the drift it corrects is lateral (Sec. 2), and along the walk
             # the feet are half a stride apart when a stance ends, which is not an error
-            yaw = float(quat.yaw(filt.quaternion(foot)))
-            lateral = np.array([-np.sin(yaw), np.cos(yaw)])
             d = (clouds[foot] - z) @ lateral
-            var = float(lateral @ covs[foot] @ lateral) + 1e-8
-            logw = -0.5 * d * d / var
-            w = np.exp(logw - logw.max())
-            clouds[foot] = clouds[foot][systematic_resample(w, rng)]
+            logw = -0.5 * d * d / (float(lateral @ cov_f @ lateral) + 1e-8)
+            clouds[foot] = clouds[foot][systematic_resample(np.exp(logw - logw.max()), rng)]
             # the EKF follows the PF: the cloud's mean and covariance as a position measurement
-            mean, cov = clouds[foot].mean(axis=0), np.cov(clouds[foot].T, bias=True) + 1e-8 * np.eye(2)
-            vals, vecs = np.linalg.eigh(cov)
+            mean, cov = moments(clouds[foot])
+            vals, vecs = np.linalg.eigh(cov + 1e-8 * np.eye(2))
             sl = filt.block(foot, "pos")
             h = filt.selection(np.arange(sl.start, sl.start + 2))
             filt.update(vecs.T @ h, vecs.T @ (filt.position(foot)[:2] - mean), vals)
             last_p[foot] = filt.position(foot)[:2].copy()
-            last_cov[foot] = filt.covariance[sl, sl][:2, :2].copy()
+            last_cov[foot] = pos_cov(foot)
+            summary[foot] = (mean, cov)
             updates += 1
         meta = {"fusion": self.describe(), "pf_updates": updates, "n_particles": n}
         return finish_joint(estimator, filt, stance_left, stance_right, meta)

@@ -31,6 +31,7 @@ from numbers import Integral
 from typing import ClassVar
 
 import numpy as np
+from numba import njit
 from numpy.typing import NDArray
 
 from footnav.core import quaternion as quat
@@ -39,6 +40,67 @@ from footnav.core.types import FusionResult
 from footnav.fusion.joint import LEFT, RIGHT, finish_joint, check_two_feet, start_joint
 
 __all__ = ["ParticleFusion", "systematic_resample", "offset_rayleigh", "gaussian_sum"]
+
+
+@njit(cache=True)
+def _propagate(cloud, shift, noise_t, normals, drift, lateral, mean, cov):
+    """cloud += shift + normals @ noise_t + drift * lateral (eq. 10-12), in place; writes the
+    cloud's mean (2,) and covariance (2, 2) (eq. 14)."""
+    n = cloud.shape[0]
+    for i in range(n):
+        x = cloud[i, 0] + shift[0] + normals[i, 0] * noise_t[0, 0] + normals[i, 1] * noise_t[1, 0] + drift[i] * lateral[0]
+        y = cloud[i, 1] + shift[1] + normals[i, 0] * noise_t[0, 1] + normals[i, 1] * noise_t[1, 1] + drift[i] * lateral[1]
+        cloud[i, 0] = x
+        cloud[i, 1] = y
+    _moments(cloud, mean, cov)
+
+
+@njit(cache=True)
+def _moments(cloud, mean, cov):
+    n = cloud.shape[0]
+    mx = my = 0.0
+    for i in range(n):
+        mx += cloud[i, 0]
+        my += cloud[i, 1]
+    mx /= n
+    my /= n
+    cxx = cxy = cyy = 0.0
+    for i in range(n):
+        dx = cloud[i, 0] - mx
+        dy = cloud[i, 1] - my
+        cxx += dx * dx
+        cxy += dx * dy
+        cyy += dy * dy
+    mean[0], mean[1] = mx, my
+    cov[0, 0], cov[0, 1], cov[1, 0], cov[1, 1] = cxx / n, cxy / n, cxy / n, cyy / n
+
+
+@njit(cache=True)
+def _weigh_and_resample(cloud, z, lateral, var, u, out, mean, cov):
+    """Eq. 15-16 across ``lateral``: weights exp(-d^2 / 2 var), systematic resampling with the
+    uniform draw ``u`` into ``out``; writes out's mean and covariance."""
+    n = cloud.shape[0]
+    logw = np.empty(n)
+    best = -np.inf
+    for i in range(n):
+        d = (cloud[i, 0] - z[0]) * lateral[0] + (cloud[i, 1] - z[1]) * lateral[1]
+        logw[i] = -0.5 * d * d / var
+        if logw[i] > best:
+            best = logw[i]
+    total = 0.0
+    for i in range(n):
+        logw[i] = np.exp(logw[i] - best)
+        total += logw[i]
+    j = 0
+    cum = logw[0] / total
+    for k in range(n):
+        point = (u + k) / n
+        while cum <= point and j < n - 1:
+            j += 1
+            cum += logw[j] / total
+        out[k, 0] = cloud[j, 0]
+        out[k, 1] = cloud[j, 1]
+    _moments(out, mean, cov)
 
 
 def systematic_resample(weights: NDArray[np.float64], rng: np.random.Generator) -> NDArray[np.int64]:
@@ -152,24 +214,22 @@ class ParticleFusion(Fusion):
             cov_o = summary[other][1] + (vecs_o * vals_o) @ vecs_o.T
             p = filt.position(foot)[:2]
             vals, vecs = psd(pos_cov(foot) - last_cov[foot])
-            clouds[foot] += (p - last_p[foot]) + (rng.standard_normal((n, 2)) * np.sqrt(vals)) @ vecs.T
             yaw = float(quat.yaw(filt.quaternion(foot)))
             lateral = np.array([-np.sin(yaw), np.cos(yaw)])
-            if self.sigma_sys_m > 0:
-                # lateral drift in the foot's frame, mirrored between the feet (eq. 12)
-                side = 1.0 if foot == LEFT else -1.0
-                clouds[foot] += side * offset_rayleigh(self.sigma_sys_m, n, rng)[:, None] * lateral
-            mean_f, cov_f = moments(clouds[foot])
+            side = 1.0 if foot == LEFT else -1.0  # the drift is mirrored between the feet (eq. 12)
+            drift = side * offset_rayleigh(self.sigma_sys_m, n, rng) if self.sigma_sys_m > 0 else np.zeros(n)
+            mean_f, cov_f = np.empty(2), np.empty((2, 2))
+            _propagate(clouds[foot], p - last_p[foot], (vecs * np.sqrt(vals)).T, rng.standard_normal((n, 2)), drift, lateral, mean_f, cov_f)
             # eq. 13-14: each cloud as a Gaussian, their sum is the pedestrian
             z, _ = gaussian_sum(np.array([mean_f, mean_o]), np.array([cov_f, cov_o]), np.ones(2))
             # eq. 15-16: L = N(p_fused | x_n, Sigma_i) with the foot's own spread, across the
             # foot's heading only: the drift it corrects is lateral (Sec. 2), and along the walk
             # the feet are half a stride apart when a stance ends, which is not an error
-            d = (clouds[foot] - z) @ lateral
-            logw = -0.5 * d * d / (float(lateral @ cov_f @ lateral) + 1e-8)
-            clouds[foot] = clouds[foot][systematic_resample(np.exp(logw - logw.max()), rng)]
+            resampled, mean, cov = np.empty((n, 2)), np.empty(2), np.empty((2, 2))
+            var = float(lateral @ cov_f @ lateral) + 1e-8
+            _weigh_and_resample(clouds[foot], z, lateral, var, rng.random(), resampled, mean, cov)
+            clouds[foot] = resampled
             # the EKF follows the PF: the cloud's mean and covariance as a position measurement
-            mean, cov = moments(clouds[foot])
             vals, vecs = np.linalg.eigh(cov + 1e-8 * np.eye(2))
             sl = filt.block(foot, "pos")
             h = filt.selection(np.arange(sl.start, sl.start + 2))

@@ -34,7 +34,9 @@ def component_pages() -> dict[str, str]:
             cls, origin = entry.cls, entry.origin
             doc = inspect.getdoc(cls) or ""
             summary = doc.split("\n\n")[0].replace("\n", " ")
-            needs = [n for n, flag in (("two feet", getattr(cls, "needs_two_feet", False)), ("magnetometer", getattr(cls, "needs_magnetometer", False))) if flag]
+            needs = [n for n, flag in (("two feet", getattr(cls, "needs_two_feet", False)),
+                                       ("a magnetometer", getattr(cls, "needs_magnetometer", False)),
+                                       ("an estimator with a step-able filter (ekf)", getattr(cls, "needs_stepable_estimator", False))) if flag]
             lines += [f"## `{name}`", "", f"`{cls.__module__}.{cls.__name__}` (from {origin})" + (f"; needs {' and '.join(needs)}" if needs else ""), "", summary, ""]
             params = cls.parameter_info()
             if params:

@@ -228,6 +228,9 @@ class Fusion(Component):
     """
 
     kind: ClassVar[str] = "fusion"
+    #: The fusion drives the estimator's step-able filter (``estimator.start``): checked by the
+    #: pipeline before anything runs.
+    needs_stepable_estimator: ClassVar[bool] = False
 
     def fuse(self, estimator, left, stance_left, right=None, stance_right=None):  # pragma: no cover
         raise NotImplementedError

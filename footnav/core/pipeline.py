@@ -133,6 +133,11 @@ class Pipeline:
                 )
             if c.needs_magnetometer and not magnetometer:
                 raise CompositionError(f"{c.kind} {c.name!r} needs a magnetometer, but the data have none")
+        if getattr(self.fusion, "needs_stepable_estimator", False) and not callable(getattr(self.estimator, "start", None)):
+            raise CompositionError(
+                f"fusion {self.fusion.name!r} drives the per-foot filters step by step and needs an estimator with a "
+                f"step-able filter (start(imus, stances)), such as 'ekf'; {self.estimator.name!r} has none"
+            )
 
     @contextmanager
     def _blame(self, *components: Component):

@@ -123,6 +123,7 @@ class DtwFusion(Fusion):
 
     name = "dtw"
     needs_two_feet: ClassVar[bool] = True
+    needs_stepable_estimator: ClassVar[bool] = True
 
     def __init__(
         self,

@@ -160,6 +160,7 @@ class ParticleFusion(Fusion):
 
     name = "particle"
     needs_two_feet: ClassVar[bool] = True
+    needs_stepable_estimator: ClassVar[bool] = True
 
     def __init__(self, *, n_particles: int = 100, sigma_sys_m: float = 0.05, seed: int = 0, step_width_m: float = 0.2) -> None:
         self.n_particles = n_particles

@@ -50,6 +50,7 @@ class RangeConstraintFusion(Fusion):
 
     name = "range"
     needs_two_feet: ClassVar[bool] = True
+    needs_stepable_estimator: ClassVar[bool] = True
 
     def __init__(
         self,

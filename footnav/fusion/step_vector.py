@@ -82,6 +82,7 @@ class StepVectorFusion(Fusion):
 
     name = "step-vector"
     needs_two_feet: ClassVar[bool] = True
+    needs_stepable_estimator: ClassVar[bool] = True
 
     def __init__(
         self,

@@ -120,3 +120,16 @@ def test_fusions_need_a_stepable_estimator():
     st = StanceResult(rec.truth_left.stance)
     with pytest.raises(CompositionError, match="step-able"):
         StepVectorFusion().fuse(NoFilter(), rec.left, st, rec.right, StanceResult(rec.truth_right.stance))
+
+
+@pytest.mark.parametrize("fusion", ["range", "step-vector", "dtw", "particle"])
+def test_coupled_fusion_with_an_estimator_without_a_filter_fails_before_detecting(fusion, monkeypatch):
+    rec = footnav.simulate("straight", distance_m=5.0)
+    pipe = footnav.make_pipeline("threshold", "madgwick", fusion)
+
+    def never(*args, **kwargs):  # the check must come before any work
+        raise AssertionError("the detector ran")
+
+    monkeypatch.setattr(pipe.detector, "detect_pair", never)
+    with pytest.raises(CompositionError, match="step-able"):
+        pipe.run(rec)

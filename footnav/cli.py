@@ -213,7 +213,13 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("-v", "--verbose", action="store_true", help="log what footnav does")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
 
-    p = sub.add_parser("plugins", help="list every registered component", description="List every registered component: kind, name, origin package, needs, parameters.")
+    p = sub.add_parser(
+        "plugins",
+        help="list every registered component",
+        description="List every registered component: kind, name, origin package, needs, parameters.",
+        epilog="example:\n  footnav plugins | grep detector",
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
     p.set_defaults(func=cmd_plugins)
 
     p = sub.add_parser(
@@ -302,6 +308,8 @@ def build_parser() -> argparse.ArgumentParser:
         "demo",
         help="run the default pipeline on the bundled real recording",
         description="Run the default pipeline on the bundled azure_fgo recording (two feet, 60 Hz, with ground truth) and print the accuracy table.",
+        epilog="examples:\n  footnav demo\n  footnav demo --plot demo.png\n  footnav demo --no-plot",
+        formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     p.add_argument("--plot", default="footnav-demo.png", help="trajectory figure to write when matplotlib is installed")
     p.add_argument("--no-plot", action="store_true", help="do not write the figure")

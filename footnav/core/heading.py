@@ -11,7 +11,6 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-from footnav.core import quaternion as quat
 
 __all__ = ["MIN_FIRST_STEP_M", "heading_of_first_step", "rotate_about_z", "turn_to_first_step"]
 
@@ -34,18 +33,30 @@ def heading_of_first_step(position: NDArray[np.float64], steps: NDArray[np.int64
 
 def rotate_about_z(angle: float, pos, vel, q_out, pos_cov):
     """Turn a nav-frame solution by ``angle`` rad about z (positions, velocities, attitude, and the
-    horizontal position covariance stored as xx, xy, yy, zz)."""
+    horizontal position covariance stored as xx, xy, yy, zz). Element-wise: only x, y (and the
+    quaternion's left product with a yaw) change, and small matrix products are slow in numpy."""
     c, s = np.cos(angle), np.sin(angle)
-    rot = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+
+    def turn(v):
+        out = v.copy()
+        out[:, 0] = c * v[:, 0] - s * v[:, 1]
+        out[:, 1] = s * v[:, 0] + c * v[:, 1]
+        return out
+
     xx, xy, yy = pos_cov[:, 0], pos_cov[:, 1], pos_cov[:, 2]
-    cov = np.stack(
-        [c * c * xx - 2 * c * s * xy + s * s * yy, c * s * (xx - yy) + (c * c - s * s) * xy, s * s * xx + 2 * c * s * xy + c * c * yy, pos_cov[:, 3]],
-        axis=1,
-    )
-    # r (x) q for every row q is q @ L(r)' with L(r) the left-multiplication matrix of r
-    w, _, _, z = quat.from_yaw(angle)
-    left = np.array([[w, 0.0, 0.0, -z], [0.0, w, -z, 0.0], [0.0, z, w, 0.0], [z, 0.0, 0.0, w]])
-    return pos @ rot.T, vel @ rot.T, q_out @ left.T, cov
+    cov = np.empty_like(pos_cov)
+    cov[:, 0] = c * c * xx - 2 * c * s * xy + s * s * yy
+    cov[:, 1] = c * s * (xx - yy) + (c * c - s * s) * xy
+    cov[:, 2] = s * s * xx + 2 * c * s * xy + c * c * yy
+    cov[:, 3] = pos_cov[:, 3]
+    # [w, 0, 0, z] (x) q for the yaw quaternion [cos(a/2), 0, 0, sin(a/2)]
+    w, z = np.cos(0.5 * angle), np.sin(0.5 * angle)
+    q = np.empty_like(q_out)
+    q[:, 0] = w * q_out[:, 0] - z * q_out[:, 3]
+    q[:, 1] = w * q_out[:, 1] - z * q_out[:, 2]
+    q[:, 2] = w * q_out[:, 2] + z * q_out[:, 1]
+    q[:, 3] = w * q_out[:, 3] + z * q_out[:, 0]
+    return turn(pos), turn(vel), q, cov
 
 
 def turn_to_first_step(pos, vel, q_out, pos_cov, steps, meta: dict):

@@ -93,7 +93,7 @@ class Checkpoint:
 # -- compiled kernels ---------------------------------------------------------------------------
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, inline="always", error_model="numpy")
 def _f_apply(src, dst, n, x, y, z, c, dt):
     """dst = F src for one foot's block (src, dst: (n,)); S = [f^n x] dt = [[0,-z,y],[z,0,-x],[-y,x,0]]."""
     a0, a1, a2 = src[0], src[1], src[2]
@@ -114,7 +114,7 @@ def _f_apply(src, dst, n, x, y, z, c, dt):
             dst[i] = src[i]
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, inline="always", error_model="numpy")
 def _ft_apply(mu, o, n, x, y, z, c, dt):
     """mu <- F' mu on one foot's block starting at ``o`` (the smoother's backward step)."""
     a0, a1, a2 = mu[o], mu[o + 1], mu[o + 2]
@@ -132,7 +132,7 @@ def _ft_apply(mu, o, n, x, y, z, c, dt):
             mu[o + 12 + j] += dt * (c[0, j] * a0 + c[1, j] * a1 + c[2, j] * a2)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _predict_cov(cov, o, n, f_n, c, dt, q_diag, src, dst):
     """P <- F P F' + Q dt for one foot's block at offset ``o`` of the joint covariance.
 
@@ -157,7 +157,7 @@ def _predict_cov(cov, o, n, f_n, c, dt, q_diag, src, dst):
         cov[o + i, o + i] += q_diag[i] * dt
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _update(cov, dx, idx, m, y, r_diag, gain, sy, s, s_inv, low, hp):
     """Update with a measurement of the states ``idx[:m]`` (H a selection): y = H dx + noise.
 
@@ -199,7 +199,7 @@ def _update(cov, dx, idx, m, y, r_diag, gain, sy, s, s_inv, low, hp):
     return True
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, inline="always", error_model="numpy")
 def sym3_inverse(a, b, c, d, e, f):
     """Inverse of the symmetric [[a b c] [b d e] [c e f]] by cofactors: (i00, i01, i02, i11, i12,
     i22, det); the entries are undefined when det <= 0 (not positive definite)."""
@@ -211,7 +211,7 @@ def sym3_inverse(a, b, c, d, e, f):
     return (i00 * inv, i01 * inv, i02 * inv, (a * f - c * c) * inv, (b * c - a * e) * inv, (a * d - b * b) * inv, det)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _update_vel(cov, dx, o, v, r, gain, sy, hp):
     """The ZUPT update of :func:`_update` for the velocity block at ``o`` (y = v^, H = [0 I 0]),
     with the 3 x 3 inverse written out: the update runs at every stance sample."""
@@ -244,7 +244,7 @@ def _update_vel(cov, dx, o, v, r, gain, sy, hp):
     return True
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, inline="always", error_model="numpy")
 def _nis3(cov, o, y0, y1, y2, r):
     """Normalised innovation squared y' (P_block + r I)^-1 y of a measurement of the 3 states at o."""
     i00, i01, i02, i11, i12, i22, _ = sym3_inverse(
@@ -253,7 +253,7 @@ def _nis3(cov, o, y0, y1, y2, r):
     return i00 * y0 * y0 + i11 * y1 * y1 + i22 * y2 * y2 + 2.0 * (i01 * y0 * y1 + i02 * y0 * y2 + i12 * y1 * y2)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def feedback(q, v, p, ba, bg, dx, o, n, dq, q_tmp):
     """Closed-loop reset of one foot: C <- (I + [dphi x]) C^, v -= dv, p -= dp, b -= db."""
     from_rotvec_nb(dx[o], dx[o + 1], dx[o + 2], dq)
@@ -269,7 +269,7 @@ def feedback(q, v, p, ba, bg, dx, o, n, dq, q_tmp):
             bg[i] -= dx[o + 12 + i]
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _run(
     t, acc, gyr, stance, stop_at, k, t_stop, max_events, step_stops,
     q, v, p, ba, bg, f_n, cov, n, q_diag, r_zupt, r_zaru,

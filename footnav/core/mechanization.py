@@ -23,7 +23,7 @@ from footnav.core.types import GRAVITY_MPS2, ImuData
 __all__ = ["strapdown_step", "strapdown"]
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, inline="always", error_model="numpy")
 def strapdown_step(q, v, p, f_n, acc_prev, gyr_prev, acc, gyr, dt, dq, q_tmp, c):
     """Advance attitude, velocity and position by one sample, in place.
 
@@ -74,7 +74,7 @@ def strapdown_step(q, v, p, f_n, acc_prev, gyr_prev, acc, gyr, dt, dq, q_tmp, c)
         v[i] = v_new
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _strapdown_loop(t, acc, gyr, q0, v0, p0, quat, vel, pos):
     n = len(t)
     q = q0.copy()

@@ -37,7 +37,7 @@ __all__ = ["smooth", "StepSmoother", "backward", "SMOOTHERS"]
 SMOOTHERS = ("whole", "step", "none")
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def backward(mu, n, ev_foot, ev_k, ev_f, ev_c, ev_dt, ev_prows, ev_m, ev_idx, ev_gain, ev_sy, out_q, out_v, out_p, sm_q, sm_v, sm_p):
     """Backward pass over one recorded segment: sm[k] = filtered out[k] corrected by -delta."""
     big = len(mu)
@@ -73,7 +73,7 @@ def backward(mu, n, ev_foot, ev_k, ev_f, ev_c, ev_dt, ev_prows, ev_m, ev_idx, ev
         _ft_apply(mu, o, n, ev_f[e, 0], ev_f[e, 1], ev_f[e, 2], ev_c[e], ev_dt[e])
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _shift(ev_foot, ev_k, offset, sm_p):
     """Add ``offset[f]`` (m) to the smoothed position of every event of foot f."""
     for e in range(len(ev_foot)):

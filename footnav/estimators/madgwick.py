@@ -42,7 +42,7 @@ from footnav.core.types import GRAVITY_MPS2, FootTrajectory, ImuData, StanceResu
 __all__ = ["MadgwickEstimator", "madgwick_imu_step", "madgwick_marg_step"]
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, inline="always", error_model="numpy")
 def _rate(q0, q1, q2, q3, gx, gy, gz):
     """q_dot = 1/2 q (x) [0, w] (Madgwick 2011 eq. 12)."""
     return (
@@ -53,7 +53,7 @@ def _rate(q0, q1, q2, q3, gx, gy, gz):
     )
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, inline="always", error_model="numpy")
 def _step(q, d0, d1, d2, d3, s0, s1, s2, s3, beta, dt):
     """q <- normalise(q + (q_dot - beta s / |s|) dt): one Euler step down the gradient s."""
     sn = np.sqrt(s0 * s0 + s1 * s1 + s2 * s2 + s3 * s3)
@@ -67,7 +67,7 @@ def _step(q, d0, d1, d2, d3, s0, s1, s2, s3, beta, dt):
     q[0], q[1], q[2], q[3] = q0 / n, q1 / n, q2 / n, q3 / n
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def madgwick_imu_step(q, gx, gy, gz, ax, ay, az, beta, dt):
     """One Madgwick IMU update of q (in place): gyro rate (rad/s), specific force (any unit)."""
     q0, q1, q2, q3 = q[0], q[1], q[2], q[3]
@@ -89,7 +89,7 @@ def madgwick_imu_step(q, gx, gy, gz, ax, ay, az, beta, dt):
     _step(q, d0, d1, d2, d3, s0, s1, s2, s3, beta, dt)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def madgwick_marg_step(q, gx, gy, gz, ax, ay, az, mx, my, mz, beta, dt):
     """One Madgwick MARG update of q (in place), Madgwick 2011 eq. 27-34; IMU step without a field."""
     mn = np.sqrt(mx * mx + my * my + mz * mz)
@@ -123,7 +123,7 @@ def madgwick_marg_step(q, gx, gy, gz, ax, ay, az, mx, my, mz, beta, dt):
     _step(q, d0, d1, d2, d3, s0, s1, s2, s3, beta, dt)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _loop(t, acc, gyr, mag, use_mag, stance, start, q0, beta, var_acc, var_da, var_zupt, p0_diag, q_out, v_out, r_out, rstd_out):
     """Madgwick attitude, strapdown velocity/position and the eq. 3-6 error filter, samples start:."""
     n = len(t)

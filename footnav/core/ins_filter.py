@@ -432,10 +432,10 @@ class InsFilter:
         self.noise = noise
         lengths = [len(x) for x in t]
         self._offsets = np.concatenate(([0], np.cumsum(lengths))).astype(np.int64)
-        self._t = np.concatenate(t)
-        self._acc = np.ascontiguousarray(np.concatenate(acc))
-        self._gyr = np.ascontiguousarray(np.concatenate(gyr))
-        self._stance = np.ascontiguousarray(np.concatenate(stance))
+        # one foot: its own (read-only) arrays, no copy; two: one array, in time order per foot
+        join = (lambda xs: np.ascontiguousarray(xs[0])) if len(t) == 1 else (lambda xs: np.ascontiguousarray(np.concatenate(xs)))
+        self._t, self._acc, self._gyr = join(t), join(acc), join(gyr)
+        self._stance = join([np.asarray(x, dtype=bool) for x in stance])
         self._stop_at = self._offsets[1:] - 1
         self._start = np.array(start, dtype=np.int64)
         self._k = self._offsets[:-1] + self._start

@@ -28,10 +28,10 @@ from numba import njit
 from numpy.typing import NDArray
 
 from footnav.core import quaternion as quat
-from footnav.core.ins_filter import MAX_SEGMENT_EVENTS, InsFilter, _empty_record, _ft_apply
+from footnav.core.ins_filter import MAX_SEGMENT_EVENTS, InsFilter, _empty_record, _ft_apply, _run
 from footnav.core.quaternion import from_rotvec_nb, multiply_nb, normalize_nb
 
-__all__ = ["smooth", "StepSmoother", "backward", "SMOOTHERS"]
+__all__ = ["smooth", "run_step_smoothed", "StepSmoother", "backward", "SMOOTHERS"]
 
 #: Smoothing modes: over the whole run, within each step, or none.
 SMOOTHERS = ("whole", "step", "none")
@@ -177,6 +177,66 @@ class StepSmoother:
         self._flush(filt)
         self._used = self._open = 0
         return self._sm
+
+
+@njit(cache=True, error_model="numpy")
+def _forward_step_smoothed(
+    t, acc, gyr, stance, stop_at, k, q, v, p, ba, bg, f_n, cov, n, q_diag, r_zupt, r_zaru,
+    out_q, out_v, out_p, out_pcov, ev_foot, ev_k, ev_f, ev_c, ev_dt, ev_prows, ev_m, ev_idx, ev_gain, ev_sy,
+    sm_q, sm_v, sm_p,
+):
+    """The forward filter to the end with each step smoothed as it ends, all compiled: what
+    :class:`StepSmoother` does, without returning to Python at every step."""
+    big = cov.shape[0]
+    n_feet = len(k)
+    cap = len(ev_foot)
+    cov_start = cov.copy()
+    k_start = k.copy()
+    mu = np.zeros(big)
+    offset = np.zeros((n_feet, 3))
+    used = 0
+    while True:
+        reason, events = _run(
+            t, acc, gyr, stance, stop_at, k, np.inf, cap - used, True, q, v, p, ba, bg, f_n, cov, n, q_diag,
+            r_zupt, r_zaru, out_q, out_v, out_p, out_pcov, True, ev_foot[used:], ev_k[used:], ev_f[used:],
+            ev_c[used:], ev_dt[used:], ev_prows[used:], ev_m[used:], ev_idx[used:], ev_gain[used:], ev_sy[used:],
+        )
+        used += events
+        if used > 0:  # a step ended (or the buffer is full, or the recording): smooth it
+            mu[:] = 0.0
+            backward(mu, n, ev_foot[:used], ev_k[:used], ev_f[:used], ev_c[:used], ev_dt[:used], ev_prows[:used],
+                     ev_m[:used], ev_idx[:used], ev_gain[:used], ev_sy[:used], out_q, out_v, out_p, sm_q, sm_v, sm_p)
+            for f in range(n_feet):
+                kk = k_start[f]
+                for i in range(3):
+                    acc_d = 0.0
+                    for j in range(big):
+                        acc_d += cov_start[f * n + 6 + i, j] * mu[j]
+                    offset[f, i] = acc_d + sm_p[kk, i] - out_p[kk, i]
+            _shift(ev_foot[:used], ev_k[:used], offset, sm_p)
+            cov_start[:, :] = cov
+            k_start[:] = k
+            used = 0
+        if reason == 0:
+            return
+
+
+def run_step_smoothed(filt: InsFilter) -> tuple[NDArray, NDArray, NDArray]:
+    """Run a fresh filter (no caller updates, no recorder) to the end, smoothing each step as it
+    ends; returns the smoothed attitude, velocity and position like :func:`smooth` with
+    ``mode="step"`` (the same numbers: tested), in one compiled call."""
+    if filt._n_events or filt.recorder is not None or len(filt.checkpoints[0].updates):
+        raise ValueError("run_step_smoothed needs a fresh filter without recorder or updates")
+    sm = tuple(x.copy() for x in (filt._out_q, filt._out_v, filt._out_p))
+    big = filt.n_states * filt.n_feet
+    _forward_step_smoothed(
+        filt._t, filt._acc, filt._gyr, filt._stance, filt._stop_at, filt._k, filt._q, filt._v, filt._p, filt._ba,
+        filt._bg, filt._f_n, filt._cov, filt.n_states, filt._q_diag, filt.noise.zupt_std_mps**2,
+        filt.noise.zaru_std_radps**2, filt._out_q, filt._out_v, filt._out_p, filt._out_pcov,
+        *_empty_record(big, MAX_SEGMENT_EVENTS), *sm,
+    )
+    filt._n_events = int(np.sum(filt._k - filt._offsets[:-1] - filt._start))
+    return sm
 
 
 def smooth(filt: InsFilter, mode: Literal["whole", "step"] = "whole") -> tuple[NDArray, NDArray, NDArray]:

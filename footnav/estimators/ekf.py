@@ -23,7 +23,7 @@ from footnav.core.errors import InvalidParameterError
 from footnav.core.heading import turn_to_first_step
 from footnav.core.initial_alignment import align_first_stance
 from footnav.core.ins_filter import FilterNoise, InsFilter
-from footnav.core.smoothing import SMOOTHERS, StepSmoother, smooth
+from footnav.core.smoothing import SMOOTHERS, StepSmoother, run_step_smoothed, smooth
 from footnav.core.types import FootTrajectory, ImuData, StanceResult
 
 __all__ = ["EkfEstimator"]
@@ -169,6 +169,7 @@ class EkfEstimator(FootEstimator):
         *,
         initial_yaw_rad: Sequence[float] | None = None,
         initial_position_m: Sequence[NDArray[np.float64]] | None = None,
+        _recorder: bool = True,
     ) -> InsFilter:
         """Align each foot at its first standstill and return the filter, ready to run.
 
@@ -216,7 +217,7 @@ class EkfEstimator(FootEstimator):
             np.array(cov0), noise, self.n_states,
         )
         filt.meta = metas
-        if self.smoother == "step":
+        if self.smoother == "step" and _recorder:
             filt.recorder = StepSmoother(filt)
         else:  # whole-walk smoothing re-runs segments of any length; no need to stop every step
             filt.step_stops = False
@@ -229,9 +230,10 @@ class EkfEstimator(FootEstimator):
             meta["gyro_bias_radps"] = align.gyro_bias_radps.tolist()
         return s0, align, meta
 
-    def trajectory(self, filt: InsFilter, foot: int, stance: StanceResult, smoothed=None) -> FootTrajectory:
+    def trajectory(self, filt: InsFilter, foot: int, stance: StanceResult, smoothed=None, *, copy: bool = True) -> FootTrajectory:
         """Foot ``foot``'s result of a finished filter run (``smoothed``: the output of
-        :func:`footnav.core.smoothing.smooth` for the run, or None for the forward filter)."""
+        :func:`footnav.core.smoothing.smooth` for the run, or None for the forward filter);
+        ``copy=False`` hands over the filter's arrays (when the filter is not used again)."""
         q_out, vel, pos, pos_cov = filt.outputs(foot)
         if smoothed is not None:
             sl = slice(filt.global_index(foot, 0), filt.global_index(foot, len(q_out) - 1) + 1)
@@ -246,7 +248,9 @@ class EkfEstimator(FootEstimator):
         # the smoothed covariance is at most the filtered one: std is the forward filter's
         std = np.sqrt(np.maximum(pos_cov[:, [0, 2, 3]], 0.0))
         t = filt._t[filt.global_index(foot, 0) : filt.global_index(foot, len(q_out) - 1) + 1]
-        return FootTrajectory(t=t, position=pos.copy(), velocity=vel.copy(), quaternion=q_out.copy(), position_std=std, steps=stance.intervals, meta=meta)
+        if copy:
+            pos, vel, q_out = pos.copy(), vel.copy(), q_out.copy()
+        return FootTrajectory(t=t, position=pos, velocity=vel, quaternion=q_out, position_std=std, steps=stance.intervals, meta=meta)
 
     # -- the estimator ---------------------------------------------------------------------------
     def estimate(self, imu: ImuData, stance: StanceResult) -> FootTrajectory:
@@ -265,6 +269,11 @@ class EkfEstimator(FootEstimator):
             Nav-frame (z up) trajectory, starting at the origin.
         """
         t0 = time.perf_counter()
+        if self.smoother == "step" and not self.closed_loop:
+            # nothing acts between the steps: the whole step-wise run in one compiled call
+            filt = self.start([imu], [stance], _recorder=False)
+            traj = self.trajectory(filt, 0, stance, run_step_smoothed(filt), copy=False)
+            return self._finish(imu, filt, traj, t0)
         filt = self.start([imu], [stance])
         if self.closed_loop:
             steps = stance.intervals
@@ -273,10 +282,14 @@ class EkfEstimator(FootEstimator):
             filt.update_position(0, np.zeros(3), self.closed_loop_std_m)
         filt.run_until()
         smoothed = None if self.smoother == "none" else smooth(filt, self.smoother)
-        traj = self.trajectory(filt, 0, stance, smoothed)
-        meta = dict(traj.meta)
+        traj = self.trajectory(filt, 0, stance, smoothed, copy=False)
         if self.closed_loop:
-            meta["closed_loop"] = {"index": last, "std_m": self.closed_loop_std_m}
+            traj.meta["closed_loop"] = {"index": last, "std_m": self.closed_loop_std_m}
+        return self._finish(imu, filt, traj, t0)
+
+    def _finish(self, imu: ImuData, filt: InsFilter, traj: FootTrajectory, t0: float) -> FootTrajectory:
+        """The nav frame's heading (first step along +x) and the runtime."""
+        meta = dict(traj.meta)
         pos, vel, q_out, std = traj.position, traj.velocity, traj.quaternion, traj.position_std
         if self.heading == "first-step":
             pos, vel, q_out, std = turn_to_first_step(pos, vel, q_out, filt.outputs(0)[3], traj.steps, meta)

@@ -274,12 +274,13 @@ def _run(
     t, acc, gyr, stance, stop_at, k, t_stop, max_events, step_stops,
     q, v, p, ba, bg, f_n, cov, n, q_diag, r_zupt, r_zaru,
     out_q, out_v, out_p, out_pcov,
-    record, ev_foot, ev_k, ev_f, ev_c, ev_dt, ev_prows, ev_m, ev_idx, ev_gain, ev_sy,
+    record, rec_off, ev_foot, ev_k, ev_f, ev_c, ev_dt, ev_prows, ev_m, ev_idx, ev_gain, ev_sy,
 ):
     """Advance the feet through their samples with t <= t_stop, in time order.
 
     Foot f owns samples ``k[f] + 1 .. stop_at[f]`` of the concatenated arrays (``k[f]`` is its
-    last processed sample). Returns (reason, events): reason 0 nothing left before t_stop,
+    last processed sample). With ``record``, event i of this call is written at ``rec_off + i``
+    of the record arrays (offsets, not slices: every caller then shares one compiled signature). Returns (reason, events): reason 0 nothing left before t_stop,
     1 a foot's stance just ended (a step boundary; only with ``step_stops``), 2 ``max_events``
     processed.
     """
@@ -360,7 +361,7 @@ def _run(
             else:
                 m = 0
         if record:
-            e = events
+            e = rec_off + events
             ev_foot[e] = f
             ev_k[e] = kn
             ev_dt[e] = dt
@@ -432,10 +433,12 @@ class InsFilter:
         self.noise = noise
         lengths = [len(x) for x in t]
         self._offsets = np.concatenate(([0], np.cumsum(lengths))).astype(np.int64)
-        # one foot: its own (read-only) arrays, no copy; two: one array, in time order per foot
-        join = (lambda xs: np.ascontiguousarray(xs[0])) if len(t) == 1 else (lambda xs: np.ascontiguousarray(np.concatenate(xs)))
-        self._t, self._acc, self._gyr = join(t), join(acc), join(gyr)
-        self._stance = join([np.asarray(x, dtype=bool) for x in stance])
+        # one writable copy for one foot or two: the compiled loop then has one signature (a
+        # read-only input would compile every kernel a second time)
+        self._t = np.concatenate(t)
+        self._acc = np.ascontiguousarray(np.concatenate(acc))
+        self._gyr = np.ascontiguousarray(np.concatenate(gyr))
+        self._stance = np.ascontiguousarray(np.concatenate([np.asarray(x, dtype=bool) for x in stance]))
         self._stop_at = self._offsets[1:] - 1
         self._start = np.array(start, dtype=np.int64)
         self._k = self._offsets[:-1] + self._start
@@ -522,15 +525,15 @@ class InsFilter:
             # a checkpoint at least every MAX_SEGMENT_EVENTS: the smoother re-runs one at a time
             max_events = MAX_SEGMENT_EVENTS - self._since_checkpoint
             if self.recorder is not None:
-                buffers, room = self.recorder.before_run(self)
+                buffers, rec_off, room = self.recorder.before_run(self)
                 record, max_events = True, min(max_events, room)
             else:
-                record, buffers = False, self._empty
+                record, buffers, rec_off = False, self._empty, 0
             reason, events = _run(
                 self._t, self._acc, self._gyr, self._stance, self._stop_at, self._k, float(t_stop),
                 max_events, self.step_stops, self._q, self._v, self._p, self._ba, self._bg, self._f_n, self._cov,
                 self.n_states, self._q_diag, self.noise.zupt_std_mps**2, self.noise.zaru_std_radps**2,
-                self._out_q, self._out_v, self._out_p, self._out_pcov, record, *buffers,
+                self._out_q, self._out_v, self._out_p, self._out_pcov, record, rec_off, *buffers,
             )
             self._n_events += events
             self._since_checkpoint += events
@@ -664,7 +667,7 @@ class InsFilter:
                 self._t, self._acc, self._gyr, self._stance, stop, k, np.inf, n_ev - done, self.step_stops,
                 q, v, p, ba, bg, f_n, cov, self.n_states, self._q_diag, self.noise.zupt_std_mps**2,
                 self.noise.zaru_std_radps**2, self._out_q, self._out_v, self._out_p, self._out_pcov,
-                True, *(x[done:] for x in rec),
+                True, done, *rec,
             )
             if events == 0:  # pragma: no cover - the checkpoints come from this very loop
                 raise RuntimeError("replay did not reproduce the forward run")

@@ -28,24 +28,24 @@ from numba import njit
 from numpy.typing import NDArray
 
 from footnav.core import quaternion as quat
-from footnav.core.ins_filter import MAX_SEGMENT_EVENTS, InsFilter, _empty_record, _ft_apply, _run
+from footnav.core.ins_filter import MAX_SEGMENT_EVENTS, InsFilter, _empty_record, _ft_apply
 from footnav.core.quaternion import from_rotvec_nb, multiply_nb, normalize_nb
 
-__all__ = ["smooth", "run_step_smoothed", "StepSmoother", "backward", "SMOOTHERS"]
+__all__ = ["smooth", "StepSmoother", "backward", "SMOOTHERS"]
 
 #: Smoothing modes: over the whole run, within each step, or none.
 SMOOTHERS = ("whole", "step", "none")
 
 
 @njit(cache=True, error_model="numpy")
-def backward(mu, n, ev_foot, ev_k, ev_f, ev_c, ev_dt, ev_prows, ev_m, ev_idx, ev_gain, ev_sy, out_q, out_v, out_p, sm_q, sm_v, sm_p):
-    """Backward pass over one recorded segment: sm[k] = filtered out[k] corrected by -delta."""
+def backward(mu, n, lo, hi, ev_foot, ev_k, ev_f, ev_c, ev_dt, ev_prows, ev_m, ev_idx, ev_gain, ev_sy, out_q, out_v, out_p, sm_q, sm_v, sm_p):
+    """Backward pass over the recorded events ``lo:hi``: sm[k] = filtered out[k] corrected by -delta."""
     big = len(mu)
     d = np.zeros(9)
     dq = np.zeros(4)
     q_tmp = np.zeros(4)
     kt = np.zeros(6)
-    for e in range(len(ev_foot) - 1, -1, -1):
+    for e in range(hi - 1, lo - 1, -1):
         f = ev_foot[e]
         o = f * n
         k = ev_k[e]
@@ -74,9 +74,9 @@ def backward(mu, n, ev_foot, ev_k, ev_f, ev_c, ev_dt, ev_prows, ev_m, ev_idx, ev
 
 
 @njit(cache=True, error_model="numpy")
-def _shift(ev_foot, ev_k, offset, sm_p):
-    """Add ``offset[f]`` (m) to the smoothed position of every event of foot f."""
-    for e in range(len(ev_foot)):
+def _shift(lo, hi, ev_foot, ev_k, offset, sm_p):
+    """Add ``offset[f]`` (m) to the smoothed position of every event ``lo:hi`` of foot f."""
+    for e in range(lo, hi):
         f = ev_foot[e]
         k = ev_k[e]
         for i in range(3):
@@ -84,8 +84,9 @@ def _shift(ev_foot, ev_k, offset, sm_p):
 
 
 def _smooth_group(filt: InsFilter, segments: list, mu: NDArray[np.float64], sm: tuple, relative: bool) -> None:
-    """Backward pass over consecutive segments, newest first; ``segments`` holds (record, index of
-    the checkpoint that ends the segment) in forward order and ``mu`` the adjoint after the last.
+    """Backward pass over consecutive segments, newest first; ``segments`` holds (record arrays,
+    first and last + 1 event in them, index of the checkpoint that ends the segment) in forward
+    order and ``mu`` the adjoint after the last.
 
     ``relative``: the group is one step, smoothed by its own measurements (mu = 0 at its end).
     Position is an integral, so the step's position corrections are taken relative to its
@@ -94,11 +95,11 @@ def _smooth_group(filt: InsFilter, segments: list, mu: NDArray[np.float64], sm: 
     """
     out = (filt._out_q, filt._out_v, filt._out_p)
     n = filt.n_states
-    for rec, b in reversed(segments):
+    for rec, lo, hi, b in reversed(segments):
         for h, gain, sy in reversed(filt.checkpoints[b].updates):
             mu += h.T @ (sy - gain.T @ mu)  # mu <- H' S^-1 y + (I - K H)' mu
-        backward(mu, n, *rec, *out, *sm)
-    start = segments[0][1] - 1
+        backward(mu, n, lo, hi, *rec, *out, *sm)
+    start = segments[0][3] - 1
     d_start = (filt.checkpoints[start].cov @ mu).reshape(filt.n_feet, n)[:, :9]
     if relative:
         # sm_p = out_p - d_k + d_start + (what the step before moved the start sample by)
@@ -106,8 +107,8 @@ def _smooth_group(filt: InsFilter, segments: list, mu: NDArray[np.float64], sm: 
         for f in range(filt.n_feet):
             k = int(filt.checkpoints[start].k[f])
             offset[f] = d_start[f, 6:9] + sm[2][k] - filt._out_p[k]
-        for rec, _ in segments:
-            _shift(rec[0], rec[1], offset, sm[2])
+        for rec, lo, hi, _ in segments:
+            _shift(lo, hi, rec[0], rec[1], offset, sm[2])
     elif start == 0:
         _correct_initial(filt, d_start, sm)
 
@@ -144,11 +145,11 @@ class StepSmoother:
         self._pending: list[tuple[int, int, int]] = []  # (offset, events, index of end checkpoint)
         self._sm = tuple(x.copy() for x in (filt._out_q, filt._out_v, filt._out_p))
 
-    def before_run(self, filt: InsFilter) -> tuple[tuple, int]:
+    def before_run(self, filt: InsFilter) -> tuple[tuple, int, int]:
         step_done = filt.checkpoints[-1].step_end and self._pending and self._open == self._used
         self._target = (1 - self._cur, 0) if step_done else (self._cur, self._used)
         b, off = self._target
-        return tuple(x[off:] for x in self._bufs[b]), self.capacity - off
+        return self._bufs[b], off, self.capacity - off
 
     def after_run(self, filt: InsFilter, events: int) -> None:
         if events == 0:
@@ -167,7 +168,7 @@ class StepSmoother:
     def _flush(self, filt: InsFilter) -> None:
         if self._pending:
             buf = self._bufs[self._cur]
-            segments = [(tuple(x[off : off + ev] for x in buf), b) for off, ev, b in self._pending]
+            segments = [(buf, off, off + ev, b) for off, ev, b in self._pending]
             _smooth_group(filt, segments, np.zeros(filt.n_states * filt.n_feet), self._sm, relative=True)
         self._pending = []
 
@@ -177,66 +178,6 @@ class StepSmoother:
         self._flush(filt)
         self._used = self._open = 0
         return self._sm
-
-
-@njit(cache=True, error_model="numpy")
-def _forward_step_smoothed(
-    t, acc, gyr, stance, stop_at, k, q, v, p, ba, bg, f_n, cov, n, q_diag, r_zupt, r_zaru,
-    out_q, out_v, out_p, out_pcov, ev_foot, ev_k, ev_f, ev_c, ev_dt, ev_prows, ev_m, ev_idx, ev_gain, ev_sy,
-    sm_q, sm_v, sm_p,
-):
-    """The forward filter to the end with each step smoothed as it ends, all compiled: what
-    :class:`StepSmoother` does, without returning to Python at every step."""
-    big = cov.shape[0]
-    n_feet = len(k)
-    cap = len(ev_foot)
-    cov_start = cov.copy()
-    k_start = k.copy()
-    mu = np.zeros(big)
-    offset = np.zeros((n_feet, 3))
-    used = 0
-    while True:
-        reason, events = _run(
-            t, acc, gyr, stance, stop_at, k, np.inf, cap - used, True, q, v, p, ba, bg, f_n, cov, n, q_diag,
-            r_zupt, r_zaru, out_q, out_v, out_p, out_pcov, True, ev_foot[used:], ev_k[used:], ev_f[used:],
-            ev_c[used:], ev_dt[used:], ev_prows[used:], ev_m[used:], ev_idx[used:], ev_gain[used:], ev_sy[used:],
-        )
-        used += events
-        if used > 0:  # a step ended (or the buffer is full, or the recording): smooth it
-            mu[:] = 0.0
-            backward(mu, n, ev_foot[:used], ev_k[:used], ev_f[:used], ev_c[:used], ev_dt[:used], ev_prows[:used],
-                     ev_m[:used], ev_idx[:used], ev_gain[:used], ev_sy[:used], out_q, out_v, out_p, sm_q, sm_v, sm_p)
-            for f in range(n_feet):
-                kk = k_start[f]
-                for i in range(3):
-                    acc_d = 0.0
-                    for j in range(big):
-                        acc_d += cov_start[f * n + 6 + i, j] * mu[j]
-                    offset[f, i] = acc_d + sm_p[kk, i] - out_p[kk, i]
-            _shift(ev_foot[:used], ev_k[:used], offset, sm_p)
-            cov_start[:, :] = cov
-            k_start[:] = k
-            used = 0
-        if reason == 0:
-            return
-
-
-def run_step_smoothed(filt: InsFilter) -> tuple[NDArray, NDArray, NDArray]:
-    """Run a fresh filter (no caller updates, no recorder) to the end, smoothing each step as it
-    ends; returns the smoothed attitude, velocity and position like :func:`smooth` with
-    ``mode="step"`` (the same numbers: tested), in one compiled call."""
-    if filt._n_events or filt.recorder is not None or len(filt.checkpoints[0].updates):
-        raise ValueError("run_step_smoothed needs a fresh filter without recorder or updates")
-    sm = tuple(x.copy() for x in (filt._out_q, filt._out_v, filt._out_p))
-    big = filt.n_states * filt.n_feet
-    _forward_step_smoothed(
-        filt._t, filt._acc, filt._gyr, filt._stance, filt._stop_at, filt._k, filt._q, filt._v, filt._p, filt._ba,
-        filt._bg, filt._f_n, filt._cov, filt.n_states, filt._q_diag, filt.noise.zupt_std_mps**2,
-        filt.noise.zaru_std_radps**2, filt._out_q, filt._out_v, filt._out_p, filt._out_pcov,
-        *_empty_record(big, MAX_SEGMENT_EVENTS), *sm,
-    )
-    filt._n_events = int(np.sum(filt._k - filt._offsets[:-1] - filt._start))
-    return sm
 
 
 def smooth(filt: InsFilter, mode: Literal["whole", "step"] = "whole") -> tuple[NDArray, NDArray, NDArray]:
@@ -269,13 +210,15 @@ def smooth(filt: InsFilter, mode: Literal["whole", "step"] = "whole") -> tuple[N
     if mode == "whole":
         mu = np.zeros(big)
         for b in range(len(cps) - 1, 0, -1):  # one segment at a time: memory O(one segment)
-            _smooth_group(filt, [(filt.replay(b - 1, b), b)], mu, sm, relative=False)
+            rec = filt.replay(b - 1, b)
+            _smooth_group(filt, [(rec, 0, len(rec[0]), b)], mu, sm, relative=False)
         return sm
     # step-wise from checkpoints: the segments between two step ends make a group; groups in
     # forward order, as the StepSmoother meets them, so each starts where the one before ended
     group: list = []
     for b in range(1, len(cps)):
-        group.append((filt.replay(b - 1, b), b))
+        rec = filt.replay(b - 1, b)
+        group.append((rec, 0, len(rec[0]), b))
         if cps[b].step_end or b == len(cps) - 1:
             _smooth_group(filt, group, np.zeros(big), sm, relative=True)
             group = []

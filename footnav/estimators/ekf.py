@@ -23,7 +23,7 @@ from footnav.core.errors import InvalidParameterError
 from footnav.core.heading import turn_to_first_step
 from footnav.core.initial_alignment import align_first_stance
 from footnav.core.ins_filter import FilterNoise, InsFilter
-from footnav.core.smoothing import SMOOTHERS, StepSmoother, run_step_smoothed, smooth
+from footnav.core.smoothing import SMOOTHERS, StepSmoother, smooth
 from footnav.core.types import FootTrajectory, ImuData, StanceResult
 
 __all__ = ["EkfEstimator"]
@@ -169,7 +169,6 @@ class EkfEstimator(FootEstimator):
         *,
         initial_yaw_rad: Sequence[float] | None = None,
         initial_position_m: Sequence[NDArray[np.float64]] | None = None,
-        _recorder: bool = True,
     ) -> InsFilter:
         """Align each foot at its first standstill and return the filter, ready to run.
 
@@ -217,7 +216,7 @@ class EkfEstimator(FootEstimator):
             np.array(cov0), noise, self.n_states,
         )
         filt.meta = metas
-        if self.smoother == "step" and _recorder:
+        if self.smoother == "step":
             filt.recorder = StepSmoother(filt)
         else:  # whole-walk smoothing re-runs segments of any length; no need to stop every step
             filt.step_stops = False
@@ -269,11 +268,6 @@ class EkfEstimator(FootEstimator):
             Nav-frame (z up) trajectory, starting at the origin.
         """
         t0 = time.perf_counter()
-        if self.smoother == "step" and not self.closed_loop:
-            # nothing acts between the steps: the whole step-wise run in one compiled call
-            filt = self.start([imu], [stance], _recorder=False)
-            traj = self.trajectory(filt, 0, stance, run_step_smoothed(filt), copy=False)
-            return self._finish(imu, filt, traj, t0)
         filt = self.start([imu], [stance])
         if self.closed_loop:
             steps = stance.intervals

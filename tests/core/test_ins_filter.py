@@ -200,18 +200,3 @@ def test_in_pass_step_smoothing_with_a_tiny_buffer_still_smooths_every_sample():
     assert np.isfinite(sm_p).all()
     # cut pieces lose a little of the backward information but stay close to the real thing
     assert np.abs(sm_p - ref_p).max() < 0.05
-
-
-@pytest.mark.parametrize("bias_states", [False, True])
-def test_compiled_step_smoothing_equals_the_step_smoother(bias_states):
-    from footnav.core.smoothing import run_step_smoothed
-
-    rec = footnav.simulate("rectangle", seed=8, width_m=8.0, height_m=5.0, standstill_s=1.0)
-    stance = StanceResult(rec.truth_left.stance)
-    est = EkfEstimator(smoother="step", bias_states=bias_states, zaru_std_radps=0.005 if bias_states else 0.0, heading="sensor")
-    general = est.start([rec.left], [stance])
-    general.run_until()
-    fast = est.start([rec.left], [stance], _recorder=False)
-    for a, b in zip(run_step_smoothed(fast), smooth(general, "step")):
-        np.testing.assert_allclose(a, b, rtol=0, atol=1e-12)
-    np.testing.assert_array_equal(fast.outputs(0)[2], general.outputs(0)[2])

@@ -16,8 +16,9 @@ reset to zero (closed loop, seed 002 Alg. 1).
 Two feet share one covariance: each foot's samples are processed in time order, and a
 measurement that links the feet (seed 001 eq. 7) updates both. :class:`InsFilter` runs the
 compiled per-sample loop between the points where a caller wants to act (:meth:`run_until`) and
-keeps checkpoints (state and covariance) at every step, so that :mod:`footnav.core.smoothing` can
-smooth the run afterwards in memory that grows with the number of steps, not of samples.
+keeps checkpoints (state and covariance) at step ends and where the caller updates, so that
+:mod:`footnav.core.smoothing` can smooth the run afterwards in memory that grows with the number
+of steps, not of samples.
 """
 
 from __future__ import annotations
@@ -403,8 +404,9 @@ class InsFilter:
     :meth:`run_until` (the compiled loop: strapdown, covariance prediction, ZUPT in stance),
     reads the current state (:meth:`position`, :meth:`velocity`, :meth:`quaternion`,
     :attr:`covariance`), applies its own measurements (:meth:`update`, :meth:`update_position`)
-    between runs, and collects the per-sample results with :meth:`outputs`. Every
-    :meth:`run_until` stop and every step end leaves a :class:`Checkpoint` for the smoother.
+    between runs, and collects the per-sample results with :meth:`outputs`. Step ends (when
+    ``step_stops``), full segments and the instants of the caller's updates leave a
+    :class:`Checkpoint` for the smoother.
 
     Attributes
     ----------

@@ -1,6 +1,6 @@
 """Madgwick orientation + 9-state error Kalman filter on [position, velocity, acceleration] (seed 003).
 
-Seed 003 (Li, Derrode et al. 2018), Sec. 3: the orientation comes from Madgwick's gradient-descent
+Seed 003 (Derrode, Li et al. 2018), Sec. 3: the orientation comes from Madgwick's gradient-descent
 filter (Madgwick et al. 2011, its ref. [6]), independently of the Kalman filter, which then only
 tracks the errors of the integration::
 
@@ -19,9 +19,13 @@ magnetometer (MARG), f adds the earth field ``[b_x, 0, b_z]`` seen in the sensor
 normalised field, ``b`` re-estimated from the current attitude at every sample.
 
 footnav's choices: noise as densities scaled with dt (rate independent); initial roll, pitch and
-gyro bias from the first standstill (as the ``ekf`` estimator); the output at every sample is the
-nominal state compensated by the filter's current error estimate (the paper compensates in
-stance only, which leaves the swing uncorrected).
+gyro bias from the first standstill (as the ``ekf`` estimator); with a magnetometer, the initial
+heading from the field of that standstill too (the paper's "short standing time period ... for
+initializing the quaternion corresponding to the earth frame", Sec. 4): started at the sensor's
+heading instead, the MARG filter would turn towards magnetic north at up to ``beta_radps`` during
+the walk and bend the trajectory. The output at every sample is the nominal state compensated by
+the filter's current error estimate (the paper compensates in stance only, which leaves the swing
+uncorrected).
 """
 
 from __future__ import annotations
@@ -32,14 +36,20 @@ from typing import Literal
 import numpy as np
 from numba import njit
 
+from footnav.core import quaternion as quat
 from footnav.core.component import FootEstimator, require, require_non_negative, require_positive
 from footnav.core.heading import turn_to_first_step
-from footnav.core.initial_alignment import align_first_stance
+from footnav.core.initial_alignment import MIN_STILL_SAMPLES, Alignment, align_first_stance
 from footnav.core.ins_filter import sym3_inverse
 from footnav.core.quaternion import as_matrix_nb
 from footnav.core.types import GRAVITY_MPS2, FootTrajectory, ImuData, StanceResult
 
 __all__ = ["MadgwickEstimator", "madgwick_imu_step", "madgwick_marg_step"]
+
+#: The magnetometer of an IMU-only run: read-only like ImuData's arrays, so that the IMU and MARG
+#: runs share one compiled variant of ``_loop`` (numba types read-only arrays apart).
+_NO_MAG = np.zeros((1, 3))
+_NO_MAG.setflags(write=False)
 
 
 @njit(cache=True, inline="always", error_model="numpy")
@@ -124,8 +134,11 @@ def madgwick_marg_step(q, gx, gy, gz, ax, ay, az, mx, my, mz, beta, dt):
 
 
 @njit(cache=True, error_model="numpy")
-def _loop(t, acc, gyr, mag, use_mag, stance, start, q0, beta, var_acc, var_da, var_zupt, p0_diag, q_out, v_out, r_out, rstd_out):
-    """Madgwick attitude, strapdown velocity/position and the eq. 3-6 error filter, samples start:."""
+def _loop(t, acc, gyr, mag, use_mag, stance, start, q0, beta, var_acc, var_da, var_zupt, p0_diag, q_out, v_out, r_out, rcov_out):
+    """Madgwick attitude, strapdown velocity/position and the eq. 3-6 error filter, samples start:.
+
+    ``rcov_out`` (N, 4) receives the position covariance as xx, xy, yy, zz (m^2): the horizontal
+    cross term is needed to turn the uncertainty with the heading."""
     n = len(t)
     q = q0.copy()
     v = np.zeros(3)
@@ -150,7 +163,7 @@ def _loop(t, acc, gyr, mag, use_mag, stance, start, q0, beta, var_acc, var_da, v
         q_out[k] = q
         v_out[k] = 0.0
         r_out[k] = 0.0
-        rstd_out[k] = 0.0
+        rcov_out[k] = 0.0
     for k in range(start + 1, n):
         dt = t[k] - t[k - 1]
         if use_mag:
@@ -221,14 +234,31 @@ def _loop(t, acc, gyr, mag, use_mag, stance, start, q0, beta, var_acc, var_da, v
         for i in range(3):
             v_out[k, i] = v[i] - de[3 + i]
             r_out[k, i] = r[i] - de[i]
-            rstd_out[k, i] = np.sqrt(max(p[i, i], 0.0))
+        rcov_out[k, 0], rcov_out[k, 1], rcov_out[k, 2], rcov_out[k, 3] = p[0, 0], p[0, 1], p[1, 1], p[2, 2]
+
+
+def _magnetic_start(imu: ImuData, align: Alignment, still_gyr_max_radps: float) -> tuple[np.ndarray, float]:
+    """Levelled start attitude turned so the horizontal field of the first standstill points
+    along nav +x (MARG's earth frame, Madgwick 2011 eq. 45-46), and that turn in rad.
+
+    The field is averaged over the same still samples as the levelling (all of the standstill
+    when fewer than ``MIN_STILL_SAMPLES`` are still)."""
+    a, b = align.start, align.stop
+    still = np.linalg.norm(imu.gyr[a:b], axis=1) < still_gyr_max_radps
+    if still.sum() < MIN_STILL_SAMPLES:
+        still[:] = True
+    h = quat.rotate(align.quaternion, imu.mag[a:b][still].mean(axis=0))
+    psi = -float(np.arctan2(h[1], h[0]))
+    return quat.multiply(quat.from_yaw(psi), align.quaternion), psi
 
 
 class MadgwickEstimator(FootEstimator):
     """Madgwick gradient-descent attitude + 9-state error KF [position, velocity, acceleration] (seed 003).
 
-    Seed 003 Sec. 3, eq. 3-6 (Li, Derrode et al. 2018) with Madgwick et al. (2011) for the
-    attitude. Noise parameters are densities, so results do not depend on the sampling rate.
+    Seed 003 Sec. 3, eq. 3-6 (Derrode, Li et al. 2018) with Madgwick et al. (2011) for the
+    attitude. Initial roll, pitch and gyro bias come from the first stance phase, and with a
+    magnetometer the heading too (x magnetic north); without one, heading starts at zero. Noise
+    parameters are densities, so results do not depend on the sampling rate.
 
     Parameters
     ----------
@@ -247,7 +277,8 @@ class MadgwickEstimator(FootEstimator):
         Standard deviation of the zero-velocity measurement, m/s.
     heading : {"first-step", "sensor"}
         Nav frame heading: turn the result so the first step points along +x, or keep the
-        filter's own (magnetic with MARG).
+        filter's own: the sensor's heading at the first standstill (IMU), magnetic north (MARG:
+        x north, y west, z up).
     gyro_bias : {"initial-standstill", "none"}
         Subtract the mean angular rate of the still samples of the first stance, or nothing.
     still_gyr_max_radps : float
@@ -305,30 +336,47 @@ class MadgwickEstimator(FootEstimator):
         -------
         FootTrajectory
             Nav-frame (z up) trajectory, starting at the origin.
+
+        Raises
+        ------
+        InvalidInputError
+            The stance mask's length differs from the recording's, or it has no stance.
+
+        Warns
+        -----
+        DataQualityWarning
+            The recording does not start at standstill (the estimate starts at the first stance,
+            ``meta["estimate_start_index"]``), or the integration crosses sampling gaps.
         """
         self.validate_params()
         t0 = time.perf_counter()
         s0, align, align_meta = align_first_stance(imu, stance, still_gyr_max_radps=self.still_gyr_max_radps)
         meta: dict = {"estimator": self.describe(), **align_meta}
         steps = stance.intervals
-        gyr = imu.gyr
+        bias = np.zeros(3)
         if self.gyro_bias == "initial-standstill":
-            gyr = gyr - align.gyro_bias_radps
-            meta["gyro_bias_radps"] = align.gyro_bias_radps.tolist()
+            bias = align.gyro_bias_radps
+            meta["gyro_bias_radps"] = bias.tolist()
+        gyr = imu.gyr - bias  # writable either way: numba compiles one variant of _loop per array type
         use_mag = bool(self.use_magnetometer and imu.mag is not None)
         meta["orientation"] = "madgwick-marg" if use_mag else "madgwick-imu"
+        q0 = align.quaternion
+        if use_mag:
+            q0, meta["magnetic_heading_rad"] = _magnetic_start(imu, align, self.still_gyr_max_radps)
         n = imu.n_samples
-        q_out, v_out, r_out, std = np.empty((n, 4)), np.empty((n, 3)), np.empty((n, 3)), np.empty((n, 3))
+        q_out, v_out, r_out, cov = np.empty((n, 4)), np.empty((n, 3)), np.empty((n, 3)), np.empty((n, 4))
         p0 = np.array([0.0] * 6 + [self.init_acc_error_std_mps2**2] * 3)
         _loop(
             imu.t, np.ascontiguousarray(imu.acc), np.ascontiguousarray(gyr),
-            np.ascontiguousarray(imu.mag) if use_mag else np.zeros((1, 3)), use_mag,
-            np.ascontiguousarray(stance.mask), s0, align.quaternion, float(self.beta_radps),
+            np.ascontiguousarray(imu.mag) if use_mag else _NO_MAG, use_mag,
+            np.ascontiguousarray(stance.mask), s0, q0, float(self.beta_radps),
             float(self.acc_noise_mps2_sqrthz) ** 2, float(self.acc_error_walk_mps3_sqrthz) ** 2,
-            float(self.zupt_std_mps) ** 2, p0, q_out, v_out, r_out, std,
+            float(self.zupt_std_mps) ** 2, p0, q_out, v_out, r_out, cov,
         )
         if self.heading == "first-step":
-            cov = np.column_stack([std[:, 0] ** 2, np.zeros(n), std[:, 1] ** 2, std[:, 2] ** 2])
             r_out, v_out, q_out, std = turn_to_first_step(r_out, v_out, q_out, cov, steps, meta)
+        else:
+            std = np.sqrt(np.maximum(cov[:, [0, 2, 3]], 0.0))
         meta["runtime_s"] = time.perf_counter() - t0
         return FootTrajectory(t=imu.t, position=r_out, velocity=v_out, quaternion=q_out, position_std=std, steps=steps, meta=meta)
+

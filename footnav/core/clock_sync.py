@@ -1,174 +1,375 @@
 """Clock synchronisation of two IMUs: from message exchanges (seed 002 Sec. 5B), or from the data.
 
-Seed 002 (Chistyakov et al. 2021), Sec. 5B: a master (the phone) and an IMU exchange time-stamped
-messages at the start and the end of a recording. Exchange i is ``[TM1_i, TI_i, TM2_i]``: master
-time when the request leaves, IMU time when it is stamped, master time when the reply arrives.
-With the IMU clock affine in master time, every exchange bounds the map::
+Seed 002 (Chistyakov et al. 2021), Sec. 5B ("Синхронизация устройств"): a master (the phone) and
+an IMU exchange time-stamped messages at the start and the end of a recording. Exchange i is
+``[TM1_i, TI_i, TM2_i]``: master time when the request leaves, IMU time when the IMU stamps it
+(and replies), master time when the reply arrives, all in s. With the master clock affine in the
+IMU clock, ``t_master = a t_imu + b``, every exchange bounds the map::
 
     TM1_i < a TI_i + b < TM2_i
 
-and two linear programs over ``x = [a, b]`` (LP1: min a, LP2: max a, subject to all bounds) give
-the feasible interval of a (and of b); the estimate is the midpoint of the two solutions, and the
-IMU's samples are mapped to master time by ``t = a t_imu + b - delay`` with ``delay`` the constant
-radio latency measured separately (0.03 s for their Bluetooth LE link).
+and two linear programs over ``x = [a, b]`` (LP1: min a, LP2: max a, subject to all bounds)
+give the feasible interval ``a1 <= a <= a2``; the estimate is the midpoint of their solutions,
+``a = (a1 + a2) / 2``, ``b = (b1 + b2) / 2``, and the IMU's samples are mapped to master time by
+``t = a t_imu + b - delay`` with ``delay`` the constant radio latency measured separately
+(0.03 s for their Bluetooth LE link). The paper reports < 10 ms misalignment over 10 minutes.
 
 Without exchanges, :func:`align_from_data` finds the offset (and drift) between two feet's
-clocks from the data: the envelope of the angular-rate energy, smoothed over more than a stride,
-rises and falls with walking and standing on both feet at once; it aligns clocks to about half a
-stride (within a stride the two feet's energies alternate, so a periodic gait cannot say more).
+clocks from the angular-rate energy; see its Notes for what the data can and cannot tell.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+import warnings
+from dataclasses import dataclass, field, replace
+from typing import Literal
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.optimize import linprog
 from scipy.signal import correlate
 
-from footnav.core.errors import InvalidInputError, InvalidParameterError
+from footnav.core.errors import DataQualityWarning, InvalidInputError, InvalidParameterError
 from footnav.core.types import ImuData
 
 __all__ = ["ClockMap", "fit_clock", "align_from_data", "apply_clock"]
 
+# Relative tolerance (of the exchanges' round-trip scale) when clipping the feasible polygon.
+_CLIP_TOL = 1e-9
+# Data fallback: the angular-rate energy is smoothed over this window (s) to find where each foot
+# starts and stops walking, and a foot counts as moving above this fraction of the 99th
+# percentile of its smoothed energy (a standstill is orders of magnitude below a swing).
+_ACTIVITY_SMOOTH_S = 0.1
+_ACTIVITY_FRACTION = 0.05
+# Stride periods searched in the autocorrelation of the gyro energy, s (slow to brisk walking).
+_STRIDE_RANGE_S = (0.5, 3.0)
 
-@dataclass(frozen=True)
+
+@dataclass(frozen=True, eq=False)
 class ClockMap:
-    """Affine map from an IMU's clock to the reference (master) clock: ``t = a t_imu + b - delay``.
+    """Affine map from an IMU's clock to a reference (master) clock: ``t = a t_imu + b - delay_s``.
 
     Attributes
     ----------
-    a, b
-        Rate (dimensionless) and offset (s).
-    a_bounds, b_bounds
-        Feasible intervals of a and b given the exchanges (None for a data-driven estimate).
+    a
+        Rate, dimensionless (master seconds per IMU second).
+    b
+        Offset, s (master time at IMU time 0).
     delay_s
-        Constant latency subtracted, s.
+        Constant latency subtracted by :meth:`__call__`, s (seed 002: the BLE delay, ~0.03 s).
     n
-        Exchanges used (or correlation windows for a data-driven estimate).
+        Exchanges used (``method="exchanges"``) or correlation windows (``method="data"``).
     method
-        ``"exchanges"`` (seed 002 Sec. 5B) or ``"data"``.
+        ``"exchanges"`` (:func:`fit_clock`, seed 002 Sec. 5B) or ``"data"`` (:func:`align_from_data`).
+    a_bounds, b_bounds
+        ``method="exchanges"``: seed 002's intervals ``a1 <= a <= a2`` and
+        ``min(b1, b2) <= b <= max(b1, b2)`` from the LP1/LP2 solutions ``[a1, b1]``, ``[a2, b2]``.
+        (The a interval is the whole feasible range; the b interval is the paper's, b at the two
+        extreme rates. For the guaranteed range of mapped times use :meth:`interval`.)
+        None for a data-driven map.
+    residuals_s
+        ``method="exchanges"``: per exchange, ``a TI_i + b - (TM1_i + TM2_i) / 2`` in s, the mapped
+        IMU stamp against the middle of its round trip: half the difference of the two one-way
+        delays when the map is right. A trend in them says the clock is not affine. None otherwise.
+    vertices
+        ``method="exchanges"``: corners ``[a, b]`` (K, 2) of the polygon of all maps consistent
+        with every exchange (the feasible set of LP1/LP2). None otherwise.
+    stride_s
+        ``method="data"``: stride period found in the gyro energy, s. None otherwise.
+    alternatives_b
+        ``method="data"``: other offsets b (s, same ``a``) that fit the data as well as ``b``,
+        whole strides away; empty when the data single out ``b``.
+
+    Examples
+    --------
+    >>> m = fit_clock([0.0, 600.0], [10.0, 610.01], [0.04, 600.04])
+    >>> round(m.a, 6), round(m.b, 3)
+    (0.999983, -9.98)
+    >>> round(float(m(10.0)), 9)
+    0.02
     """
 
     a: float
     b: float
-    a_bounds: tuple[float, float] | None
-    b_bounds: tuple[float, float] | None
-    delay_s: float
-    n: int
-    method: str
+    delay_s: float = 0.0
+    n: int = 0
+    method: str = "exchanges"
+    a_bounds: tuple[float, float] | None = None
+    b_bounds: tuple[float, float] | None = None
+    residuals_s: NDArray[np.float64] | None = field(default=None, repr=False)
+    vertices: NDArray[np.float64] | None = field(default=None, repr=False)
+    stride_s: float | None = None
+    alternatives_b: tuple[float, ...] = ()
 
     def __call__(self, t_imu: ArrayLike) -> NDArray[np.float64]:
-        """Reference-clock times of IMU times ``t_imu`` (s)."""
+        """Reference-clock times (s) of IMU times ``t_imu`` (s): ``a t_imu + b - delay_s``."""
         return self.a * np.asarray(t_imu, dtype=float) + self.b - self.delay_s
+
+    def interval(self, t_imu: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """Lowest and highest reference time (s) any map consistent with the exchanges gives.
+
+        The range of ``a t_imu + b - delay_s`` over the feasible polygon (:attr:`vertices`): a
+        guaranteed bound if the clocks are affine and the delays non-negative, but not the
+        accuracy, which with symmetric delays is much better than the interval's half width.
+
+        Raises
+        ------
+        InvalidInputError
+            The map does not come from exchanges (no feasible polygon).
+        """
+        if self.vertices is None:
+            raise InvalidInputError(
+                f"a {self.method!r} clock map has no feasible interval; only fit_clock gives one", field="vertices"
+            )
+        t = np.asarray(t_imu, dtype=float)
+        values = np.multiply.outer(t, self.vertices[:, 0]) + self.vertices[:, 1]
+        return values.min(axis=-1) - self.delay_s, values.max(axis=-1) - self.delay_s
 
     @property
     def drift_ppm(self) -> float:
-        """Rate error of the IMU clock in parts per million (positive: the IMU clock runs slow)."""
-        return (self.a - 1.0) * 1e6
+        """Rate error of the IMU clock against the reference in ppm, ``(1 / a - 1) 1e6``
+        (positive: the IMU clock runs fast, as ``clock_drift_ppm`` in :func:`footnav.simulate`)."""
+        return (1.0 / self.a - 1.0) * 1e6
 
 
-def _vector(x: ArrayLike, field: str) -> NDArray[np.float64]:
-    arr = np.asarray(x, dtype=float).reshape(-1)
+# -- from message exchanges (seed 002 Sec. 5B) ---------------------------------------------------
+
+
+def _vector(x: ArrayLike, name: str) -> NDArray[np.float64]:
+    try:
+        arr = np.asarray(x, dtype=float)
+    except (TypeError, ValueError):
+        raise InvalidInputError(f"expected a sequence of times in s, got {x!r}", field=name) from None
+    if arr.ndim != 1:
+        raise InvalidInputError(f"expected a 1-D sequence of times in s, got shape {arr.shape}", field=name)
     bad = np.flatnonzero(~np.isfinite(arr))
     if len(bad):
-        raise InvalidInputError(f"exchange time {arr[bad[0]]!r} is not finite", field=field, index=int(bad[0]))
+        raise InvalidInputError(f"exchange time {arr[bad[0]]!r} is not finite", field=name, index=int(bad[0]))
     return arr
 
 
+def _lp(c: list[float], a_ub: NDArray, b_ub: NDArray):
+    return linprog(c=c, A_ub=a_ub, b_ub=b_ub, bounds=[(None, None), (None, None)], method="highs")
+
+
+def _clip(poly: NDArray[np.float64], normal: NDArray[np.float64], limit: float, tol: float) -> NDArray[np.float64]:
+    """Convex polygon ``poly`` (K, 2) cut to ``normal . x <= limit`` (Sutherland-Hodgman)."""
+    s = poly @ normal - limit
+    if (s <= tol).all():
+        return poly
+    out = []
+    for k in range(len(poly)):
+        p, q, sp, sq = poly[k], poly[(k + 1) % len(poly)], s[k], s[(k + 1) % len(poly)]
+        if sp <= tol:
+            out.append(p)
+        if (sp < -tol and sq > tol) or (sp > tol and sq < -tol):
+            out.append(p + (q - p) * (sp / (sp - sq)))
+    return np.array(out).reshape(-1, 2)
+
+
 def fit_clock(tm1: ArrayLike, ti: ArrayLike, tm2: ArrayLike, *, delay_s: float = 0.0) -> ClockMap:
-    """Seed 002 Sec. 5B: a and b from message exchanges by two linear programs.
+    """Seed 002 Sec. 5B: the affine clock map ``t_master = a t_imu + b`` from message exchanges.
 
     Parameters
     ----------
     tm1, ti, tm2
-        Per exchange: master time the request left, IMU time stamp, master time the reply
-        arrived, s. Exchanges spread over the recording (seed 002: at its start and its end)
-        pin the rate a; exchanges at one time only pin b.
+        Per exchange i, shape (N,): master time the request left, IMU time stamp, master time the
+        reply arrived, s. Exchanges spread over the recording (seed 002: several at its start
+        and several at its end) pin the rate a; exchanges at one time only cannot.
     delay_s
-        Constant radio latency to subtract from mapped times, s.
+        Constant radio latency subtracted from mapped times, s (seed 002: ``Delta_ble`` ~ 0.03 s,
+        measured separately; 0 when the exchanges' delays are symmetric).
 
     Returns
     -------
     ClockMap
-        ``a = (a1 + a2) / 2``, ``b = (b1 + b2) / 2`` from LP1 (min a) and LP2 (max a), with the
-        feasible intervals.
+        ``method="exchanges"``, with seed 002's intervals of a and b, the residuals and the
+        feasible polygon.
 
     Raises
     ------
     InvalidInputError
-        Fewer than 2 exchanges, arrays of different lengths, non-finite times, a reply before its
-        request (``tm2 < tm1``), or no affine map fits all exchanges (a bad time stamp).
+        Fewer than 2 exchanges, arrays not 1-D or of different lengths, non-finite times, a
+        reply before its request (``tm2 < tm1``), all IMU stamps equal, or no increasing affine
+        map fits all exchanges (``index`` names the first exchange that contradicts those
+        before it).
+    InvalidParameterError
+        ``delay_s`` not finite.
+
+    Notes
+    -----
+    Every exchange bounds the map, ``TM1_i <= a TI_i + b <= TM2_i`` (seed 002 writes strict
+    inequalities; the LP solver needs closed ones), i.e. ``A x <= B`` with ``x = [a, b]``, rows
+    ``[TI_i, 1]`` and ``[-TI_i, -1]`` of A and ``TM2_i``, ``-TM1_i`` of B. Then
+
+    LP1: ``c' x -> min``, LP2: ``c' x -> max``, ``c = [1, 0]``, solutions ``[a1, b1]``, ``[a2, b2]``;
+
+    ``a = (a1 + a2) / 2``, ``b = (b1 + b2) / 2``, and ``t = a t_imu + b - delay``.
+
+    The LPs are solved in IMU time centred on the mean stamp (same optimum, better conditioned
+    when the clocks' epochs are large). The midpoint lies inside the feasible polygon (it is
+    convex), so the map satisfies every exchange. Its accuracy depends on the delays: if the
+    up and down delays are equal on average, the midpoint is unbiased, and the more exchanges
+    with short delays there are, the smaller the polygon; a constant asymmetry ``Delta`` between
+    them shifts ``b`` by ``Delta / 2``, which is what ``delay_s`` corrects.
+
+    Examples
+    --------
+    >>> ti = [10.0, 11.0, 610.0, 611.0]
+    >>> true = [1.0001 * t - 0.5 for t in ti]
+    >>> m = fit_clock([t - 0.03 for t in true], ti, [t + 0.03 for t in true])
+    >>> round(m.a, 9), round(m.b, 6), round(m.drift_ppm, 3)
+    (1.0001, -0.5, -99.99)
     """
     m1, i, m2 = _vector(tm1, "tm1"), _vector(ti, "ti"), _vector(tm2, "tm2")
-    if not (len(m1) == len(i) == len(m2)):
-        raise InvalidInputError(f"exchange arrays differ in length: tm1 {len(m1)}, ti {len(i)}, tm2 {len(m2)}", field="ti")
+    for name, arr in (("ti", i), ("tm2", m2)):
+        if len(arr) != len(m1):
+            raise InvalidInputError(
+                f"has {len(arr)} exchanges but tm1 has {len(m1)}; give one [tm1, ti, tm2] per exchange", field=name
+            )
     if len(i) < 2:
         raise InvalidInputError(f"need at least 2 exchanges, got {len(i)}", field="ti")
     back = np.flatnonzero(m2 < m1)
     if len(back):
+        k = int(back[0])
         raise InvalidInputError(
-            f"reply received before its request was sent (tm2 {m2[back[0]]!r} < tm1 {m1[back[0]]!r})",
-            field="tm2",
-            index=int(back[0]),
+            f"reply received before its request was sent (tm2 {m2[k]!r} < tm1 {m1[k]!r})", field="tm2", index=k
+        )
+    if np.ptp(i) == 0:
+        raise InvalidInputError(
+            f"every IMU stamp is {i[0]!r} s: exchanges at one IMU time cannot give the clock rate; "
+            "exchange messages at the start and at the end of the recording",
+            field="ti",
         )
     if not np.isfinite(delay_s):
-        raise InvalidParameterError(f"delay_s must be finite, got {delay_s!r}")
-    # centre the IMU times: the LP is then well conditioned whatever the clocks' epochs
+        raise InvalidParameterError(f"fit_clock: delay_s={delay_s!r}; expected a finite latency in s")
+
+    # Centre the IMU times: a (t - i0) + c = a t + (c - a i0), and rows [TI, 1], [-TI, -1] (seed 002).
     i0 = float(np.mean(i))
     ic = i - i0
-    a_ub = np.concatenate([np.column_stack([ic, np.ones_like(ic)]), -np.column_stack([ic, np.ones_like(ic)])])
+    rows = np.column_stack([ic, np.ones_like(ic)])
+    a_ub = np.concatenate([rows, -rows])  # A x <= B
     b_ub = np.concatenate([m2, -m1])
     sols = []
-    for sign in (1.0, -1.0):  # LP1: min a, LP2: max a
-        res = linprog(c=[sign, 0.0], A_ub=a_ub, b_ub=b_ub, bounds=[(None, None), (None, None)], method="highs")
-        if res.status != 0:
+    for sign in (1.0, -1.0):  # LP1: c'x -> min, LP2: c'x -> max (min of -c'x), c = [1, 0]
+        res = _lp([sign, 0.0], a_ub, b_ub)
+        if res.status == 2:  # infeasible: find the first exchange that contradicts those before it
+            lo, hi = 1, len(i)  # exchanges [0, lo) are consistent, [0, hi) are not
+            while hi - lo > 1:
+                mid = (lo + hi) // 2
+                sub = np.r_[0:mid, len(i) : len(i) + mid]
+                lo, hi = (mid, hi) if _lp([0.0, 0.0], a_ub[sub], b_ub[sub]).status == 0 else (lo, mid)
             raise InvalidInputError(
-                f"no affine clock map fits every exchange ({res.message.strip()}); a time stamp is wrong or the "
-                "clock is not affine over the exchanges",
+                f"no affine clock map fits exchanges 0..{lo}: exchange {lo} (tm1={m1[lo]!r}, ti={i[lo]!r}, "
+                f"tm2={m2[lo]!r}) contradicts those before it; a time stamp is wrong or the clock jumped",
                 field="ti",
+                index=lo,
             )
+        if res.status != 0:
+            raise InvalidInputError(f"the clock LP failed: {res.message.strip()}", field="ti")
         sols.append(res.x)
     (a1, c1), (a2, c2) = sols
-    b1, b2 = c1 - a1 * i0, c2 - a2 * i0  # back from centred times: a (t - i0) + c = a t + (c - a i0)
+    if a1 <= 0:
+        raise InvalidInputError(
+            f"the exchanges allow a clock rate a={a1!r} <= 0: the IMU stamps do not increase with master time, "
+            "or the exchanges are too close together for their round trips to pin the rate",
+            field="ti",
+        )
+    a = 0.5 * (a1 + a2)  # a = (a1 + a2) / 2
+    c = 0.5 * (c1 + c2)  # b = (b1 + b2) / 2, centred
+
+    # Feasible polygon in (a s, c) with s = max |ti - i0|, both in s: a box from the LP bounds, cut
+    # by every exchange's two half-planes.
+    scale = max(float(np.max(np.abs(ic))), 1e-300)
+    u1, u2 = a1 * scale, a2 * scale
+    w = ic / scale
+    c_lo = float(np.max(m1 - np.maximum(u1 * w, u2 * w)))
+    c_hi = float(np.min(m2 - np.minimum(u1 * w, u2 * w)))
+    poly = np.array([[u1, c_lo], [u2, c_lo], [u2, c_hi], [u1, c_hi]])
+    tol = _CLIP_TOL * max(float(np.max(m2 - m1)), 1e-3)
+    for k in range(len(i)):
+        poly = _clip(poly, np.array([w[k], 1.0]), m2[k], tol)  # a TI + b <= TM2
+        poly = _clip(poly, np.array([-w[k], -1.0]), -m1[k], tol)  # a TI + b >= TM1
+    if len(poly) == 0:  # rounding on a degenerate (zero-width) polygon: the LP solutions span it
+        poly = np.array([[u1, c1], [u2, c2]])
+    verts = np.column_stack([poly[:, 0] / scale, poly[:, 1] - poly[:, 0] / scale * i0])
+
+    b1, b2 = c1 - a1 * i0, c2 - a2 * i0
     return ClockMap(
-        a=0.5 * (a1 + a2),
-        b=0.5 * (b1 + b2),
-        a_bounds=(float(min(a1, a2)), float(max(a1, a2))),
-        b_bounds=(float(min(b1, b2)), float(max(b1, b2))),
+        a=float(a),
+        b=float(c - a * i0),
         delay_s=float(delay_s),
         n=len(i),
         method="exchanges",
+        a_bounds=(float(a1), float(a2)),
+        b_bounds=(float(min(b1, b2)), float(max(b1, b2))),
+        residuals_s=a * ic + c - 0.5 * (m1 + m2),
+        vertices=verts,
     )
 
 
+# -- from the data --------------------------------------------------------------------------------
+
+
 def _energy(imu: ImuData, grid: NDArray[np.float64], smooth_s: float) -> NDArray[np.float64]:
-    """|gyr|^2 on ``grid`` (s, the IMU's own clock), smoothed by a moving average of ``smooth_s``
-    (0: raw), mean removed."""
-    energy = np.interp(grid, imu.t, np.sum(imu.gyr**2, axis=1), left=0.0, right=0.0)
-    if smooth_s > 0:
-        w = max(1, int(round(smooth_s / (grid[1] - grid[0]))))
+    """|gyr|^2 in (rad/s)^2 on ``grid`` (s, the IMU's own clock), moving average over ``smooth_s``
+    (0: none)."""
+    energy = np.interp(grid, imu.t, np.sum(imu.gyr**2, axis=1))
+    w = int(round(smooth_s / (grid[1] - grid[0])))
+    if w > 1:
         energy = np.convolve(energy, np.ones(w) / w, mode="same")
-    return energy - energy.mean()
+    return energy
 
 
-def _lag(ref: NDArray, other: NDArray, dt: float, lo: float, hi: float) -> float:
-    """Lag (s) in [lo, hi] at the peak of the cross-correlation of ``ref`` and ``other``
-    (``other[n]`` matches ``ref[n + lag / dt]``), refined by a parabola through the peak."""
-    xc = correlate(ref, other, mode="full", method="fft")
-    lags = np.arange(-len(other) + 1, len(ref)) * dt  # other[n] matches ref[n + lag]
-    keep = (lags >= lo) & (lags <= hi)
-    xc, lags = xc[keep], lags[keep]
-    if len(xc) == 0:
-        raise InvalidInputError("recordings do not overlap within the offsets searched", field="t")
-    k = int(np.argmax(xc))
-    frac = 0.0
-    if 0 < k < len(xc) - 1:
-        y0, y1, y2 = xc[k - 1], xc[k], xc[k + 1]
-        denom = y0 - 2 * y1 + y2
-        frac = 0.5 * (y0 - y2) / denom if denom != 0 else 0.0
-    return float(lags[k] - frac * dt)
+def _parabolic(y: NDArray, k: int) -> float:
+    """Sub-sample offset of the extremum of the parabola through ``y[k-1:k+2]`` (0 at an end)."""
+    if not 0 < k < len(y) - 1:
+        return 0.0
+    y0, y1, y2 = y[k - 1], y[k], y[k + 1]
+    denom = y0 - 2 * y1 + y2
+    return float(0.5 * (y0 - y2) / denom) if denom != 0 else 0.0
+
+
+class _Correlation:
+    """Cross-correlation of two energies against the offset ``b`` (s) that aligns them:
+    ``other``'s sample at its time ``t`` matches ``ref``'s at ``t + b``."""
+
+    def __init__(self, ref: NDArray, other: NDArray, dt: float, b_zero: float) -> None:
+        ref, other = ref - ref.mean(), other - other.mean()
+        self.xc = correlate(ref, other, mode="full", method="fft")
+        self.b = b_zero + np.arange(-len(other) + 1, len(ref)) * dt
+        self.dt = dt
+
+    def peak(self, lo: float, hi: float) -> float | None:
+        """Offset of the highest correlation in [lo, hi], refined by a parabola; None if none."""
+        keep = np.flatnonzero((self.b >= lo) & (self.b <= hi))
+        if len(keep) == 0:
+            return None
+        k = int(keep[np.argmax(self.xc[keep])])
+        return float(self.b[k] + _parabolic(self.xc, k) * self.dt)
+
+
+def _stride_period(energy: NDArray, dt: float) -> float:
+    """Stride period (s) at the autocorrelation peak of one foot's energy, parabola-refined."""
+    e = energy - energy.mean()
+    ac = correlate(e, e, mode="full", method="fft")[len(e) - 1 :]
+    lo, hi = int(_STRIDE_RANGE_S[0] / dt), min(int(_STRIDE_RANGE_S[1] / dt), len(ac) - 2)
+    if hi <= lo:
+        raise InvalidInputError("recording too short to find a stride period in the gyro energy", field="t")
+    k = lo + int(np.argmax(ac[lo:hi]))
+    return (k + _parabolic(ac, k)) * dt
+
+
+def _activity_span(imu: ImuData, dt: float) -> tuple[float, float, bool, bool]:
+    """First and last time (s, own clock) the foot moves, and whether each lies inside the
+    recording (a standstill before / after it) rather than at its edge."""
+    grid = np.arange(imu.t[0], imu.t[-1], dt)
+    e = _energy(imu, grid, _ACTIVITY_SMOOTH_S)
+    moving = np.flatnonzero(e > _ACTIVITY_FRACTION * np.percentile(e, 99))
+    if len(moving) == 0:
+        return float(grid[0]), float(grid[-1]), False, False
+    margin = int(round(1.0 / dt))  # a second of standstill at least
+    return float(grid[moving[0]]), float(grid[moving[-1]]), moving[0] > margin, moving[-1] < len(grid) - 1 - margin
 
 
 def align_from_data(
@@ -179,57 +380,224 @@ def align_from_data(
     smooth_s: float = 3.0,
     max_offset_s: float = 60.0,
     drift: bool = False,
+    leading_foot: Literal["reference", "other"] | None = None,
 ) -> ClockMap:
-    """Offset (and drift) of ``other``'s clock against ``reference``'s, from the gyro energy.
+    """Offset (and drift) of ``other``'s clock against ``reference``'s from the gyro energy.
 
-    Both feet walk and stand together, so the envelope of |gyr|^2 smoothed over ``smooth_s``
-    (more than a stride) is nearly the same curve on both clocks; its cross-correlation peak
-    (parabolic sub-sample refinement) gives the offset. With ``drift=True`` the first and last
-    thirds are aligned separately and the two offsets give the rate.
+    A fallback for two feet recorded without clock exchanges (seed 002 Sec. 5B synchronises by
+    exchanges, :func:`fit_clock`). Both recordings should start and end with both feet still
+    for a second or more; a recording that starts or ends mid-walk leaves the whole-stride
+    choice open (a DataQualityWarning, candidates in ``alternatives_b``).
 
-    Accuracy: about half a stride (0.5 s). The foot that starts walking first starts its
-    envelope half a stride before the other, and nothing in a periodic gait tells which foot
-    that was: within a stride the two feet's energies alternate, so any finer alignment is
-    ambiguous by whole strides. Good enough to bring two clocks that are seconds or minutes apart
-    onto one time line for the detectors and fusions that need that; for the millisecond
-    alignment of seed 002 use exchanges (:func:`fit_clock`) or a synchronising event both feet
-    record (a stamp with both feet).
+    Parameters
+    ----------
+    reference, other
+        The two feet's recordings, each on its own clock (s).
+    rate_hz
+        Common grid on which the energies |gyr|^2 are resampled, Hz.
+    smooth_s
+        Moving-average window of the coarse (walking/standing envelope) step, s; more than a
+        stride.
+    max_offset_s
+        Largest clock offset searched, s.
+    drift
+        Also estimate the rate: the first and last thirds of the recordings are aligned
+        separately. Assumes the drift moves the clocks apart by less than half a stride over
+        the recording (half of a 1.1 s stride over 10 min is 900 ppm).
+    leading_foot
+        Which foot started walking, if known (``"reference"`` or ``"other"``). Used only where
+        the data leave two offsets a stride apart equally likely (see Notes).
 
     Returns
     -------
     ClockMap
-        Maps ``other``'s times to ``reference``'s clock (``method="data"``).
+        Maps ``other``'s times to ``reference``'s clock, ``method="data"``, ``n`` the windows
+        correlated (1, or 2 with ``drift``), ``stride_s`` the stride period found and
+        ``alternatives_b`` the offsets the data could not rule out.
+
+    Raises
+    ------
+    InvalidParameterError
+        A non-positive or non-finite ``rate_hz``, ``smooth_s`` or ``max_offset_s``, or an
+        unknown ``leading_foot``.
+    InvalidInputError
+        Recordings too short, or not overlapping within ``max_offset_s``.
+
+    Warns
+    -----
+    DataQualityWarning
+        When the whole-stride choice is ambiguous and ``leading_foot`` is not given, or the
+        data contradict ``leading_foot``; ``alternatives_b`` holds the other candidates.
+
+    Notes
+    -----
+    The two feet swing alternately: within a stride the energy of one foot is high while the
+    other's is low, so their energies are anti-phase and a plain cross-correlation peaks half a
+    stride away from the true offset. Three steps, tried on simulated walks
+    (``footnav.simulate(..., clock_offset_s=...)``):
+
+    1. *Coarse*: the energies smoothed over ``smooth_s`` (the walking/standing envelope), cross-
+       correlated. The envelopes of the two feet differ at their ends by half a stride (one
+       foot starts or stops first), so this is only good to about half a stride (measured 0 to
+       0.54 s for a 1.1 s stride, depending on the walk).
+    2. *Within the stride*: the raw energies cross-correlated near the coarse offset. The peaks
+       lie where one foot's swings meet the other's, at ``b + T/2 + k T`` (T the stride period),
+       and the midpoint of two neighbouring peaks, refined by parabolas, is ``b`` modulo T.
+       This assumes one foot swings exactly half a stride after the other: a step-time
+       asymmetry ``delta`` (the time from a reference swing to the next other swing, minus T/2)
+       shifts both peaks, and the offset, by ``delta``; it is indistinguishable from a clock
+       offset. In the simulator (symmetric gait, no step-to-step variability) the error is
+       < 1 ms; on real gait the walker's step-time asymmetry goes into the offset in full (not
+       measured here: no two-foot recording with a clock reference was at hand).
+    3. *Which stride*: the candidates ``b + k T`` are told apart by where each foot starts and
+       stops moving. Feet alternate, so on the right candidate the first swings of the two
+       feet are about T/2 apart and so are the last ones. When one foot both starts and ends
+       the walk (one more swing than the other) a single candidate fits; when the feet make
+       equally many swings, ``b`` and ``b + T`` (or ``b - T``) fit equally well: one is "the
+       reference foot led and the other stopped last", the other the reverse, and nothing in
+       the gyro energy of a periodic gait tells them apart. Then ``leading_foot`` decides;
+       without it the candidate nearest the coarse estimate is returned (a coin toss), with a
+       DataQualityWarning and the other in ``alternatives_b``. With only one end of the walk in
+       both recordings, two candidates fit (``leading_foot`` settles it if that end is the
+       start); with neither, the offset is known only modulo the stride.
+
+    So: the offset modulo a stride is as good as the gait is symmetric; the whole-stride choice
+    needs a standstill at both ends and either unequal step counts or the leading foot. For
+    the millisecond alignment of seed 002 use exchanges (:func:`fit_clock`) or an event both
+    feet record (stamping both feet together).
+
+    Examples
+    --------
+    >>> import footnav
+    >>> rec = footnav.simulate("straight", distance_m=30.0, clock_offset_s=4.2)
+    >>> m = align_from_data(rec.left, rec.right, leading_foot="other")
+    >>> round(float(m(rec.right.t[0])), 3)
+    0.0
     """
     for name, v in (("rate_hz", rate_hz), ("smooth_s", smooth_s), ("max_offset_s", max_offset_s)):
-        if not (np.isfinite(v) and v > 0):
+        if isinstance(v, bool) or not isinstance(v, (int, float, np.number)) or not (np.isfinite(v) and v > 0):
             raise InvalidParameterError(f"align_from_data: {name}={v!r}; expected a positive number")
+    if leading_foot not in (None, "reference", "other"):
+        raise InvalidParameterError(
+            f"align_from_data: leading_foot={leading_foot!r}; expected 'reference', 'other' or None"
+        )
     dt = 1.0 / rate_hz
-
-    def offset(t_ref: tuple[float, float], t_oth: tuple[float, float]) -> float:
-        g_ref = np.arange(t_ref[0], t_ref[1], dt)
-        g_oth = np.arange(t_oth[0], t_oth[1], dt)
-        if len(g_ref) < 4 or len(g_oth) < 4:
-            raise InvalidInputError("recordings too short to align from the data", field="t")
-        lag = _lag(_energy(reference, g_ref, smooth_s), _energy(other, g_oth, smooth_s), dt, -max_offset_s, max_offset_s)
-        # other's sample at other-time g_oth[0] + s shows what reference shows at g_ref[0] + s + lag
-        return g_ref[0] - g_oth[0] + lag
-
     r0, r1 = float(reference.t[0]), float(reference.t[-1])
     o0, o1 = float(other.t[0]), float(other.t[-1])
-    if not drift:
-        b = offset((r0, r1), (o0, o1))
-        return ClockMap(a=1.0, b=b, a_bounds=None, b_bounds=None, delay_s=0.0, n=1, method="data")
-    third_r, third_o = (r1 - r0) / 3, (o1 - o0) / 3
-    b_start = offset((r0, r0 + third_r), (o0, o0 + third_o))
-    b_end = offset((r1 - third_r, r1), (o1 - third_o, o1))
-    t_start, t_end = o0 + third_o / 2, o1 - third_o / 2
-    # reference = other + b(t): a = 1 + (b_end - b_start) / (t_end - t_start), b at t = 0
-    a = 1.0 + (b_end - b_start) / (t_end - t_start)
-    b = b_start + t_start - a * t_start
-    return ClockMap(a=a, b=b, a_bounds=None, b_bounds=None, delay_s=0.0, n=2, method="data")
+
+    def grids(span_r: tuple[float, float], span_o: tuple[float, float]) -> tuple[NDArray, NDArray]:
+        g_ref, g_oth = np.arange(*span_r, dt), np.arange(*span_o, dt)
+        if len(g_ref) < 4 or len(g_oth) < 4:
+            raise InvalidInputError("recordings too short to align from the data", field="t")
+        return g_ref, g_oth
+
+    # 1. Coarse: walking/standing envelopes over the whole recordings.
+    g_ref, g_oth = grids((r0, r1), (o0, o1))
+    coarse = _Correlation(_energy(reference, g_ref, smooth_s), _energy(other, g_oth, smooth_s), dt, g_ref[0] - g_oth[0])
+    b_coarse = coarse.peak(-max_offset_s, max_offset_s)
+    if b_coarse is None:
+        raise InvalidInputError(f"the recordings do not overlap at any offset within +-{max_offset_s} s", field="t")
+    period = _stride_period(_energy(reference, g_ref, 0.0), dt)
+
+    # 2. Within the stride: anti-phase peaks at b + T/2 + k T; their midpoints are b + k T.
+    def fine(span_r: tuple[float, float], span_o: tuple[float, float], near: float) -> tuple[float, float]:
+        g_r, g_o = grids(span_r, span_o)
+        xc = _Correlation(_energy(reference, g_r, 0.0), _energy(other, g_o, 0.0), dt, g_r[0] - g_o[0])
+        p1 = xc.peak(near - period, near + period)
+        if p1 is None:
+            raise InvalidInputError("the recordings do not overlap near the coarse offset", field="t")
+        side = 1.0 if p1 < near else -1.0  # the neighbouring peak on the side of `near`
+        lo, hi = sorted((p1 + side * period / 2, p1 + side * 3 * period / 2))
+        p2 = xc.peak(lo, hi)
+        stride = abs(p2 - p1) if p2 is not None else period
+        mid = 0.5 * (p1 + p2) if p2 is not None else p1 - side * period / 2
+        return mid + round((near - mid) / stride) * stride, stride
+
+    if drift:
+        third_r, third_o = (r1 - r0) / 3, (o1 - o0) / 3
+        b_start, stride = fine((r0, r0 + third_r), (o0, o0 + third_o), b_coarse)
+        b_end, _ = fine((r1 - third_r, r1), (o1 - third_o, o1), b_start)
+        t_start, t_end = o0 + third_o / 2, o1 - third_o / 2
+        # reference = other + b(t), b(t) linear: a = 1 + (b_end - b_start) / (t_end - t_start)
+        a = 1.0 + (b_end - b_start) / (t_end - t_start)
+        b = b_start - (a - 1.0) * t_start
+    else:
+        a, (b, stride) = 1.0, fine((r0, r1), (o0, o1), b_coarse)
+
+    # 3. Which stride: the feet's first swings T/2 apart, and their last swings.
+    f_ref, l_ref, start_ok_r, end_ok_r = _activity_span(reference, dt)
+    f_oth, l_oth, start_ok_o, end_ok_o = _activity_span(other, dt)
+    # every candidate b + k T within the offsets searched
+    k_max = int(np.ceil((max_offset_s + abs(b)) / stride))
+    ks = np.arange(-k_max, k_max + 1)
+    ks = ks[np.abs(b + ks * stride) <= max_offset_s + stride]
+    d_start = a * f_oth + b + ks * stride - f_ref  # > 0: the reference foot started first
+    d_end = a * l_oth + b + ks * stride - l_ref  # > 0: the other foot stopped last
+    edge_start, edge_end = start_ok_r and start_ok_o, end_ok_r and end_ok_o
+    if edge_start or edge_end:  # |d| = T/2 at each usable edge on a right candidate, >= 3T/2 otherwise
+        cost = edge_start * np.abs(d_start) + edge_end * np.abs(d_end)
+        fits = np.flatnonzero(cost < cost.min() + stride / 2)
+    else:  # the recordings begin and end mid-walk: any whole stride fits; report the neighbours
+        fits = np.flatnonzero(np.abs(b + ks * stride - b_coarse) < 1.5 * stride)
+    if leading_foot is not None and edge_start:
+        agree = fits[(d_start[fits] > 0) == (leading_foot == "reference")]
+        if len(agree) == 0:
+            warnings.warn(
+                f"align_from_data: the data say the {'other' if leading_foot == 'reference' else 'reference'} "
+                f"foot started walking, not the {leading_foot!r} one; kept the data's offset",
+                DataQualityWarning,
+                stacklevel=2,
+            )
+        else:
+            fits = agree
+    best = int(fits[np.argmin(np.abs(b + ks[fits] * stride - b_coarse))])
+    alternatives = tuple(float(b + k * stride) for k in ks[fits] if k != ks[best])
+    if alternatives:
+        if edge_start and edge_end:
+            why = "the feet made equally many swings; pass leading_foot= if you know which foot started walking"
+        elif edge_start:
+            why = "a recording ends mid-walk; pass leading_foot= if you know which foot started walking"
+        elif edge_end:
+            why = "a recording starts mid-walk"
+        else:
+            why = (
+                f"a recording starts mid-walk and one ends mid-walk: the offset is known only modulo the "
+                f"stride, {stride:.3f} s, and is as likely any whole number of strides away"
+            )
+        warnings.warn(
+            f"align_from_data: offsets {b + ks[best] * stride:.3f} s and "
+            f"{', '.join(f'{x:.3f}' for x in alternatives)} s (a stride apart) fit the data equally well "
+            f"({why}); returned the one nearest the walking envelope's",
+            DataQualityWarning,
+            stacklevel=2,
+        )
+    return ClockMap(
+        a=float(a),
+        b=float(b + ks[best] * stride),
+        n=2 if drift else 1,
+        method="data",
+        stride_s=float(stride),
+        alternatives_b=alternatives,
+    )
 
 
 def apply_clock(imu: ImuData, clock: ClockMap) -> ImuData:
-    """``imu`` with its times mapped to the reference clock; ``meta["clock"]`` records the map."""
-    record = {"a": clock.a, "b": clock.b, "delay_s": clock.delay_s, "method": clock.method, "n": clock.n}
+    """``imu`` with its times mapped to the reference clock, ``t = clock(imu.t)`` (s).
+
+    ``meta["clock"]`` records the map (``a``, ``b``, ``delay_s``, ``method``, ``n``,
+    ``alternatives_b``): the own-clock times are ``(t + delay_s - b) / a``.
+
+    Raises
+    ------
+    InvalidInputError
+        The map makes the times non-increasing (``a <= 0``), from :class:`ImuData`.
+    """
+    record = {
+        "a": clock.a,
+        "b": clock.b,
+        "delay_s": clock.delay_s,
+        "method": clock.method,
+        "n": clock.n,
+        "alternatives_b": clock.alternatives_b,
+    }
     return replace(imu, t=clock(imu.t), meta={**imu.meta, "clock": record})

@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import difflib
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from numbers import Real
 from typing import Any, Mapping, Sequence
 
@@ -96,6 +96,7 @@ _COMMON_DEFAULTS: dict[str, Any] = {
     "clock_drift_ppm": 0.0,
     "clock_exchanges": 0,
     "exchange_delay_s": 0.02,
+    "exchange_jitter_s": 0.02,
     # Consumer/industrial MEMS grade (BMI160 / MPU-9250 / MTi-3 class): ~0.01 deg/s/sqrt(Hz) and
     # ~100 ug/sqrt(Hz) white noise, ~0.1 deg/s and ~2 mg turn-on bias after factory calibration.
     "gyr_noise_density_radps_sqrthz": 1.7e-4,
@@ -186,6 +187,7 @@ def _resolve_options(scenario: Any, rate_hz: Any, options: Mapping[str, Any]) ->
     if isinstance(n_ex, bool) or not isinstance(n_ex, (int, np.integer)) or n_ex < 0 or n_ex == 1:
         raise _fail("clock_exchanges", n_ex, "0 (none) or an integer >= 2")
     opts["exchange_delay_s"] = _non_negative(opts, "exchange_delay_s")
+    opts["exchange_jitter_s"] = _non_negative(opts, "exchange_jitter_s")
     for name in ("step_width_m", "standstill_s", "heel_strike_impact_mps2", *_NOISE_KEYS):
         opts[name] = _non_negative(opts, name)
     for name in ("toe_off_pitch_deg", "heel_strike_pitch_deg"):
@@ -712,17 +714,34 @@ def simulate(scenario: str = "straight", *, seed: int = 0, rate_hz: float = 100.
         min(swing_s, foot_flat_s)``: the pulse stays between toe-off and stance.
     heel_strike_impact_s : float, default 0.01
         Width (sigma) of the impact wavelet in s; the transient lasts about 6 sigma (+-3 sigma).
-    clock_offset_s, clock_drift_ppm : float, default 0, 0
-        The right sensor's clock: its time stamps are ``(1 + drift 1e-6) t + offset`` for true
-        time t (the left sensor's are true time; the truth stays on true time). The map back,
-        ``t = a t_imu + b``, is in ``meta["clock"]``.
+    clock_offset_s : float, default 0.0
+        Offset of the right sensor's clock in s: its time stamps are
+        ``t_imu = (1 + clock_drift_ppm 1e-6) t + clock_offset_s`` for true time t. The left
+        sensor's clock and both truths stay on true time. With any clock option set, the
+        recording's ``meta["clock"]`` (and ``truth_right.meta["clock"]``) holds the map back,
+        ``t = a t_imu + b`` (``a = 1 / (1 + drift 1e-6)``, ``b = -offset a``), with ``foot``,
+        ``offset_s`` and ``drift_ppm``; ``right.meta["time_base"]`` says the times are the
+        sensor's own.
+    clock_drift_ppm : float, default 0.0
+        Rate error of the right sensor's clock in ppm, in (-1e5, 1e5); positive: it runs fast.
+        Here it is constant; seed 002 Sec. 5B notes that a cheap IMU's clock rate changes
+        during a recording, which is why it synchronises at both ends rather than once.
     clock_exchanges : int, default 0
-        Message exchanges between a master on true time and the right sensor, as seed 002 Sec. 5B
-        logs them: half in the first and half in the last 10 s of the walk, each
-        ``[TM1, TI, TM2]`` with one-way delays ``exchange_delay_s`` plus an exponential jitter of
-        the same mean (drawn from the seed), in ``meta["clock_exchanges"]``.
+        Number of message exchanges between a master on true time and the right sensor, as
+        seed 002 Sec. 5B logs them (0: none, else >= 2): half evenly spread over the first
+        10 s and half over the last 10 s of the walk (thirds of shorter walks). Each is
+        ``[TM1, TI, TM2]``: request sent at TM1 (master), stamped at TI (sensor clock) after the
+        up delay, reply received at TM2 after the down delay; in ``meta["clock_exchanges"]`` as
+        ``{"tm1", "ti", "tm2"}`` arrays (s). The delays come from their own child generator of
+        ``seed``, so the sensor data are the same with and without exchanges.
     exchange_delay_s : float, default 0.02
-        Mean fixed part of the one-way radio delay of the exchanges, s.
+        Fixed part of each one-way delay of the exchanges, s (the same up and down: the
+        symmetric latency the midpoint of seed 002's LPs cancels).
+    exchange_jitter_s : float, default 0.02
+        Mean of the exponential random part added to each one-way delay, s (0: none).
+        Exchanges pin the clock map through their shortest delays: with the defaults, 200
+        exchanges give < 1 ms over a 10 min walk, 60 exchanges 0.4 ms typically but > 1 ms in
+        about one walk in ten.
     mounting_rpy_deg : (float, float, float), default (0, 0, 0)
         Orientation of the sensor on the foot as ZYX roll, pitch, yaw in deg (sensor -> foot);
         zero: sensor axes = foot axes (x forward, y left, z up).
@@ -849,24 +868,34 @@ def simulate(scenario: str = "straight", *, seed: int = 0, rate_hz: float = 100.
     if opts["clock_offset_s"] or opts["clock_drift_ppm"] or opts["clock_exchanges"]:
         rate = 1.0 + opts["clock_drift_ppm"] * 1e-6
         offset = opts["clock_offset_s"]
+        # t_imu = (t - b) / a with a = 1 / rate, b = -offset / rate: the sensor's own clock
         imus["right"] = ImuData(
             t=rate * t + offset,
             acc=imus["right"].acc,
             gyr=imus["right"].gyr,
-            meta={**imus["right"].meta, "clock": "sensor's own (see the recording's meta['clock'])"},
+            meta={**imus["right"].meta, "time_base": "sensor clock (offset and drift: the recording's meta['clock'])"},
         )
-        clock_meta["clock"] = {"foot": "right", "offset_s": offset, "drift_ppm": opts["clock_drift_ppm"], "a": 1.0 / rate, "b": -offset / rate}
+        clock_meta["clock"] = {
+            "foot": "right",
+            "offset_s": offset,
+            "drift_ppm": opts["clock_drift_ppm"],
+            "a": 1.0 / rate,
+            "b": -offset / rate,
+        }
+        truths["right"] = replace(truths["right"], meta={**truths["right"].meta, "clock": clock_meta["clock"]})
         n_ex = opts["clock_exchanges"]
         if n_ex:
-            rng_ex = np.random.default_rng(seed).spawn(3)[2]  # the feet's streams stay as they were
+            # a third child of the seed: the feet's two streams are the same with or without it
+            rng_ex = np.random.default_rng(seed).spawn(3)[2]
             half = n_ex // 2
             duration = float(t[-1])
             tm1 = np.concatenate([np.linspace(0.0, min(10.0, duration / 3), half),
                                   np.linspace(max(duration - 10.0, 2 * duration / 3), duration, n_ex - half)])
-            delay = opts["exchange_delay_s"]
-            d1 = delay + rng_ex.exponential(delay if delay > 0 else 1e-3, n_ex)
-            d2 = delay + rng_ex.exponential(delay if delay > 0 else 1e-3, n_ex)
-            clock_meta["clock_exchanges"] = {"tm1": tm1, "ti": rate * (tm1 + d1) + offset, "tm2": tm1 + d1 + d2}
+            delay, jitter = opts["exchange_delay_s"], opts["exchange_jitter_s"]
+            d_up = delay + rng_ex.exponential(jitter, n_ex)
+            d_down = delay + rng_ex.exponential(jitter, n_ex)
+            # stamped on the sensor at true time tm1 + d_up, received at tm1 + d_up + d_down
+            clock_meta["clock_exchanges"] = {"tm1": tm1, "ti": rate * (tm1 + d_up) + offset, "tm2": tm1 + d_up + d_down}
     return Recording(
         left=imus["left"],
         right=imus["right"],

@@ -382,6 +382,16 @@ def test_recording_structure_and_meta():
         (("straight",), {"noise": "yes"}, ["noise"]),
         (("straight",), {"mounting_rpy_deg": (1.0, 2.0)}, ["mounting_rpy_deg"]),
         (("straight",), {"rate_hz": 0.0}, ["rate_hz"]),
+        (("straight",), {"clock_offset_s": float("nan")}, ["clock_offset_s"]),
+        (("straight",), {"clock_offset_s": True}, ["clock_offset_s"]),
+        (("straight",), {"clock_drift_ppm": 2e5}, ["clock_drift_ppm", "ppm"]),
+        (("straight",), {"clock_exchanges": 1}, ["clock_exchanges", ">= 2"]),
+        (("straight",), {"clock_exchanges": -4}, ["clock_exchanges"]),
+        (("straight",), {"clock_exchanges": 10.0}, ["clock_exchanges"]),
+        (("straight",), {"clock_exchanges": True}, ["clock_exchanges"]),
+        (("straight",), {"exchange_delay_s": -0.01}, ["exchange_delay_s"]),
+        (("straight",), {"exchange_jitter_s": float("inf")}, ["exchange_jitter_s"]),
+        (("straight",), {"clock_ofset_s": 1.0}, ["clock_ofset_s", "clock_offset_s"]),
     ],
 )
 def test_bad_options_raise(args, kwargs, must_name):
@@ -426,3 +436,56 @@ def test_heel_strike_impact_is_the_spike_at_each_heel_strike_and_moves_nothing(r
 def test_impact_longer_than_foot_flat_is_refused():
     with pytest.raises(InvalidParameterError, match="heel_strike_impact_s"):
         simulate("straight", distance_m=5.0, heel_strike_impact_s=0.03)
+
+
+# -- sensor clock (seed 002 Sec. 5B) -------------------------------------------------------------
+
+CLOCKED = {"distance_m": 10.0, "clock_offset_s": 3.0, "clock_drift_ppm": -80.0, "clock_exchanges": 8}
+
+
+def test_clock_options_off_by_default_and_change_only_the_right_time_stamps():
+    plain = simulate("straight", seed=4, distance_m=10.0)
+    assert "clock" not in plain.meta and "clock_exchanges" not in plain.meta
+    assert "clock" not in plain.truth_right.meta and "time_base" not in plain.right.meta
+    np.testing.assert_array_equal(plain.right.t, plain.left.t)
+    clocked = simulate("straight", seed=4, **CLOCKED)
+    for a, b in ((plain.left, clocked.left), (plain.truth_left, clocked.truth_left)):
+        np.testing.assert_array_equal(a.t, b.t)
+    # the sensors' random streams are untouched by the clock and the exchanges' delays
+    for name in ("acc", "gyr"):
+        np.testing.assert_array_equal(getattr(plain.left, name), getattr(clocked.left, name))
+        np.testing.assert_array_equal(getattr(plain.right, name), getattr(clocked.right, name))
+    np.testing.assert_array_equal(plain.truth_right.position, clocked.truth_right.position)
+    np.testing.assert_array_equal(clocked.truth_right.t, plain.truth_right.t)  # truth on true time
+    # t_imu = (1 + drift 1e-6) t + offset, and the recorded map takes it back: t = a t_imu + b
+    np.testing.assert_allclose(clocked.right.t, (1 - 80e-6) * plain.right.t + 3.0, rtol=0, atol=1e-12)
+    clock = clocked.meta["clock"]
+    assert clock["foot"] == "right" and clock["offset_s"] == 3.0 and clock["drift_ppm"] == -80.0
+    np.testing.assert_allclose(clock["a"] * clocked.right.t + clock["b"], plain.right.t, rtol=0, atol=1e-12)
+    assert clocked.truth_right.meta["clock"] == clock
+    assert "sensor clock" in clocked.right.meta["time_base"]
+
+
+def test_clock_exchanges_bracket_the_true_map_and_are_seeded():
+    rec = simulate("straight", seed=2, **CLOCKED)
+    ex, clock = rec.meta["clock_exchanges"], rec.meta["clock"]
+    assert all(len(ex[k]) == 8 for k in ("tm1", "ti", "tm2"))
+    t_stamp = clock["a"] * ex["ti"] + clock["b"]  # true time at which the sensor stamped
+    delay = 0.02  # exchange_delay_s, plus an exponential jitter of mean exchange_jitter_s = 0.02
+    assert (t_stamp - ex["tm1"] >= delay - 1e-12).all() and (ex["tm2"] - t_stamp >= delay - 1e-12).all()
+    # mean one-way delay 0.04 s: loose bounds for 16 exponential draws
+    assert 0.02 < np.mean(np.r_[t_stamp - ex["tm1"], ex["tm2"] - t_stamp]) < 0.08
+    # half at the start and half at the end of the walk
+    assert (ex["tm1"][:4] <= rec.left.duration_s / 3).all() and (ex["tm1"][4:] >= 2 * rec.left.duration_s / 3).all()
+    again = simulate("straight", seed=2, **CLOCKED)
+    other = simulate("straight", seed=3, **CLOCKED)
+    np.testing.assert_array_equal(again.meta["clock_exchanges"]["ti"], ex["ti"])
+    assert not np.array_equal(other.meta["clock_exchanges"]["ti"], ex["ti"])
+
+
+def test_exchanges_without_jitter_have_exactly_the_fixed_delay():
+    rec = simulate("straight", seed=0, distance_m=10.0, clock_exchanges=4, exchange_delay_s=0.03, exchange_jitter_s=0.0)
+    ex, clock = rec.meta["clock_exchanges"], rec.meta["clock"]
+    assert clock["a"] == 1.0 and clock["b"] == 0.0  # exchanges alone: the sensor clock is true time
+    np.testing.assert_allclose(ex["ti"] - ex["tm1"], 0.03, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(ex["tm2"] - ex["ti"], 0.03, rtol=0, atol=1e-12)

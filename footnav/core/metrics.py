@@ -25,10 +25,10 @@ from dataclasses import dataclass
 from typing import Iterator, Literal, NamedTuple
 
 import numpy as np
-from numba import njit
 from numpy.typing import ArrayLike, NDArray
 from scipy.optimize import linear_sum_assignment
 
+from footnav.core.dtw import DtwAlignment, dtw_align
 from footnav.core.errors import DataQualityWarning, InvalidInputError, InvalidParameterError
 from footnav.core.types import stance_intervals
 
@@ -90,12 +90,17 @@ def _finite(arr: NDArray, name: str) -> None:
         raise InvalidInputError(f"non-finite value {arr[first]!r}; every value must be finite", field=name, index=first)
 
 
-def _points(value: ArrayLike, name: str, dims: int, *, min_rows: int = 1) -> NDArray[np.float64]:
-    """``value`` as a finite float64 (N, D) position array with D >= dims and N >= min_rows."""
+def _float64(value: ArrayLike, name: str) -> NDArray[np.float64]:
+    """``value`` as a float64 array; InvalidInputError naming ``name`` if it is not numeric."""
     try:
-        arr = np.asarray(value, dtype=np.float64)
+        return np.asarray(value, dtype=np.float64)
     except (TypeError, ValueError) as exc:
         raise InvalidInputError(f"cannot convert to float64 ({exc})", field=name) from None
+
+
+def _points(value: ArrayLike, name: str, dims: int, *, min_rows: int = 1) -> NDArray[np.float64]:
+    """``value`` as a finite float64 (N, D) position array with D >= dims and N >= min_rows."""
+    arr = _float64(value, name)
     if arr.ndim != 2 or arr.shape[1] < dims or arr.shape[1] > 3:
         raise InvalidInputError(
             f"expected positions in m of shape (N, {dims})"
@@ -112,10 +117,7 @@ def _points(value: ArrayLike, name: str, dims: int, *, min_rows: int = 1) -> NDA
 
 def _point(value: ArrayLike, name: str, dims: int) -> NDArray[np.float64]:
     """A single position (D,), or the last row of an (N, D) trajectory."""
-    try:
-        arr = np.asarray(value, dtype=np.float64)
-    except (TypeError, ValueError) as exc:
-        raise InvalidInputError(f"cannot convert to float64 ({exc})", field=name) from None
+    arr = _float64(value, name)
     if arr.ndim == 1:
         arr = arr[None, :]
     return _points(arr, name, dims)[-1]
@@ -538,113 +540,10 @@ def loop_closure_error(pos: ArrayLike, *, dims: int = 2) -> EndpointError:
 # ---------------------------------------------------------------------------------------------
 # dynamic time warping
 # ---------------------------------------------------------------------------------------------
-#: Back-pointer codes of the DTW kernel (int8): which predecessor cell was taken.
-_STEP_DIAG, _STEP_UP, _STEP_LEFT = 0, 1, 2
-
-
-@njit(cache=True)
-def _dtw_kernel(a, b, band, squared, want_path):  # pragma: no cover - compiled
-    """Banded DTW: cost(i, j) = ||a_i - b_j|| (or its square) for |i - j| <= band.
-
-    Row i stores columns lo(i) = max(0, i - band) .. hi(i) = min(M - 1, i + band) at offsets
-    j - lo(i), so memory is O(M) for the cost and O(N x (2 band + 1)) int8 for the back-pointers
-    (only when the path is wanted). Ties prefer diagonal, then (i-1, j), then (i, j-1).
-    Returns (total cost, number of matched pairs, back-pointers).
-    """
-    n, m, d = a.shape[0], b.shape[0], a.shape[1]
-    w = min(m, 2 * band + 1)
-    inf = np.inf
-    prev = np.full(w, inf)
-    cur = np.full(w, inf)
-    prev_len = np.zeros(w, np.int64)
-    cur_len = np.zeros(w, np.int64)
-    steps = np.zeros((n, w) if want_path else (1, 1), np.int8)
-    prev_lo, prev_hi = 0, -1
-    for i in range(n):
-        lo = max(0, i - band)
-        hi = min(m - 1, i + band)
-        for k in range(w):
-            cur[k] = inf
-        for j in range(lo, hi + 1):
-            c = 0.0
-            for q in range(d):
-                diff = a[i, q] - b[j, q]
-                c += diff * diff
-            if not squared:
-                c = np.sqrt(c)
-            k = j - lo
-            if i == 0 and j == 0:
-                cur[k] = c
-                cur_len[k] = 1
-                continue
-            best = inf
-            blen = 0
-            step = -1
-            if i > 0 and prev_lo <= j - 1 <= prev_hi:
-                v = prev[j - 1 - prev_lo]
-                if v < best:
-                    best, blen, step = v, prev_len[j - 1 - prev_lo], 0
-            if i > 0 and prev_lo <= j <= prev_hi:
-                v = prev[j - prev_lo]
-                if v < best:
-                    best, blen, step = v, prev_len[j - prev_lo], 1
-            if j - 1 >= lo:
-                v = cur[k - 1]
-                if v < best:
-                    best, blen, step = v, cur_len[k - 1], 2
-            cur[k] = c + best
-            cur_len[k] = blen + 1
-            if want_path:
-                steps[i, k] = step
-        prev, cur = cur, prev
-        prev_len, cur_len = cur_len, prev_len
-        prev_lo, prev_hi = lo, hi
-    # after the swap the last row is in ``prev``
-    kend = (m - 1) - max(0, n - 1 - band)
-    return prev[kend], prev_len[kend], steps
-
-
-@njit(cache=True)
-def _dtw_backtrack(steps, n, m, band, n_pairs):  # pragma: no cover - compiled
-    path = np.empty((n_pairs, 2), np.int64)
-    i, j = n - 1, m - 1
-    for r in range(n_pairs - 1, -1, -1):
-        path[r, 0] = i
-        path[r, 1] = j
-        if r == 0:
-            break
-        s = steps[i, j - max(0, i - band)]
-        if s == 0:
-            i -= 1
-            j -= 1
-        elif s == 1:
-            i -= 1
-        else:
-            j -= 1
-    return path
-
-
-@dataclass(frozen=True, eq=False)
-class DtwResult:
-    """Result of :func:`dtw_distance`.
-
-    Attributes
-    ----------
-    distance_m
-        The reported DTW distance in m, per ``normalize`` and ``cost`` (see :func:`dtw_distance`).
-    total_cost
-        Raw minimal sum of point costs along the warping path: m for ``cost="euclidean"``,
-        m^2 for ``cost="sqeuclidean"``.
-    n_pairs
-        Number of matched point pairs on the warping path (max(N, M) <= n_pairs <= N + M - 1).
-    path
-        (n_pairs, 2) int64 index pairs (i into ``a``, j into ``b``), or None unless requested.
-    """
-
-    distance_m: float
-    total_cost: float
-    n_pairs: int
-    path: NDArray[np.int64] | None = None
+#: Result of :func:`dtw_distance`: ``distance_m``, ``total_cost``, ``n_pairs``, ``path``. The same
+#: class as :class:`footnav.core.dtw.DtwAlignment`, so that the wrapper returns the kernel's result
+#: as it is; the name stays for callers of this module.
+DtwResult = DtwAlignment
 
 
 def dtw_distance(
@@ -712,37 +611,13 @@ def dtw_distance(
 
     Notes
     -----
-    Time and memory O(N x min(M, 2 band + 1)) in a numba kernel (first call compiles, cached).
+    Time and memory O(N x min(M, 2 band + 1)) in the numba kernel of
+    :func:`footnav.core.dtw.dtw_align`, which this wraps (first call compiles, cached).
     """
     dims = _check_dims(dims)
-    if normalize not in ("mean", "none"):
-        raise InvalidParameterError(f"normalize must be 'mean' or 'none', got {normalize!r}")
-    if cost not in ("euclidean", "sqeuclidean"):
-        raise InvalidParameterError(f"cost must be 'euclidean' or 'sqeuclidean', got {cost!r}")
-    pa = np.ascontiguousarray(_points(a, "a", dims)[:, :dims])
-    pb = np.ascontiguousarray(_points(b, "b", dims)[:, :dims])
-    n, m = len(pa), len(pb)
-    if band is None:
-        band_i = max(n, m)
-    else:
-        try:
-            whole = not isinstance(band, bool) and float(band).is_integer() and band >= 0
-        except (TypeError, ValueError):
-            whole = False
-        if not whole:
-            raise InvalidParameterError(f"band must be a non-negative whole number of samples or None, got {band!r}")
-        band_i = int(band)
-        if band_i < abs(n - m):
-            raise InvalidParameterError(
-                f"band={band_i} samples cannot reach the last pair of trajectories with {n} and {m} "
-                f"samples: need band >= |N - M| = {abs(n - m)} (or resample to equal rates)"
-            )
-    total, n_pairs, steps = _dtw_kernel(pa, pb, np.int64(band_i), cost == "sqeuclidean", bool(return_path))
-    total, n_pairs = float(total), int(n_pairs)
-    per_pair = total / n_pairs if normalize == "mean" else total
-    distance = float(np.sqrt(per_pair)) if cost == "sqeuclidean" else float(per_pair)
-    path = _readonly(_dtw_backtrack(steps, n, m, np.int64(band_i), np.int64(n_pairs))) if return_path else None
-    return DtwResult(distance, total, n_pairs, path)
+    pa = _points(a, "a", dims)[:, :dims]
+    pb = _points(b, "b", dims)[:, :dims]
+    return dtw_align(pa, pb, band=band, cost=cost, normalize=normalize, return_path=return_path)
 
 
 # ---------------------------------------------------------------------------------------------

@@ -17,7 +17,8 @@ footnav's reading. Both feet run in one joint filter, so the mid-swing measureme
 *relative* horizontal position ``p_moving - p_standing = offset + noise`` (``H = [I -I]``): it
 corrects both feet by their uncertainties instead of treating the standing foot as exact. The
 heading search turns the right foot's start about z (coarse grid, then bounded refinement) on the
-single-foot solutions decimated to ``dtw_rate_hz``.
+single-foot solutions decimated to ``dtw_rate_hz``. The DTW itself, the heading search and the
+pairing are :mod:`footnav.core.dtw`'s; this module only resamples the feet for them.
 """
 
 from __future__ import annotations
@@ -26,9 +27,8 @@ from typing import ClassVar, Literal
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.optimize import minimize_scalar
 
-from footnav.core import metrics
+from footnav.core import dtw
 from footnav.core import quaternion as quat
 from footnav.core.component import Fusion, require, require_non_negative, require_positive
 from footnav.core.types import FootTrajectory, FusionResult, Path
@@ -39,55 +39,85 @@ __all__ = ["DtwFusion", "heading_mismatch", "timeless_average"]
 PATHS = ("timeless", "timed")
 
 
+def _resample(traj: FootTrajectory, t: NDArray[np.float64], dims: int) -> NDArray[np.float64]:
+    """The first ``dims`` position columns (m) linearly interpolated to times ``t`` (s)."""
+    return np.column_stack([np.interp(t, traj.t, traj.position[:, i]) for i in range(dims)])
+
+
 def _decimate(traj: FootTrajectory, rate_hz: float) -> NDArray[np.float64]:
-    """Horizontal positions on a uniform grid at ``rate_hz`` (linear interpolation)."""
-    t = np.arange(traj.t[0], traj.t[-1], 1.0 / rate_hz)
-    return np.column_stack([np.interp(t, traj.t, traj.position[:, i]) for i in range(2)])
+    """Horizontal positions (m) on a uniform grid at ``rate_hz`` over the foot's own time span."""
+    return _resample(traj, np.arange(traj.t[0], traj.t[-1], 1.0 / rate_hz), 2)
 
 
-def _rotated(xy: NDArray[np.float64], angle: float) -> NDArray[np.float64]:
-    c, s = np.cos(angle), np.sin(angle)
-    return xy @ np.array([[c, -s], [s, c]]).T
-
-
-def heading_mismatch(a: NDArray[np.float64], b: NDArray[np.float64], band: int, grid: int = 36) -> tuple[float, float]:
+def heading_mismatch(
+    a: NDArray[np.float64], b: NDArray[np.float64], band: int, grid: int = dtw.DEFAULT_HEADING_GRID
+) -> tuple[float, float]:
     """Rotation of ``b`` about its start (rad) minimising the banded DTW distance to ``a``.
 
-    Seed 002 Sec. 4 step 1. ``a``, ``b`` are horizontal tracks (N, 2), (M, 2) starting at their
-    first point; a coarse grid of ``grid`` angles, then a bounded scalar refinement around the
-    best. Returns (angle, mean DTW distance in m).
+    Seed 002 Sec. 4 step 1, as :func:`footnav.core.dtw.heading_mismatch` with
+    ``translation="start"``: each single-foot solution starts at its own origin, so both tracks
+    are compared from their first points.
+
+    Parameters
+    ----------
+    a, b
+        Horizontal tracks (N, 2) and (M, 2) in m (nav frame), e.g. decimated to 10 Hz.
+    band
+        Largest index difference of matched samples, at least ``|N - M|``.
+    grid
+        Number of coarse angles (>= 4) before the bounded refinement.
+
+    Returns
+    -------
+    tuple of float
+        (angle of ``b`` about +z in rad in (-pi, pi], mean DTW distance after the turn in m).
+
+    Raises
+    ------
+    InvalidInputError, InvalidParameterError
+        As :func:`footnav.core.dtw.heading_mismatch` (bad tracks, ``band < |N - M|``, ``grid < 4``).
     """
-    a0 = a - a[0]
-    b0 = b - b[0]
-
-    def cost(angle: float) -> float:
-        return metrics.dtw_distance(a0, _rotated(b0, angle), band=band, dims=2).distance_m
-
-    angles = np.linspace(-np.pi, np.pi, grid, endpoint=False)
-    costs = [cost(x) for x in angles]
-    best = float(angles[int(np.argmin(costs))])
-    step = 2 * np.pi / grid
-    res = minimize_scalar(cost, bounds=(best - step, best + step), method="bounded", options={"xatol": 1e-4})
-    return float((res.x + np.pi) % (2 * np.pi) - np.pi), float(res.fun)
+    found = dtw.heading_mismatch(a, b, band=band, translation="start", grid=grid)
+    return found.angle_rad, found.distance_m
 
 
 def timeless_average(left: FootTrajectory, right: FootTrajectory, band_s: float, rate_hz: float) -> Path:
     """Midpoints of the point pairs of the banded DTW between the feet (seed 002 Sec. 4 step 4).
 
     Both feet are resampled to ``rate_hz`` over their common time span (the pairing then costs
-    O(N x band) at that rate, and feet sampled at different rates pair correctly). The time of
-    each midpoint is the mean of its pair's times (non-decreasing along the path): the path is
-    "timeless" in the paper's sense, paired points need not be simultaneous.
+    O(N x band) at that rate, and feet sampled at different rates pair correctly), then paired
+    in 3-D by :func:`footnav.core.dtw.timeless_average`. The time of each midpoint is the mean of
+    its pair's times (non-decreasing along the path): the path is "timeless" in the paper's
+    sense, paired points need not be simultaneous.
+
+    Parameters
+    ----------
+    left, right
+        The two feet's trajectories in the nav frame (m, s).
+    band_s
+        Largest time difference of matched points, s (at least one sample at ``rate_hz``).
+    rate_hz
+        Common resampling rate, Hz.
+
+    Returns
+    -------
+    Path
+        Midpoints (L, 3) in m at times (L,) in s; ``meta["dtw_distance_m"]`` is the mean DTW
+        distance of the pairing in m.
+
+    Raises
+    ------
+    InvalidInputError
+        As :func:`footnav.core.dtw.timeless_average`, e.g. field ``a`` empty when the feet's time
+        spans share no sample at ``rate_hz``.
     """
     t = np.arange(max(left.t[0], right.t[0]), min(left.t[-1], right.t[-1]), 1.0 / rate_hz)
-    a = np.column_stack([np.interp(t, left.t, left.position[:, i]) for i in range(3)])
-    b = np.column_stack([np.interp(t, right.t, right.position[:, i]) for i in range(3)])
-    res = metrics.dtw_distance(a, b, band=max(1, int(round(band_s * rate_hz))), dims=3, return_path=True)
-    i, j = res.path[:, 0], res.path[:, 1]
+    band = max(1, int(round(band_s * rate_hz)))
+    avg = dtw.timeless_average(_resample(left, t, 3), _resample(right, t, 3), band=band, t_a=t, t_b=t)
     return Path(
-        t=0.5 * (t[i] + t[j]),
-        position=0.5 * (a[i] + b[j]),
-        meta={"path": "DTW pairing (timeless)", "rate_hz": rate_hz, "dtw_distance_m": res.distance_m},
+        t=avg.t,
+        position=avg.position,
+        meta={"path": "DTW pairing (timeless)", "rate_hz": rate_hz, "dtw_distance_m": avg.distance_m},
     )
 
 

@@ -61,6 +61,7 @@ def main() -> None:
     for params in ({}, {"bias_states": True, "zaru_std_radps": 0.005}):
         est = EkfEstimator(smoother="step", **params)
         filt = est.start([rec.left, rec.right], stances)
+        filt.step_stops = True  # a checkpoint at every step end, to look at the covariance there
         t0 = time.perf_counter()
         filt.run_until()
         runtime = time.perf_counter() - t0

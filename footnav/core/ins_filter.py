@@ -16,9 +16,15 @@ reset to zero (closed loop, seed 002 Alg. 1).
 Two feet share one covariance: each foot's samples are processed in time order, and a
 measurement that links the feet (seed 001 eq. 7) updates both. :class:`InsFilter` runs the
 compiled per-sample loop between the points where a caller wants to act (:meth:`run_until`) and
-keeps checkpoints (state and covariance) at step ends and where the caller updates, so that
-:mod:`footnav.core.smoothing` can smooth the run afterwards in memory that grows with the number
-of steps, not of samples.
+keeps checkpoints (state and covariance) every ``MAX_SEGMENT_EVENTS`` samples and where the
+caller updates, so that :mod:`footnav.core.smoothing` can smooth the run afterwards in memory that
+grows with the number of steps, not of samples.
+
+One compiled function, :func:`_run`, does all the per-sample work: filtering, recording what the
+smoother needs (per sample f^n dt, dt and, with bias states, C; per update K, y and S^-1 y, not
+the covariance), step-wise smoothing at each step end, and the whole-walk smoother's replay and
+backward pass of one segment. One entry point keeps the first call's compilation short: each
+compiled caller would re-optimise the loop it calls.
 """
 
 from __future__ import annotations
@@ -29,19 +35,20 @@ import numpy as np
 from numba import njit
 from numpy.typing import NDArray
 
-from footnav.core import kalman
 from footnav.core.errors import InvalidInputError
 from footnav.core.mechanization import strapdown_step
 from footnav.core.quaternion import as_matrix_nb, from_rotvec_nb, multiply_nb, normalize_nb
 
-__all__ = ["InsFilter", "FilterNoise", "Checkpoint", "ATT", "VEL", "POS", "ACC_BIAS", "GYR_BIAS"]
+__all__ = ["InsFilter", "FilterNoise", "Checkpoint", "ATT", "VEL", "POS", "ACC_BIAS", "GYR_BIAS", "empty_record"]
 
 #: Offsets of the blocks of one foot's error state.
 ATT, VEL, POS, ACC_BIAS, GYR_BIAS = 0, 3, 6, 9, 12
 
-#: Largest number of samples between two checkpoints: bounds the smoother's buffers when a foot
-#: stands still for minutes.
+#: Largest number of samples between two checkpoints (and in a step-wise smoother's buffer):
+#: bounds the smoother's buffers when a foot stands still for minutes.
 MAX_SEGMENT_EVENTS = 4096
+
+
 
 #: Chi-square gate of the zero-angular-rate update: 3 degrees of freedom, 99.9 %.
 ZARU_GATE = 16.27
@@ -85,9 +92,9 @@ class Checkpoint:
     bg: NDArray[np.float64]
     f_n: NDArray[np.float64]
     cov: NDArray[np.float64]
-    step_end: bool  # a foot's stance ended here (a step boundary for step-wise smoothing)
+    step_end: bool  # a foot's stance ended here (with ``InsFilter.step_stops``)
     #: measurement updates applied at this instant after the per-sample ones, in order, as
-    #: (H, K, S^-1 y): what the smoother needs to undo them backwards
+    #: (H, K, S^-1 y, y): what the smoother needs to undo them backwards
     updates: list = field(default_factory=list)
 
 
@@ -95,109 +102,67 @@ class Checkpoint:
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def _f_apply(src, dst, n, x, y, z, c, dt):
-    """dst = F src for one foot's block (src, dst: (n,)); S = [f^n x] dt = [[0,-z,y],[z,0,-x],[-y,x,0]]."""
-    a0, a1, a2 = src[0], src[1], src[2]
-    v0, v1, v2 = src[3], src[4], src[5]
-    dst[0], dst[1], dst[2] = a0, a1, a2
-    dst[3] = v0 - z * a1 + y * a2
-    dst[4] = v1 + z * a0 - x * a2
-    dst[5] = v2 - y * a0 + x * a1
-    dst[6] = src[6] + dt * v0
-    dst[7] = src[7] + dt * v1
-    dst[8] = src[8] + dt * v2
+def _f_rows(cov, o, n, j, x, y, z, c, dt):
+    """Column j of the foot's rows of P <- F P, in place (``S = [f^n dt x]``, see the module
+    docstring): attitude += dt C dbg (15 states), velocity += S attitude - dt C dba, position +=
+    dt velocity, each from the values before the step."""
+    a0, a1, a2 = cov[o, j], cov[o + 1, j], cov[o + 2, j]
+    v0, v1, v2 = cov[o + 3, j], cov[o + 4, j], cov[o + 5, j]
+    cov[o + 3, j] = v0 - z * a1 + y * a2
+    cov[o + 4, j] = v1 + z * a0 - x * a2
+    cov[o + 5, j] = v2 - y * a0 + x * a1
+    cov[o + 6, j] += dt * v0
+    cov[o + 7, j] += dt * v1
+    cov[o + 8, j] += dt * v2
     if n == 15:
+        b0, b1, b2 = cov[o + 9, j], cov[o + 10, j], cov[o + 11, j]
+        g0, g1, g2 = cov[o + 12, j], cov[o + 13, j], cov[o + 14, j]
         for i in range(3):
-            # attitude error grows with the gyro bias error, velocity error with the acc bias error
-            dst[i] += dt * (c[i, 0] * src[12] + c[i, 1] * src[13] + c[i, 2] * src[14])
-            dst[3 + i] -= dt * (c[i, 0] * src[9] + c[i, 1] * src[10] + c[i, 2] * src[11])
-        for i in range(9, 15):
-            dst[i] = src[i]
+            cov[o + i, j] += dt * (c[i, 0] * g0 + c[i, 1] * g1 + c[i, 2] * g2)
+            cov[o + 3 + i, j] -= dt * (c[i, 0] * b0 + c[i, 1] * b1 + c[i, 2] * b2)
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def _ft_apply(mu, o, n, x, y, z, c, dt):
-    """mu <- F' mu on one foot's block starting at ``o`` (the smoother's backward step)."""
-    a0, a1, a2 = mu[o], mu[o + 1], mu[o + 2]
-    v0, v1, v2 = mu[o + 3], mu[o + 4], mu[o + 5]
-    # F' has S' = -S in the attitude row, dt I in the velocity row
-    mu[o] = a0 + z * v1 - y * v2
-    mu[o + 1] = a1 - z * v0 + x * v2
-    mu[o + 2] = a2 + y * v0 - x * v1
-    mu[o + 3] = v0 + dt * mu[o + 6]
-    mu[o + 4] = v1 + dt * mu[o + 7]
-    mu[o + 5] = v2 + dt * mu[o + 8]
+def _f_cols(cov, o, n, i, x, y, z, c, dt):
+    """Row i of the foot's columns of P <- P F', in place (the transpose of :func:`_f_rows`)."""
+    a0, a1, a2 = cov[i, o], cov[i, o + 1], cov[i, o + 2]
+    v0, v1, v2 = cov[i, o + 3], cov[i, o + 4], cov[i, o + 5]
+    cov[i, o + 3] = v0 - z * a1 + y * a2
+    cov[i, o + 4] = v1 + z * a0 - x * a2
+    cov[i, o + 5] = v2 - y * a0 + x * a1
+    cov[i, o + 6] += dt * v0
+    cov[i, o + 7] += dt * v1
+    cov[i, o + 8] += dt * v2
     if n == 15:
-        for j in range(3):
-            mu[o + 9 + j] -= dt * (c[0, j] * v0 + c[1, j] * v1 + c[2, j] * v2)
-            mu[o + 12 + j] += dt * (c[0, j] * a0 + c[1, j] * a1 + c[2, j] * a2)
+        b0, b1, b2 = cov[i, o + 9], cov[i, o + 10], cov[i, o + 11]
+        g0, g1, g2 = cov[i, o + 12], cov[i, o + 13], cov[i, o + 14]
+        for r in range(3):
+            cov[i, o + r] += dt * (c[r, 0] * g0 + c[r, 1] * g1 + c[r, 2] * g2)
+            cov[i, o + 3 + r] -= dt * (c[r, 0] * b0 + c[r, 1] * b1 + c[r, 2] * b2)
 
 
 @njit(cache=True, error_model="numpy")
-def _predict_cov(cov, o, n, f_n, c, dt, q_diag, src, dst):
-    """P <- F P F' + Q dt for one foot's block at offset ``o`` of the joint covariance.
+def _predict_cov(cov, o, n, f_n, c, dt, q_diag):
+    """P <- F P F' + Q dt for one foot's block at offset ``o`` of the joint covariance, in place.
 
-    F differs from I only in the foot's rows, so F P changes those rows and (F P) F' those
-    columns: O(N n) instead of the O(N^3) of a dense product.
+    F differs from I only in the foot's rows, so F P changes only those rows, and (F P) F' only
+    the foot's columns, which outside the foot's own block are the transposed rows just computed
+    (P stays exactly symmetric). O(N n) instead of the O(N^3) of a dense product.
     """
     big = cov.shape[0]
     x, y, z = f_n[0] * dt, f_n[1] * dt, f_n[2] * dt
-    for j in range(big):  # rows: M = F P
-        for i in range(n):
-            src[i] = cov[o + i, j]
-        _f_apply(src, dst, n, x, y, z, c, dt)
-        for i in range(n):
-            cov[o + i, j] = dst[i]
-    for i in range(big):  # columns: P = M F'
-        for j in range(n):
-            src[j] = cov[i, o + j]
-        _f_apply(src, dst, n, x, y, z, c, dt)
-        for j in range(n):
-            cov[i, o + j] = dst[j]
-    for i in range(n):
-        cov[o + i, o + i] += q_diag[i] * dt
-
-
-@njit(cache=True, error_model="numpy")
-def _update(cov, dx, idx, m, y, r_diag, gain, sy, s, s_inv, low, hp):
-    """Update with a measurement of the states ``idx[:m]`` (H a selection): y = H dx + noise.
-
-    K = P H' S^-1, dx = K y, P <- P - K H P (symmetrised). Writes ``gain`` (N, m) = K and
-    ``sy`` = S^-1 y for the smoother. Returns False when S is not positive definite.
-    """
-    big = cov.shape[0]
-    for a in range(m):
-        for b in range(m):
-            s[a, b] = cov[idx[a], idx[b]]
-        s[a, a] += r_diag[a]
-    if not kalman.spd_inverse(s[:m, :m], s_inv[:m, :m], low[:m, :m]):
-        return False
-    for a in range(m):
-        acc = 0.0
-        for b in range(m):
-            acc += s_inv[a, b] * y[b]
-        sy[a] = acc
+    for j in range(big):
+        _f_rows(cov, o, n, j, x, y, z, c, dt)
+    for i in range(o, o + n):
+        _f_cols(cov, o, n, i, x, y, z, c, dt)
+    for a in range(n):
+        for b in range(a):  # the block's lower triangle from its upper one
+            cov[o + a, o + b] = cov[o + b, o + a]
+        cov[o + a, o + a] += q_diag[a] * dt
     for i in range(big):
-        for b in range(m):
-            acc = 0.0
-            for a in range(m):
-                acc += cov[i, idx[a]] * s_inv[a, b]
-            gain[i, b] = acc
-        acc = 0.0
-        for b in range(m):
-            acc += cov[i, idx[b]] * sy[b]
-        dx[i] = acc
-    for a in range(m):
-        for j in range(big):
-            hp[a, j] = cov[idx[a], j]
-    for i in range(big):
-        for j in range(i, big):
-            acc = cov[i, j]
-            for a in range(m):
-                acc -= gain[i, a] * hp[a, j]
-            cov[i, j] = acc
-            cov[j, i] = acc
-    return True
+        if i < o or i >= o + n:
+            for a in range(n):
+                cov[i, o + a] = cov[o + a, i]
 
 
 @njit(cache=True, inline="always", error_model="numpy")
@@ -213,31 +178,34 @@ def sym3_inverse(a, b, c, d, e, f):
 
 
 @njit(cache=True, error_model="numpy")
-def _update_vel(cov, dx, o, v, r, gain, sy, hp):
-    """The ZUPT update of :func:`_update` for the velocity block at ``o`` (y = v^, H = [0 I 0]),
-    with the 3 x 3 inverse written out: the update runs at every stance sample."""
+def _update3(cov, dx, o, y0, y1, y2, r, gain, sy, hp):
+    """Kalman update with a measurement of the 3 states at ``o``: ``y = dx[o:o+3] + noise``,
+    noise variance ``r`` (each axis); H is a selection, so S is a 3 x 3 block of P plus r I,
+    inverted by cofactors.
+
+    K = P H' S^-1 (written to ``gain`` (N, 3)), dx = K y, S^-1 y (to ``sy`` (3,)), P <- P - K H P,
+    both triangles from one value (exactly symmetric). ``hp`` (3, N) is scratch.
+    Returns False (and changes nothing) when S is not positive definite.
+    """
     big = cov.shape[0]
     i00, i01, i02, i11, i12, i22, det = sym3_inverse(
         cov[o, o] + r, cov[o, o + 1], cov[o, o + 2], cov[o + 1, o + 1] + r, cov[o + 1, o + 2], cov[o + 2, o + 2] + r
     )
     if not det > 0.0:
         return False
-    sy[0] = i00 * v[0] + i01 * v[1] + i02 * v[2]
-    sy[1] = i01 * v[0] + i11 * v[1] + i12 * v[2]
-    sy[2] = i02 * v[0] + i12 * v[1] + i22 * v[2]
+    s0 = i00 * y0 + i01 * y1 + i02 * y2
+    s1 = i01 * y0 + i11 * y1 + i12 * y2
+    s2 = i02 * y0 + i12 * y1 + i22 * y2
+    sy[0], sy[1], sy[2] = s0, s1, s2
     for j in range(big):
-        hp[0, j] = cov[o, j]
-        hp[1, j] = cov[o + 1, j]
-        hp[2, j] = cov[o + 2, j]
+        h0, h1, h2 = cov[o, j], cov[o + 1, j], cov[o + 2, j]  # H P = P H' (symmetric)
+        hp[0, j], hp[1, j], hp[2, j] = h0, h1, h2
+        gain[j, 0] = h0 * i00 + h1 * i01 + h2 * i02
+        gain[j, 1] = h0 * i01 + h1 * i11 + h2 * i12
+        gain[j, 2] = h0 * i02 + h1 * i12 + h2 * i22
+        dx[j] = h0 * s0 + h1 * s1 + h2 * s2
     for i in range(big):
-        h0, h1, h2 = hp[0, i], hp[1, i], hp[2, i]  # P[i, vel] = P[vel, i] (symmetric)
-        g0 = h0 * i00 + h1 * i01 + h2 * i02
-        g1 = h0 * i01 + h1 * i11 + h2 * i12
-        g2 = h0 * i02 + h1 * i12 + h2 * i22
-        gain[i, 0] = g0
-        gain[i, 1] = g1
-        gain[i, 2] = g2
-        dx[i] = h0 * sy[0] + h1 * sy[1] + h2 * sy[2]
+        g0, g1, g2 = gain[i, 0], gain[i, 1], gain[i, 2]
         for j in range(i, big):
             val = cov[i, j] - g0 * hp[0, j] - g1 * hp[1, j] - g2 * hp[2, j]
             cov[i, j] = val
@@ -270,25 +238,175 @@ def feedback(q, v, p, ba, bg, dx, o, n, dq, q_tmp):
             bg[i] -= dx[o + 12 + i]
 
 
+# -- the backward (smoothing) pass ----------------------------------------------------------------
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def _ft_apply(mu, o, n, x, y, z, c, e, dt):
+    """mu <- F' mu on one foot's block starting at ``o`` (``c[e]``: C of the transition)."""
+    a0, a1, a2 = mu[o], mu[o + 1], mu[o + 2]
+    v0, v1, v2 = mu[o + 3], mu[o + 4], mu[o + 5]
+    # F' has S' = -S in the attitude row, dt I in the velocity row
+    mu[o] = a0 + z * v1 - y * v2
+    mu[o + 1] = a1 - z * v0 + x * v2
+    mu[o + 2] = a2 + y * v0 - x * v1
+    mu[o + 3] = v0 + dt * mu[o + 6]
+    mu[o + 4] = v1 + dt * mu[o + 7]
+    mu[o + 5] = v2 + dt * mu[o + 8]
+    if n == 15:
+        for j in range(3):
+            mu[o + 9 + j] -= dt * (c[e, 0, j] * v0 + c[e, 1, j] * v1 + c[e, 2, j] * v2)
+            mu[o + 12 + j] += dt * (c[e, 0, j] * a0 + c[e, 1, j] * a1 + c[e, 2, j] * a2)
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def _finv_apply(d, o, n, x, y, z, c, e, dt):
+    """d <- F^-1 d on one foot's block starting at ``o``: F is unit block-triangular, so its
+    inverse is back-substitution (attitude, then velocity, then position; biases unchanged)."""
+    if n == 15:
+        for i in range(3):
+            d[o + i] -= dt * (c[e, i, 0] * d[o + 12] + c[e, i, 1] * d[o + 13] + c[e, i, 2] * d[o + 14])
+            d[o + 3 + i] += dt * (c[e, i, 0] * d[o + 9] + c[e, i, 1] * d[o + 10] + c[e, i, 2] * d[o + 11])
+    a0, a1, a2 = d[o], d[o + 1], d[o + 2]
+    d[o + 3] -= -z * a1 + y * a2
+    d[o + 4] -= z * a0 - x * a2
+    d[o + 5] -= -y * a0 + x * a1
+    d[o + 6] -= dt * d[o + 3]
+    d[o + 7] -= dt * d[o + 4]
+    d[o + 8] -= dt * d[o + 5]
+
+
+@njit(cache=True, error_model="numpy")
+def _smooth_back(used, chain, cov, mu, d, n, n_feet, q_diag, rec, out_q, out_v, out_p, sm_q, sm_v, sm_p):
+    """Bryson-Frazier backward pass over the recorded events ``used - 1`` down to 0.
+
+    Each event's smoothed sample is its filtered output corrected by ``-d``, where ``d = P mu``
+    is the smoothed minus the filtered error state. Going back through an update (K, y,
+    S^-1 y): ``d <- d + K y``, ``mu <- mu + H' (S^-1 y - K' mu)``; through a transition:
+    ``d <- F^-1 (d - Q mu)``, ``mu <- F' mu`` (from ``d = P mu``, P- = F P+ F' + Q and
+    P+ = P- - K H P-). So no covariance is stored per sample.
+
+    ``chain`` False (one segment of the whole-walk smoother): ``mu`` is the adjoint after the
+    last event, and ``d = cov mu`` with ``cov`` the covariance there. ``chain`` True (one step
+    of the step-wise smoother, OpenShoe's smoothed variant): mu = 0 at the step's end, and each
+    foot's positions are chained to where its previous step's smoothing left it (position is
+    an integral: the step's smoothed displacement is added to its smoothed start). On return,
+    ``mu`` and ``d`` are those before the first event.
+    """
+    ev_foot, ev_k, ev_fdt, ev_dt, ev_c, ev_nu, ev_base, ev_gain, ev_sy, ev_y = rec
+    big = len(mu)
+    kt = np.zeros(ev_sy.shape[1])
+    dq = np.zeros(4)
+    q_tmp = np.zeros(4)
+    for i in range(big):
+        if chain:
+            mu[i] = 0.0
+            d[i] = 0.0
+        else:
+            acc = 0.0
+            for j in range(big):
+                acc += cov[i, j] * mu[j]
+            d[i] = acc
+    for e in range(used - 1, -1, -1):
+        nu = ev_nu[e]
+        if nu < 0:  # a caller's update between samples, m = -nu rows: K and H' side by side in ev_gain
+            m = -nu
+            for a in range(m):
+                acc = ev_sy[e, a]
+                for i in range(big):
+                    acc -= ev_gain[e, i, a] * mu[i]
+                kt[a] = acc
+            for i in range(big):
+                dm = 0.0
+                dd = 0.0
+                for a in range(m):
+                    dm += ev_gain[e, i, m + a] * kt[a]
+                    dd += ev_gain[e, i, a] * ev_y[e, a]
+                mu[i] += dm
+                d[i] += dd
+            continue
+        o = ev_foot[e] * n
+        k = ev_k[e]
+        from_rotvec_nb(d[o], d[o + 1], d[o + 2], dq)
+        multiply_nb(dq, out_q[k], q_tmp)
+        normalize_nb(q_tmp)
+        for i in range(4):
+            sm_q[k, i] = q_tmp[i]
+        for i in range(3):
+            sm_v[k, i] = out_v[k, i] - d[o + 3 + i]
+            sm_p[k, i] = out_p[k, i] - d[o + 6 + i]
+        for u in range(nu - 1, -1, -1):  # the sample's updates, last first
+            col = 3 * u
+            for a in range(3):
+                acc = ev_sy[e, col + a]
+                for i in range(big):
+                    acc -= ev_gain[e, i, col + a] * mu[i]
+                kt[a] = acc
+            y0, y1, y2 = ev_y[e, col], ev_y[e, col + 1], ev_y[e, col + 2]
+            for i in range(big):
+                d[i] += ev_gain[e, i, col] * y0 + ev_gain[e, i, col + 1] * y1 + ev_gain[e, i, col + 2] * y2
+            b = ev_base[e, u]
+            mu[b] += kt[0]
+            mu[b + 1] += kt[1]
+            mu[b + 2] += kt[2]
+        dt = ev_dt[e]
+        for i in range(n):
+            d[o + i] -= q_diag[i] * dt * mu[o + i]
+        x, y, z = ev_fdt[e, 0], ev_fdt[e, 1], ev_fdt[e, 2]
+        _finv_apply(d, o, n, x, y, z, ev_c, e, dt)
+        _ft_apply(mu, o, n, x, y, z, ev_c, e, dt)
+    if chain:
+        # d is now P mu before the step; a foot's first event in it follows its start sample
+        offset = np.zeros((n_feet, 3))
+        seen = np.zeros(n_feet)  # float, not bool: one less array type to compile for
+        for e in range(used):
+            f = ev_foot[e]
+            if ev_nu[e] >= 0 and seen[f] == 0.0:
+                seen[f] = 1.0
+                k0 = ev_k[e] - 1
+                for i in range(3):
+                    offset[f, i] = d[f * n + 6 + i] + sm_p[k0, i] - out_p[k0, i]
+        for e in range(used):
+            if ev_nu[e] >= 0:
+                f, k = ev_foot[e], ev_k[e]
+                for i in range(3):
+                    sm_p[k, i] += offset[f, i]
+
+
+# -- the forward loop -------------------------------------------------------------------------------
+
+#: What a call of :func:`_run` does besides filtering.
+MODE_FILTER, MODE_STEP, MODE_WHOLE, MODE_CLOSE = 0, 1, 2, 3
+
+
 @njit(cache=True, error_model="numpy")
 def _run(
     t, acc, gyr, stance, stop_at, k, t_stop, max_events, step_stops,
     q, v, p, ba, bg, f_n, cov, n, q_diag, r_zupt, r_zaru,
     out_q, out_v, out_p, out_pcov,
-    record, rec_off, ev_foot, ev_k, ev_f, ev_c, ev_dt, ev_prows, ev_m, ev_idx, ev_gain, ev_sy,
+    mode, rec, sm, fill, mu, d,
 ):
     """Advance the feet through their samples with t <= t_stop, in time order.
 
     Foot f owns samples ``k[f] + 1 .. stop_at[f]`` of the concatenated arrays (``k[f]`` is its
-    last processed sample). With ``record``, event i of this call is written at ``rec_off + i``
-    of the record arrays (offsets, not slices: every caller then shares one compiled signature). Returns (reason, events): reason 0 nothing left before t_stop,
-    1 a foot's stance just ended (a step boundary; only with ``step_stops``), 2 ``max_events``
-    processed.
+    last processed sample). ``mode``:
+
+    * ``MODE_FILTER``: filter only.
+    * ``MODE_STEP``: also record each event at ``fill[0]`` of ``rec``; where a foot's stance ends
+      (or ``rec`` is full) smooth the recorded step into ``sm`` (:func:`_smooth_back`).
+    * ``MODE_WHOLE``: record from 0, then ``d = P mu`` and the backward pass over what was
+      recorded, leaving ``mu``, ``d`` of the first event's predecessor (one segment of the
+      whole-walk smoother).
+    * ``MODE_CLOSE``: no filtering; smooth the recorded open step now.
+
+    Returns (reason, events): reason 0 nothing left before t_stop, 1 a foot's stance just ended
+    (only with ``step_stops``), 2 ``max_events`` processed.
     """
     n_feet = len(k)
     big = cov.shape[0]
-    src = np.zeros(n)
-    dst = np.zeros(n)
+    ev_foot, ev_k, ev_fdt, ev_dt, ev_c, ev_nu, ev_base, ev_gain, ev_sy, ev_y = rec
+    sm_q, sm_v, sm_p = sm
+    capacity = len(ev_k)
     c = np.zeros((3, 3))
     dq = np.zeros(4)
     q_tmp = np.zeros(4)
@@ -297,18 +415,24 @@ def _run(
     a_cur = np.zeros(3)
     w_cur = np.zeros(3)
     dx = np.zeros(big)
-    idx = np.zeros(6, dtype=np.int64)
+    gain = np.zeros((big, 3))
+    gain_z = np.zeros((big, 3))
+    sy = np.zeros(3)
+    sy_z = np.zeros(3)
     y = np.zeros(6)
-    r_diag = np.zeros(6)
-    gain = np.zeros((big, 6))
-    sy = np.zeros(6)
-    s = np.zeros((6, 6))
-    s_inv = np.zeros((6, 6))
-    low = np.zeros((6, 6))
-    hp = np.zeros((6, big))
+    hp = np.zeros((3, big))
     c_next = np.zeros((3, 3))
     f_prev = np.zeros(3)
+    step = mode == MODE_STEP or mode == MODE_CLOSE  # a variable, not a literal: one compiled pass
+    if mode == MODE_CLOSE:
+        _smooth_back(fill[0], step, cov, mu, d, n, n_feet, q_diag, rec, out_q, out_v, out_p, sm_q, sm_v, sm_p)
+        fill[0] = 0
+        return _DONE, 0
+    record = mode == MODE_STEP or mode == MODE_WHOLE
+    if mode == MODE_WHOLE:
+        fill[0] = 0
     events = 0
+    reason = _FULL
     while events < max_events:
         f = -1
         best = np.inf
@@ -319,7 +443,8 @@ def _run(
                     best = tn
                     f = g
         if f < 0:
-            return _DONE, events
+            reason = _DONE
+            break
         o = f * n
         kp = k[f]
         kn = kp + 1
@@ -336,49 +461,54 @@ def _run(
         fx, fy, fz = f_n[f, 0], f_n[f, 1], f_n[f, 2]
         f_prev[0], f_prev[1], f_prev[2] = fx, fy, fz  # strapdown_step overwrites f_n[f] with f^n(k)
         strapdown_step(q[f], v[f], p[f], f_n[f], a_prev, w_prev, a_cur, w_cur, dt, dq, q_tmp, c_next)
-        _predict_cov(cov, o, n, f_prev, c, dt, q_diag, src, dst)
-        m = 0
+        _predict_cov(cov, o, n, f_prev, c, dt, q_diag)
+        nu = 0
         if stance[kn]:
-            for i in range(3):
-                idx[i] = o + VEL + i
-                y[i] = v[f, i]  # z = v^ - 0 = dv + noise
-                r_diag[i] = r_zupt
-            m = 3
-            # a detected stance is not always still: the zero-angular-rate update is skipped when
-            # the rate is implausible for a still foot (chi-square gate), or it would turn real
-            # rotation into gyro bias
-            if r_zaru > 0.0 and n == 15 and _nis3(cov, o + GYR_BIAS, w_cur[0], w_cur[1], w_cur[2], r_zaru) < ZARU_GATE:
-                for i in range(3):
-                    idx[3 + i] = o + GYR_BIAS + i
-                    y[3 + i] = -w_cur[i]  # w^ = w - dbg: -w^ = dbg + noise
-                    r_diag[3 + i] = r_zaru
-                m = 6
-            if m == 3:
-                ok = _update_vel(cov, dx, o + VEL, v[f], r_zupt, gain, sy, hp)
-            else:
-                ok = _update(cov, dx, idx, m, y, r_diag, gain, sy, s, s_inv, low, hp)
-            if ok:
+            # ZUPT: z = v^ - 0 = dv + noise
+            y[0], y[1], y[2] = v[f, 0], v[f, 1], v[f, 2]
+            if _update3(cov, dx, o + VEL, y[0], y[1], y[2], r_zupt, gain, sy, hp):
                 feedback(q[f], v[f], p[f], ba[f], bg[f], dx, o, n, dq, q_tmp)
-            else:
-                m = 0
+                nu = 1
+            # zero angular rate, after the ZUPT (sequential updates with R block-diagonal equal
+            # the joint one): w^ = w - bg^, so -w^ = dbg + noise. Skipped when the rate is
+            # implausible for a still foot (chi-square gate): a detected stance is not always
+            # still, and real rotation would be taken for gyro bias
+            if r_zaru > 0.0 and n == 15 and nu == 1:
+                for i in range(3):
+                    y[3 + i] = bg[f, i] - gyr[kn, i]
+                if _nis3(cov, o + GYR_BIAS, y[3], y[4], y[5], r_zaru) < ZARU_GATE:
+                    if _update3(cov, dx, o + GYR_BIAS, y[3], y[4], y[5], r_zaru, gain_z, sy_z, hp):
+                        feedback(q[f], v[f], p[f], ba[f], bg[f], dx, o, n, dq, q_tmp)
+                        nu = 2
         if record:
-            e = rec_off + events
+            e = fill[0]
+            if e == capacity:  # a full buffer: the step is cut here (MODE_STEP only)
+                _smooth_back(e, step, cov, mu, d, n, n_feet, q_diag, rec, out_q, out_v, out_p, sm_q, sm_v, sm_p)
+                e = 0
             ev_foot[e] = f
             ev_k[e] = kn
             ev_dt[e] = dt
-            ev_f[e, 0], ev_f[e, 1], ev_f[e, 2] = fx * dt, fy * dt, fz * dt
-            for i in range(3):
-                for j in range(3):
-                    ev_c[e, i, j] = c[i, j]
-            for i in range(9):
-                for j in range(big):
-                    ev_prows[e, i, j] = cov[o + i, j]
-            ev_m[e] = m
-            for a in range(m):
-                ev_idx[e, a] = idx[a]
-                ev_sy[e, a] = sy[a]
-                for i in range(big):
-                    ev_gain[e, i, a] = gain[i, a]
+            ev_fdt[e, 0], ev_fdt[e, 1], ev_fdt[e, 2] = fx * dt, fy * dt, fz * dt
+            if n == 15:
+                for i in range(3):
+                    for j in range(3):
+                        ev_c[e, i, j] = c[i, j]
+            ev_nu[e] = nu
+            for u in range(nu):
+                ev_base[e, u] = o + (VEL if u == 0 else GYR_BIAS)
+            for a in range(3 * nu):
+                ev_y[e, a] = y[a]
+            if nu > 0:
+                for a in range(3):
+                    ev_sy[e, a] = sy[a]
+                    for i in range(big):
+                        ev_gain[e, i, a] = gain[i, a]
+            if nu > 1:
+                for a in range(3):
+                    ev_sy[e, 3 + a] = sy_z[a]
+                    for i in range(big):
+                        ev_gain[e, i, 3 + a] = gain_z[i, a]
+            fill[0] = e + 1
         for i in range(4):
             out_q[kn, i] = q[f, i]
         for i in range(3):
@@ -389,12 +519,37 @@ def _run(
         out_pcov[kn, 2] = cov[o + POS + 1, o + POS + 1]
         out_pcov[kn, 3] = cov[o + POS + 2, o + POS + 2]
         events += 1
-        if step_stops and stance[kn] and kn < stop_at[f] and not stance[kn + 1]:
-            return _STEP_END, events
-    return _FULL, events
+        if stance[kn] and kn < stop_at[f] and not stance[kn + 1]:  # the foot's stance ends: a step
+            if mode == MODE_STEP:
+                _smooth_back(fill[0], step, cov, mu, d, n, n_feet, q_diag, rec, out_q, out_v, out_p, sm_q, sm_v, sm_p)
+                fill[0] = 0
+            if step_stops:
+                reason = _STEP_END
+                break
+    if mode == MODE_WHOLE:
+        _smooth_back(fill[0], step, cov, mu, d, n, n_feet, q_diag, rec, out_q, out_v, out_p, sm_q, sm_v, sm_p)
+    return reason, events
 
 
 # -- the step-able filter -------------------------------------------------------------------------
+
+
+def empty_record(big: int, n: int = 0, rows: int = 3) -> tuple:
+    """Buffers of :func:`_run`'s record for ``n`` events of a filter with ``big`` error states,
+    room for a caller's update of up to ``rows`` rows (K and H' need 2 ``rows`` gain columns)."""
+    width = max(3, rows)
+    return (
+        np.zeros(n, dtype=np.int64),  # foot
+        np.zeros(n, dtype=np.int64),  # global sample index
+        np.zeros((n, 3)),  # f^n dt at the start of the interval
+        np.zeros(n),  # dt
+        np.zeros((n, 3, 3)),  # C at the start of the interval (bias states only)
+        np.zeros(n, dtype=np.int64),  # updates at the sample: 0, 1 (ZUPT), 2 (and ZARU); -m a caller's
+        np.zeros((n, 2), dtype=np.int64),  # first error state of each update's 3-block
+        np.zeros((n, big, 2 * width)),  # K, three columns per update; a caller's: K then H'
+        np.zeros((n, 2 * width)),  # S^-1 y (two updates of 3 at a sample, or a caller's)
+        np.zeros((n, 2 * width)),  # y
+    )
 
 
 class InsFilter:
@@ -404,8 +559,8 @@ class InsFilter:
     :meth:`run_until` (the compiled loop: strapdown, covariance prediction, ZUPT in stance),
     reads the current state (:meth:`position`, :meth:`velocity`, :meth:`quaternion`,
     :attr:`covariance`), applies its own measurements (:meth:`update`, :meth:`update_position`)
-    between runs, and collects the per-sample results with :meth:`outputs`. Step ends (when
-    ``step_stops``), full segments and the instants of the caller's updates leave a
+    between runs, and collects the per-sample results with :meth:`outputs`. Full segments, the
+    instants of the caller's updates and (with :attr:`step_stops`) step ends leave a
     :class:`Checkpoint` for the smoother.
 
     Attributes
@@ -414,6 +569,12 @@ class InsFilter:
         States per foot (9 or 15).
     n_feet
         1 or 2; foot ``f``'s error states are ``f * n_states`` to ``(f + 1) * n_states``.
+    step_stops
+        Return from :meth:`run_until` (leaving a checkpoint) at every step end; off by default,
+        as nothing in footnav needs it: for a caller that inspects the filter step by step.
+    step_smoother
+        A :class:`footnav.core.smoothing.StepSmoother` smoothing each step as the filter runs,
+        or None.
     """
 
     def __init__(
@@ -472,12 +633,13 @@ class InsFilter:
             self._out_pcov[a : k + 1] = [self._cov[o, o], self._cov[o, o + 1], self._cov[o + 1, o + 1], self._cov[o + 2, o + 2]]
         self._n_events = 0
         self._since_checkpoint = 0
-        self._empty = _empty_record(big)
-        #: Optional observer of the run with ``before_run(filt) -> (buffers, max_events)`` and
-        #: ``after_run(filt, events)``: :class:`footnav.core.smoothing.StepSmoother`.
-        self.recorder = None
-        #: Stop (and leave a checkpoint) at every step end: what step-wise smoothing needs.
-        self.step_stops = True
+        # the record and smoother arguments of a plain filtering call (not used by it)
+        self._no_record = empty_record(big)
+        self._no_sm = (np.zeros((0, 4)), np.zeros((0, 3)), np.zeros((0, 3)))
+        self._no_fill = np.zeros(1, dtype=np.int64)
+        self._no_vec = np.zeros(big)
+        self.step_smoother = None
+        self.step_stops = False
         #: Per-foot notes of whoever built the filter (the estimator's alignment).
         self.meta: list[dict] = [{} for _ in range(self.n_feet)]
         self.checkpoints: list[Checkpoint] = [self._checkpoint(step_end=False)]
@@ -521,44 +683,54 @@ class InsFilter:
         return bool(np.all(self._k >= self._stop_at))
 
     # -- acting --------------------------------------------------------------------------------
+    def _call(self, mode, k, stop_at, t_stop, max_events, step_stops, state, rec, sm, fill, mu, d):
+        """One call of the compiled loop from ``state`` = (q, v, p, ba, bg, f_n, cov)."""
+        return _run(
+            self._t, self._acc, self._gyr, self._stance, stop_at, k, float(t_stop), int(max_events), bool(step_stops),
+            *state, self.n_states, self._q_diag, self.noise.zupt_std_mps**2, self.noise.zaru_std_radps**2,
+            self._out_q, self._out_v, self._out_p, self._out_pcov, mode, rec, sm, fill, mu, d,
+        )
+
+    def _state(self) -> tuple:
+        return self._q, self._v, self._p, self._ba, self._bg, self._f_n, self._cov
+
     def run_until(self, t_stop: float = np.inf) -> None:
         """Process every sample with time <= ``t_stop`` (s) of each foot, in time order."""
+        ss = self.step_smoother
+        if ss is None:
+            mode, bufs = MODE_FILTER, (self._no_record, self._no_sm, self._no_fill, self._no_vec, self._no_vec)
+        else:
+            mode, bufs = MODE_STEP, (ss.record, ss.smoothed, ss.fill, ss.mu, ss.d)
         while True:
             # a checkpoint at least every MAX_SEGMENT_EVENTS: the smoother re-runs one at a time
-            max_events = MAX_SEGMENT_EVENTS - self._since_checkpoint
-            if self.recorder is not None:
-                buffers, rec_off, room = self.recorder.before_run(self)
-                record, max_events = True, min(max_events, room)
-            else:
-                record, buffers, rec_off = False, self._empty, 0
-            reason, events = _run(
-                self._t, self._acc, self._gyr, self._stance, self._stop_at, self._k, float(t_stop),
-                max_events, self.step_stops, self._q, self._v, self._p, self._ba, self._bg, self._f_n, self._cov,
-                self.n_states, self._q_diag, self.noise.zupt_std_mps**2, self.noise.zaru_std_radps**2,
-                self._out_q, self._out_v, self._out_p, self._out_pcov, record, rec_off, *buffers,
+            reason, events = self._call(
+                mode, self._k, self._stop_at, t_stop, MAX_SEGMENT_EVENTS - self._since_checkpoint, self.step_stops,
+                self._state(), *bufs,
             )
             self._n_events += events
             self._since_checkpoint += events
-            if self.recorder is not None:
-                self.recorder.after_run(self, events)
             # checkpoints where a step ends or a segment is full; a stop for the caller needs one
             # only if the caller then updates (see update): memory grows with steps, not with stops
             if events and reason != _DONE:
-                # a full buffer of a step-wise smoother is a forced step boundary
-                self._add_checkpoint(step_end=reason == _STEP_END or self.recorder is not None)
+                self._add_checkpoint(step_end=reason == _STEP_END)
             if reason == _DONE:
                 return
 
     def _add_checkpoint(self, step_end: bool) -> None:
         self.checkpoints.append(self._checkpoint(step_end=step_end))
         self._since_checkpoint = 0
-        if self.recorder is not None:
-            self.recorder.on_checkpoint(self)
 
     def close(self) -> None:
         """Leave a checkpoint at the current state (the smoother needs one after the last sample)."""
         if self._since_checkpoint:
             self._add_checkpoint(step_end=False)
+
+    def close_step(self, smoother) -> None:
+        """Smooth ``smoother``'s open step now (:class:`footnav.core.smoothing.StepSmoother`)."""
+        self._call(
+            MODE_CLOSE, self._k, self._stop_at, -np.inf, 0, False, self._state(),
+            smoother.record, smoother.smoothed, smoother.fill, smoother.mu, smoother.d,
+        )
 
     def update(
         self,
@@ -615,9 +787,11 @@ class InsFilter:
         self._apply(dx)
         self.close()  # the update belongs to a checkpoint at this instant
         cp = self.checkpoints[-1]
-        cp.updates.append((hm, gain, sy))
+        cp.updates.append((hm, gain, sy, y))
         # the checkpoint holds the state after every update at this instant
         self._fill_checkpoint(cp)
+        if self.step_smoother is not None:
+            self.step_smoother.add_update(self, hm, gain, sy, y)
         return dx
 
     def selection(self, indices: NDArray[np.int64]) -> NDArray[np.float64]:
@@ -649,32 +823,17 @@ class InsFilter:
         cp.q, cp.v, cp.p = self._q.copy(), self._v.copy(), self._p.copy()
         cp.ba, cp.bg, cp.f_n, cp.cov = self._ba.copy(), self._bg.copy(), self._f_n.copy(), self._cov.copy()
 
-    def replay(self, a: int, b: int) -> tuple:
-        """Re-run from checkpoint ``a`` to checkpoint ``b`` recording what the smoother needs.
-
-        Returns the record arrays (foot, sample, f^n dt, C, dt, P rows, m, indices, gains,
-        S^-1 y) of the events between the two checkpoints, and the outputs written meanwhile
-        are the same as the first run's (the loop is deterministic).
-        """
+    def replay(self, a: int, b: int, mode: int, record: tuple, smoothed: tuple, fill, mu, d) -> None:
+        """Re-run from checkpoint ``a`` to checkpoint ``b`` in ``mode`` (``MODE_STEP`` or
+        ``MODE_WHOLE``, see :func:`_run`) with the smoother's buffers; the filter's own state is
+        untouched and the outputs written meanwhile are the first run's (the loop is
+        deterministic)."""
         ca, cb = self.checkpoints[a], self.checkpoints[b]
         n_ev = cb.n_events - ca.n_events
-        big = self._cov.shape[0]
-        rec = _empty_record(big, n_ev)
-        k = ca.k.copy()
-        stop = cb.k.copy()
-        q, v, p, ba, bg, f_n, cov = (x.copy() for x in (ca.q, ca.v, ca.p, ca.ba, ca.bg, ca.f_n, ca.cov))
-        done = 0
-        while done < n_ev:
-            _, events = _run(
-                self._t, self._acc, self._gyr, self._stance, stop, k, np.inf, n_ev - done, self.step_stops,
-                q, v, p, ba, bg, f_n, cov, self.n_states, self._q_diag, self.noise.zupt_std_mps**2,
-                self.noise.zaru_std_radps**2, self._out_q, self._out_v, self._out_p, self._out_pcov,
-                True, done, *rec,
-            )
-            if events == 0:  # pragma: no cover - the checkpoints come from this very loop
-                raise RuntimeError("replay did not reproduce the forward run")
-            done += events
-        return rec
+        state = tuple(x.copy() for x in (ca.q, ca.v, ca.p, ca.ba, ca.bg, ca.f_n, ca.cov))
+        _, events = self._call(mode, ca.k.copy(), cb.k.copy(), np.inf, n_ev, False, state, record, smoothed, fill, mu, d)
+        if events != n_ev:  # pragma: no cover - the checkpoints come from this very loop
+            raise RuntimeError("replay did not reproduce the forward run")
 
     def outputs(self, foot: int) -> tuple[NDArray, NDArray, NDArray, NDArray]:
         """Per-sample attitude, velocity, position and position covariance (xx, xy, yy, zz) of ``foot``."""
@@ -683,19 +842,3 @@ class InsFilter:
 
     def global_index(self, foot: int, k: int) -> int:
         return int(self._offsets[foot] + k)
-
-
-def _empty_record(big: int, n: int = 0) -> tuple:
-    """Buffers of :func:`_run`'s record mode for ``n`` events of a filter with ``big`` states."""
-    return (
-        np.zeros(n, dtype=np.int64),  # foot
-        np.zeros(n, dtype=np.int64),  # global sample index
-        np.zeros((n, 3)),  # f^n dt
-        np.zeros((n, 3, 3)),  # C
-        np.zeros(n),  # dt
-        np.zeros((n, 9, big)),  # rows att, vel, pos of P after the sample's updates
-        np.zeros(n, dtype=np.int64),  # measurements at the sample
-        np.zeros((n, 6), dtype=np.int64),
-        np.zeros((n, big, 6)),
-        np.zeros((n, 6)),
-    )

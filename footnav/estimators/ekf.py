@@ -217,9 +217,7 @@ class EkfEstimator(FootEstimator):
         )
         filt.meta = metas
         if self.smoother == "step":
-            filt.recorder = StepSmoother(filt)
-        else:  # whole-walk smoothing re-runs segments of any length; no need to stop every step
-            filt.step_stops = False
+            filt.step_smoother = StepSmoother(filt)
         return filt
 
     def _align(self, imu: ImuData, stance: StanceResult):

@@ -164,8 +164,9 @@ def test_covariance_stays_symmetric_positive_definite_over_a_60_minute_walk():
     segments = [(150.0, 90.0), (60.0, 90.0), (150.0, 90.0), (60.0, 90.0)] * 11
     rec = footnav.simulate("path", seed=11, segments=segments)
     assert rec.left.duration_s > 55 * 60
-    est = EkfEstimator(smoother="step", **LONG_WALK)  # step-wise: a checkpoint at every step
+    est = EkfEstimator(smoother="step", **LONG_WALK)
     filt = est.start([rec.left], [StanceResult(rec.truth_left.stance)])
+    filt.step_stops = True  # a checkpoint at every step end: the covariance seen step by step
     filt.run_until()
     worst_asym, worst_eig = 0.0, np.inf
     for cp in filt.checkpoints[1:]:  # the first holds the exactly known start position (variance 0)

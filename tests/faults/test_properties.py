@@ -9,7 +9,7 @@ from hypothesis.extra.numpy import arrays
 
 from footnav.core import metrics
 from footnav.core import quaternion as quat
-from footnav.core.ins_filter import _update, _update_vel
+from footnav.core.ins_filter import _update3
 
 finite = st.floats(-10.0, 10.0, allow_nan=False, allow_infinity=False)
 unit_q = arrays(np.float64, 4, elements=finite).filter(lambda q: np.linalg.norm(q) > 1e-3).map(lambda q: q / np.linalg.norm(q))
@@ -45,16 +45,22 @@ def _spd(rng, n):
     return a @ a.T + 1e-3 * np.eye(n)
 
 
+def _update3_numpy(cov, o, y, r):
+    """The same update written densely: K = P H' (H P H' + R)^-1, dx = K y, P - K H P."""
+    h = np.zeros((3, len(cov)))
+    h[:, o : o + 3] = np.eye(3)
+    s = h @ cov @ h.T + r * np.eye(3)
+    gain = cov @ h.T @ np.linalg.inv(s)
+    return cov - gain @ h @ cov, gain @ y, gain, np.linalg.solve(s, y)
+
+
 @settings(max_examples=60, deadline=None)
 @given(st.integers(0, 2**31 - 1), st.sampled_from([9, 15, 18, 30]), st.floats(1e-6, 10.0))
-def test_kalman_updates_keep_the_covariance_symmetric_positive_definite(seed, n, r):
+def test_kalman_update_keeps_the_covariance_symmetric_positive_definite(seed, n, r):
     rng = np.random.default_rng(seed)
     cov = _spd(rng, n)
-    m = 3
-    idx = np.sort(rng.choice(n, m, replace=False)).astype(np.int64)
-    y = rng.standard_normal(m)
-    dx = np.zeros(n)
-    ok = _update(cov, dx, idx, m, y, np.full(m, r), np.zeros((n, 6)), np.zeros(6), np.zeros((6, 6)), np.zeros((6, 6)), np.zeros((6, 6)), np.zeros((6, n)))
+    o = int(rng.integers(0, n - 2))
+    ok = _update3(cov, np.zeros(n), o, *rng.standard_normal(3), r, np.zeros((n, 3)), np.zeros(3), np.zeros((3, n)))
     assert ok
     assert np.array_equal(cov, cov.T)
     assert np.linalg.eigvalsh(cov).min() > -1e-12 * np.abs(cov).max()
@@ -62,18 +68,26 @@ def test_kalman_updates_keep_the_covariance_symmetric_positive_definite(seed, n,
 
 @settings(max_examples=60, deadline=None)
 @given(st.integers(0, 2**31 - 1), st.sampled_from([9, 15, 18, 30]), st.floats(1e-6, 1.0))
-def test_written_out_zupt_update_equals_the_general_one(seed, n, r):
+def test_written_out_update_equals_the_dense_one(seed, n, r):
     rng = np.random.default_rng(seed)
     cov = _spd(rng, n)
-    v = rng.standard_normal(3)
-    o = 3
-    a, b = cov.copy(), cov.copy()
-    dxa, dxb = np.zeros(n), np.zeros(n)
-    _update_vel(a, dxa, o, v, r, np.zeros((n, 6)), np.zeros(6), np.zeros((6, n)))
-    _update(b, dxb, np.arange(o, o + 3, dtype=np.int64), 3, v, np.full(3, r), np.zeros((n, 6)), np.zeros(6),
-            np.zeros((6, 6)), np.zeros((6, 6)), np.zeros((6, 6)), np.zeros((6, n)))
-    np.testing.assert_allclose(a, b, rtol=1e-9, atol=1e-9 * np.abs(cov).max())
-    np.testing.assert_allclose(dxa, dxb, rtol=1e-9, atol=1e-12)
+    y = rng.standard_normal(3)
+    o = int(rng.integers(0, n - 2))
+    ref_cov, ref_dx, ref_gain, ref_sy = _update3_numpy(cov, o, y, r)
+    dx, gain, sy = np.zeros(n), np.zeros((n, 3)), np.zeros(3)
+    _update3(cov, dx, o, *y, r, gain, sy, np.zeros((3, n)))
+    scale = np.abs(ref_cov).max()
+    np.testing.assert_allclose(cov, ref_cov, rtol=1e-9, atol=1e-9 * scale)
+    np.testing.assert_allclose(dx, ref_dx, rtol=1e-9, atol=1e-9 * np.abs(ref_dx).max())
+    np.testing.assert_allclose(gain, ref_gain, rtol=1e-9, atol=1e-9 * np.abs(ref_gain).max())
+    np.testing.assert_allclose(sy, ref_sy, rtol=1e-9, atol=1e-9 * np.abs(ref_sy).max())
+
+
+def test_update_refuses_a_singular_innovation_covariance():
+    cov = np.zeros((9, 9))
+    before = cov.copy()
+    assert not _update3(cov, np.zeros(9), 3, 1.0, 0.0, 0.0, 0.0, np.zeros((9, 3)), np.zeros(3), np.zeros((3, 9)))
+    assert np.array_equal(cov, before)
 
 
 @settings(max_examples=40, deadline=None)

@@ -227,10 +227,16 @@ class EkfEstimator(FootEstimator):
             meta["gyro_bias_radps"] = align.gyro_bias_radps.tolist()
         return s0, align, meta
 
-    def trajectory(self, filt: InsFilter, foot: int, stance: StanceResult, smoothed=None, *, copy: bool = True) -> FootTrajectory:
-        """Foot ``foot``'s result of a finished filter run (``smoothed``: the output of
-        :func:`footnav.core.smoothing.smooth` for the run, or None for the forward filter);
-        ``copy=False`` hands over the filter's arrays (when the filter is not used again)."""
+    def trajectory(
+        self, filt: InsFilter, foot: int, stance: StanceResult, smoothed=None, *, copy: bool = True, heading: bool = False
+    ) -> FootTrajectory:
+        """Foot ``foot``'s result of a finished filter run.
+
+        ``smoothed``: the output of :func:`footnav.core.smoothing.smooth` for the run, or None for
+        the forward filter. ``copy=False`` hands over the filter's (or smoother's) arrays, when
+        the filter is not used again. ``heading``: turn the result so that its first step points
+        along +x (:func:`footnav.core.heading.turn_to_first_step`; in place when not copied).
+        """
         q_out, vel, pos, pos_cov = filt.outputs(foot)
         if smoothed is not None:
             sl = slice(filt.global_index(foot, 0), filt.global_index(foot, len(q_out) - 1) + 1)
@@ -242,11 +248,14 @@ class EkfEstimator(FootEstimator):
             meta["acc_bias_mps2"], meta["gyr_bias_radps"] = ba.tolist(), bg.tolist()
             meta["acc_bias_std_mps2"] = np.sqrt(np.diag(cov)[filt.block(foot, "acc_bias")]).tolist()
             meta["gyr_bias_std_radps"] = np.sqrt(np.diag(cov)[filt.block(foot, "gyr_bias")]).tolist()
-        # the smoothed covariance is at most the filtered one: std is the forward filter's
-        std = np.sqrt(np.maximum(pos_cov[:, [0, 2, 3]], 0.0))
         t = filt._t[filt.global_index(foot, 0) : filt.global_index(foot, len(q_out) - 1) + 1]
         if copy:
-            pos, vel, q_out = pos.copy(), vel.copy(), q_out.copy()
+            pos, vel, q_out, pos_cov = pos.copy(), vel.copy(), q_out.copy(), pos_cov.copy()
+        # the smoothed covariance is at most the filtered one: std is the forward filter's
+        if heading:
+            pos, vel, q_out, std = turn_to_first_step(pos, vel, q_out, pos_cov, stance.intervals, meta)
+        else:
+            std = np.sqrt(np.maximum(pos_cov[:, [0, 2, 3]], 0.0))
         return FootTrajectory(t=t, position=pos, velocity=vel, quaternion=q_out, position_std=std, steps=stance.intervals, meta=meta)
 
     # -- the estimator ---------------------------------------------------------------------------
@@ -274,18 +283,8 @@ class EkfEstimator(FootEstimator):
             filt.update_position(0, np.zeros(3), self.closed_loop_std_m)
         filt.run_until()
         smoothed = None if self.smoother == "none" else smooth(filt, self.smoother)
-        traj = self.trajectory(filt, 0, stance, smoothed, copy=False)
+        traj = self.trajectory(filt, 0, stance, smoothed, copy=False, heading=self.heading == "first-step")
         if self.closed_loop:
             traj.meta["closed_loop"] = {"index": last, "std_m": self.closed_loop_std_m}
-        return self._finish(imu, filt, traj, t0)
-
-    def _finish(self, imu: ImuData, filt: InsFilter, traj: FootTrajectory, t0: float) -> FootTrajectory:
-        """The nav frame's heading (first step along +x) and the runtime."""
-        meta = dict(traj.meta)
-        pos, vel, q_out, std = traj.position, traj.velocity, traj.quaternion, traj.position_std
-        if self.heading == "first-step":
-            pos, vel, q_out, std = turn_to_first_step(pos, vel, q_out, filt.outputs(0)[3], traj.steps, meta)
-        meta["runtime_s"] = time.perf_counter() - t0
-        return FootTrajectory(t=imu.t, position=pos, velocity=vel, quaternion=q_out, position_std=std, steps=traj.steps, meta=meta)
-
-
+        traj.meta["runtime_s"] = time.perf_counter() - t0
+        return traj

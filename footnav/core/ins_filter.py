@@ -30,6 +30,7 @@ compiled caller would re-optimise the loop it calls.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import NamedTuple
 
 import numpy as np
 from numba import njit
@@ -39,7 +40,7 @@ from footnav.core.errors import InvalidInputError
 from footnav.core.mechanization import strapdown_step
 from footnav.core.quaternion import as_matrix_nb, from_rotvec_nb, multiply_nb, normalize_nb
 
-__all__ = ["InsFilter", "FilterNoise", "Checkpoint", "ATT", "VEL", "POS", "ACC_BIAS", "GYR_BIAS", "empty_record"]
+__all__ = ["InsFilter", "FilterNoise", "Checkpoint", "ATT", "VEL", "POS", "ACC_BIAS", "GYR_BIAS", "empty_record", "Work", "work"]
 
 #: Offsets of the blocks of one foot's error state.
 ATT, VEL, POS, ACC_BIAS, GYR_BIAS = 0, 3, 6, 9, 12
@@ -98,6 +99,41 @@ class Checkpoint:
     updates: list = field(default_factory=list)
 
 
+class Work(NamedTuple):
+    """Scratch of the compiled loop, allocated once per filter in Python: an allocation in the
+    loop would cost per call, and one with a constant shape a numpy helper compiled per shape."""
+
+    c: NDArray[np.float64]  # (3, 3) C for the bias columns of F
+    c_next: NDArray[np.float64]  # (3, 3) the strapdown's rotation matrix
+    dq: NDArray[np.float64]  # (4,)
+    q_tmp: NDArray[np.float64]  # (4,)
+    a_prev: NDArray[np.float64]  # (3,) bias-corrected specific force and angular rate, k-1 and k
+    w_prev: NDArray[np.float64]
+    a_cur: NDArray[np.float64]
+    w_cur: NDArray[np.float64]
+    f_prev: NDArray[np.float64]  # (3,) f^n at the start of the interval
+    y: NDArray[np.float64]  # (6,) ZUPT and ZARU innovations
+    sy: NDArray[np.float64]  # (3,) S^-1 y of the ZUPT
+    sy_z: NDArray[np.float64]  # (3,) and of the ZARU
+    dx: NDArray[np.float64]  # (N,) correction
+    gain: NDArray[np.float64]  # (N, 3) K of the ZUPT
+    gain_z: NDArray[np.float64]  # (N, 3) and of the ZARU
+    hp: NDArray[np.float64]  # (3, N) H P
+    kt: NDArray[np.float64]  # (rows,) the backward pass's S^-1 y - K' mu
+    offset: NDArray[np.float64]  # (feet, 3) the step-wise smoother's position chaining
+    seen: NDArray[np.float64]  # (feet,)
+
+
+def work(big: int, n_feet: int, rows: int = 6) -> Work:
+    """Scratch for a filter with ``big`` error states over ``n_feet`` feet, caller updates of up
+    to ``rows`` rows."""
+    z = np.zeros
+    return Work(
+        z((3, 3)), z((3, 3)), z(4), z(4), z(3), z(3), z(3), z(3), z(3), z(6), z(3), z(3),
+        z(big), z((big, 3)), z((big, 3)), z((3, big)), z(max(rows, 6)), z((n_feet, 3)), z(n_feet),
+    )
+
+
 # -- compiled kernels ---------------------------------------------------------------------------
 
 
@@ -141,7 +177,7 @@ def _f_cols(cov, o, n, i, x, y, z, c, dt):
             cov[i, o + 3 + r] -= dt * (c[r, 0] * b0 + c[r, 1] * b1 + c[r, 2] * b2)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, inline="always", error_model="numpy")
 def _predict_cov(cov, o, n, f_n, c, dt, q_diag):
     """P <- F P F' + Q dt for one foot's block at offset ``o`` of the joint covariance, in place.
 
@@ -178,14 +214,15 @@ def sym3_inverse(a, b, c, d, e, f):
 
 
 @njit(cache=True, error_model="numpy")
-def _update3(cov, dx, o, y0, y1, y2, r, gain, sy, hp):
+def _update3(cov, dx, o, y0, y1, y2, r, gate, gain, sy, hp):
     """Kalman update with a measurement of the 3 states at ``o``: ``y = dx[o:o+3] + noise``,
     noise variance ``r`` (each axis); H is a selection, so S is a 3 x 3 block of P plus r I,
     inverted by cofactors.
 
     K = P H' S^-1 (written to ``gain`` (N, 3)), dx = K y, S^-1 y (to ``sy`` (3,)), P <- P - K H P,
     both triangles from one value (exactly symmetric). ``hp`` (3, N) is scratch.
-    Returns False (and changes nothing) when S is not positive definite.
+    Returns False (and changes nothing) when S is not positive definite or the normalised
+    innovation squared y' S^-1 y exceeds ``gate`` (a chi-square gate; inf: none).
     """
     big = cov.shape[0]
     i00, i01, i02, i11, i12, i22, det = sym3_inverse(
@@ -196,6 +233,8 @@ def _update3(cov, dx, o, y0, y1, y2, r, gain, sy, hp):
     s0 = i00 * y0 + i01 * y1 + i02 * y2
     s1 = i01 * y0 + i11 * y1 + i12 * y2
     s2 = i02 * y0 + i12 * y1 + i22 * y2
+    if y0 * s0 + y1 * s1 + y2 * s2 > gate:
+        return False
     sy[0], sy[1], sy[2] = s0, s1, s2
     for j in range(big):
         h0, h1, h2 = cov[o, j], cov[o + 1, j], cov[o + 2, j]  # H P = P H' (symmetric)
@@ -213,29 +252,26 @@ def _update3(cov, dx, o, y0, y1, y2, r, gain, sy, hp):
     return True
 
 
-@njit(cache=True, inline="always", error_model="numpy")
-def _nis3(cov, o, y0, y1, y2, r):
-    """Normalised innovation squared y' (P_block + r I)^-1 y of a measurement of the 3 states at o."""
-    i00, i01, i02, i11, i12, i22, _ = sym3_inverse(
-        cov[o, o] + r, cov[o, o + 1], cov[o, o + 2], cov[o + 1, o + 1] + r, cov[o + 1, o + 2], cov[o + 2, o + 2] + r
-    )
-    return i00 * y0 * y0 + i11 * y1 * y1 + i22 * y2 * y2 + 2.0 * (i01 * y0 * y1 + i02 * y0 * y2 + i12 * y1 * y2)
-
-
 @njit(cache=True, error_model="numpy")
-def feedback(q, v, p, ba, bg, dx, o, n, dq, q_tmp):
-    """Closed-loop reset of one foot: C <- (I + [dphi x]) C^, v -= dv, p -= dp, b -= db."""
+def feedback(q, v, p, ba, bg, f, dx, o, n, dq, q_tmp):
+    """Closed-loop reset of foot ``f`` (rows of the per-foot state arrays) by the error ``dx``
+    at ``o``: C <- (I + [dphi x]) C^, v -= dv, p -= dp, b -= db. The arrays are passed whole:
+    a row view per call costs reference counting in the per-sample loop."""
     from_rotvec_nb(dx[o], dx[o + 1], dx[o + 2], dq)
-    multiply_nb(dq, q, q_tmp)
+    w, x, y, z = q[f, 0], q[f, 1], q[f, 2], q[f, 3]
+    q_tmp[0] = dq[0] * w - dq[1] * x - dq[2] * y - dq[3] * z
+    q_tmp[1] = dq[0] * x + dq[1] * w + dq[2] * z - dq[3] * y
+    q_tmp[2] = dq[0] * y - dq[1] * z + dq[2] * w + dq[3] * x
+    q_tmp[3] = dq[0] * z + dq[1] * y - dq[2] * x + dq[3] * w
+    norm = np.sqrt(q_tmp[0] * q_tmp[0] + q_tmp[1] * q_tmp[1] + q_tmp[2] * q_tmp[2] + q_tmp[3] * q_tmp[3])
     for i in range(4):
-        q[i] = q_tmp[i]
-    normalize_nb(q)
+        q[f, i] = q_tmp[i] / norm
     for i in range(3):
-        v[i] -= dx[o + 3 + i]
-        p[i] -= dx[o + 6 + i]
+        v[f, i] -= dx[o + 3 + i]
+        p[f, i] -= dx[o + 6 + i]
         if n == 15:
-            ba[i] -= dx[o + 9 + i]
-            bg[i] -= dx[o + 12 + i]
+            ba[f, i] -= dx[o + 9 + i]
+            bg[f, i] -= dx[o + 12 + i]
 
 
 # -- the backward (smoothing) pass ----------------------------------------------------------------
@@ -277,7 +313,7 @@ def _finv_apply(d, o, n, x, y, z, c, e, dt):
 
 
 @njit(cache=True, error_model="numpy")
-def _smooth_back(used, chain, cov, mu, d, n, n_feet, q_diag, rec, out_q, out_v, out_p, sm_q, sm_v, sm_p):
+def _smooth_back(used, chain, cov, mu, d, n, n_feet, q_diag, rec, out_q, out_v, out_p, sm_q, sm_v, sm_p, ws):
     """Bryson-Frazier backward pass over the recorded events ``used - 1`` down to 0.
 
     Each event's smoothed sample is its filtered output corrected by ``-d``, where ``d = P mu``
@@ -295,9 +331,7 @@ def _smooth_back(used, chain, cov, mu, d, n, n_feet, q_diag, rec, out_q, out_v, 
     """
     ev_foot, ev_k, ev_fdt, ev_dt, ev_c, ev_nu, ev_base, ev_gain, ev_sy, ev_y = rec
     big = len(mu)
-    kt = np.zeros(ev_sy.shape[1])
-    dq = np.zeros(4)
-    q_tmp = np.zeros(4)
+    kt, dq, q_tmp = ws.kt, ws.dq, ws.q_tmp
     for i in range(big):
         if chain:
             mu[i] = 0.0
@@ -309,46 +343,44 @@ def _smooth_back(used, chain, cov, mu, d, n, n_feet, q_diag, rec, out_q, out_v, 
             d[i] = acc
     for e in range(used - 1, -1, -1):
         nu = ev_nu[e]
-        if nu < 0:  # a caller's update between samples, m = -nu rows: K and H' side by side in ev_gain
-            m = -nu
-            for a in range(m):
-                acc = ev_sy[e, a]
-                for i in range(big):
-                    acc -= ev_gain[e, i, a] * mu[i]
-                kt[a] = acc
-            for i in range(big):
-                dm = 0.0
-                dd = 0.0
-                for a in range(m):
-                    dm += ev_gain[e, i, m + a] * kt[a]
-                    dd += ev_gain[e, i, a] * ev_y[e, a]
-                mu[i] += dm
-                d[i] += dd
-            continue
         o = ev_foot[e] * n
-        k = ev_k[e]
-        from_rotvec_nb(d[o], d[o + 1], d[o + 2], dq)
-        multiply_nb(dq, out_q[k], q_tmp)
-        normalize_nb(q_tmp)
-        for i in range(4):
-            sm_q[k, i] = q_tmp[i]
-        for i in range(3):
-            sm_v[k, i] = out_v[k, i] - d[o + 3 + i]
-            sm_p[k, i] = out_p[k, i] - d[o + 6 + i]
-        for u in range(nu - 1, -1, -1):  # the sample's updates, last first
+        if nu >= 0:  # a sample: its smoothed output, then back through its updates and transition
+            k = ev_k[e]
+            from_rotvec_nb(d[o], d[o + 1], d[o + 2], dq)
+            multiply_nb(dq, out_q[k], q_tmp)
+            normalize_nb(q_tmp)
+            for i in range(4):
+                sm_q[k, i] = q_tmp[i]
+            for i in range(3):
+                sm_v[k, i] = out_v[k, i] - d[o + 3 + i]
+                sm_p[k, i] = out_p[k, i] - d[o + 6 + i]
+        # the updates, last first: a sample's nu 3-state selections (none when nu = 0; K in
+        # columns 3u:3u+3), or a caller's update between samples of m = -nu rows (K in columns
+        # 0:m, H' in m:2m). Rows of an event without updates hold stale values: never read.
+        m = 3 if nu >= 0 else -nu
+        for u in range((nu if nu >= 0 else 1) - 1, -1, -1):
             col = 3 * u
-            for a in range(3):
+            for a in range(m):
                 acc = ev_sy[e, col + a]
                 for i in range(big):
                     acc -= ev_gain[e, i, col + a] * mu[i]
                 kt[a] = acc
-            y0, y1, y2 = ev_y[e, col], ev_y[e, col + 1], ev_y[e, col + 2]
             for i in range(big):
-                d[i] += ev_gain[e, i, col] * y0 + ev_gain[e, i, col + 1] * y1 + ev_gain[e, i, col + 2] * y2
-            b = ev_base[e, u]
-            mu[b] += kt[0]
-            mu[b + 1] += kt[1]
-            mu[b + 2] += kt[2]
+                acc = 0.0
+                for a in range(m):
+                    acc += ev_gain[e, i, col + a] * ev_y[e, col + a]
+                d[i] += acc
+            if nu < 0:
+                for i in range(big):
+                    acc = 0.0
+                    for a in range(m):
+                        acc += ev_gain[e, i, m + a] * kt[a]
+                    mu[i] += acc
+            else:
+                for a in range(m):
+                    mu[ev_base[e, u] + a] += kt[a]
+        if nu < 0:
+            continue
         dt = ev_dt[e]
         for i in range(n):
             d[o + i] -= q_diag[i] * dt * mu[o + i]
@@ -357,8 +389,9 @@ def _smooth_back(used, chain, cov, mu, d, n, n_feet, q_diag, rec, out_q, out_v, 
         _ft_apply(mu, o, n, x, y, z, ev_c, e, dt)
     if chain:
         # d is now P mu before the step; a foot's first event in it follows its start sample
-        offset = np.zeros((n_feet, 3))
-        seen = np.zeros(n_feet)  # float, not bool: one less array type to compile for
+        offset, seen = ws.offset, ws.seen
+        for f in range(n_feet):
+            seen[f] = 0.0
         for e in range(used):
             f = ev_foot[e]
             if ev_nu[e] >= 0 and seen[f] == 0.0:
@@ -384,7 +417,7 @@ def _run(
     t, acc, gyr, stance, stop_at, k, t_stop, max_events, step_stops,
     q, v, p, ba, bg, f_n, cov, n, q_diag, r_zupt, r_zaru,
     out_q, out_v, out_p, out_pcov,
-    mode, rec, sm, fill, mu, d,
+    mode, rec, sm, fill, mu, d, ws,
 ):
     """Advance the feet through their samples with t <= t_stop, in time order.
 
@@ -407,25 +440,12 @@ def _run(
     ev_foot, ev_k, ev_fdt, ev_dt, ev_c, ev_nu, ev_base, ev_gain, ev_sy, ev_y = rec
     sm_q, sm_v, sm_p = sm
     capacity = len(ev_k)
-    c = np.zeros((3, 3))
-    dq = np.zeros(4)
-    q_tmp = np.zeros(4)
-    a_prev = np.zeros(3)
-    w_prev = np.zeros(3)
-    a_cur = np.zeros(3)
-    w_cur = np.zeros(3)
-    dx = np.zeros(big)
-    gain = np.zeros((big, 3))
-    gain_z = np.zeros((big, 3))
-    sy = np.zeros(3)
-    sy_z = np.zeros(3)
-    y = np.zeros(6)
-    hp = np.zeros((3, big))
-    c_next = np.zeros((3, 3))
-    f_prev = np.zeros(3)
+    c, c_next, dq, q_tmp, f_prev = ws.c, ws.c_next, ws.dq, ws.q_tmp, ws.f_prev
+    a_prev, w_prev, a_cur, w_cur = ws.a_prev, ws.w_prev, ws.a_cur, ws.w_cur
+    y, sy, sy_z, dx, gain, gain_z, hp = ws.y, ws.sy, ws.sy_z, ws.dx, ws.gain, ws.gain_z, ws.hp
     step = mode == MODE_STEP or mode == MODE_CLOSE  # a variable, not a literal: one compiled pass
     if mode == MODE_CLOSE:
-        _smooth_back(fill[0], step, cov, mu, d, n, n_feet, q_diag, rec, out_q, out_v, out_p, sm_q, sm_v, sm_p)
+        _smooth_back(fill[0], step, cov, mu, d, n, n_feet, q_diag, rec, out_q, out_v, out_p, sm_q, sm_v, sm_p, ws)
         fill[0] = 0
         return _DONE, 0
     record = mode == MODE_STEP or mode == MODE_WHOLE
@@ -460,14 +480,14 @@ def _run(
             as_matrix_nb(q[f], c)
         fx, fy, fz = f_n[f, 0], f_n[f, 1], f_n[f, 2]
         f_prev[0], f_prev[1], f_prev[2] = fx, fy, fz  # strapdown_step overwrites f_n[f] with f^n(k)
-        strapdown_step(q[f], v[f], p[f], f_n[f], a_prev, w_prev, a_cur, w_cur, dt, dq, q_tmp, c_next)
+        strapdown_step(q, v, p, f_n, f, a_prev, w_prev, a_cur, w_cur, dt, dq, q_tmp, c_next)
         _predict_cov(cov, o, n, f_prev, c, dt, q_diag)
         nu = 0
         if stance[kn]:
             # ZUPT: z = v^ - 0 = dv + noise
             y[0], y[1], y[2] = v[f, 0], v[f, 1], v[f, 2]
-            if _update3(cov, dx, o + VEL, y[0], y[1], y[2], r_zupt, gain, sy, hp):
-                feedback(q[f], v[f], p[f], ba[f], bg[f], dx, o, n, dq, q_tmp)
+            if _update3(cov, dx, o + VEL, y[0], y[1], y[2], r_zupt, np.inf, gain, sy, hp):
+                feedback(q, v, p, ba, bg, f, dx, o, n, dq, q_tmp)
                 nu = 1
             # zero angular rate, after the ZUPT (sequential updates with R block-diagonal equal
             # the joint one): w^ = w - bg^, so -w^ = dbg + noise. Skipped when the rate is
@@ -476,14 +496,13 @@ def _run(
             if r_zaru > 0.0 and n == 15 and nu == 1:
                 for i in range(3):
                     y[3 + i] = bg[f, i] - gyr[kn, i]
-                if _nis3(cov, o + GYR_BIAS, y[3], y[4], y[5], r_zaru) < ZARU_GATE:
-                    if _update3(cov, dx, o + GYR_BIAS, y[3], y[4], y[5], r_zaru, gain_z, sy_z, hp):
-                        feedback(q[f], v[f], p[f], ba[f], bg[f], dx, o, n, dq, q_tmp)
-                        nu = 2
+                if _update3(cov, dx, o + GYR_BIAS, y[3], y[4], y[5], r_zaru, ZARU_GATE, gain_z, sy_z, hp):
+                    feedback(q, v, p, ba, bg, f, dx, o, n, dq, q_tmp)
+                    nu = 2
         if record:
             e = fill[0]
             if e == capacity:  # a full buffer: the step is cut here (MODE_STEP only)
-                _smooth_back(e, step, cov, mu, d, n, n_feet, q_diag, rec, out_q, out_v, out_p, sm_q, sm_v, sm_p)
+                _smooth_back(e, step, cov, mu, d, n, n_feet, q_diag, rec, out_q, out_v, out_p, sm_q, sm_v, sm_p, ws)
                 e = 0
             ev_foot[e] = f
             ev_k[e] = kn
@@ -521,13 +540,13 @@ def _run(
         events += 1
         if stance[kn] and kn < stop_at[f] and not stance[kn + 1]:  # the foot's stance ends: a step
             if mode == MODE_STEP:
-                _smooth_back(fill[0], step, cov, mu, d, n, n_feet, q_diag, rec, out_q, out_v, out_p, sm_q, sm_v, sm_p)
+                _smooth_back(fill[0], step, cov, mu, d, n, n_feet, q_diag, rec, out_q, out_v, out_p, sm_q, sm_v, sm_p, ws)
                 fill[0] = 0
             if step_stops:
                 reason = _STEP_END
                 break
     if mode == MODE_WHOLE:
-        _smooth_back(fill[0], step, cov, mu, d, n, n_feet, q_diag, rec, out_q, out_v, out_p, sm_q, sm_v, sm_p)
+        _smooth_back(fill[0], step, cov, mu, d, n, n_feet, q_diag, rec, out_q, out_v, out_p, sm_q, sm_v, sm_p, ws)
     return reason, events
 
 
@@ -638,6 +657,7 @@ class InsFilter:
         self._no_sm = (np.zeros((0, 4)), np.zeros((0, 3)), np.zeros((0, 3)))
         self._no_fill = np.zeros(1, dtype=np.int64)
         self._no_vec = np.zeros(big)
+        self._work = work(big, nf)
         self.step_smoother = None
         self.step_stops = False
         #: Per-foot notes of whoever built the filter (the estimator's alignment).
@@ -688,8 +708,14 @@ class InsFilter:
         return _run(
             self._t, self._acc, self._gyr, self._stance, stop_at, k, float(t_stop), int(max_events), bool(step_stops),
             *state, self.n_states, self._q_diag, self.noise.zupt_std_mps**2, self.noise.zaru_std_radps**2,
-            self._out_q, self._out_v, self._out_p, self._out_pcov, mode, rec, sm, fill, mu, d,
+            self._out_q, self._out_v, self._out_p, self._out_pcov, mode, rec, sm, fill, mu, d, self._scratch(rec),
         )
+
+    def _scratch(self, rec: tuple) -> Work:
+        """The loop's scratch, widened when a record holds caller updates of more rows."""
+        if len(self._work.kt) < rec[8].shape[1]:
+            self._work = work(self._cov.shape[0], self.n_feet, rec[8].shape[1])
+        return self._work
 
     def _state(self) -> tuple:
         return self._q, self._v, self._p, self._ba, self._bg, self._f_n, self._cov
@@ -811,7 +837,7 @@ class InsFilter:
     def _apply(self, dx: NDArray[np.float64]) -> None:
         dq, q_tmp = np.zeros(4), np.zeros(4)
         for f in range(self.n_feet):
-            feedback(self._q[f], self._v[f], self._p[f], self._ba[f], self._bg[f], dx, f * self.n_states, self.n_states, dq, q_tmp)
+            feedback(self._q, self._v, self._p, self._ba, self._bg, f, dx, f * self.n_states, self.n_states, dq, q_tmp)
 
     # -- checkpoints and outputs ------------------------------------------------------------------
     def _checkpoint(self, step_end: bool) -> Checkpoint:

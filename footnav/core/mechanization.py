@@ -24,8 +24,8 @@ __all__ = ["strapdown_step", "strapdown"]
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def strapdown_step(q, v, p, f_n, acc_prev, gyr_prev, acc, gyr, dt, dq, q_tmp, c):
-    """Advance attitude, velocity and position by one sample, in place.
+def strapdown_step(q, v, p, f_n, f, acc_prev, gyr_prev, acc, gyr, dt, dq, q_tmp, c):
+    """Advance attitude, velocity and position of row ``f`` by one sample, in place.
 
     Attitude turns by the rotation vector (w_{k-1} + w_k) dt / 2. Velocity integrates C f by
     Simpson's rule with the attitude at mid-interval: the trapezoidal rule on C_{k-1} f_{k-1} and
@@ -36,11 +36,15 @@ def strapdown_step(q, v, p, f_n, acc_prev, gyr_prev, acc, gyr, dt, dq, q_tmp, c)
     Parameters
     ----------
     q
-        Attitude quaternion [w, x, y, z] body -> nav at k-1 (4,), becomes k.
+        Attitude quaternions [w, x, y, z] body -> nav (F, 4); row f at k-1 becomes k.
     v, p
-        Velocity (m/s) and position (m) in nav at k-1 (3,), become k.
+        Velocities (m/s) and positions (m) in nav (F, 3); row f at k-1 becomes k.
     f_n
-        Specific force in nav at k-1 (3,) in m/s^2; becomes the value at k (the EKF's F needs it).
+        Specific forces in nav (F, 3) in m/s^2; row f at k-1 becomes the value at k (the EKF's
+        F needs it).
+    f
+        The row to advance (the foot). Whole arrays and a row, not row views: a view per sample
+        costs reference counting in the compiled loops.
     acc_prev, gyr_prev, acc, gyr
         Bias-corrected specific force (m/s^2) and angular rate (rad/s) at k-1 and k, body frame.
     dt
@@ -50,7 +54,12 @@ def strapdown_step(q, v, p, f_n, acc_prev, gyr_prev, acc, gyr, dt, dq, q_tmp, c)
     """
     h = 0.25 * dt  # half of the half-interval rotation: two half turns make the whole one
     from_rotvec_nb((gyr_prev[0] + gyr[0]) * h, (gyr_prev[1] + gyr[1]) * h, (gyr_prev[2] + gyr[2]) * h, dq)
-    multiply_nb(q, dq, q_tmp)  # body-side increment: C_mid = C_{k-1} exp([w dt/2 x])
+    # body-side increment: C_mid = C_{k-1} exp([w dt/2 x])
+    w, x, y, z = q[f, 0], q[f, 1], q[f, 2], q[f, 3]
+    q_tmp[0] = w * dq[0] - x * dq[1] - y * dq[2] - z * dq[3]
+    q_tmp[1] = w * dq[1] + x * dq[0] + y * dq[3] - z * dq[2]
+    q_tmp[2] = w * dq[2] - x * dq[3] + y * dq[0] + z * dq[1]
+    q_tmp[3] = w * dq[3] + x * dq[2] - y * dq[1] + z * dq[0]
     normalize_nb(q_tmp)
     as_matrix_nb(q_tmp, c)
     f_mid = (
@@ -58,43 +67,49 @@ def strapdown_step(q, v, p, f_n, acc_prev, gyr_prev, acc, gyr, dt, dq, q_tmp, c)
         c[1, 0] * (acc_prev[0] + acc[0]) + c[1, 1] * (acc_prev[1] + acc[1]) + c[1, 2] * (acc_prev[2] + acc[2]),
         c[2, 0] * (acc_prev[0] + acc[0]) + c[2, 1] * (acc_prev[1] + acc[1]) + c[2, 2] * (acc_prev[2] + acc[2]),
     )  # 2 C_mid f_mid, with f_mid the mean of the two samples
-    multiply_nb(q_tmp, dq, q)
-    normalize_nb(q)
-    as_matrix_nb(q, c)
+    w, x, y, z = q_tmp[0], q_tmp[1], q_tmp[2], q_tmp[3]
+    q_tmp[0] = w * dq[0] - x * dq[1] - y * dq[2] - z * dq[3]
+    q_tmp[1] = w * dq[1] + x * dq[0] + y * dq[3] - z * dq[2]
+    q_tmp[2] = w * dq[2] - x * dq[3] + y * dq[0] + z * dq[1]
+    q_tmp[3] = w * dq[3] + x * dq[2] - y * dq[1] + z * dq[0]
+    normalize_nb(q_tmp)
+    for i in range(4):
+        q[f, i] = q_tmp[i]
+    as_matrix_nb(q_tmp, c)
     sixth = dt / 6.0
     for i in range(3):
         fi = c[i, 0] * acc[0] + c[i, 1] * acc[1] + c[i, 2] * acc[2]
-        a_prev = f_n[i]
-        f_n[i] = fi
+        a_prev = f_n[f, i]
+        f_n[f, i] = fi
         dv = sixth * (a_prev + 2.0 * f_mid[i] + fi)
         if i == 2:
             dv -= GRAVITY_MPS2 * dt
-        v_new = v[i] + dv
-        p[i] += 0.5 * (v[i] + v_new) * dt
-        v[i] = v_new
+        v_new = v[f, i] + dv
+        p[f, i] += 0.5 * (v[f, i] + v_new) * dt
+        v[f, i] = v_new
 
 
 @njit(cache=True, error_model="numpy")
 def _strapdown_loop(t, acc, gyr, q0, v0, p0, quat, vel, pos):
     n = len(t)
-    q = q0.copy()
-    v = v0.copy()
-    p = p0.copy()
-    f_n = np.zeros(3)
+    q = q0.reshape(1, 4).copy()
+    v = v0.reshape(1, 3).copy()
+    p = p0.reshape(1, 3).copy()
+    f_n = np.zeros((1, 3))
     dq = np.zeros(4)
     q_tmp = np.zeros(4)
     c = np.zeros((3, 3))
-    as_matrix_nb(q, c)
+    as_matrix_nb(q0, c)
     for i in range(3):
-        f_n[i] = c[i, 0] * acc[0, 0] + c[i, 1] * acc[0, 1] + c[i, 2] * acc[0, 2]
-    quat[0] = q
-    vel[0] = v
-    pos[0] = p
+        f_n[0, i] = c[i, 0] * acc[0, 0] + c[i, 1] * acc[0, 1] + c[i, 2] * acc[0, 2]
+    quat[0] = q[0]
+    vel[0] = v[0]
+    pos[0] = p[0]
     for k in range(1, n):
-        strapdown_step(q, v, p, f_n, acc[k - 1], gyr[k - 1], acc[k], gyr[k], t[k] - t[k - 1], dq, q_tmp, c)
-        quat[k] = q
-        vel[k] = v
-        pos[k] = p
+        strapdown_step(q, v, p, f_n, 0, acc[k - 1], gyr[k - 1], acc[k], gyr[k], t[k] - t[k - 1], dq, q_tmp, c)
+        quat[k] = q[0]
+        vel[k] = v[0]
+        pos[k] = p[0]
 
 
 def strapdown(

@@ -5,7 +5,7 @@ import pytest
 
 import footnav
 from footnav import StanceResult
-from footnav.core import kalman
+from footnav.core import ins_filter, kalman
 from footnav.core import quaternion as quat
 from footnav.core.ins_filter import FilterNoise, _predict_cov
 from footnav.core.smoothing import smooth
@@ -107,7 +107,10 @@ def _reference_rts(est, imu, stance):
 
 
 @pytest.mark.parametrize("bias_states", [False, True])
-def test_smoother_matches_dense_rts_reference(bias_states):
+@pytest.mark.parametrize("segment_events", [None, 150])
+def test_smoother_matches_dense_rts_reference(bias_states, segment_events, monkeypatch):
+    if segment_events is not None:  # many segments: the smoother's buffer is reused, stale rows must not leak
+        monkeypatch.setattr(ins_filter, "MAX_SEGMENT_EVENTS", segment_events)
     rec = footnav.simulate("straight", seed=4, distance_m=6.0, standstill_s=1.0)
     imu, stance = rec.left, StanceResult(rec.truth_left.stance)
     est = EkfEstimator(bias_states=bias_states, smoother="whole", heading="sensor")

@@ -60,7 +60,7 @@ def test_kalman_update_keeps_the_covariance_symmetric_positive_definite(seed, n,
     rng = np.random.default_rng(seed)
     cov = _spd(rng, n)
     o = int(rng.integers(0, n - 2))
-    ok = _update3(cov, np.zeros(n), o, *rng.standard_normal(3), r, np.zeros((n, 3)), np.zeros(3), np.zeros((3, n)))
+    ok = _update3(cov, np.zeros(n), o, *rng.standard_normal(3), r, np.inf, np.zeros((n, 3)), np.zeros(3), np.zeros((3, n)))
     assert ok
     assert np.array_equal(cov, cov.T)
     assert np.linalg.eigvalsh(cov).min() > -1e-12 * np.abs(cov).max()
@@ -75,7 +75,7 @@ def test_written_out_update_equals_the_dense_one(seed, n, r):
     o = int(rng.integers(0, n - 2))
     ref_cov, ref_dx, ref_gain, ref_sy = _update3_numpy(cov, o, y, r)
     dx, gain, sy = np.zeros(n), np.zeros((n, 3)), np.zeros(3)
-    _update3(cov, dx, o, *y, r, gain, sy, np.zeros((3, n)))
+    _update3(cov, dx, o, *y, r, np.inf, gain, sy, np.zeros((3, n)))
     scale = np.abs(ref_cov).max()
     np.testing.assert_allclose(cov, ref_cov, rtol=1e-9, atol=1e-9 * scale)
     np.testing.assert_allclose(dx, ref_dx, rtol=1e-9, atol=1e-9 * np.abs(ref_dx).max())
@@ -86,7 +86,7 @@ def test_written_out_update_equals_the_dense_one(seed, n, r):
 def test_update_refuses_a_singular_innovation_covariance():
     cov = np.zeros((9, 9))
     before = cov.copy()
-    assert not _update3(cov, np.zeros(9), 3, 1.0, 0.0, 0.0, 0.0, np.zeros((9, 3)), np.zeros(3), np.zeros((3, 9)))
+    assert not _update3(cov, np.zeros(9), 3, 1.0, 0.0, 0.0, 0.0, np.inf, np.zeros((9, 3)), np.zeros(3), np.zeros((3, 9)))
     assert np.array_equal(cov, before)
 
 

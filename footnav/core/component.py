@@ -35,6 +35,7 @@ __all__ = [
 #: Unit suffix of a parameter name -> unit, longest suffix first.
 _UNIT_SUFFIXES = (
     ("_radps2", "rad/s^2"),
+    ("_mps3", "m/s^3"),
     ("_mps2", "m/s^2"),
     ("_radps", "rad/s"),
     ("_dps", "deg/s"),

@@ -187,6 +187,15 @@ def test_parameter_info_has_units_and_descriptions():
     assert info["acc_noise_mps2_sqrthz"].unit == "m/s^2/sqrt(Hz)"
     assert "zero-velocity" in info["zupt_std_mps"].description
     assert info["zupt_std_mps"].default == 0.01
+    madgwick = {p.name: p for p in footnav.make_estimator("madgwick").parameter_info()}
+    assert madgwick["acc_error_walk_mps3_sqrthz"].unit == "m/s^3/sqrt(Hz)"
+    # every numeric built-in parameter names its unit, except these dimensionless ones
+    dimensionless = {"gamma", "max_iter", "tol", "min_std", "seed", "n_particles"}
+    for kind, names in footnav.list_components().items():
+        for name in names:
+            for p in getattr(footnav, f"make_{kind}")(name).parameter_info():
+                if isinstance(p.default, (int, float)) and not isinstance(p.default, bool):
+                    assert p.unit or p.name in dimensionless, (kind, name, p.name)
 
 
 def test_plugin_component_raising_during_run_is_reported_by_name_and_the_rest_keep_working():

@@ -32,10 +32,12 @@ import numpy as np
 from numpy.typing import NDArray
 
 from footnav.core import quaternion as quat
+from footnav.core.buffers import staggered
 from footnav.core.ins_filter import (
     MAX_SEGMENT_EVENTS,
     MODE_STEP,
     MODE_WHOLE,
+    RECORD_PLACE,
     InsFilter,
     empty_record,
 )
@@ -72,7 +74,7 @@ class StepSmoother:
         self.fill = np.zeros(1, dtype=np.int64)
         self.mu = np.zeros(big)
         self.d = np.zeros(big)
-        self.smoothed = tuple(x.copy() for x in (filt._out_q, filt._out_v, filt._out_p))
+        self.smoothed = _copy_outputs(filt)
 
     def add_update(self, filt: InsFilter, h: NDArray, gain: NDArray, sy: NDArray, y: NDArray) -> None:
         """Record a caller's update (H, K, S^-1 y, y) after the open step's last sample."""
@@ -132,7 +134,7 @@ def smooth(filt: InsFilter, mode: Literal["whole", "step"] = "whole") -> tuple[N
                 ss.add_update(filt, h, gain, sy, y)
         return ss.result(filt)
     big = filt.n_states * filt.n_feet
-    sm = tuple(x.copy() for x in (filt._out_q, filt._out_v, filt._out_p))
+    sm = _copy_outputs(filt)
     longest = max((b.n_events - a.n_events for a, b in zip(cps, cps[1:])), default=0)
     record, fill = empty_record(big, longest), np.zeros(1, dtype=np.int64)
     mu, d = np.zeros(big), np.zeros(big)
@@ -142,6 +144,16 @@ def smooth(filt: InsFilter, mode: Literal["whole", "step"] = "whole") -> tuple[N
         filt.replay(b - 1, b, MODE_WHOLE, record, sm, fill, mu, d)
     _correct_initial(filt, d.reshape(filt.n_feet, filt.n_states)[:, :9], sm)
     return sm
+
+
+def _copy_outputs(filt: InsFilter) -> tuple[NDArray, NDArray, NDArray]:
+    """Copies of the filter's attitude, velocity and position to be smoothed, at page offsets
+    after the filter's own arrays (:mod:`footnav.core.buffers`)."""
+    outputs = (filt._out_q, filt._out_v, filt._out_p)
+    copies = staggered([(x.shape, x.dtype) for x in outputs], first=RECORD_PLACE + len(empty_record(0)))
+    for dst, src in zip(copies, outputs):
+        dst[...] = src
+    return tuple(copies)
 
 
 def _correct_initial(filt: InsFilter, d_start: NDArray[np.float64], sm: tuple) -> None:

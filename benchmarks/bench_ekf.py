@@ -13,6 +13,7 @@ process includes loading numba's cache, or compiling when there is none.
 from __future__ import annotations
 
 import argparse
+import functools
 import os
 import platform
 import time
@@ -72,8 +73,9 @@ def main() -> None:
     for bias in (False, True):
         for smoother in ("none", "step", "whole"):
             est = EkfEstimator(bias_states=bias, smoother=smoother, zaru_std_radps=0.005 if bias else 0.0)
-            s = best(lambda: est.estimate(rec.left, stance))
-            mb = peak_mb(lambda: est.estimate(rec.left, stance))
+            run = functools.partial(est.estimate, rec.left, stance)
+            s = best(run)
+            mb = peak_mb(run)
             print(f"| {est.n_states} | {smoother} | {s / n * 1e6:.3f} | {mb:.1f} |")
     det = footnav.make_detector("threshold")
     det_s = best(lambda: det.detect(rec.left))

@@ -17,7 +17,7 @@ import numpy as np
 from numba import njit
 from numpy.typing import NDArray
 
-from footnav.core.quaternion import as_matrix_nb, from_rotvec_nb, multiply_nb, normalize_nb
+from footnav.core.quaternion import as_matrix_nb, from_rotvec_nb, normalize_nb
 from footnav.core.types import GRAVITY_MPS2, ImuData
 
 __all__ = ["strapdown_step", "strapdown"]

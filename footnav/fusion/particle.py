@@ -41,9 +41,9 @@ footnav's reading, where the paper leaves room:
    ordinary position measurement would count the position information twice: the cloud's
    prior *is* the EKF's prior (same displacement, same covariance growth; the drift term
    apart), so the EKF would end with ``(P^-1 + Sigma^-1)^-1``, tighter than either, and its
-   mean between its own and the PF's. Instead the EKF's horizontal-position marginal is *replaced* by the PF's (Jeffrey's
-   rule, the conditional ``p(x_EKF | x_PF)`` of eq. 8 kept): this is the Kalman update with the
-   equivalent measurement that carries only the information the PF added, ``R^-1 = Sigma^-1 -
+   mean between its own and the PF's. Instead the EKF's horizontal-position marginal is
+   *replaced* by the PF's (Jeffrey's rule, the conditional ``p(x_EKF | x_PF)`` of eq. 8 kept):
+   this is the Kalman update with the equivalent measurement that carries only the information the PF added, ``R^-1 = Sigma^-1 -
    P^-1`` (see :func:`equivalent_measurement`). The other states (velocity, attitude, biases)
    move by their regression on the position, ``P_xp P_pp^-1 (mu - p^)``. Where the cloud is
    wider than the EKF (the drift term, which the EKF does not model), a measurement cannot

@@ -409,6 +409,22 @@ def _smooth_back(used, chain, cov, mu, d, n, n_feet, q_diag, rec, out_q, out_v, 
 
 # -- the forward loop -------------------------------------------------------------------------------
 
+
+@njit(cache=True, error_model="numpy")
+def _next_foot(t, k, stop_at, t_stop):
+    """The foot whose next sample comes first at or before ``t_stop``, or -1. A function of its
+    own: an ``f = -1`` in the loop made numba compile the kernels ``f`` reaches once more, for the
+    literal -1."""
+    f = -1
+    best = np.inf
+    for g in range(len(k)):
+        if k[g] < stop_at[g]:
+            tn = t[k[g] + 1]
+            if tn <= t_stop and tn < best:
+                best = tn
+                f = g
+    return f
+
 #: What a call of :func:`_run` does besides filtering.
 MODE_FILTER, MODE_STEP, MODE_WHOLE, MODE_CLOSE = 0, 1, 2, 3
 
@@ -455,14 +471,7 @@ def _run(
     events = 0
     reason = _FULL
     while events < max_events:
-        f = -1
-        best = np.inf
-        for g in range(n_feet):
-            if k[g] < stop_at[g]:
-                tn = t[k[g] + 1]
-                if tn <= t_stop and tn < best:
-                    best = tn
-                    f = g
+        f = _next_foot(t, k, stop_at, t_stop)
         if f < 0:
             reason = _DONE
             break

@@ -43,6 +43,7 @@ _UNIT_SUFFIXES = (
     ("_deg", "deg"),
     ("_rad", "rad"),
     ("_hz", "Hz"),
+    ("_mb", "MB"),
     ("_ms", "ms"),
     ("_s", "s"),
     ("_m", "m"),

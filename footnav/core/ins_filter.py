@@ -426,7 +426,7 @@ def _next_foot(t, k, stop_at, t_stop):
     return f
 
 #: What a call of :func:`_run` does besides filtering.
-MODE_FILTER, MODE_STEP, MODE_WHOLE, MODE_CLOSE = 0, 1, 2, 3
+MODE_FILTER, MODE_STEP, MODE_WHOLE, MODE_CLOSE, MODE_RECORD, MODE_BACK = 0, 1, 2, 3, 4, 5
 
 
 @njit(cache=True, error_model="numpy")
@@ -448,6 +448,10 @@ def _run(
       recorded, leaving ``mu``, ``d`` of the first event's predecessor (one segment of the
       whole-walk smoother).
     * ``MODE_CLOSE``: no filtering; smooth the recorded open step now.
+    * ``MODE_RECORD``: record each event at ``fill[0]`` of ``rec``, nothing more (the forward
+      run keeps its segments for the whole-walk smoother; ``max_events`` keeps within ``rec``).
+    * ``MODE_BACK``: no filtering; ``d = P mu`` with the given covariance and the backward pass
+      over the ``fill[0]`` recorded events (a kept segment of the whole-walk smoother).
 
     Returns (reason, events): reason 0 nothing left before t_stop, 1 a foot's stance just ended
     (only with ``step_stops``), 2 ``max_events`` processed.
@@ -461,11 +465,11 @@ def _run(
     a_prev, w_prev, a_cur, w_cur = ws.a_prev, ws.w_prev, ws.a_cur, ws.w_cur
     y, sy, sy_z, dx, gain, gain_z, hp = ws.y, ws.sy, ws.sy_z, ws.dx, ws.gain, ws.gain_z, ws.hp
     step = mode == MODE_STEP or mode == MODE_CLOSE  # a variable, not a literal: one compiled pass
-    if mode == MODE_CLOSE:
+    if mode == MODE_CLOSE or mode == MODE_BACK:
         _smooth_back(fill[0], step, cov, mu, d, n, n_feet, q_diag, rec, out_q, out_v, out_p, sm_q, sm_v, sm_p, ws)
         fill[0] = 0
         return _DONE, 0
-    record = mode == MODE_STEP or mode == MODE_WHOLE
+    record = mode == MODE_STEP or mode == MODE_WHOLE or mode == MODE_RECORD
     if mode == MODE_WHOLE:
         fill[0] = 0
     events = 0
@@ -568,11 +572,14 @@ def _run(
 RECORD_PLACE = 8
 
 
-def empty_record(big: int, n: int = 0, rows: int = 3) -> tuple:
-    """Buffers of :func:`_run`'s record for ``n`` events of a filter with ``big`` error states,
-    room for a caller's update of up to ``rows`` rows (K and H' need 2 ``rows`` gain columns)."""
-    width = max(3, rows)
+def empty_record(big: int, n: int = 0, columns: int = 6, *, zero: bool = True) -> tuple:
+    """Buffers of :func:`_run`'s record for ``n`` events of a filter with ``big`` error states
+    and ``columns`` gain columns: 3 per update at a sample (3 for a ZUPT, 6 with the ZARU), 2 m
+    for a caller's update of m rows (K and H'). Narrow rows keep the backward pass's reads of K
+    contiguous. ``zero=False`` leaves them uninitialised (the loop writes an event before the
+    backward pass reads it)."""
     i8, f8 = np.int64, np.float64
+    cols = max(3, columns)
     return tuple(staggered([
         ((n,), i8),  # foot
         ((n,), i8),  # global sample index
@@ -581,10 +588,10 @@ def empty_record(big: int, n: int = 0, rows: int = 3) -> tuple:
         ((n, 3, 3), f8),  # C at the start of the interval (bias states only)
         ((n,), i8),  # updates at the sample: 0, 1 (ZUPT), 2 (and ZARU); -m a caller's
         ((n, 2), i8),  # first error state of each update's 3-block
-        ((n, big, 2 * width), f8),  # K, three columns per update; a caller's: K then H'
-        ((n, 2 * width), f8),  # S^-1 y (two updates of 3 at a sample, or a caller's)
-        ((n, 2 * width), f8),  # y
-    ], zero=True, first=RECORD_PLACE))
+        ((n, big, cols), f8),  # K, three columns per update; a caller's: K then H'
+        ((n, cols), f8),  # S^-1 y (two updates of 3 at a sample, or a caller's)
+        ((n, cols), f8),  # y
+    ], zero=zero, first=RECORD_PLACE))
 
 
 class InsFilter:
@@ -677,6 +684,9 @@ class InsFilter:
         self._no_vec = np.zeros(big)
         self._work = work(big, nf)
         self.step_smoother = None
+        #: :class:`footnav.core.smoothing.SegmentRecords` when the forward run keeps its record
+        #: for the whole-walk smoother, or None.
+        self.segment_records = None
         self.step_stops = False
         #: Per-foot notes of whoever built the filter (the estimator's alignment).
         self.meta: list[dict] = [{} for _ in range(self.n_feet)]
@@ -729,6 +739,12 @@ class InsFilter:
             self._out_q, self._out_v, self._out_p, self._out_pcov, mode, rec, sm, fill, mu, d, self._scratch(rec),
         )
 
+    @property
+    def record_columns(self) -> int:
+        """Gain columns a sample's updates take in a smoother's record: 3 (the ZUPT), 6 when
+        the zero-angular-rate update follows it."""
+        return 6 if self.n_states == 15 and self.noise.zaru_std_radps > 0 else 3
+
     def _scratch(self, rec: tuple) -> Work:
         """The loop's scratch, widened when a record holds caller updates of more rows."""
         if len(self._work.kt) < rec[8].shape[1]:
@@ -740,12 +756,15 @@ class InsFilter:
 
     def run_until(self, t_stop: float = np.inf) -> None:
         """Process every sample with time <= ``t_stop`` (s) of each foot, in time order."""
-        ss = self.step_smoother
-        if ss is None:
-            mode, bufs = MODE_FILTER, (self._no_record, self._no_sm, self._no_fill, self._no_vec, self._no_vec)
-        else:
-            mode, bufs = MODE_STEP, (ss.record, ss.smoothed, ss.fill, ss.mu, ss.d)
+        ss, sr = self.step_smoother, self.segment_records
         while True:
+            # the buffers anew at each call: a checkpoint may hand the segment records a new one
+            if ss is not None:
+                mode, bufs = MODE_STEP, (ss.record, ss.smoothed, ss.fill, ss.mu, ss.d)
+            elif sr is not None:
+                mode, bufs = MODE_RECORD, (sr.record, self._no_sm, sr.fill, self._no_vec, self._no_vec)
+            else:
+                mode, bufs = MODE_FILTER, (self._no_record, self._no_sm, self._no_fill, self._no_vec, self._no_vec)
             # a checkpoint at least every MAX_SEGMENT_EVENTS: the smoother re-runs one at a time
             reason, events = self._call(
                 mode, self._k, self._stop_at, t_stop, MAX_SEGMENT_EVENTS - self._since_checkpoint, self.step_stops,
@@ -763,6 +782,8 @@ class InsFilter:
     def _add_checkpoint(self, step_end: bool) -> None:
         self.checkpoints.append(self._checkpoint(step_end=step_end))
         self._since_checkpoint = 0
+        if self.segment_records is not None:  # before any update at this instant changes P
+            self.segment_records.keep(len(self.checkpoints) - 1, self._cov)
 
     def close(self) -> None:
         """Leave a checkpoint at the current state (the smoother needs one after the last sample)."""
@@ -824,12 +845,14 @@ class InsFilter:
         sy = np.linalg.solve(chol.T, np.linalg.solve(chol, y))
         if gate is not None and float(y @ sy) > gate:
             return None
+        # the update belongs to a checkpoint at this instant, made before P changes (a kept
+        # segment's backward pass starts from the covariance after its last sample)
+        self.close()
         gain = np.linalg.solve(chol.T, np.linalg.solve(chol, ph.T)).T  # K = P H' S^-1
         dx = gain @ y
         cov = self._cov - gain @ ph.T
         self._cov[:] = 0.5 * (cov + cov.T)
         self._apply(dx)
-        self.close()  # the update belongs to a checkpoint at this instant
         cp = self.checkpoints[-1]
         cp.updates.append((hm, gain, sy, y))
         # the checkpoint holds the state after every update at this instant
@@ -878,6 +901,13 @@ class InsFilter:
         _, events = self._call(mode, ca.k.copy(), cb.k.copy(), np.inf, n_ev, False, state, record, smoothed, fill, mu, d)
         if events != n_ev:  # pragma: no cover - the checkpoints come from this very loop
             raise RuntimeError("replay did not reproduce the forward run")
+
+    def smooth_kept(self, record: tuple, used: int, cov: NDArray[np.float64], smoothed: tuple, mu, d) -> None:
+        """The whole-walk smoother's backward pass over a kept segment (``MODE_BACK``): ``used``
+        events of ``record``, ``cov`` the covariance after its last sample."""
+        fill = np.array([used], dtype=np.int64)
+        state = (self._q, self._v, self._p, self._ba, self._bg, self._f_n, cov)  # only cov is read
+        self._call(MODE_BACK, self._k, self._stop_at, -np.inf, 0, False, state, record, smoothed, fill, mu, d)
 
     def outputs(self, foot: int) -> tuple[NDArray, NDArray, NDArray, NDArray]:
         """Per-sample attitude, velocity, position and position covariance (xx, xy, yy, zz) of ``foot``."""

@@ -17,8 +17,12 @@ filter's closed-loop resets only move the linearisation point: the recursion run
 relative to each sample's predicted nominal state.
 
 Memory: the filter keeps a checkpoint (state, covariance) every ``MAX_SEGMENT_EVENTS`` samples
-and at its caller's updates; the whole-walk smoother re-runs one segment at a time from its
-checkpoint to record it, so it holds one segment: O(steps + longest segment), not O(samples).
+and at its caller's updates. The whole-walk smoother needs each segment's record backwards, last
+segment first: the forward run keeps the records of its latest segments up to
+``KEEP_RECORD_MB`` (:class:`SegmentRecords`), and the smoother re-runs from its checkpoint each
+segment whose record was not kept. So memory is O(steps) plus at most that budget, and a
+recording whose record fits in it is filtered once (about 400 bytes per sample and foot with 9
+error states: 64 MB hold 26 minutes at 100 Hz).
 The step-wise smoother records each step as the filter runs and smooths it at its end, inside
 the same compiled loop: two buffers' worth of memory whatever the length of the recording, and
 no sample is run twice.
@@ -42,10 +46,78 @@ from footnav.core.ins_filter import (
     empty_record,
 )
 
-__all__ = ["smooth", "StepSmoother", "SMOOTHERS"]
+__all__ = ["smooth", "StepSmoother", "SegmentRecords", "SMOOTHERS", "KEEP_RECORD_MB"]
 
 #: Smoothing modes: over the whole run, within each step, or none.
 SMOOTHERS = ("whole", "step", "none")
+
+#: Memory (MB) the forward run may keep of its record for the whole-walk smoother; segments
+#: beyond it are re-run from their checkpoints instead.
+KEEP_RECORD_MB = 64.0
+
+
+class SegmentRecords:
+    """The forward run's record of its latest segments, for the whole-walk smoother.
+
+    Attach it as ``filt.segment_records`` before the filter runs: the compiled loop then records
+    every sample (``MODE_RECORD``), and at each checkpoint the segment just finished is kept
+    (trimmed to its events) with the covariance after its last sample, before any caller's
+    update at that instant. When the kept records exceed ``budget_mb`` the oldest are dropped;
+    :func:`smooth` re-runs those segments instead. The backward pass starts at the end, so the
+    latest segments are the ones worth keeping.
+
+    Parameters
+    ----------
+    filt
+        The filter, before it runs.
+    budget_mb
+        Largest memory of the kept records, MB (0: keep none; every segment is re-run).
+    """
+
+    def __init__(self, filt: InsFilter, budget_mb: float = KEEP_RECORD_MB) -> None:
+        self.big = filt.n_states * filt.n_feet
+        self.columns = filt.record_columns
+        self.budget_bytes = int(budget_mb * 1e6)
+        self.record = empty_record(self.big, MAX_SEGMENT_EVENTS, self.columns, zero=False)
+        #: events recorded of the open segment
+        self.fill = np.zeros(1, dtype=np.int64)
+        #: checkpoint index -> (record, events, covariance after the segment's last sample, bytes)
+        self.kept: dict[int, tuple[tuple, int, NDArray[np.float64], int]] = {}
+        self.nbytes = 0
+
+    def keep(self, checkpoint: int, cov: NDArray[np.float64]) -> None:
+        """Keep the open segment, which ends at ``checkpoint``, and start the next one."""
+        used = int(self.fill[0])
+        self.fill[0] = 0
+        if used == 0 or self.budget_bytes <= 0:
+            return
+        if 2 * used >= len(self.record[0]):  # mostly full: keep the buffer itself, start another
+            rec, nbytes = tuple(a[:used] for a in self.record), _nbytes(self.record)
+            self.record = empty_record(self.big, MAX_SEGMENT_EVENTS, self.columns, zero=False)
+        else:  # a short segment (a step stop, a caller's update): a copy of its events
+            rec = empty_record(self.big, used, self.columns, zero=False)
+            for dst, src in zip(rec, self.record):
+                dst[...] = src[:used]
+            nbytes = _nbytes(rec)
+        self.kept[checkpoint] = (rec, used, cov.copy(), nbytes + cov.nbytes)
+        self.nbytes += nbytes + cov.nbytes
+        while self.nbytes > self.budget_bytes:
+            self._drop(min(self.kept))
+
+    def take(self, checkpoint: int) -> tuple[tuple, int, NDArray[np.float64]] | None:
+        """The kept segment ending at ``checkpoint`` (record, events, covariance), released; or None."""
+        if checkpoint not in self.kept:
+            return None
+        rec, used, cov, _ = self.kept[checkpoint]
+        self._drop(checkpoint)
+        return rec, used, cov
+
+    def _drop(self, checkpoint: int) -> None:
+        self.nbytes -= self.kept.pop(checkpoint)[3]
+
+
+def _nbytes(record: tuple) -> int:
+    return sum(a.nbytes for a in record)
 
 
 class StepSmoother:
@@ -69,7 +141,7 @@ class StepSmoother:
     def __init__(self, filt: InsFilter, capacity: int = MAX_SEGMENT_EVENTS) -> None:
         big = filt.n_states * filt.n_feet
         self.capacity = int(capacity)
-        self.record = empty_record(big, self.capacity)
+        self.record = empty_record(big, self.capacity, filt.record_columns)
         #: events recorded of the open step (one entry: an array the compiled loop updates)
         self.fill = np.zeros(1, dtype=np.int64)
         self.mu = np.zeros(big)
@@ -82,7 +154,7 @@ class StepSmoother:
         if self.fill[0] == self.capacity:
             filt.close_step(self)
         if 2 * m > self.record[7].shape[2]:  # more rows than any update so far: widen the record
-            wide = empty_record(len(self.mu), self.capacity, m)
+            wide = empty_record(len(self.mu), self.capacity, 2 * m)
             for old, new in zip(self.record, wide):
                 new[tuple(slice(0, s) for s in old.shape)] = old
             self.record = wide
@@ -135,13 +207,19 @@ def smooth(filt: InsFilter, mode: Literal["whole", "step"] = "whole") -> tuple[N
         return ss.result(filt)
     big = filt.n_states * filt.n_feet
     sm = _copy_outputs(filt)
-    longest = max((b.n_events - a.n_events for a, b in zip(cps, cps[1:])), default=0)
-    record, fill = empty_record(big, longest), np.zeros(1, dtype=np.int64)
+    sr = filt.segment_records
+    kept = set() if sr is None else set(sr.kept)
+    longest = max((cps[b].n_events - cps[b - 1].n_events for b in range(1, len(cps)) if b not in kept), default=0)
+    record, fill = empty_record(big, longest, filt.record_columns), np.zeros(1, dtype=np.int64)
     mu, d = np.zeros(big), np.zeros(big)
-    for b in range(len(cps) - 1, 0, -1):  # one segment at a time: memory O(one segment)
+    for b in range(len(cps) - 1, 0, -1):  # one segment at a time, last first
         for h, gain, sy, _ in reversed(cps[b].updates):  # the caller's updates at the segment's end
             mu += h.T @ (sy - gain.T @ mu)
-        filt.replay(b - 1, b, MODE_WHOLE, record, sm, fill, mu, d)
+        seg = None if sr is None else sr.take(b)
+        if seg is None:  # not kept: re-run it from its checkpoint to record it
+            filt.replay(b - 1, b, MODE_WHOLE, record, sm, fill, mu, d)
+        else:
+            filt.smooth_kept(seg[0], seg[1], seg[2], sm, mu, d)
     _correct_initial(filt, d.reshape(filt.n_feet, filt.n_states)[:, :9], sm)
     return sm
 

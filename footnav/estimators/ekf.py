@@ -23,7 +23,7 @@ from footnav.core.errors import InvalidParameterError
 from footnav.core.heading import turn_to_first_step
 from footnav.core.initial_alignment import align_first_stance
 from footnav.core.ins_filter import FilterNoise, InsFilter
-from footnav.core.smoothing import SMOOTHERS, StepSmoother, smooth
+from footnav.core.smoothing import KEEP_RECORD_MB, SMOOTHERS, SegmentRecords, StepSmoother, smooth
 from footnav.core.types import FootTrajectory, ImuData, StanceResult
 
 __all__ = ["EkfEstimator"]
@@ -69,8 +69,13 @@ class EkfEstimator(FootEstimator):
         Standard deviation of the zero-angular-rate update in stance, rad/s; 0 turns it off
         (15 states only: it observes the gyro bias).
     smoother : {"whole", "step", "none"}
-        RTS smoothing over the whole walk (seed 002 Alg. 1; re-runs the filter a step at a time,
-        memory O(steps)), within each step during the forward pass (no re-run), or none.
+        RTS smoothing over the whole walk (seed 002 Alg. 1), within each step during the forward
+        pass (memory independent of the recording's length), or none.
+    smoother_cache_mb : float
+        Memory the whole-walk smoother may keep of the forward run's record, MB: segments beyond
+        it (the oldest) are re-run from their checkpoints, which costs a second forward pass over
+        them. About 400 bytes per sample with 9 states, so the default holds 26 minutes at 100
+        Hz; 0 keeps nothing (least memory, every segment re-run).
     closed_loop : bool
         The walk ends where it started: the final standstill gets the start position as a
         measurement (seed 002); needs ``smoother="whole"`` to correct the whole trajectory.
@@ -103,6 +108,7 @@ class EkfEstimator(FootEstimator):
         init_gyr_bias_std_radps: float = 2e-3,
         zaru_std_radps: float = 0.0,
         smoother: Literal["whole", "step", "none"] = "whole",
+        smoother_cache_mb: float = KEEP_RECORD_MB,
         closed_loop: bool = False,
         closed_loop_std_m: float = 0.01,
     ) -> None:
@@ -121,6 +127,7 @@ class EkfEstimator(FootEstimator):
         self.init_gyr_bias_std_radps = init_gyr_bias_std_radps
         self.zaru_std_radps = zaru_std_radps
         self.smoother = smoother
+        self.smoother_cache_mb = smoother_cache_mb
         self.closed_loop = closed_loop
         self.closed_loop_std_m = closed_loop_std_m
 
@@ -139,7 +146,7 @@ class EkfEstimator(FootEstimator):
             "init_gyr_bias_std_radps",
             "closed_loop_std_m",
         )
-        require_non_negative(self, "zaru_std_radps")
+        require_non_negative(self, "zaru_std_radps", "smoother_cache_mb")
         require(self.heading in ("first-step", "sensor"), self, "heading", "'first-step' or 'sensor'")
         require(self.gyro_bias in ("initial-standstill", "none"), self, "gyro_bias", "'initial-standstill' or 'none'")
         require(isinstance(self.bias_states, (bool, np.bool_)), self, "bias_states", "True or False")
@@ -218,6 +225,8 @@ class EkfEstimator(FootEstimator):
         filt.meta = metas
         if self.smoother == "step":
             filt.step_smoother = StepSmoother(filt)
+        elif self.smoother == "whole":
+            filt.segment_records = SegmentRecords(filt, float(self.smoother_cache_mb))
         return filt
 
     def _align(self, imu: ImuData, stance: StanceResult):

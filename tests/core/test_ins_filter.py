@@ -203,3 +203,34 @@ def test_in_pass_step_smoothing_with_a_tiny_buffer_still_smooths_every_sample():
     assert np.isfinite(sm_p).all()
     # cut pieces lose a little of the backward information but stay close to the real thing
     assert np.abs(sm_p - ref_p).max() < 0.05
+
+
+def _whole_with_updates(est, rec, stances, keep_mb):
+    """A two-foot joint run with a caller's position update every 2 s, smoothed over the whole
+    walk, the forward run keeping ``keep_mb`` MB of its record (None: nothing kept)."""
+    from footnav.core.smoothing import SegmentRecords
+
+    filt = est.start([rec.left, rec.right], stances)
+    filt.segment_records = None if keep_mb is None else SegmentRecords(filt, keep_mb)
+    for t in np.arange(2.0, rec.left.t[-1], 2.0):
+        filt.run_until(t)
+        filt.update_position(0, filt.position(0) + [0.01, -0.01, 0.0], std_m=0.05, axes=2)
+    filt.run_until()
+    filt.close()
+    kept = 0 if filt.segment_records is None else len(filt.segment_records.kept)
+    return smooth(filt, "whole"), kept, len(filt.checkpoints) - 1
+
+
+@pytest.mark.parametrize("bias_states", [False, True])
+def test_kept_segments_smooth_exactly_as_replayed_ones(bias_states, monkeypatch):
+    monkeypatch.setattr(ins_filter, "MAX_SEGMENT_EVENTS", 300)  # many segments besides the updates
+    rec = footnav.simulate("straight", seed=10, distance_m=15.0, standstill_s=1.0)
+    stances = [StanceResult(rec.truth_left.stance), StanceResult(rec.truth_right.stance)]
+    est = EkfEstimator(smoother="whole", heading="sensor", bias_states=bias_states, zaru_std_radps=0.01 if bias_states else 0.0)
+    replayed, kept_none, segments = _whole_with_updates(est, rec, stances, None)
+    all_kept, kept_all, _ = _whole_with_updates(est, rec, stances, 1000.0)
+    some_kept, kept_some, _ = _whole_with_updates(est, rec, stances, 0.3)
+    assert kept_none == 0 and kept_all == segments and 0 < kept_some < segments
+    for a, b, c in zip(replayed, all_kept, some_kept):
+        np.testing.assert_array_equal(a, b)  # the same arithmetic on the same record
+        np.testing.assert_array_equal(a, c)

@@ -85,6 +85,18 @@ def test_invalid_parameter_value():
         EkfEstimator(zupt_std_mps=0).estimate(rec.left, StanceResult(rec.truth_left.stance))
 
 
+def test_smoother_cache_only_trades_memory_for_time():
+    # 0 MB: every segment re-run from its checkpoint; the default keeps them all; same numbers
+    rec = footnav.simulate("straight", seed=2, distance_m=60.0)
+    stance = StanceResult(rec.truth_left.stance)
+    kept = EkfEstimator().estimate(rec.left, stance)
+    rerun = EkfEstimator(smoother_cache_mb=0).estimate(rec.left, stance)
+    for a, b in ((kept.position, rerun.position), (kept.quaternion, rerun.quaternion), (kept.velocity, rerun.velocity)):
+        np.testing.assert_array_equal(a, b)
+    with pytest.raises(footnav.InvalidParameterError, match="smoother_cache_mb"):
+        EkfEstimator(smoother_cache_mb=-1.0).estimate(rec.left, stance)
+
+
 def test_azure_fgo_accuracy_regression(shared_data):
     """Real two-foot recording: 2-D RMSE must stay near what the closing note of the spine reports."""
     from footnav.core.evaluation import evaluate

@@ -18,12 +18,13 @@ measurement that links the feet (seed 001 eq. 7) updates both. :class:`InsFilter
 compiled per-sample loop between the points where a caller wants to act (:meth:`run_until`) and
 keeps checkpoints (state and covariance) every ``MAX_SEGMENT_EVENTS`` samples and where the
 caller updates, so that :mod:`footnav.core.smoothing` can smooth the run afterwards in memory that
-grows with the number of steps, not of samples.
+grows with the number of steps (plus a bounded cache of the latest segments' records), not of
+samples.
 
 One compiled function, :func:`_run`, does all the per-sample work: filtering, recording what the
 smoother needs (per sample f^n dt, dt and, with bias states, C; per update K, y and S^-1 y, not
-the covariance), step-wise smoothing at each step end, and the whole-walk smoother's replay and
-backward pass of one segment. One entry point keeps the first call's compilation short: each
+the covariance), step-wise smoothing at each step end, and the whole-walk smoother's recording,
+replay and backward pass of one segment. One entry point keeps the first call's compilation short: each
 compiled caller would re-optimise the loop it calls.
 """
 

@@ -35,6 +35,7 @@ from typing import Literal
 import numpy as np
 from numpy.typing import NDArray
 
+from footnav.core import ins_filter
 from footnav.core import quaternion as quat
 from footnav.core.buffers import staggered
 from footnav.core.ins_filter import (
@@ -61,8 +62,8 @@ class SegmentRecords:
 
     Attach it as ``filt.segment_records`` before the filter runs: the compiled loop then records
     every sample (``MODE_RECORD``), and at each checkpoint the segment just finished is kept
-    (trimmed to its events) with the covariance after its last sample, before any caller's
-    update at that instant. When the kept records exceed ``budget_mb`` the oldest are dropped;
+    with the covariance after its last sample, before any caller's update at that instant (if
+    it is long enough to be worth it, see :meth:`keep`). When the kept records exceed ``budget_mb`` the oldest are dropped;
     :func:`smooth` re-runs those segments instead. The backward pass starts at the end, so the
     latest segments are the ones worth keeping.
 
@@ -78,7 +79,8 @@ class SegmentRecords:
         self.big = filt.n_states * filt.n_feet
         self.columns = filt.record_columns
         self.budget_bytes = int(budget_mb * 1e6)
-        self.record = empty_record(self.big, MAX_SEGMENT_EVENTS, self.columns, zero=False)
+        self.capacity = ins_filter.MAX_SEGMENT_EVENTS  # the longest segment the filter makes
+        self.record = empty_record(self.big, self.capacity, self.columns, zero=False)
         #: events recorded of the open segment
         self.fill = np.zeros(1, dtype=np.int64)
         #: checkpoint index -> (record, events, covariance after the segment's last sample, bytes)
@@ -86,23 +88,22 @@ class SegmentRecords:
         self.nbytes = 0
 
     def keep(self, checkpoint: int, cov: NDArray[np.float64]) -> None:
-        """Keep the open segment, which ends at ``checkpoint``, and start the next one."""
+        """Keep the open segment, which ends at ``checkpoint``, and start the next one.
+
+        Only segments that fill at least half the buffer are kept, by handing the buffer over: a
+        short segment (a fusion stops at every step) costs one call of the compiled loop whether
+        its backward pass reads a kept record or re-runs it, and keeping it would cost a copy.
+        """
         used = int(self.fill[0])
         self.fill[0] = 0
-        if used == 0 or self.budget_bytes <= 0:
+        if used == 0 or self.budget_bytes <= 0 or 2 * used < self.capacity:
             return
-        if 2 * used >= len(self.record[0]):  # mostly full: keep the buffer itself, start another
-            rec, nbytes = tuple(a[:used] for a in self.record), _nbytes(self.record)
-            self.record = empty_record(self.big, MAX_SEGMENT_EVENTS, self.columns, zero=False)
-        else:  # a short segment (a step stop, a caller's update): a copy of its events
-            rec = empty_record(self.big, used, self.columns, zero=False)
-            for dst, src in zip(rec, self.record):
-                dst[...] = src[:used]
-            nbytes = _nbytes(rec)
-        self.kept[checkpoint] = (rec, used, cov.copy(), nbytes + cov.nbytes)
-        self.nbytes += nbytes + cov.nbytes
+        rec, nbytes = tuple(a[:used] for a in self.record), _nbytes(self.record) + cov.nbytes
+        self.record = empty_record(self.big, self.capacity, self.columns, zero=False)
+        self.kept[checkpoint] = (rec, used, cov.copy(), nbytes)
+        self.nbytes += nbytes
         while self.nbytes > self.budget_bytes:
-            self._drop(min(self.kept))
+            self._drop(next(iter(self.kept)))  # the oldest: segments are kept in time order
 
     def take(self, checkpoint: int) -> tuple[tuple, int, NDArray[np.float64]] | None:
         """The kept segment ending at ``checkpoint`` (record, events, covariance), released; or None."""

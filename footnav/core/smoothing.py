@@ -63,9 +63,9 @@ class SegmentRecords:
     Attach it as ``filt.segment_records`` before the filter runs: the compiled loop then records
     every sample (``MODE_RECORD``), and at each checkpoint the segment just finished is kept
     with the covariance after its last sample, before any caller's update at that instant (if
-    it is long enough to be worth it, see :meth:`keep`). When the kept records exceed ``budget_mb`` the oldest are dropped;
-    :func:`smooth` re-runs those segments instead. The backward pass starts at the end, so the
-    latest segments are the ones worth keeping.
+    it is long enough to be worth it, see :meth:`keep`). When the kept records exceed
+    ``budget_mb`` the oldest are dropped; :func:`smooth` re-runs those segments instead. The
+    backward pass starts at the end, so the latest segments are the ones worth keeping.
 
     Parameters
     ----------

@@ -24,8 +24,8 @@ samples.
 One compiled function, :func:`_run`, does all the per-sample work: filtering, recording what the
 smoother needs (per sample f^n dt, dt and, with bias states, C; per update K, y and S^-1 y, not
 the covariance), step-wise smoothing at each step end, and the whole-walk smoother's recording,
-replay and backward pass of one segment. One entry point keeps the first call's compilation short: each
-compiled caller would re-optimise the loop it calls.
+replay and backward pass of one segment. One entry point keeps the first call's compilation
+short: each compiled caller would re-optimise the loop it calls.
 """
 
 from __future__ import annotations

@@ -571,6 +571,8 @@ def _run(
 #: Place of the record's arrays in :func:`footnav.core.buffers.staggered`'s pattern, after the
 #: filter's eight per-sample arrays.
 RECORD_PLACE = 8
+#: Place of the smoothed copies, after the record's ten arrays.
+SMOOTHED_PLACE = RECORD_PLACE + 10
 
 
 def empty_record(big: int, n: int = 0, columns: int = 6, *, zero: bool = True) -> tuple:
@@ -639,13 +641,12 @@ class InsFilter:
         self.noise = noise
         lengths = [len(x) for x in t]
         self._offsets = np.concatenate(([0], np.cumsum(lengths))).astype(np.int64)
-        # one writable copy for one foot or two: the compiled loop then has one signature (a
-        # read-only input would compile every kernel a second time)
+        # one writable copy of the inputs for one foot or two (a read-only input would compile
+        # every kernel a second time), in one buffer with the outputs (footnav.core.buffers: 4K
+        # aliasing). Two buffers would let an unsmoothed result free the inputs, but ran the
+        # step-wise smoother 0.42 -> 0.50 us/sample (10-min walk)
         total = int(self._offsets[-1])
         f8 = np.float64
-        # one buffer for every per-sample array of the loop (footnav.core.buffers: 4K aliasing).
-        # Two buffers, inputs and outputs, would let an unsmoothed result free the inputs, but
-        # ran the step-wise smoother 0.42 -> 0.50 us/sample (10-min walk): kept as one
         self._t, self._acc, self._gyr, self._stance, self._out_q, self._out_v, self._out_p, self._out_pcov = staggered(
             [((total,), f8), ((total, 3), f8), ((total, 3), f8), ((total,), np.bool_),
              ((total, 4), f8), ((total, 3), f8), ((total, 3), f8), ((total, 4), f8)]

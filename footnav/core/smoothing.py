@@ -42,7 +42,7 @@ from footnav.core.ins_filter import (
     MAX_SEGMENT_EVENTS,
     MODE_STEP,
     MODE_WHOLE,
-    RECORD_PLACE,
+    SMOOTHED_PLACE,
     InsFilter,
     empty_record,
 )
@@ -229,7 +229,7 @@ def _copy_outputs(filt: InsFilter) -> tuple[NDArray, NDArray, NDArray]:
     """Copies of the filter's attitude, velocity and position to be smoothed, at page offsets
     after the filter's own arrays (:mod:`footnav.core.buffers`)."""
     outputs = (filt._out_q, filt._out_v, filt._out_p)
-    copies = staggered([(x.shape, x.dtype) for x in outputs], first=RECORD_PLACE + len(empty_record(0)))
+    copies = staggered([(x.shape, x.dtype) for x in outputs], first=SMOOTHED_PLACE)
     for dst, src in zip(copies, outputs):
         dst[...] = src
     return tuple(copies)

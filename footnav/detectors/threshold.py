@@ -18,8 +18,8 @@ Skog writes each test as ``T = (1 / (sigma^2 W)) sum(...) < gamma``; footnav sta
 a root-mean-square in physical units, ``RMS < sigma sqrt(gamma)``, so a threshold reads as a motion
 bound ("the foot turns slower than 0.5 rad/s") and does not depend on the rate or on W.
 
-What the family shares lives here, once: the window length in samples (:func:`window_samples`),
-O(N) window sums by cumulative sums (:func:`window_sums`), the per-sample decision from the
+The window statistics live in :mod:`footnav.core.windows` (window length in samples, O(N) window
+sums, ARE / MAG / MV as RMS values; re-exported here). What the family shares lives here, once: the per-sample decision from the
 overlapping windows (:func:`windows_to_samples`, ``combine``), and the minimum stance and swing
 durations and gait events (:func:`stance_result`); :class:`WindowedStanceDetector` ties them into
 ``detect``.
@@ -27,29 +27,31 @@ durations and gait events (:func:`stance_result`); :class:`WindowedStanceDetecto
 
 from __future__ import annotations
 
-from typing import Any, ClassVar, Literal, Mapping
+from collections.abc import Mapping
+from typing import Any, ClassVar, Literal
 
 import numpy as np
 from numpy.typing import NDArray
 from scipy.ndimage import maximum_filter1d, minimum_filter1d
 
 from footnav.core.component import StanceDetector, is_number, require
-from footnav.core.types import GRAVITY_MPS2, ImuData, StanceResult, stance_intervals
+from footnav.core.types import ImuData, StanceResult, stance_intervals
+from footnav.core.windows import acc_magnitude_rms, acc_moving_std, centred, gyr_rms, window_samples, window_sums
 
 __all__ = [
     "COMBINE_RULES",
-    "window_samples",
-    "window_sums",
-    "windows_to_samples",
-    "stance_result",
-    "WindowedStanceDetector",
-    "gyr_rms",
-    "acc_magnitude_rms",
-    "acc_moving_std",
-    "ThresholdDetector",
     "AccMagnitudeDetector",
     "AccVarianceDetector",
     "AredDetector",
+    "ThresholdDetector",
+    "WindowedStanceDetector",
+    "acc_magnitude_rms",
+    "acc_moving_std",
+    "gyr_rms",
+    "stance_result",
+    "window_samples",
+    "window_sums",
+    "windows_to_samples",
 ]
 
 #: How the overlapping windows decide one sample (see :func:`windows_to_samples`).
@@ -57,38 +59,10 @@ COMBINE_RULES = ("center", "any", "all")
 
 Combine = Literal["center", "any", "all"]
 
-#: Added to half the window length in samples before rounding down (see :func:`window_samples`).
-_ROUNDING_SLACK = 1e-6
-
 
 # ---------------------------------------------------------------------------------------------
 # shared machinery
 # ---------------------------------------------------------------------------------------------
-def window_samples(window_s: float, rate_hz: float, n_samples: int) -> int:
-    """Window length W in samples: ``window_s * rate_hz`` rounded to an odd number, 1 <= W <= N.
-
-    Odd, so that a window can be centred on a sample (W//2 samples either side): an even window
-    would shift every stance edge by half a sample, differently at each rate. ``2 floor(x/2) + 1``
-    is the odd number nearest ``x`` (ties upward). A recording shorter than the window is one
-    window (W = N).
-    """
-    # the slack keeps the upward tie stable: a rate from a median interval is inexact
-    # (1 / 0.01 s = 99.99999999999999 Hz), and 0.04 s x that must still give 5 samples, not 3
-    win = 2 * int(np.floor(window_s * rate_hz / 2.0 + _ROUNDING_SLACK)) + 1
-    return int(min(max(win, 1), n_samples))
-
-
-def window_sums(x: NDArray[np.float64], win: int) -> NDArray[np.float64]:
-    """Sum of ``x`` (N, ...) over every full window of ``win`` samples, by start index: (N-W+1, ...).
-
-    Window k covers samples ``k .. k+W-1``. O(N) by one cumulative sum (no per-window loop); the
-    difference of two cumulative sums loses ~1e-16 of the running total, far below any threshold.
-    """
-    c = np.cumsum(x, axis=0)
-    c = np.concatenate([np.zeros((1,) + x.shape[1:]), c])
-    return c[win:] - c[:-win]
-
-
 def windows_to_samples(
     window_stance: NDArray[np.bool_], win: int, n_samples: int, combine: str
 ) -> NDArray[np.bool_]:
@@ -224,49 +198,14 @@ class WindowedStanceDetector(StanceDetector):
         stat = self.window_statistic(imu, win)
         window_stance = stat < self.window_threshold()
         mask = windows_to_samples(window_stance, win, n, self.combine)
-        centred = np.clip(np.arange(n) - win // 2, 0, n - win)
         return stance_result(
             mask,
             rate,
             self.min_stance_s,
             self.min_swing_s,
-            stat[centred],
+            centred(stat, win, n),
             {"detector": self.describe(), "window_samples": win, "rate_hz": rate},
         )
-
-
-# ---------------------------------------------------------------------------------------------
-# window statistics (Skog 2010, Sec. III), as RMS values in physical units
-# ---------------------------------------------------------------------------------------------
-def _rms(sum_of_squares: NDArray[np.float64], win: int) -> NDArray[np.float64]:
-    # a difference of cumulative sums can dip a few ulp below 0 where the true sum is 0
-    return np.sqrt(np.maximum(sum_of_squares, 0.0) / win)
-
-
-def gyr_rms(gyr: NDArray[np.float64], win: int) -> NDArray[np.float64]:
-    """ARE statistic: ``sqrt((1/W) sum ||w_l||^2)`` of every window, rad/s, (N-W+1,)."""
-    return _rms(window_sums(np.einsum("ij,ij->i", gyr, gyr), win), win)
-
-
-def acc_magnitude_rms(acc: NDArray[np.float64], win: int) -> NDArray[np.float64]:
-    """MAG statistic: ``sqrt((1/W) sum (||f_l|| - g)^2)`` of every window, m/s^2, (N-W+1,)."""
-    return _rms(window_sums((np.linalg.norm(acc, axis=1) - GRAVITY_MPS2) ** 2, win), win)
-
-
-def acc_moving_std(acc: NDArray[np.float64], win: int) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """MV statistic ``sqrt((1/W) sum ||f_l - f_mean||^2)`` (m/s^2) and the window means f_mean
-    (m/s^2, (N-W+1, 3)) of every window.
-
-    The variance is ``mean ||f||^2 - ||f_mean||^2``; both terms are taken about the recording's
-    mean specific force, which leaves the variance unchanged and keeps the two terms small, so the
-    subtraction does not cancel ~g^2 = 96 against itself.
-    """
-    offset = acc.mean(axis=0)
-    centred = acc - offset
-    mean_c = window_sums(centred, win) / win
-    mean_sq_c = window_sums(np.einsum("ij,ij->i", centred, centred), win) / win
-    variance = np.maximum(mean_sq_c - np.einsum("ij,ij->i", mean_c, mean_c), 0.0)
-    return np.sqrt(variance), mean_c + offset
 
 
 # ---------------------------------------------------------------------------------------------

@@ -10,11 +10,13 @@ from footnav.plugins.hookspecs import hookimpl
 
 @hookimpl
 def footnav_register_detectors(register):
+    from footnav.detectors.adaptive import AdaptiveDetector
     from footnav.detectors.dual_gait import DualGaitDetector
     from footnav.detectors.glrt import GlrtDetector
     from footnav.detectors.hmm import HmmDetector
     from footnav.detectors.threshold import AccMagnitudeDetector, AccVarianceDetector, AredDetector, ThresholdDetector
 
+    register(AdaptiveDetector)
     register(ThresholdDetector)
     register(AccMagnitudeDetector)
     register(AccVarianceDetector)

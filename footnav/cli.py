@@ -69,7 +69,20 @@ def _pipeline_from_args(args: argparse.Namespace):
         if any(getattr(args, k) for k in ("detector", "estimator", "fusion")):
             raise FootnavError("give either --pipeline or --detector/--estimator/--fusion, not both")
         return load_pipeline(args.pipeline)
-    return make_pipeline(args.detector or "threshold", args.estimator or "ekf", args.fusion or "independent")
+    return make_pipeline(args.detector or "adaptive", args.estimator or "ekf", args.fusion or "independent")
+
+
+def _print_stance_check(result) -> None:
+    """Say on stderr when a foot's stances disagree with its gait cycles (the result is suspect)."""
+    for foot, check in result.meta.get("stance_check", {}).items():
+        if check["suspicious"]:
+            times = ", ".join(f"{t:.1f}" for t in check["cycles_without_stance_at_s"][:5])
+            print(
+                f"footnav: warning: {foot} foot: {check['cycles_without_stance']} of {check['gait_cycles']} gait cycles "
+                f"have no stance (at {times} s ...), {check['stances_over_swing']} stances hold a swing; "
+                "the trajectory is probably wrong (details in summary.json, stance_check)",
+                file=sys.stderr,
+            )
 
 
 def cmd_run(args: argparse.Namespace) -> int:
@@ -92,6 +105,7 @@ def cmd_run(args: argparse.Namespace) -> int:
         summary["right_stances"] = result.stance_right.n_stances
     out = write_results(result, args.out, force=args.force, summary=summary, pipeline_toml=pipeline.to_toml())
     print(_format_table(("quantity", "value"), list(summary.items())))
+    _print_stance_check(result)
     print(f"results written to {out}")
     return EXIT_OK
 

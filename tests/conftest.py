@@ -29,3 +29,32 @@ def _fresh_registry():
     reset_registry()
     yield
     reset_registry()
+
+
+def _never_still_gait(floor_radps: float, rate_hz: float = 200.0, strides: int = 12, stride_s: float = 0.7):
+    """A foot that never stops turning: ``strides`` strides of a swing hump up to 9 rad/s then a
+    0.2 s stance at ``floor_radps``, one more swing, and 1 s standstills at both ends. Returns the
+    ImuData and the true stance mask; the stances at the floor all lie between two swings."""
+    import numpy as np
+
+    from footnav.core.types import GRAVITY_MPS2, ImuData
+
+    n_stride = int(stride_s * rate_hz)
+    n_stance = int(0.2 * rate_hz)
+    u = np.arange(n_stride - n_stance) / (n_stride - n_stance)
+    swing = floor_radps + (9.0 - floor_radps) * np.sin(np.pi * u) ** 2
+    still = np.zeros(int(rate_hz))
+    rate = np.concatenate([still, *[np.r_[swing, np.full(n_stance, floor_radps)]] * strides, swing, still])
+    stride_truth = np.r_[np.zeros(len(swing), bool), np.ones(n_stance, bool)]
+    truth = np.concatenate([still == 0, *[stride_truth] * strides, np.zeros(len(swing), bool), still == 0])
+    n = len(rate)
+    gyr = np.zeros((n, 3))
+    gyr[:, 1] = rate
+    acc = np.tile([0.0, 0.0, GRAVITY_MPS2], (n, 1))
+    return ImuData(t=np.arange(n) / rate_hz, acc=acc, gyr=gyr), truth
+
+
+@pytest.fixture
+def never_still_gait():
+    """``never_still_gait(floor_radps, rate_hz=200, strides=12, stride_s=0.7) -> (imu, truth)``."""
+    return _never_still_gait

@@ -17,11 +17,13 @@ from footnav.core.component import Component, FootEstimator, Fusion, StanceDetec
 from footnav.core.errors import (
     CompositionError,
     DataNotFoundError,
+    DataQualityWarning,
     FootnavError,
     InvalidInputError,
     InvalidParameterError,
     PluginError,
 )
+from footnav.core.stance_check import check_stances
 from footnav.core.types import ImuData, PipelineResult, Recording
 
 if sys.version_info >= (3, 11):
@@ -160,6 +162,19 @@ class Pipeline:
                     ) from exc
             raise
 
+    def _check_stances(self, left, stance_left, right, stance_right) -> dict[str, Any]:
+        """Each foot's stances against its gait cycles (:mod:`footnav.core.stance_check`); warns
+        (DataQualityWarning) when they disagree."""
+        out: dict[str, Any] = {}
+        for foot, imu, stance in (("left", left, stance_left), ("right", right, stance_right)):
+            if imu is None or stance is None:
+                continue
+            check = check_stances(imu, stance)
+            out[foot] = check.as_meta()
+            if check.suspicious:
+                warnings.warn(check.message(foot, self.detector.name), DataQualityWarning, stacklevel=3)
+        return out
+
     def run(self, left: ImuData | Recording, right: ImuData | None = None) -> PipelineResult:
         """Detect stance, estimate each foot and fuse.
 
@@ -193,6 +208,7 @@ class Pipeline:
             warnings.simplefilter("always")
             with self._blame(self.detector):
                 stance_left, stance_right = self.detector.detect_pair(left, right)
+            stance_checks = self._check_stances(left, stance_left, right, stance_right)
             # the fusion drives the estimator: a failure inside names whichever is not footnav's
             with self._blame(self.fusion, self.estimator):
                 fused = self.fusion.fuse(self.estimator, left, stance_left, right, stance_right)
@@ -204,6 +220,7 @@ class Pipeline:
             "pipeline": self.config(),
             "footnav_version": __version__,
             "warnings": [f"{w.category.__name__}: {w.message}" for w in caught],
+            "stance_check": stance_checks,
             "runtime_s": time.perf_counter() - t0,
             "input": {"left": dict(left.meta), "right": None if right is None else dict(right.meta)},
         }
@@ -230,7 +247,7 @@ def _toml_value(value: Any) -> str:
 
 
 def make_pipeline(
-    detector: str | StanceDetector | Mapping[str, Any] = "threshold",
+    detector: str | StanceDetector | Mapping[str, Any] = "adaptive",
     estimator: str | FootEstimator | Mapping[str, Any] = "ekf",
     fusion: str | Fusion | Mapping[str, Any] = "independent",
     *,
@@ -267,7 +284,7 @@ def load_pipeline(path: str | FilePath) -> Pipeline:
         raise InvalidParameterError(
             f"{path}: unknown table(s) {sorted(unknown)}; a pipeline file has [detector], [estimator], [fusion]"
         )
-    defaults = {"detector": "threshold", "estimator": "ekf", "fusion": "independent"}
+    defaults = {"detector": "adaptive", "estimator": "ekf", "fusion": "independent"}
     try:
         return make_pipeline(**{kind: config.get(kind, defaults[kind]) for kind in _BASES})
     except InvalidParameterError as exc:

@@ -1,0 +1,71 @@
+"""The gait-adaptive stance detector against hand-built gaits, the simulator and real running."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import footnav
+from footnav.core import metrics
+from footnav.core.errors import DataNotFoundError, InvalidParameterError
+from footnav.detectors.adaptive import AdaptiveDetector
+from footnav.detectors.threshold import ThresholdDetector
+
+
+def test_finds_one_stance_per_cycle_where_the_foot_never_stops(never_still_gait):
+    imu, truth = never_still_gait(floor_radps=0.9)
+    assert ThresholdDetector().detect(imu).n_stances == 2  # only the standstills at the ends
+    stance = AdaptiveDetector().detect(imu)
+    steps = metrics.step_detection(stance.mask, truth, tolerance_samples=20)
+    assert (steps.missed, steps.false) == (0, 0)
+    # stance is the stride's quiet part: every true stance sample, and the swing only where it
+    # turns slower than the bound, 3 x the floor (stance_factor)
+    assert stance.mask[truth & (imu.gyr[:, 1] > 0)].all()  # the standstills' edges aside
+    assert not (stance.mask & (imu.gyr[:, 1] > 3.0 * 0.9 + 0.1)).any()
+    assert stance.meta["swing_peaks"].size == 13
+    assert stance.meta["stride_s"] == pytest.approx(0.7, abs=0.01)
+
+
+def test_walking_is_detected_as_by_threshold():
+    rec = footnav.simulate("straight", distance_m=20.0, seed=3, rate_hz=100.0)
+    for imu in (rec.left, rec.right):
+        np.testing.assert_array_equal(AdaptiveDetector().detect(imu).mask, ThresholdDetector().detect(imu).mask)
+
+
+@pytest.mark.parametrize("rate_hz", [60.0, 200.0, 820.0])
+def test_simulated_walk_every_step_found(rate_hz):
+    rec = footnav.simulate("rectangle", width_m=12.0, height_m=6.0, seed=1, rate_hz=rate_hz)
+    stance = AdaptiveDetector().detect(rec.left)
+    steps = metrics.step_detection(stance.mask, rec.truth_left.stance, tolerance_samples=int(0.15 * rate_hz))
+    assert (steps.missed, steps.false) == (0, 0)
+
+
+def test_bad_parameters_are_refused(never_still_gait):
+    with pytest.raises(InvalidParameterError, match="min_scale"):
+        AdaptiveDetector(min_scale=1.5).detect(never_still_gait(0.5)[0])
+    with pytest.raises(InvalidParameterError, match="stance_factor"):
+        AdaptiveDetector(stance_factor=0).detect(never_still_gait(0.5)[0])
+
+
+def test_is_the_default_detector():
+    assert footnav.make_pipeline().detector.name == "adaptive"
+
+
+# the running trials of the pyshoe VICON set, where a walking bound drifts by metres
+RUNNING = ["2017-11-27-11-11-53", "2017-11-27-11-13-41", "2017-11-27-11-18-11", "2017-12-15-18-02-28"]
+
+
+@pytest.mark.parametrize("trial", RUNNING)
+def test_real_running_trials_within_30_cm(trial):
+    from footnav.core.datasets import load_dataset
+
+    try:
+        rec = load_dataset(f"pyshoe_{trial}")
+    except DataNotFoundError:
+        pytest.skip("shared data not found")
+    result = footnav.make_pipeline().run(rec.left)
+    truth = rec.truth_left
+    est = np.stack([np.interp(truth.t, result.left.t, result.left.position[:, i]) for i in range(3)], axis=1)
+    # 1.1-3.8 m with the threshold detector; the dataset's best detector tuned per trial: 0.06-0.14 m
+    assert metrics.ate_rmse(est, truth.position, dims=2) < 0.3
+    assert result.meta["stance_check"]["left"]["suspicious"] is False

@@ -151,8 +151,8 @@ def check_stances(
     missed_s = 0.5 * (t[a[missed]] + t[b[missed]])
     over_swing_s = t[idx[mask[idx]]]
     return StanceCheck(
-        n_cycles=int(len(a)),
-        n_stances=int(len(stance_intervals(mask))),
+        n_cycles=len(a),
+        n_stances=len(stance_intervals(mask)),
         missed_s=missed_s,
         over_swing_s=over_swing_s,
         stride_s=peaks.stride_s,

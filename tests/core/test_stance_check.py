@@ -26,7 +26,7 @@ def test_cycles_without_stance_are_counted_and_placed(never_still_gait):
 
 
 def test_a_stance_over_a_swing_is_caught(never_still_gait):
-    imu, truth = never_still_gait(floor_radps=0.9)
+    imu, _ = never_still_gait(floor_radps=0.9)
     check = check_stances(imu, StanceResult(mask=np.ones(imu.n_samples, bool)))
     assert len(check.over_swing_s) == 13 and len(check.missed_s) == 0 and check.suspicious
 

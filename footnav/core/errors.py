@@ -19,6 +19,7 @@ __all__ = [
     "FootnavWarning",
     "DataQualityWarning",
     "PluginWarning",
+    "GaitModelError",
 ]
 
 
@@ -101,3 +102,8 @@ class DataQualityWarning(FootnavWarning):
 
 class PluginWarning(FootnavWarning):
     """A third-party plugin could not be loaded; the others still work."""
+
+
+class GaitModelError(InvalidInputError):
+    """An unsupervised gait model (the HMM of seed 003) could not learn the gait cycle from the data:
+    after learning, its stance state is not the stillest state (the mask would be inverted)."""

@@ -59,12 +59,20 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.signal import butter, find_peaks, sosfiltfilt
 
 from footnav.core.component import StanceDetector, is_number, require
-from footnav.core.errors import FootnavError, FootnavWarning, InvalidInputError, InvalidParameterError
+from footnav.core.errors import (
+    DataQualityWarning,
+    FootnavError,
+    FootnavWarning,
+    GaitModelError,
+    InvalidInputError,
+    InvalidParameterError,
+)
 from footnav.core.types import GRAVITY_MPS2, ImuData, StanceResult, stance_intervals
 
 __all__ = [
     "HmmDetector",
     "HmmNotFittedError",
+    "GaitModelError",
     "CyclicOrder",
     "cyclic_order",
     "cyclic_order_votes",
@@ -112,6 +120,23 @@ MIN_GAIT_CYCLES = 3
 #: footnav's threshold detectors call a foot still below 0.5 rad/s (29 deg/s); a recording whose
 #: stillest cluster turns faster has no standstill, one whose fastest cluster turns slower no walk.
 STANDSTILL_MAX_RADPS = 0.5
+#: Quantile of |w| over the stillest K-means cluster that must lie below STANDSTILL_MAX_RADPS. Not
+#: the median: on running (pyshoe 2017-11-27-11-24-07) K-means gives the stance cluster the slow
+#: parts of the swing too and its median is 0.55 rad/s while its lower quartile is 0.02 rad/s; a
+#: walk with its stances cut out has a lower quartile of 0.64 rad/s.
+STANDSTILL_QUANTILE = 0.25
+#: The re-ordering's stance threshold (``reorder_min_stance_s``, the paper's "e.g. 0.3s") is lowered
+#: to this fraction of the 90th percentile of the K-means stance runs when that is shorter: running
+#: stances last 0.15-0.2 s and none reaches 0.3 s (1-2 movement periods found in 20 s of running).
+REORDER_STANCE_FRACTION = 0.5
+#: Stance runs of the decoded training recording shorter than this are not steps (s): a stance
+#: state visited for one or two model samples at a zero crossing of the swing's rate.
+MICRO_STANCE_S = 0.05
+#: Largest share of micro stance runs a learned model may produce on its training recording (one is
+#: always tolerated).
+MAX_MICRO_STANCE_SHARE = 0.01
+#: Factor on ``min_std`` of the single documented refit when the check after decoding fails.
+FALLBACK_MIN_STD_FACTOR = 4.0
 #: K-means restarts (scikit-learn's n_init); the best of these by inertia is used.
 KMEANS_N_INIT = 10
 #: Format tag and version of :meth:`HmmDetector.save` files.
@@ -413,6 +438,41 @@ def _build_hmm(
     return model
 
 
+def _check_model(model, x: NDArray, lengths: Sequence[int], gyr_norm: NDArray, rate: float) -> dict[str, Any]:
+    """Check after decoding of a learned model on its training data (Viterbi path).
+
+    * ``stance_stillest``: the stance state has the smallest median |w| of the four states, below
+      ``STANDSTILL_MAX_RADPS`` (else its mask would not be stance: the inverted mask of a collapsed
+      model).
+    * ``micro_share``: share of stance runs shorter than ``MICRO_STANCE_S``, at most
+      ``MAX_MICRO_STANCE_SHARE`` (else one non-stance state has become a broad catch-all of the
+      movement and the stance state is visited for one or two samples at zero crossings of the
+      swing's rate: false steps); a single one is tolerated.
+    """
+    states = np.concatenate([model.decode(x[a:b], algorithm="viterbi")[1]
+                             for a, b in zip(np.cumsum([0, *lengths[:-1]]), np.cumsum(lengths))])
+    med = [float(np.median(gyr_norm[states == k])) if np.any(states == k) else float("inf") for k in range(N_STATES)]
+    stillest = bool(np.argmin(med) == STANCE and med[STANCE] < STANDSTILL_MAX_RADPS)
+    runs = stance_intervals(states == STANCE)
+    n_runs = len(runs)
+    micro = int(np.sum((runs[:, 1] - runs[:, 0]) < MICRO_STANCE_S * rate)) if n_runs else 0
+    share = micro / n_runs if n_runs else 1.0
+    problems = []
+    if not stillest:
+        problems.append("stance state median |w| " + ", ".join(f"{m:.3g}" for m in med) + " rad/s per state")
+    if micro > max(1.0, MAX_MICRO_STANCE_SHARE * n_runs):
+        problems.append(f"{micro} of {n_runs} stance runs shorter than {MICRO_STANCE_S:g} s")
+    return {
+        "ok": not problems,
+        "stance_stillest": stillest,
+        "median_rate_per_state": med,
+        "n_stance_runs": n_runs,
+        "n_micro_stances": micro,
+        "micro_share": share,
+        "problem": "; ".join(problems),
+    }
+
+
 class _Capture(logging.Handler):
     """Collects hmmlearn's log records (convergence, degenerate-fit messages) during one fit."""
 
@@ -549,7 +609,7 @@ class HmmDetector(StanceDetector):
         reorder_min_stance_s: float = 0.3,
         max_iter: int = 100,
         tol: float = 1e-2,
-        min_std: float = 1e-3,
+        min_std: float = 0.05,
         seed: int = 0,
     ) -> None:
         self.features = features
@@ -598,6 +658,37 @@ class HmmDetector(StanceDetector):
         nearest = np.clip(np.rint((imu.t - t0) * model_rate_hz).astype(np.int64), 0, n_model - 1)
         return _ModelGrid(feats, t_model, nearest)
 
+    def _baum_welch(self, x, lengths, z0, startprob, transmat, min_std):
+        """EM from the re-ordered K-means labels ``z0``; returns the model and how the fit went."""
+        n_feat = x.shape[1]
+        reg = min_std**2 * np.eye(n_feat)
+        means = np.empty((N_STATES, n_feat))
+        covars = np.empty((N_STATES, n_feat, n_feat))
+        for k in range(N_STATES):
+            xs = x[z0 == k]
+            means[k] = xs.mean(axis=0)
+            covars[k] = (np.cov(xs.T).reshape(n_feat, n_feat) if len(xs) > 1 else np.zeros((n_feat, n_feat))) + reg
+        model = _build_hmm(startprob, transmat, means, covars, min_covar=min_std**2, seed=self.seed,
+                           max_iter=int(self.max_iter), tol=float(self.tol), implementation="scaling")
+        # hmmlearn's log messages are collected here, not silenced elsewhere
+        handler = _Capture()
+        old_propagate = _LOG.propagate
+        _LOG.addHandler(handler)
+        _LOG.propagate = False
+        try:
+            with warnings.catch_warnings(record=True) as w:
+                warnings.simplefilter("always")
+                model.fit(x, lengths)
+        finally:
+            _LOG.removeHandler(handler)
+            _LOG.propagate = old_propagate
+        return model, {
+            "history": list(model.monitor_.history),
+            "n_iter": model.monitor_.iter,
+            "messages": handler.messages,
+            "warnings": [f"{type(m.message).__name__}: {m.message}" for m in w],
+        }
+
     # -- learning -----------------------------------------------------------------------------
     def _learn(self, recordings: Sequence[ImuData]) -> dict[str, Any]:
         """Learn a model from ``recordings``; returns the learned values (nothing is stored)."""
@@ -637,24 +728,30 @@ class HmmDetector(StanceDetector):
                 f"{STANDSTILL_MAX_RADPS:g} rad/s (the fastest at {fastest:.3g} rad/s median); the HMM learns the "
                 "gait phases from walking (fit on a walk, then detect this recording)"
             )
-        if median_rate[stance_label] > STANDSTILL_MAX_RADPS:
+        still_rate = float(np.quantile(gyr_norm[labels == stance_label], STANDSTILL_QUANTILE))
+        if still_rate > STANDSTILL_MAX_RADPS:
             raise InvalidInputError(
-                f"no standstill: the stillest K-means cluster of the angular rate turns at "
-                f"{median_rate[stance_label]:.3g} rad/s (median), above {STANDSTILL_MAX_RADPS:g} rad/s; the foot never "
+                f"no standstill: the stillest quarter of the stillest K-means cluster of the angular rate turns "
+                f"faster than {still_rate:.3g} rad/s, above {STANDSTILL_MAX_RADPS:g} rad/s; the foot never "
                 "stands still, so there is no stance phase to learn"
             )
 
         # re-ordering into the cyclic order (Fig. 2), per recording on its own filtered signal
         per_recording = [significant_axis(g.features[:, :3], rate, self.lowpass_cutoff_hz) for g in grids]
         axis_signal = np.concatenate([sig for sig, _ in per_recording])
+        km_runs = stance_intervals(labels == stance_label)
+        km_run_s = (km_runs[:, 1] - km_runs[:, 0]) / rate
+        min_stance_s = float(self.reorder_min_stance_s)
+        if len(km_run_s):
+            min_stance_s = min(min_stance_s, REORDER_STANCE_FRACTION * float(np.quantile(km_run_s, 0.9)))
         order = cyclic_order_votes(
-            labels, axis_signal, rate, stance_label=stance_label, min_stance_s=self.reorder_min_stance_s,
+            labels, axis_signal, rate, stance_label=stance_label, min_stance_s=min_stance_s,
             lengths=lengths,
         )
         if order.n_movements < MIN_GAIT_CYCLES:
             raise InvalidInputError(
                 f"found {order.n_movements} gait cycle(s) (movement periods between stance runs of at least "
-                f"{self.reorder_min_stance_s:g} s) in {total_s:.3g} s of data; need at least {MIN_GAIT_CYCLES} to "
+                f"{min_stance_s:.3g} s) in {total_s:.3g} s of data; need at least {MIN_GAIT_CYCLES} to "
                 "learn the gait model (recording too short, or no standstill between steps)"
             )
         state_of_label = np.argsort(order.permutation)
@@ -662,40 +759,49 @@ class HmmDetector(StanceDetector):
 
         # initial Theta from the re-ordered guess: means, covariances, and Delta_k from the mean
         # run length of each state (a geometric duration of mean L samples leaves with 1/L)
-        reg = float(self.min_std) ** 2 * np.eye(n_feat)
-        means = np.empty((N_STATES, n_feat))
-        covars = np.empty((N_STATES, n_feat, n_feat))
-        transmat = np.zeros((N_STATES, N_STATES))
         run_start = np.ones(len(z0), dtype=bool)
         run_start[1:] = z0[1:] != z0[:-1]
         run_start[np.cumsum([0, *lengths[:-1]])] = True  # a recording's first sample starts a run
         n_runs = np.bincount(z0[run_start], minlength=N_STATES)
+        transmat = np.zeros((N_STATES, N_STATES))
         for k in range(N_STATES):
-            xs = x[z0 == k]
-            means[k] = xs.mean(axis=0)
-            covars[k] = (np.cov(xs.T).reshape(n_feat, n_feat) if len(xs) > 1 else np.zeros((n_feat, n_feat))) + reg
             # K-means labels never leave a cluster empty; 0.5 caps a state made of 1-sample runs
-            leave = min(n_runs[k] / len(xs), 0.5)
+            leave = min(n_runs[k] / max(int(np.sum(z0 == k)), 1), 0.5)
             transmat[k, k] = 1.0 - leave
             transmat[k, (k + 1) % N_STATES] = leave
         startprob = np.full(N_STATES, 1.0 / N_STATES)
 
-        # Baum-Welch; hmmlearn's log messages are collected here, not silenced elsewhere
-        model = _build_hmm(startprob, transmat, means, covars, min_covar=float(self.min_std) ** 2, seed=self.seed,
-                           max_iter=int(self.max_iter), tol=float(self.tol), implementation="scaling")
-        handler = _Capture()
-        old_propagate = _LOG.propagate
-        _LOG.addHandler(handler)
-        _LOG.propagate = False
-        try:
-            with warnings.catch_warnings(record=True) as w:
-                warnings.simplefilter("always")
-                model.fit(x, lengths)
-        finally:
-            _LOG.removeHandler(handler)
-            _LOG.propagate = old_propagate
-        caught += [f"{type(m.message).__name__}: {m.message}" for m in w]
-        history = list(model.monitor_.history)
+        # Baum-Welch, then the check after decoding (stance the stillest state, stance runs that are
+        # steps); one documented refit with a coarser covariance floor when the check fails
+        min_std = float(self.min_std)
+        model, em = self._baum_welch(x, lengths, z0, startprob, transmat, min_std)
+        check = _check_model(model, x, lengths, gyr_norm, rate)
+        fallback = None
+        if not check["ok"]:
+            first = check
+            min_std = FALLBACK_MIN_STD_FACTOR * float(self.min_std)
+            model, em = self._baum_welch(x, lengths, z0, startprob, transmat, min_std)
+            check = _check_model(model, x, lengths, gyr_norm, rate)
+            fallback = {
+                "reason": first["problem"],
+                "first_check": first,
+                "action": f"refit with min_std={min_std:g} ({FALLBACK_MIN_STD_FACTOR:g} x min_std)",
+            }
+            if not check["stance_stillest"]:
+                raise GaitModelError(
+                    f"the HMM could not learn the gait cycle: after Baum-Welch (also refitted with min_std={min_std:g}) "
+                    f"the stance state is not the stillest state ({check['problem']}); its mask would not be "
+                    "stance. Fit the detector on a longer or cleaner walk and detect this recording with it"
+                )
+            warnings.warn(
+                f"HmmDetector: the learned model failed the check after decoding ({first['problem']}); "
+                f"{fallback['action']}" + ("" if check["ok"] else f", still: {check['problem']}")
+                + "; recorded in fit_info_['fallback']",
+                DataQualityWarning,
+                stacklevel=3,
+            )
+        caught += em["warnings"]
+        history = em["history"]
         # hmmlearn's monitor_.converged is also True when it merely ran out of iterations
         converged = len(history) >= 2 and history[-1] - history[-2] < float(self.tol)
         if not converged:
@@ -707,7 +813,7 @@ class HmmDetector(StanceDetector):
                 stacklevel=3,
             )
         info = {
-            "n_iter": int(model.monitor_.iter),
+            "n_iter": int(em["n_iter"]),
             "converged": bool(converged),
             "log_likelihood": float(history[-1]) if history else float("nan"),
             "n_samples": int(len(x)),
@@ -719,8 +825,12 @@ class HmmDetector(StanceDetector):
             "n_movements": int(order.n_movements),
             "votes": order.votes,
             "vote_fallback": order.fallback,
+            "reorder_min_stance_s": min_stance_s,
             "initial_transmat": transmat.tolist(),
-            "messages": handler.messages,
+            "min_std": min_std,
+            "check": check,
+            "fallback": fallback,
+            "messages": em["messages"],
             "warnings": caught,
         }
         return {

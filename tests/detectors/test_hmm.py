@@ -385,3 +385,77 @@ def test_gaitmap_all_strides_found_and_event_timing(shared_data):
         # measured 20-40 ms: the model's transitions are pitch-rate landmarks (module docstring);
         # the one miss is the left foot's heel strike in the turn (3774), detected 82 samples early
         assert te.n_missed <= 1 and te.mean_abs_error_s < 0.06
+
+
+# -- robustness (long walks with turns, fast gaits, real gaits) ---------------------------------
+@pytest.mark.slow
+def test_ten_minute_walk_with_turns_no_missed_no_false_stance():
+    # 40 turns (45-180 deg, left and right, U-turns), 11.5 min, a slow gait, an arbitrary mounting,
+    # 400 Hz. Before the fix (min_std 1e-3) EM left one state a zero-mean catch-all of the movement
+    # and the stance state took single samples at the swing's zero crossings: 136 false stances
+    # on the right foot.
+    rng = np.random.default_rng(5)
+    segs = [(float(rng.uniform(3, 25)), float(rng.choice([-180, -90, -45, 45, 90, 180]))) for _ in range(40)]
+    rec = footnav.simulate("path", seed=5, rate_hz=400.0, segments=segs, stride_period_s=1.4, swing_s=0.574,
+                           heel_off_s=0.126, foot_flat_s=0.126, turn_radius_m=1.5, stride_length_m=1.4,
+                           mounting_rpy_deg=(-100.1, 50.7, -141.4))
+    assert rec.left.duration_s >= 600 and len(segs) >= 20
+    for imu, truth in ((rec.left, rec.truth_left), (rec.right, rec.truth_right)):
+        stance = HmmDetector().detect(imu)
+        steps = metrics.step_detection(stance.mask, truth.stance, tolerance_samples=STEP_TOLERANCE_S * 400)
+        assert steps.n_missed == 0 and steps.n_false == 0, steps
+        assert steps.n_reference > 480
+        check = stance.meta["fit"]["check"]
+        assert check["stance_stillest"] and stance.meta["fit"]["fallback"] is None
+        w = np.linalg.norm(imu.gyr, axis=1)
+        assert np.median(w[stance.mask]) < 0.05 < np.median(w[~stance.mask])
+
+
+def test_collapsed_model_is_refitted_and_recorded(monkeypatch):
+    import footnav.detectors.hmm as hmm
+
+    calls = []
+    real = hmm._check_model
+
+    def first_fails(*args, **kwargs):
+        out = real(*args, **kwargs)
+        calls.append(out)
+        if len(calls) == 1:
+            out = {**out, "ok": False, "problem": "forced"}
+        return out
+
+    monkeypatch.setattr(hmm, "_check_model", first_fails)
+    with pytest.warns(footnav.DataQualityWarning, match="failed the check after decoding"):
+        stance = HmmDetector().detect(_walk("straight", 100.0).left)
+    fb = stance.meta["fit"]["fallback"]
+    assert fb["reason"] == "forced" and "min_std=0.2" in fb["action"] and stance.meta["fit"]["min_std"] == 0.2
+
+
+def test_inverted_model_is_a_specific_error(monkeypatch):
+    import footnav.detectors.hmm as hmm
+    from footnav.core.errors import GaitModelError
+
+    real = hmm._check_model
+    monkeypatch.setattr(hmm, "_check_model", lambda *a, **k: {**real(*a, **k), "ok": False,
+                                                              "stance_stillest": False, "problem": "inverted"})
+    with pytest.raises(GaitModelError, match="stance state is not the stillest"):
+        HmmDetector().detect(_walk("straight", 100.0).left)
+
+
+def test_pyshoe_all_trials_learn_and_stance_is_stillest(shared_data):
+    from footnav.core.datasets import dataset_names, load_dataset
+
+    names = [n for n in dataset_names(shared_data) if n.startswith("pyshoe_")]
+    if not names:
+        pytest.skip("no pyshoe_vicon trials in the shared data")
+    assert len(names) == 14
+    for name in names:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", footnav.DataQualityWarning)
+            rec = load_dataset(name, shared_data)
+            stance = HmmDetector().detect(rec.left)  # running and crawling included: no error
+        w = np.linalg.norm(rec.left.gyr, axis=1)
+        per_state = [np.median(w[stance.phases == k]) for k in range(4)]
+        assert np.argmin(per_state) == 0 and per_state[0] < 0.5, (name, per_state)
+        assert stance.meta["fit"]["check"]["stance_stillest"]
+        assert 0.2 < stance.mask.mean() < 0.8, (name, stance.mask.mean())

@@ -11,7 +11,9 @@ Format::
     1234<TAB>...
 
 * Lines before the column header (the first line holding ``PacketCounter``) are preamble; the
-  rate is read from the one saying ``Update Rate: <r>Hz``.
+  rate is read from the one saying ``Update Rate: <r>Hz`` (MT Manager) or ``Acquisition
+  frequency: <r> Hz`` (the one-line preamble of the IPOL gait data set's exports, see
+  :mod:`footnav.core.io.ipol`).
 * Column header and rows are tab separated (or ``,``/``;``, or white space, as the header line
   is): columns are found by name, extra columns are ignored.
 * ``Acc_*`` m/s^2, ``Gyr_*`` rad/s, ``Mag_*`` arbitrary units (normalised to the field at
@@ -44,7 +46,7 @@ XSENS_COUNTER_MODULUS = 65536
 #: A forward step of more than half the modulus is indistinguishable from a counter going
 #: backwards (packets out of order): refused rather than guessed.
 _MAX_FORWARD_STEP = XSENS_COUNTER_MODULUS // 2
-_RATE = re.compile(r"update\s*rate\s*:?\s*([0-9]*\.?[0-9]+)\s*hz", re.IGNORECASE)
+_RATE = re.compile(r"(update\s*rate|acquisition\s*frequency)\s*:?\s*([0-9]*\.?[0-9]+)\s*hz", re.IGNORECASE)
 _COUNTER = "PacketCounter"
 _ACC = ("Acc_X", "Acc_Y", "Acc_Z")
 _GYR = ("Gyr_X", "Gyr_Y", "Gyr_Z")
@@ -76,7 +78,7 @@ def read_xsens(
     path
         The text export; see the module docstring.
     rate_hz
-        Sampling rate. Default: the preamble's ``Update Rate``. Given when the file has one, the
+        Sampling rate. Default: the preamble's ``Update Rate`` (or ``Acquisition frequency``). Given when the file has one, the
         two must agree (else InvalidInputError: one of them is wrong).
     drop_duplicates
         Drop rows repeating the previous packet counter (recorded); without it they raise.
@@ -101,13 +103,18 @@ def read_xsens(
         )
     file_rate = None
     rate_line = None
+    rate_label = "Update Rate"
     for k in range(hk):
         m = _RATE.search(tf.lines[k])
         if m:
-            file_rate, rate_line = float(m.group(1)), k + 1
+            file_rate, rate_line = float(m.group(2)), k + 1
+            rate_label = "Update Rate" if m.group(1).lower().startswith("update") else "Acquisition frequency"
     if rate_hz is None and file_rate is None:
         raise InvalidInputError(
-            "no 'Update Rate: <r>Hz' line before the column header; pass rate_hz", path=tf.path, line=hk + 1
+            "no 'Update Rate: <r>Hz' (or 'Acquisition frequency: <r> Hz') line before the column header; "
+            "pass rate_hz",
+            path=tf.path,
+            line=hk + 1,
         )
     if rate_hz is not None and file_rate is not None and not np.isclose(rate_hz, file_rate):
         raise InvalidInputError(
@@ -159,7 +166,7 @@ def read_xsens(
     meta = {
         "foot": "unknown (one sensor)",
         "rate_hz": rate,
-        "rate_source": "file (Update Rate)" if rate_hz is None else "caller",
+        "rate_source": f"file ({rate_label})" if rate_hz is None else "caller",
         "time_source": f"unwrapped PacketCounter / {rate:g} Hz",
         "counter_wraps": wraps,
         "lost_packets": {"count": lost, "gaps": [(i, int(kept_steps[i - 1] - 1)) for i, _ in gaps]},

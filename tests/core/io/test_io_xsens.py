@@ -115,3 +115,21 @@ def test_synthetic_missing_columns(tmp_path):
     _write(p, [1, 2], columns=["PacketCounter", "Acc_X", "Acc_Y", "Acc_Z"])
     with pytest.raises(InvalidInputError, match=r"line 8.*missing columns \['Gyr_X'"):
         read_xsens(p)
+
+
+def test_acquisition_frequency_preamble(tmp_path):
+    # The IPOL gait data set's exports carry one preamble line, "Acquisition frequency: 100 Hz",
+    # and a float PacketCounter ("0.0"): the rate comes from that line, time from the counter.
+    p = tmp_path / "ipol_like.txt"
+    cols = ["PacketCounter", "Acc_X", "Acc_Y", "Acc_Z", "Gyr_X", "Gyr_Y", "Gyr_Z", "Mag_X", "Mag_Y", "Mag_Z"]
+    rows = [f"{c:.1f}\t0.1\t-0.2\t{GRAVITY_MPS2 + 1e-4 * k!r}\t0.001\t{0.002 * k!r}\t0\t0.5\t-0.3\t0.8"
+            for k, c in enumerate([0, 1, 2, 4, 5])]
+    p.write_text("\n".join(["Acquisition frequency: 50 Hz", "\t".join(cols)] + rows) + "\n")
+    with pytest.warns(DataQualityWarning, match="1 lost packet"):
+        imu = read_xsens(p).left
+    assert imu.rate_hz == pytest.approx(50.0)
+    assert imu.meta["rate_source"] == "file (Acquisition frequency)"
+    np.testing.assert_allclose(imu.t, [0.0, 0.02, 0.04, 0.08, 0.10])
+    assert imu.has_mag
+    with pytest.raises(InvalidInputError, match="line 1.*file says 50 Hz"):
+        read_xsens(p, rate_hz=100.0)

@@ -32,9 +32,10 @@ def _fresh_registry():
 
 
 def _never_still_gait(floor_radps: float, rate_hz: float = 200.0, strides: int = 12, stride_s: float = 0.7):
-    """A foot that never stops turning: ``strides`` strides of a swing hump up to 9 rad/s then a
-    0.2 s stance at ``floor_radps``, one more swing, and 1 s standstills at both ends. Returns the
-    ImuData and the true stance mask; the stances at the floor all lie between two swings."""
+    """A foot that never stops turning: ``strides`` strides of a swing (angular rate up to 9 rad/s,
+    the foot lifted and lowered at up to 8 m/s^2) then a 0.2 s stance at ``floor_radps``, one more
+    swing, and 1 s standstills at both ends. Returns the ImuData and the true stance mask; the
+    stances at the floor all lie between two swings."""
     import numpy as np
 
     from footnav.core.types import GRAVITY_MPS2, ImuData
@@ -51,6 +52,9 @@ def _never_still_gait(floor_radps: float, rate_hz: float = 200.0, strides: int =
     gyr = np.zeros((n, 3))
     gyr[:, 1] = rate
     acc = np.tile([0.0, 0.0, GRAVITY_MPS2], (n, 1))
+    # the swing lifts and lowers the foot, 8 m/s^2 at most (a swing's |f| - g)
+    u_all = np.concatenate([np.zeros(len(still)), *[np.r_[u, np.zeros(n_stance)]] * strides, u, np.zeros(len(still))])
+    acc[:, 2] += np.where(truth, 0.0, 8.0 * np.sin(2.0 * np.pi * u_all))
     return ImuData(t=np.arange(n) / rate_hz, acc=acc, gyr=gyr), truth
 
 

@@ -24,7 +24,12 @@ from scipy.signal import find_peaks
 
 from footnav.core.windows import centred, gyr_rms, window_samples
 
-__all__ = ["SwingPeaks", "swing_peaks"]
+__all__ = ["SWING_ACC_MPS2", "SwingPeaks", "swing_peaks"]
+
+#: A swinging foot accelerates: the RMS of ``|f| - g`` over its swing window exceeds this (m/s^2;
+#: 5-20 m/s^2 in the walking and running swings of the shared recordings). A foot that turns fast
+#: but stays below it pivots on the ground (turns on the spot, U-turn shuffles: 0.6-2 m/s^2).
+SWING_ACC_MPS2 = 2.0
 
 
 @dataclass(frozen=True, eq=False)

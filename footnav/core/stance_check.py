@@ -20,8 +20,9 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from footnav.core.gait_cycles import swing_peaks
+from footnav.core.gait_cycles import SWING_ACC_MPS2, swing_peaks
 from footnav.core.types import ImuData, StanceResult, stance_intervals
+from footnav.core.windows import acc_magnitude_rms, centred
 
 __all__ = ["StanceCheck", "check_stances"]
 
@@ -40,14 +41,17 @@ class StanceCheck:
     ----------
     n_cycles
         Gait cycles seen in the signal: intervals between consecutive swing peaks from
-        ``min_stride_s`` to ``max_stride_s`` apart.
+        ``min_stride_s`` to ``max_stride_s`` apart, both where the foot accelerates (RMS of
+        ``|f| - g`` over the swing window at least :data:`~footnav.core.gait_cycles.SWING_ACC_MPS2`).
     n_stances
         Detected stance phases.
     missed_s
         Mid-times (s, the recording's clock) of the cycles with no stance sample between their
         two swing peaks.
     over_swing_s
-        Times (s) of the swing peaks that lie inside a detected stance.
+        Times (s) of the swing peaks that lie inside a detected stance while the foot accelerates
+        (RMS of ``|f| - g`` over the swing window at least
+        :data:`~footnav.core.gait_cycles.SWING_ACC_MPS2`; a pivot on the ground is a stance).
     stride_s
         The recording's typical stride (s), nan when too few swings were seen.
     """
@@ -142,14 +146,19 @@ def check_stances(
     idx = peaks.index
     mask = np.asarray(stance.mask, dtype=bool)
     # stance samples before index i: a cycle (a, b) holds a stance when the count grows inside it
+    # only a foot that accelerates swings: a pivot on the ground (turning on the spot) or a
+    # dragged foot (crawling) turns as fast, and may stand throughout
+    acc_dev = centred(acc_magnitude_rms(imu.acc, peaks.window_samples), peaks.window_samples, len(mask))
+    swinging = acc_dev[idx] >= SWING_ACC_MPS2
     count = np.concatenate([[0], np.cumsum(mask)])
     a, b = idx[:-1], idx[1:]
     stride = ((b - a) >= min_stride_s * imu.rate_hz) & ((b - a) <= max_stride_s * imu.rate_hz)
+    stride &= swinging[:-1] & swinging[1:]
     a, b = a[stride], b[stride]
     missed = (count[b] - count[a + 1]) == 0
     t = imu.t
     missed_s = 0.5 * (t[a[missed]] + t[b[missed]])
-    over_swing_s = t[idx[mask[idx]]]
+    over_swing_s = t[idx[swinging & mask[idx]]]
     return StanceCheck(
         n_cycles=len(a),
         n_stances=len(stance_intervals(mask)),

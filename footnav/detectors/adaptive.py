@@ -22,22 +22,28 @@ learned model:
    swing), and never below ``min_scale`` (the lowest bound, for slow swings of ~1 rad/s whose
    neighbouring stances rest near 0.02 rad/s). A cycle that is not bounded by swings on both
    sides (the recording's ends, a long standstill) keeps the base bounds.
-4. :func:`footnav.detectors.threshold.stance_result` drops stances shorter than ``min_stance_s``,
+4. A gap between two stances where the foot turns about gravity without accelerating is a pivot
+   on the ground (turning on the spot, the shuffles of a U-turn), not a step: it is bridged.
+   While the foot pivots, its sensor moves by about its distance from the pivot point times the
+   angle turned (~0.1 m for a quarter turn): the zero-velocity update there costs about what
+   free integration would.
+5. :func:`footnav.detectors.threshold.stance_result` drops stances shorter than ``min_stance_s``,
    bridges swings shorter than ``min_swing_s`` and marks ``foot_flat`` / ``heel_off``.
 
 The result's ``score`` is ``s / scale`` (a sample is still when it is below 1), ``meta`` holds
-the swing peaks, the typical stride and each cycle's scale.
+the swing peaks, the typical stride, each cycle's scale and the pivots' start times.
 """
 
 from __future__ import annotations
 
+from itertools import pairwise
 from typing import Any
 
 import numpy as np
 
-from footnav.core.component import StanceDetector, require, require_non_negative, require_positive
-from footnav.core.gait_cycles import swing_peaks
-from footnav.core.types import ImuData, StanceResult
+from footnav.core.component import StanceDetector, is_number, require, require_non_negative, require_positive
+from footnav.core.gait_cycles import SWING_ACC_MPS2, swing_peaks
+from footnav.core.types import GRAVITY_MPS2, ImuData, StanceResult, stance_intervals
 from footnav.core.windows import acc_magnitude_rms, centred, gyr_rms, window_samples
 from footnav.detectors.threshold import stance_result
 
@@ -75,6 +81,13 @@ class AdaptiveDetector(StanceDetector):
         Stance runs shorter than this are discarded, s.
     min_swing_s : float
         Gaps shorter than this between two stance runs are bridged (one stance), s.
+    pivot_yaw_share : float
+        A gap between two stances where at least this share of the squared angular rate turns
+        about gravity is a pivot on the ground, and bridged; 1 never bridges.
+    pivot_acc_mps2 : float
+        ... and where the RMS of ``|f| - g`` stays below this, m/s^2.
+    max_pivot_s : float
+        ... and which is shorter than this, s.
 
     Notes
     -----
@@ -112,6 +125,9 @@ class AdaptiveDetector(StanceDetector):
         stride_fraction: float = 0.6,
         min_stance_s: float = 0.05,
         min_swing_s: float = 0.2,
+        pivot_yaw_share: float = 0.9,
+        pivot_acc_mps2: float = SWING_ACC_MPS2,
+        max_pivot_s: float = 1.5,
     ) -> None:
         self.window_s = window_s
         self.gyr_threshold_radps = gyr_threshold_radps
@@ -126,6 +142,9 @@ class AdaptiveDetector(StanceDetector):
         self.stride_fraction = stride_fraction
         self.min_stance_s = min_stance_s
         self.min_swing_s = min_swing_s
+        self.pivot_yaw_share = pivot_yaw_share
+        self.pivot_acc_mps2 = pivot_acc_mps2
+        self.max_pivot_s = max_pivot_s
 
     def validate_params(self) -> None:
         require_positive(
@@ -140,7 +159,10 @@ class AdaptiveDetector(StanceDetector):
             "min_swing_peak_radps",
             "min_stride_s",
         )
-        require_non_negative(self, "swing_prominence", "stride_fraction", "min_stance_s", "min_swing_s")
+        require_non_negative(
+            self, "swing_prominence", "stride_fraction", "min_stance_s", "min_swing_s", "pivot_acc_mps2", "max_pivot_s"
+        )
+        require(is_number(self.pivot_yaw_share) and 0 <= self.pivot_yaw_share <= 1, self, "pivot_yaw_share", "a number in [0, 1]")
         require(self.min_scale <= 1.0, self, "min_scale", "a number in (0, 1]")
 
     def detect(self, imu: ImuData) -> StanceResult:
@@ -168,6 +190,8 @@ class AdaptiveDetector(StanceDetector):
             s = min(max(self.stance_factor * float(stat[a:b].min()), 1.0), ceiling)
             cycle_scale[k] = max(s, self.min_scale)
             scale[a:b] = cycle_scale[k]
+        mask = stat < scale
+        pivots = self._bridge_pivots(imu, stance_result(mask, rate, self.min_stance_s, self.min_swing_s, stat, {}).mask)
         meta: dict[str, Any] = {
             "detector": self.describe(),
             "window_samples": win,
@@ -175,5 +199,35 @@ class AdaptiveDetector(StanceDetector):
             "swing_peaks": peaks.index,
             "stride_s": peaks.stride_s,
             "cycle_scale": cycle_scale,
+            "pivots_s": imu.t[pivots[:, 0]] if len(pivots) else np.empty(0),
         }
-        return stance_result(stat < scale, rate, self.min_stance_s, self.min_swing_s, stat / scale, meta)
+        for a, b in pivots:
+            mask[a:b] = True
+        return stance_result(mask, rate, self.min_stance_s, self.min_swing_s, stat / scale, meta)
+
+    def _bridge_pivots(self, imu: ImuData, mask: np.ndarray) -> np.ndarray:
+        """(start, stop) of the gaps between two stances where the foot pivots on the ground.
+
+        In a turn on the spot the foot stays down and turns about the vertical, at up to 5-10
+        rad/s: a swing by its angular rate, a stance by everything else. Such a gap turns about
+        gravity (the direction of the specific force in the preceding stance, body frame) for at
+        least ``pivot_yaw_share`` of its squared angular rate, where a swing turns mostly in
+        pitch (< 0.2 on the IPOL and pyshoe recordings), and its ``|f| - g`` stays small (RMS
+        below ``pivot_acc_mps2``; a swing's is 5-20 m/s^2).
+        """
+        if self.pivot_yaw_share >= 1.0:
+            return np.empty((0, 2), dtype=np.int64)
+        runs = stance_intervals(mask)
+        out = []
+        for (a0, a1), (b0, _) in pairwise(runs):
+            if (b0 - a1) / imu.rate_hz > self.max_pivot_s:
+                continue
+            down = imu.acc[a0:a1].mean(axis=0)
+            down /= max(float(np.linalg.norm(down)), 1e-12)
+            w = imu.gyr[a1:b0]
+            total = float(np.einsum("ij,ij->", w, w))
+            yaw = float(np.sum((w @ down) ** 2))
+            acc_dev = np.linalg.norm(imu.acc[a1:b0], axis=1) - GRAVITY_MPS2
+            if total > 0 and yaw >= self.pivot_yaw_share * total and np.sqrt(np.mean(acc_dev**2)) < self.pivot_acc_mps2:
+                out.append((a1, b0))
+        return np.asarray(out, dtype=np.int64).reshape(-1, 2)

@@ -8,6 +8,7 @@ import pytest
 import footnav
 from footnav.core import metrics
 from footnav.core.errors import DataNotFoundError, InvalidParameterError
+from footnav.core.types import GRAVITY_MPS2, ImuData
 from footnav.detectors.adaptive import AdaptiveDetector
 from footnav.detectors.threshold import ThresholdDetector
 
@@ -69,3 +70,26 @@ def test_real_running_trials_within_30_cm(trial):
     # 1.1-3.8 m with the threshold detector; the dataset's best detector tuned per trial: 0.06-0.14 m
     assert metrics.ate_rmse(est, truth.position, dims=2) < 0.3
     assert result.meta["stance_check"]["left"]["suspicious"] is False
+
+
+def _turn_between_rests(axis: int, acc_swing_mps2: float = 0.0, rate_hz: float = 100.0) -> ImuData:
+    """1 s at rest, 0.4 s turning at up to 4 rad/s about body ``axis`` (gravity is body z), 1 s at rest."""
+    rest, turn = int(rate_hz), int(0.4 * rate_hz)
+    hump = 4.0 * np.sin(np.pi * np.arange(turn) / turn) ** 2
+    gyr = np.zeros((2 * rest + turn, 3))
+    gyr[rest : rest + turn, axis] = hump
+    acc = np.tile([0.0, 0.0, GRAVITY_MPS2], (len(gyr), 1))
+    acc[rest : rest + turn, 2] += acc_swing_mps2 * np.sin(2.0 * np.pi * np.arange(turn) / turn)
+    return ImuData(t=np.arange(len(gyr)) / rate_hz, acc=acc, gyr=gyr)
+
+
+def test_a_pivot_on_the_ground_is_one_stance():
+    # turning about gravity with |f| = g: the foot pivots on its heel or toe, it does not step
+    pivot = AdaptiveDetector().detect(_turn_between_rests(axis=2))
+    assert pivot.n_stances == 1 and len(pivot.meta["pivots_s"]) == 1
+    assert pivot.meta["pivots_s"][0] == pytest.approx(1.0, abs=0.1)
+    # the same turn in pitch is a step; so is a turn about gravity while the foot accelerates
+    assert AdaptiveDetector().detect(_turn_between_rests(axis=1)).n_stances == 2
+    assert AdaptiveDetector().detect(_turn_between_rests(axis=2, acc_swing_mps2=8.0)).n_stances == 2
+    # and pivot_yaw_share=1 turns the bridging off
+    assert AdaptiveDetector(pivot_yaw_share=1.0).detect(_turn_between_rests(axis=2)).n_stances == 2

@@ -192,7 +192,7 @@ def test_parameter_info_has_units_and_descriptions():
     # every numeric built-in parameter names its unit, except these dimensionless ones
     dimensionless = {"gamma", "max_iter", "tol", "min_std", "seed", "n_particles"}
     # the adaptive detector's ratios (of bounds, peaks and strides)
-    dimensionless |= {"stance_factor", "swing_fraction", "min_scale", "swing_prominence", "stride_fraction"}
+    dimensionless |= {"stance_factor", "swing_fraction", "min_scale", "swing_prominence", "stride_fraction", "pivot_yaw_share"}
     for kind, names in footnav.list_components().items():
         for name in names:
             for p in getattr(footnav, f"make_{kind}")(name).parameter_info():

@@ -9,7 +9,8 @@ angular rate w_l (rad/s). footnav's family, by registry name:
   ``sqrt((1/W) sum_l ||f_l - f_mean||^2)``, m/s^2;
 * ``acc-magnitude`` (acceleration magnitude, MAG): ``sqrt((1/W) sum_l (||f_l|| - g)^2)``, m/s^2;
 * ``ared`` (angular rate energy, ARE): ``sqrt((1/W) sum_l ||w_l||^2)``, rad/s;
-* ``threshold``: ARE and MAG both below their bounds (footnav's default detector);
+* ``threshold``: ARE and MAG both below their bounds (the walking bounds of footnav's default
+  detector, :mod:`footnav.detectors.adaptive`, which scales them per gait cycle);
 * ``glrt`` (SHOE), :mod:`footnav.detectors.glrt`, on the same machinery.
 
 A window is still when its statistic is below the detector's bound.
@@ -19,10 +20,10 @@ a root-mean-square in physical units, ``RMS < sigma sqrt(gamma)``, so a threshol
 bound ("the foot turns slower than 0.5 rad/s") and does not depend on the rate or on W.
 
 The window statistics live in :mod:`footnav.core.windows` (window length in samples, O(N) window
-sums, ARE / MAG / MV as RMS values; re-exported here). What the family shares lives here, once: the per-sample decision from the
-overlapping windows (:func:`windows_to_samples`, ``combine``), and the minimum stance and swing
-durations and gait events (:func:`stance_result`); :class:`WindowedStanceDetector` ties them into
-``detect``.
+sums, ARE / MAG / MV as RMS values; re-exported here). What the family shares lives here, once:
+the per-sample decision from the overlapping windows (:func:`windows_to_samples`, ``combine``),
+and the minimum stance and swing durations and gait events (:func:`stance_result`);
+:class:`WindowedStanceDetector` ties them into ``detect``.
 """
 
 from __future__ import annotations
@@ -426,8 +427,8 @@ class ThresholdDetector(WindowedStanceDetector):
 
     Notes
     -----
-    Defaults (footnav's default pipeline uses this detector; chosen on the simulator and the shared
-    real recordings, figures in the tests and the commit):
+    Defaults (the base bounds of the default detector ``adaptive``; chosen on the simulator and
+    the shared real recordings, figures in the tests and the commit):
 
     * ``window_s = 0.04``: the centred window moves each stance edge by at most W//2 samples
       (~20 ms); the former 0.1 s window cut ~50 ms off each end (per-sample F1 0.93 against the

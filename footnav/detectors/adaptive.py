@@ -36,7 +36,6 @@ the swing peaks, the typical stride, each cycle's scale and the pivots' start ti
 
 from __future__ import annotations
 
-from itertools import pairwise
 from typing import Any
 
 import numpy as np
@@ -183,13 +182,14 @@ class AdaptiveDetector(StanceDetector):
             min_stride_s=self.min_stride_s,
             stride_fraction=self.stride_fraction,
         )
+        idx, height = peaks.index, peaks.height_radps
         scale = np.ones(n)
-        cycle_scale = np.ones(max(len(peaks.index) - 1, 0))
-        for k, (a, b) in enumerate(zip(peaks.index[:-1], peaks.index[1:])):
-            ceiling = self.swing_fraction * min(peaks.height_radps[k], peaks.height_radps[k + 1]) / self.gyr_threshold_radps
-            s = min(max(self.stance_factor * float(stat[a:b].min()), 1.0), ceiling)
-            cycle_scale[k] = max(s, self.min_scale)
-            scale[a:b] = cycle_scale[k]
+        cycle_scale = np.ones(max(len(idx) - 1, 0))
+        if len(idx) >= 2:
+            stillest = np.minimum.reduceat(stat, idx)[:-1]  # of each cycle idx[k] .. idx[k+1] - 1
+            ceiling = self.swing_fraction * np.minimum(height[:-1], height[1:]) / self.gyr_threshold_radps
+            cycle_scale = np.maximum(np.minimum(np.maximum(self.stance_factor * stillest, 1.0), ceiling), self.min_scale)
+            scale[idx[0] : idx[-1]] = np.repeat(cycle_scale, np.diff(idx))
         mask = stat < scale
         pivots = self._bridge_pivots(imu, stance_result(mask, rate, self.min_stance_s, self.min_swing_s, stat, {}).mask)
         meta: dict[str, Any] = {
@@ -215,19 +215,26 @@ class AdaptiveDetector(StanceDetector):
         pitch (< 0.2 on the IPOL and pyshoe recordings), and its ``|f| - g`` stays small (RMS
         below ``pivot_acc_mps2``; a swing's is 5-20 m/s^2).
         """
-        if self.pivot_yaw_share >= 1.0:
-            return np.empty((0, 2), dtype=np.int64)
         runs = stance_intervals(mask)
-        out = []
-        for (a0, a1), (b0, _) in pairwise(runs):
-            if (b0 - a1) / imu.rate_hz > self.max_pivot_s:
-                continue
-            down = imu.acc[a0:a1].mean(axis=0)
-            down /= max(float(np.linalg.norm(down)), 1e-12)
-            w = imu.gyr[a1:b0]
-            total = float(np.einsum("ij,ij->", w, w))
-            yaw = float(np.sum((w @ down) ** 2))
-            acc_dev = np.linalg.norm(imu.acc[a1:b0], axis=1) - GRAVITY_MPS2
-            if total > 0 and yaw >= self.pivot_yaw_share * total and np.sqrt(np.mean(acc_dev**2)) < self.pivot_acc_mps2:
-                out.append((a1, b0))
-        return np.asarray(out, dtype=np.int64).reshape(-1, 2)
+        if self.pivot_yaw_share >= 1.0 or len(runs) < 2:
+            return np.empty((0, 2), dtype=np.int64)
+        a0, a1, b0 = runs[:-1, 0], runs[:-1, 1], runs[1:, 0]
+        # the preceding stance's mean specific force: "up" in the body frame
+        c = np.concatenate([np.zeros((1, 3)), np.cumsum(imu.acc, axis=0)])
+        up = c[a1] - c[a0]
+        up /= np.maximum(np.linalg.norm(up, axis=1, keepdims=True), 1e-12)
+        # every gap at once: its samples in order, each with its gap's "up", summed per gap
+        length = b0 - a1
+        in_gap = np.flatnonzero(~mask[a1[0] : b0[-1]]) + a1[0]
+        first = np.concatenate([[0], np.cumsum(length)[:-1]])
+        w = imu.gyr[in_gap]
+        total = np.add.reduceat(np.einsum("ij,ij->i", w, w), first)
+        yaw = np.add.reduceat(np.einsum("ij,ij->i", w, np.repeat(up, length, axis=0)) ** 2, first)
+        acc_dev2 = np.add.reduceat((np.linalg.norm(imu.acc[in_gap], axis=1) - GRAVITY_MPS2) ** 2, first) / length
+        pivot = (
+            ((b0 - a1) <= self.max_pivot_s * imu.rate_hz)
+            & (total > 0)
+            & (yaw >= self.pivot_yaw_share * total)
+            & (acc_dev2 < self.pivot_acc_mps2**2)
+        )
+        return np.stack([a1[pivot], b0[pivot]], axis=1).astype(np.int64)

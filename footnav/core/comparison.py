@@ -9,6 +9,8 @@ For each detector and foot, against whatever reference the recording has:
   steps found / missed / false by :func:`~footnav.core.metrics.step_detection_from_events`;
 * for every gait event both the detector and the reference give (heel strike, foot flat, heel
   off, toe off): the mean absolute timing error (seed 003 Table 1 counts, plus timing);
+* without any reference: the gait cycles with no stance and the stances holding a swing, from the
+  angular rate's swing peaks (:mod:`footnav.core.stance_check`);
 * the runtime of the detector on the recording.
 """
 
@@ -22,7 +24,8 @@ from footnav.core import metrics
 from footnav.core.component import StanceDetector
 from footnav.core.errors import FootnavError
 from footnav.core.evaluation import EvaluationReport, Metric
-from footnav.core.types import FootTruth, Recording, StanceResult
+from footnav.core.stance_check import check_stances
+from footnav.core.types import FootTruth, ImuData, Recording, StanceResult
 
 __all__ = ["DetectorComparison", "compare_detectors", "DEFAULT_TOLERANCE_S"]
 
@@ -74,8 +77,16 @@ def _resolve(detectors: Sequence[Any] | None, two_feet: bool) -> list[tuple[str,
     return out
 
 
-def _foot_metrics(stance: StanceResult, truth: FootTruth | None, rate_hz: float, tol_s: float) -> list[tuple[str, float, str]]:
-    rows: list[tuple[str, float, str]] = [("stances", float(stance.n_stances), "count")]
+def _foot_metrics(
+    stance: StanceResult, truth: FootTruth | None, imu: ImuData, tol_s: float
+) -> list[tuple[str, float, str]]:
+    check = check_stances(imu, stance)
+    rows: list[tuple[str, float, str]] = [
+        ("stances", float(stance.n_stances), "count"),
+        ("cycles_without_stance", float(len(check.missed_s)), "count"),
+        ("stances_over_swing", float(len(check.over_swing_s)), "count"),
+    ]
+    rate_hz = imu.rate_hz
     if truth is None:
         return rows
     tol = tol_s * rate_hz
@@ -87,12 +98,12 @@ def _foot_metrics(stance: StanceResult, truth: FootTruth | None, rate_hz: float,
     elif len(truth.events.get("mid_stance", ())):
         steps = metrics.step_detection_from_events(stance.mask, truth.events["mid_stance"], tolerance_samples=tol)
     if steps is not None:
-        rows = rows[:1] + [
+        rows = rows[:3] + [
             ("steps_reference", float(steps.n_reference), "count"),
             ("steps_found", float(steps.n_found), "count"),
             ("steps_missed", float(steps.n_missed), "count"),
             ("steps_false", float(steps.n_false), "count"),
-        ] + rows[1:]
+        ] + rows[3:]
     for event in _EVENTS:
         det, ref = stance.events.get(event), truth.events.get(event)
         if det is None or ref is None or len(det) == 0 or len(ref) == 0:
@@ -145,7 +156,7 @@ def compare_detectors(
         if right is not None:
             feet.append(("right", right, recording.truth_right, recording.right))
         for foot, stance, truth, imu in feet:
-            for metric, value, unit in _foot_metrics(stance, truth, imu.rate_hz, tolerance_s):
+            for metric, value, unit in _foot_metrics(stance, truth, imu, tolerance_s):
                 rows.append(Metric(name, label, foot, metric, float(value), unit))
         rows.append(Metric(name, label, "both", "runtime", 1e3 * runtime, "ms"))
     return DetectorComparison(recording=recording, report=EvaluationReport(tuple(rows)), stances=stances, failures=failures)

@@ -18,6 +18,8 @@ xio             :func:`read_xio`                      one foot, closed loop
 openshoe        :func:`read_openshoe`                 one foot, 820 Hz, no truth
 pyshoe          :func:`read_pyshoe`                   one foot, Vicon truth, proxy stance labels
 xsens           :func:`read_xsens`                    Xsens MTw ASCII export, one sensor
+ipol            :func:`read_ipol`                     both feet (Xsens), hand-checked swings
+gaitdriven      :func:`read_gaitdriven`               one foot, hand-marked footprints
 =============== ===================================== =========================================
 
 :func:`load` guesses the format; :data:`READERS` maps the names to the readers.
@@ -27,7 +29,9 @@ from __future__ import annotations
 
 from footnav.core.io.azure_fgo import read_azure_fgo
 from footnav.core.io.footnav_csv import read_footnav_csv, read_footnav_recording, write_footnav_csv
+from footnav.core.io.gaitdriven import read_gaitdriven
 from footnav.core.io.gaitmap import read_gaitmap
+from footnav.core.io.ipol import read_ipol
 from footnav.core.io.load import READERS, guess_format, load
 from footnav.core.io.openshoe import read_openshoe
 from footnav.core.io.pyshoe import read_pyshoe
@@ -44,6 +48,8 @@ __all__ = [
     "read_openshoe",
     "read_pyshoe",
     "read_xsens",
+    "read_ipol",
+    "read_gaitdriven",
     "load",
     "guess_format",
     "READERS",

@@ -1,14 +1,17 @@
 """``load``: read any supported recording, guessing its format from the file when not told.
 
 Guessing looks at (in this order) whether the path is a folder (azure_fgo files; gaitmap example
-files), the extension (``.mat``: variable names) and the first lines of a text file (column
-header). The guess is logged (``logging`` INFO on ``footnav.core.io.load``) and recorded:
+files), the extension (``.mat``: variable names; ``.json``: an IPOL trial description) and the
+first lines of a text file (column header). An IPOL foot file (first line ``Acquisition
+frequency: ...``, name ``<stem>_lf.txt`` / ``<stem>_rf.txt`` with its other foot beside it) is
+read as the two-foot IPOL trial, not as a one-sensor Xsens export. The guess is logged (``logging`` INFO on ``footnav.core.io.load``) and recorded:
 ``meta["format"]`` and ``meta["format_guessed"] = True``. A file matching no known format is an
 InvalidInputError listing the formats.
 """
 
 from __future__ import annotations
 
+import json
 import logging
 from dataclasses import replace
 from pathlib import Path as FilePath
@@ -17,7 +20,9 @@ from typing import Any, Callable
 from footnav.core.errors import DataNotFoundError, InvalidInputError
 from footnav.core.io.azure_fgo import AZURE_FGO_FILES, read_azure_fgo
 from footnav.core.io.footnav_csv import read_footnav_folder, read_footnav_recording
+from footnav.core.io.gaitdriven import GAITDRIVEN_VARIABLES, read_gaitdriven
 from footnav.core.io.gaitmap import read_gaitmap
+from footnav.core.io.ipol import ipol_trial_files, read_ipol
 from footnav.core.io.openshoe import read_openshoe
 from footnav.core.io.pyshoe import read_pyshoe
 from footnav.core.io.xio import read_xio
@@ -39,6 +44,8 @@ READERS: dict[str, Callable[..., Recording]] = {
     "openshoe": read_openshoe,
     "pyshoe": read_pyshoe,
     "xsens": read_xsens,
+    "ipol": read_ipol,
+    "gaitdriven": read_gaitdriven,
 }
 
 #: Lines read from the top of a text file to recognise it.
@@ -109,6 +116,8 @@ def guess_format(path: Any) -> tuple[str, str, dict[str, Any]]:
             names = {name for name, _, _ in whosmat(p)}
         except Exception as exc:  # corrupt or not a MATLAB file
             raise InvalidInputError(f"cannot read MATLAB file ({exc}); known formats: {known}", path=str(p)) from None
+        if set(GAITDRIVEN_VARIABLES[:2]) <= names:
+            return "gaitdriven", "MATLAB file with variables imu_data and timestamps (gait-driven data set)", {}
         if {"imu", "ts"} <= names:
             return "pyshoe", "MATLAB file with variables imu and ts", {}
         if names & {"ImuFootLeft", "posLeft", "posFoot"}:
@@ -116,11 +125,24 @@ def guess_format(path: Any) -> tuple[str, str, dict[str, Any]]:
         raise InvalidInputError(
             f"MATLAB file with variables {sorted(names)} matches no known format; known formats: {known}", path=str(p)
         )
+    if p.suffix.lower() == ".json":
+        try:
+            info = json.loads(p.read_text(encoding="utf-8"))
+        except (UnicodeDecodeError, json.JSONDecodeError) as exc:
+            raise InvalidInputError(f"not a JSON file ({exc}); known formats: {known}", path=str(p)) from None
+        if isinstance(info, dict) and "TrialBoundaries" in info:
+            return "ipol", "JSON with TrialBoundaries (IPOL trial description; reads both feet)", {}
+        raise InvalidInputError(f"JSON file matches no known format; known formats: {known}", path=str(p))
     lines = _first_lines(p)
     content = [s for s in lines if s.strip()]
     if not content:
         raise InvalidInputError(f"file is empty; cannot guess its format (known formats: {known})", path=str(p), line=1)
     first = content[0].strip()
+    if first.lower().startswith("acquisition frequency"):
+        _, lf, rf, _ = ipol_trial_files(p)
+        if p in (lf, rf) and lf.exists() and rf.exists():
+            return "ipol", "IPOL foot file ('Acquisition frequency' line, _lf/_rf pair; reads both feet)", {}
+        # a lone file of that layout is still an Xsens export of one sensor
     if any("PacketCounter" in s for s in content) or first.startswith("//"):
         return "xsens", "Xsens export (PacketCounter column / '//' preamble)", {}
     if first.startswith("Time (s)") and "Gyroscope" in first:
@@ -151,7 +173,8 @@ def load(path: Any, format: str | None = None, **options: Any) -> Recording:
         present, ``mocap_sample.csv`` and ``stride_events_sample.csv``).
     format
         One of ``READERS`` (``footnav_csv``, ``gaitmap``, ``azure_fgo``, ``xio``, ``openshoe``,
-        ``pyshoe``, ``xsens``) to force the reader; None guesses from the file.
+        ``pyshoe``, ``xsens``, ``ipol``, ``gaitdriven``) to force the reader; None guesses from
+        the file.
     **options
         Passed to the reader (e.g. ``drop_duplicates=True``, ``rate_hz=...``).
 

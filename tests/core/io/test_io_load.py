@@ -13,7 +13,7 @@ from footnav.core.errors import DataNotFoundError, DataQualityWarning, InvalidIn
 from footnav.core.io import READERS, load, write_footnav_csv
 from footnav.core.types import GRAVITY_MPS2, ImuData
 
-KNOWN = {"footnav_folder", "footnav_csv", "gaitmap", "azure_fgo", "xio", "openshoe", "pyshoe", "xsens"}
+KNOWN = {"footnav_folder", "footnav_csv", "gaitmap", "azure_fgo", "xio", "openshoe", "pyshoe", "xsens", "ipol", "gaitdriven"}
 
 
 def _rows(n, sep=",", first=lambda i: repr(i * 0.01)):
@@ -75,6 +75,19 @@ def _make(kind, tmp):
         p = tmp / "trial.mat"
         imu = np.tile([0.0, 0.0, -GRAVITY_MPS2, 0, 0, 0], (10, 1)) + 1e-3 * np.arange(60).reshape(10, 6)
         savemat(p, {"imu": imu, "ts": (np.arange(10) / 200.0)[None, :]})
+        return p
+    if kind == "gaitdriven":
+        p = tmp / "SensorConnectData_99_LLIO.mat"
+        imu = np.tile([0.0, 0.0, -GRAVITY_MPS2, 0, 0, 0], (10, 1)) + 1e-3 * np.arange(60).reshape(10, 6)
+        savemat(p, {"imu_data": imu, "timestamps": (np.arange(10) / 200.0)[None, :],
+                    "strideIndex": np.array([[2, 9]]), "GCP": np.array([[0.0, 0.0], [0.6, 0.1]])})
+        return p
+    if kind == "ipol":
+        header = "Acquisition frequency: 100 Hz\nPacketCounter\tAcc_X\tAcc_Y\tAcc_Z\tGyr_X\tGyr_Y\tGyr_Z\n"
+        for foot in ("lf", "rf"):
+            (tmp / f"2-3_{foot}.txt").write_text(header + "\n".join(_rows(10, "\t", str)) + "\n")
+        p = tmp / "2-3.json"
+        p.write_text('{"TrialBoundaries": [1, 8], "LeftFootEvents": [[2, 4]], "RightFootEvents": [[5, 7]]}')
         return p
     raise AssertionError(kind)
 

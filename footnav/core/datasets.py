@@ -54,11 +54,45 @@ def _fixed() -> dict[str, Callable[[FilePath], Recording]]:
     }
 
 
+#: Folders of the trial sets found by globbing, and how a file's name becomes a dataset name.
+_IPOL_DIR = "ipol_dev"
+_GAITDRIVEN_DIR = "gaitdriven_dev"
+_GAITDRIVEN_PREFIX, _GAITDRIVEN_SUFFIX = "SensorConnectData_", "_LLIO.mat"
+
+
+def _trial_order(stem: str) -> tuple:
+    # "1-10" after "1-9": numeric parts compared as numbers
+    return tuple(int(x) if x.isdigit() else x for x in stem.replace("_", "-").split("-"))
+
+
+def _ipol_trials(root: FilePath) -> list[str]:
+    d = root / _IPOL_DIR
+    if not d.is_dir():
+        return []
+    return sorted((p.stem for p in d.glob("*.json") if (d / f"{p.stem}_lf.txt").is_file()), key=_trial_order)
+
+
+def _gaitdriven_trials(root: FilePath) -> list[str]:
+    d = root / _GAITDRIVEN_DIR
+    if not d.is_dir():
+        return []
+    nn = [p.name[len(_GAITDRIVEN_PREFIX) : -len(_GAITDRIVEN_SUFFIX)] for p in d.glob(f"{_GAITDRIVEN_PREFIX}*{_GAITDRIVEN_SUFFIX}")]
+    return sorted(nn, key=_trial_order)
+
+
 def dataset_names(root: FilePath | None = None) -> list[str]:
-    """Every dataset name: the fixed ones and one ``pyshoe_<trial>`` per VICON trial found."""
+    """Every dataset name: the fixed ones, then one name per trial found under ``root``.
+
+    ``pyshoe_<trial>`` per pyshoe VICON trial (Wagstaff et al. 2020), ``ipol_<subject>-<trial>``
+    per IPOL gait trial (Voisard et al., IPOL 2023; e.g. ``ipol_1-1``) and ``gaitdriven_<NN>``
+    per gait-driven trial (Cetin & Koroglu 2026; e.g. ``gaitdriven_31``).
+    """
     names = list(_fixed())
     if root is not None and (root / "pyshoe_vicon").is_dir():
         names += [f"pyshoe_{p.stem}" for p in sorted((root / "pyshoe_vicon").glob("*.mat"))]
+    if root is not None:
+        names += [f"ipol_{s}" for s in _ipol_trials(root)]
+        names += [f"gaitdriven_{s}" for s in _gaitdriven_trials(root)]
     return names
 
 
@@ -72,6 +106,17 @@ def load_dataset(name: str, data: str | os.PathLike | None = None) -> Recording:
         from footnav.core.io import read_pyshoe
 
         rec = read_pyshoe(root / "pyshoe_vicon" / f"{name[7:]}.mat")
+    elif name.startswith("ipol_") and (root / _IPOL_DIR / f"{name[5:]}.json").is_file():
+        from footnav.core.io import read_ipol
+
+        rec = read_ipol(root / _IPOL_DIR / f"{name[5:]}.json")
+    elif (
+        name.startswith("gaitdriven_")
+        and (root / _GAITDRIVEN_DIR / f"{_GAITDRIVEN_PREFIX}{name[11:]}{_GAITDRIVEN_SUFFIX}").is_file()
+    ):
+        from footnav.core.io import read_gaitdriven
+
+        rec = read_gaitdriven(root / _GAITDRIVEN_DIR / f"{_GAITDRIVEN_PREFIX}{name[11:]}{_GAITDRIVEN_SUFFIX}")
     else:
         raise UnknownDatasetError(f"no dataset named {name!r}; available: {', '.join(dataset_names(root))}")
     from dataclasses import replace

@@ -40,3 +40,18 @@ def test_cli_evaluate_prints_one_table(shared_data, tmp_path, capsys):
 def test_cli_evaluate_without_data_exits_2(tmp_path, capsys):
     assert main(["evaluate", "--dataset", "azure_fgo", "--data-dir", str(tmp_path / "none")]) == 2
     assert "not found" in capsys.readouterr().err
+
+
+@pytest.mark.filterwarnings("ignore::footnav.DataQualityWarning")
+def test_ipol_and_gaitdriven_trials_are_listed_and_load(shared_data):
+    names = dataset_names(shared_data)
+    ipol = [n for n in names if n.startswith("ipol_")]
+    assert len(ipol) == 46 and ipol[0] == "ipol_1-1" and "ipol_8-6" in ipol
+    gd = [n for n in names if n.startswith("gaitdriven_")]
+    assert gd == [f"gaitdriven_{nn}" for nn in (31, 33, 35, 37, 39, 41, 43, 45)]
+    rec = load_dataset("ipol_1-1", shared_data)
+    assert rec.name == "ipol_1-1" and rec.n_feet == 2 and rec.truth_right.meta["uturn_boundaries"] is not None
+    rec = load_dataset("gaitdriven_35", shared_data)
+    assert rec.name == "gaitdriven_35" and rec.truth_left.frame == "footprints"
+    with pytest.raises(UnknownDatasetError):
+        load_dataset("ipol_99-1", shared_data)

@@ -14,6 +14,15 @@ Seed papers (``/work/shared/seeds``):
 * [003] Li, Derrode et al., TAIMA 2018 -- steps found / missing / false (Table 1); end-to-end
   error, travelled distance and its relative error, DTW distance (Table 2).
 
+Dataset papers whose truth some metrics are shaped for:
+
+* [IPOL] Voisard, de l'Escalopier, Ricard, Oudre, "A Reference Data Set for the Study of Healthy
+  Subject Gait with Inertial Measurement Units", IPOL 13 (2023), art. 497 -- hand-checked
+  swings (toe-off, heel strike) inside trial boundaries: :func:`step_detection_from_swings`.
+* [GD] Cetin & Koroglu, "A Stride-Wise Annotated Mini-Dataset for Gait-Driven Learning-Based
+  Inertial Navigation", Turk. J. EE&CS 2026 -- hand-marked footprint positions:
+  :func:`footprint_errors`.
+
 Trajectory metrics compare arrays *as given*: none of them aligns frames implicitly. Use
 :func:`rigid_align` first when the reference lives in another frame (motion capture, RTK).
 """
@@ -40,6 +49,7 @@ __all__ = [
     "DtwResult",
     "MaxDeviation",
     "StrideLengthErrors",
+    "FootprintErrors",
     "EventMatches",
     "StepDetection",
     "SampleScores",
@@ -56,8 +66,11 @@ __all__ = [
     "dtw_distance",
     "max_deviation",
     "stride_length_errors",
+    "footprint_errors",
     "match_events",
     "step_detection",
+    "step_detection_from_events",
+    "step_detection_from_swings",
     "sample_scores",
     "event_timing_error",
 ]
@@ -801,6 +814,100 @@ def stride_length_errors(est_footprints: ArrayLike, ref_footprints: ArrayLike, *
     )
 
 
+@dataclass(frozen=True, eq=False)
+class FootprintErrors:
+    """Footprint errors after one rigid 2-D fit (:func:`footprint_errors`).
+
+    Attributes
+    ----------
+    rmse_m
+        RMSE over the footprints of the horizontal distance between the fitted estimate and the
+        footprint, m.
+    final_m
+        The last footprint's horizontal error after that same fit, m.
+    n
+        Number of footprints compared.
+    errors_m
+        (n,) each footprint's horizontal error after the fit, m.
+    alignment
+        The fit (:class:`RigidAlignment` of the estimate's footprint positions onto the
+        footprints), e.g. to map the whole trajectory with ``alignment.apply``.
+    """
+
+    rmse_m: float
+    final_m: float
+    n: int
+    errors_m: NDArray[np.float64]
+    alignment: RigidAlignment
+
+
+def footprint_errors(
+    estimate: ArrayLike,
+    footprints: ArrayLike,
+    index: ArrayLike | None = None,
+) -> FootprintErrors:
+    """Footprint RMSE and final-footprint error after one rigid 2-D fit ([GD]).
+
+    For a reference that knows only where each footprint lies (hand-marked on a floor-tile grid
+    in [GD], ``FootTruth(frame="footprints")``), the estimate's position at each footprint's
+    sample is fitted to the footprints by ONE proper rigid transform in the horizontal plane
+    (heading + offset, :func:`rigid_align` with ``dims=2``; the footprints' origin and heading
+    are arbitrary), then
+
+    ``rmse_m = sqrt( (1/K) sum_k || fp_k - (R est_k + t) ||^2 )`` and
+    ``final_m = || fp_K - (R est_K + t) ||``, horizontal (x, y) distances in m.
+
+    One fit for the whole walk (not one per footprint), so heading drift shows up as error. The
+    final error uses the same fit; it is not an end-point error after aligning the start.
+
+    Parameters
+    ----------
+    estimate
+        Estimated positions in m, (N, 2|3): a per-sample trajectory when ``index`` is given,
+        else one row per footprint (K, 2|3).
+    footprints
+        Reference footprints (x, y[, z]) in m, (K, 2|3), K >= 2, in time order, in a z-up frame
+        (a z-down frame's footprints are mirrored: negate their y first, as
+        :func:`footnav.core.io.read_gaitdriven` does).
+    index
+        (K,) sample index of each footprint into ``estimate`` (the data set's ``strideIndex``,
+        0-based), or None when ``estimate`` already holds one row per footprint.
+
+    Returns
+    -------
+    FootprintErrors
+        ``rmse_m``, ``final_m`` (m), ``n`` = K, per-footprint ``errors_m`` and the fit.
+
+    Raises
+    ------
+    InvalidInputError
+        Fewer than 2 footprints, row counts differ, an index outside the estimate (named with the
+        first bad index), non-finite values.
+    """
+    fp = _points(footprints, "footprints", 2, min_rows=2)
+    est = _points(estimate, "estimate", 2)
+    if index is not None:
+        idx = _events(index, "index")
+        bad = (idx != np.round(idx)) | (idx < 0) | (idx >= len(est))
+        if bad.any():
+            i = int(np.argmax(bad))
+            raise InvalidInputError(
+                f"footprint index {idx[i]!r} is not a sample of the estimate (0..{len(est) - 1})", field="index", index=i
+            )
+        _same_length(fp, idx, "footprints", "index")
+        est = est[idx.astype(np.int64)]
+    _same_length(fp, est, "footprints", "estimate")
+    fit = rigid_align(est[:, :2], fp[:, :2], dims=2)
+    err = np.linalg.norm(fit.aligned - fp[:, :2], axis=1)
+    return FootprintErrors(
+        rmse_m=float(np.sqrt(np.mean(err**2))),
+        final_m=float(err[-1]),
+        n=len(err),
+        errors_m=_readonly(err),
+        alignment=fit,
+    )
+
+
 # ---------------------------------------------------------------------------------------------
 # detection metrics
 # ---------------------------------------------------------------------------------------------
@@ -941,6 +1048,26 @@ class StepDetection:
         """Same as ``n_false``."""
         return self.n_false
 
+    @property
+    def precision(self) -> float:
+        """``n_found / n_detected``: the fraction of detected stances that are real (nan if none)."""
+        return self.n_found / self.n_detected if self.n_detected else float("nan")
+
+    @property
+    def recall(self) -> float:
+        """``n_found / n_reference``: the fraction of reference stances found (nan if none)."""
+        return self.n_found / self.n_reference if self.n_reference else float("nan")
+
+    @property
+    def f1(self) -> float:
+        """Step F1 = ``2 n_found / (n_detected + n_reference)`` (nan if both are 0).
+
+        The harmonic mean of precision and recall, one number that penalises missed and false
+        steps alike.
+        """
+        den = self.n_detected + self.n_reference
+        return 2.0 * self.n_found / den if den else float("nan")
+
 
 def _anchors(mask: NDArray[np.bool_], anchor: str) -> NDArray[np.float64]:
     iv = stance_intervals(mask)
@@ -1056,6 +1183,117 @@ def step_detection_from_events(
         EventMatches(matches, missed, false),
     )
 
+
+def _swing_pairs(value: ArrayLike, n: int) -> NDArray[np.int64]:
+    arr = _float64(value, "swings")
+    if arr.size == 0:
+        return np.empty((0, 2), dtype=np.int64)
+    if arr.ndim != 2 or arr.shape[1] != 2:
+        raise InvalidInputError(f"expected (K, 2) [toe_off, heel_strike] sample indices, got {arr.shape}", field="swings")
+    _finite(arr, "swings")
+    bad = (arr != np.round(arr)).any(axis=1) | (arr < 0).any(axis=1) | (arr > n).any(axis=1) | (arr[:, 0] >= arr[:, 1])
+    if bad.any():
+        i = int(np.argmax(bad))
+        raise InvalidInputError(
+            f"swing {arr[i].tolist()} is not [toe_off, heel_strike] with 0 <= toe_off < heel_strike <= {n}",
+            field="swings",
+            index=i,
+        )
+    return arr.astype(np.int64)
+
+
+def step_detection_from_swings(
+    detected_mask: ArrayLike,
+    swings: ArrayLike,
+    boundaries: tuple[int, int] | ArrayLike,
+    *,
+    tolerance_samples: float,
+    anchor: Literal["center", "onset"] = "center",
+) -> StepDetection:
+    """Steps found / missed / false against labelled swings inside trial boundaries ([IPOL], [003]).
+
+    For references that label each SWING of a foot (toe-off, heel strike) and only inside the
+    trial's boundaries, as [IPOL] does (hand-checked; steps after the trial's end and the
+    standing before its start are not labelled).
+
+    * Swing k covers samples ``toe_off_k <= i < heel_strike_k``; the labelled span is
+      ``start <= i < end`` (``boundaries``, half-open: [IPOL]'s end boundary is the last heel
+      strike, so the span ends as the last swing ends).
+    * Reference stance phases are the runs of labelled, non-swing samples: the gaps between
+      consecutive swings (heel strike k to toe-off k + 1), and also the standing still before
+      the foot's first swing and after its last swing, as far as they lie inside the span. The
+      foot does stand there (the walk starts and ends standing), so those are stances; [IPOL]'s
+      start boundary is a toe-off, so the foot that starts walking has no leading stance in the
+      span while the other foot has a partial one (from the start boundary to its first toe-off).
+    * Detected stances are clipped to the span: a detected stance outside it is neither found
+      nor false; one that straddles a boundary counts by its inside part. An inside part of at
+      most ``tolerance_samples`` samples that touches the span's edge is dropped: it is a
+      detection ending (or starting) a few samples past a boundary that coincides with a
+      labelled swing's edge, timing jitter within the tolerance, not a stance.
+    * Detected and reference stances are matched one to one as in :func:`step_detection`
+      (anchor, :func:`match_events` within ``tolerance_samples``).
+
+    Parameters
+    ----------
+    detected_mask
+        Per-sample stance mask (N,) of the foot.
+    swings
+        (K, 2) labelled swings ``[toe_off, heel_strike]`` as sample indices of the same foot
+        (``FootTruth.events["toe_off"]`` / ``["heel_strike"]``), in time order; swings outside
+        the span are allowed (they only end reference stances).
+    boundaries
+        ``(start, end)`` sample indices of the labelled span, half-open
+        (``FootTruth.meta["trial_boundaries"]`` of :func:`footnav.core.io.read_ipol`).
+    tolerance_samples
+        Largest anchor distance for a match, samples; also the longest boundary sliver dropped.
+    anchor
+        ``"center"`` (default) or ``"onset"`` of each (clipped) stance run.
+
+    Returns
+    -------
+    StepDetection
+        Counts inside the span; ``precision``, ``recall`` and ``f1`` as properties.
+    """
+    det = _mask(detected_mask, "detected_mask")
+    n = len(det)
+    sw = _swing_pairs(swings, n)
+    b = _float64(boundaries, "boundaries").reshape(-1)
+    if len(b) != 2 or not np.isfinite(b).all() or (b != np.round(b)).any() or not 0 <= b[0] < b[1] <= n:
+        raise InvalidInputError(f"expected (start, end) sample indices with 0 <= start < end <= {n}, got {b.tolist()}", field="boundaries")
+    start, end = int(b[0]), int(b[1])
+    tol = float(tolerance_samples)
+    if not np.isfinite(tol) or tol < 0:
+        raise InvalidParameterError(f"tolerance_samples must be >= 0, got {tolerance_samples!r}")
+    if anchor not in ("center", "onset"):
+        raise InvalidParameterError(f"anchor must be 'center' or 'onset', got {anchor!r}")
+    labelled = np.zeros(n, dtype=bool)
+    labelled[start:end] = True
+    ref = labelled.copy()
+    for a, z in sw:
+        ref[a:z] = False
+    runs = stance_intervals(det)
+    clipped = np.column_stack((np.maximum(runs[:, 0], start), np.minimum(runs[:, 1], end))) if len(runs) else runs
+    keep = clipped[:, 1] > clipped[:, 0] if len(runs) else np.zeros(0, dtype=bool)
+    # boundary slivers: clipped at an edge and no longer than the timing tolerance
+    at_edge = (runs[:, 0] < start) | (runs[:, 1] > end) if len(runs) else keep
+    keep &= ~(at_edge & (clipped[:, 1] - clipped[:, 0] <= tol))
+    det_in = np.zeros(n, dtype=bool)
+    for a, z in clipped[keep]:
+        det_in[a:z] = True
+    # runs of det_in are the kept runs: clipped runs of one mask never touch each other
+    m = match_events(_anchors(det_in, anchor), _anchors(ref, anchor), tolerance=tol)
+    n_det = len(m.matches) + len(m.false)
+    n_ref = len(m.matches) + len(m.missed)
+    return StepDetection(
+        n_det,
+        n_ref,
+        len(m.matches),
+        len(m.missed),
+        len(m.false),
+        _percent(len(m.missed), n_ref),
+        _percent(len(m.false), n_ref),
+        m,
+    )
 
 
 @dataclass(frozen=True)

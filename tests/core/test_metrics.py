@@ -20,6 +20,7 @@ from footnav.core.metrics import (
     event_timing_error,
     final_position_error,
     final_separation,
+    footprint_errors,
     interpolate_positions,
     loop_closure_error,
     match_events,
@@ -27,6 +28,7 @@ from footnav.core.metrics import (
     rigid_align,
     sample_scores,
     step_detection,
+    step_detection_from_swings,
     stride_length_errors,
     travelled_distance,
     travelled_distance_error,
@@ -435,3 +437,124 @@ def test_step_detection_from_events_hand_case():
     # widening by 4 samples lets [20,22) reach 25 (21 + 4 = 25) -> found
     res = step_detection_from_events(mask, [11, 12, 25, 31], tolerance_samples=4)
     assert (res.n_found, res.n_missed, res.n_false) == (3, 1, 0)
+
+
+# ---------------------------------------------------------------------------------------------
+# footprint errors (gait-driven data set) and step detection against labelled swings (IPOL)
+# ---------------------------------------------------------------------------------------------
+FOOTPRINTS = np.array([[0.0, 0.0], [0.6, 0.1], [1.2, -0.1], [1.8, 0.4], [1.5, 1.3]])
+
+
+def test_footprint_errors_zero_for_a_rigidly_moved_estimate():
+    # the estimate = footprints turned by 30 deg and shifted by (2, -1): one rigid fit undoes it
+    c, s = math.cos(math.radians(30)), math.sin(math.radians(30))
+    est = FOOTPRINTS @ np.array([[c, -s], [s, c]]).T + [2.0, -1.0]
+    res = footprint_errors(est, FOOTPRINTS)
+    assert res.rmse_m == pytest.approx(0.0, abs=1e-12) and res.final_m == pytest.approx(0.0, abs=1e-12)
+    assert res.n == 5
+    # a per-sample trajectory picked at the footprints' indices gives the same
+    traj = np.zeros((20, 3))
+    idx = [2, 6, 9, 14, 19]
+    traj[idx, :2] = est
+    assert footprint_errors(traj, FOOTPRINTS, index=idx).rmse_m == pytest.approx(0.0, abs=1e-12)
+
+
+def test_footprint_errors_one_displaced_footprint_hand_computed():
+    # 4 footprints on the x axis, the last one displaced by d = 0.4 m along x. Collinear points
+    # displaced along their line: the best rotation is 0 (no cross term), the best translation
+    # the mean displacement d/4 = 0.1 m. Residuals 0.1, 0.1, 0.1 and 0.4 - 0.1 = 0.3 m:
+    # RMSE = sqrt((3 * 0.01 + 0.09) / 4) = sqrt(0.03) = 0.1732 m; final = 0.3 m.
+    fp = np.array([[0.0, 0.0], [0.6, 0.0], [1.2, 0.0], [1.8, 0.0]])
+    est = fp.copy()
+    est[-1, 0] += 0.4
+    res = footprint_errors(est, fp)
+    assert res.rmse_m == pytest.approx(math.sqrt(0.03))
+    assert res.final_m == pytest.approx(0.3)
+    np.testing.assert_allclose(res.errors_m, [0.1, 0.1, 0.1, 0.3])
+    # displacing the first footprint instead: the final footprint's error is 0.1 m
+    est = fp.copy()
+    est[0, 0] += 0.4
+    assert footprint_errors(est, fp).final_m == pytest.approx(0.1)
+
+
+def test_footprint_errors_refuses_a_mirror_and_bad_input():
+    # a mirrored estimate (y negated) is not fitted away: a proper rotation cannot undo it
+    assert footprint_errors(FOOTPRINTS * [1.0, -1.0], FOOTPRINTS).rmse_m > 0.1
+    with pytest.raises(InvalidInputError, match=r"index.*index 1|index 1"):
+        footprint_errors(np.zeros((10, 2)), FOOTPRINTS[:2], index=[3, 10])
+    with pytest.raises(InvalidInputError, match="estimate"):
+        footprint_errors(np.zeros((4, 2)), FOOTPRINTS)
+    with pytest.raises(InvalidInputError, match="footprints"):
+        footprint_errors(np.zeros((1, 2)), FOOTPRINTS[:1])
+
+
+# Swings [10, 20), [40, 50), [70, 80) inside the span [5, 95): reference stances
+# [5, 10) (centre 7), [20, 40) (29.5), [50, 70) (59.5), [80, 95) (87).
+SWINGS = np.array([[10, 20], [40, 50], [70, 80]])
+
+
+def _mask(n, runs):
+    m = np.zeros(n, dtype=bool)
+    for a, b in runs:
+        m[a:b] = True
+    return m
+
+
+def test_step_detection_from_swings_hand_computed():
+    # detected: [0, 11) -> clipped [5, 11), centre 7.5, matches 7; [22, 39) centre 30 matches
+    # 29.5; [44, 46) inside a swing, centre 44.5: false; [50, 70) not detected: missed;
+    # [81, 97) -> clipped [81, 95), centre 87.5, matches 87; [98, 100) outside: ignored.
+    det = _mask(100, [(0, 11), (22, 39), (44, 46), (81, 97), (98, 100)])
+    res = step_detection_from_swings(det, SWINGS, (5, 95), tolerance_samples=3)
+    assert (res.n_detected, res.n_reference) == (4, 4)
+    assert (res.found, res.missed, res.false) == (3, 1, 1)
+    # precision = recall = 3/4; F1 = 2 * 3 / (4 + 4) = 0.75
+    assert res.precision == pytest.approx(0.75) and res.recall == pytest.approx(0.75)
+    assert res.f1 == pytest.approx(0.75)
+    np.testing.assert_allclose(res.matches.missed, [59.5])
+    np.testing.assert_allclose(res.matches.false, [44.5])
+
+
+def test_step_detection_from_swings_ignores_stances_outside_the_boundaries():
+    # perfect inside the span; the standing before and after, and spurious stances out there,
+    # change nothing
+    inside = _mask(100, [(5, 10), (20, 40), (50, 70), (80, 95)])
+    perfect = step_detection_from_swings(inside, SWINGS, (5, 95), tolerance_samples=3)
+    assert (perfect.found, perfect.missed, perfect.false, perfect.f1) == (4, 0, 0, 1.0)
+    outside = inside | _mask(100, [(0, 2), (3, 4), (96, 97), (98, 100)])
+    res = step_detection_from_swings(outside, SWINGS, (5, 95), tolerance_samples=3)
+    assert (res.found, res.missed, res.false) == (4, 0, 0)
+
+
+def test_step_detection_from_swings_boundary_at_a_toe_off():
+    # IPOL's start boundary is a toe-off: this foot has no stance in the span before its first
+    # swing [5, 15). A detected stance ending 2 samples late, [0, 7), leaves a 2-sample sliver
+    # [5, 7) inside: timing jitter within the tolerance, not a false step.
+    swings = np.array([[5, 15], [40, 50]])
+    ref_only = step_detection_from_swings(_mask(60, [(15, 40)]), swings, (5, 50), tolerance_samples=3)
+    assert (ref_only.n_reference, ref_only.found) == (1, 1)
+    res = step_detection_from_swings(_mask(60, [(0, 7), (15, 40)]), swings, (5, 50), tolerance_samples=3)
+    assert (res.found, res.missed, res.false) == (1, 0, 0)
+    # a longer overhang (6 samples > tolerance 3) is a stance the reference does not have
+    res = step_detection_from_swings(_mask(60, [(0, 11), (15, 40)]), swings, (5, 50), tolerance_samples=3)
+    assert res.false == 1
+
+
+def test_step_detection_from_swings_bad_input():
+    det = np.zeros(100, dtype=bool)
+    with pytest.raises(InvalidInputError, match="swings.*index 1|index 1"):
+        step_detection_from_swings(det, [[10, 20], [40, 30]], (5, 95), tolerance_samples=3)
+    with pytest.raises(InvalidInputError, match="boundaries"):
+        step_detection_from_swings(det, SWINGS, (50, 20), tolerance_samples=3)
+    with pytest.raises(InvalidParameterError):
+        step_detection_from_swings(det, SWINGS, (5, 95), tolerance_samples=-1)
+    empty = step_detection_from_swings(det, SWINGS, (5, 95), tolerance_samples=3)
+    assert (empty.n_detected, empty.missed, empty.precision == empty.precision, empty.f1) == (0, 4, False, 0.0)
+
+
+def test_step_detection_f1_property_on_the_existing_function():
+    ref = _mask(50, [(0, 10), (20, 30), (40, 50)])
+    det = _mask(50, [(0, 10), (20, 30), (33, 35)])
+    res = step_detection(det, ref, tolerance_samples=2)
+    # found 2 of 3 reference, 1 false: F1 = 2 * 2 / (3 + 3)
+    assert res.f1 == pytest.approx(2 / 3)

@@ -1202,6 +1202,26 @@ def _swing_pairs(value: ArrayLike, n: int) -> NDArray[np.int64]:
     return arr.astype(np.int64)
 
 
+def _match_inside(anchors: NDArray[np.float64], ref_runs: NDArray[np.int64], tol: float) -> EventMatches:
+    """One-to-one matching of detected anchors to reference runs [a, b) that contain them (+- tol)."""
+    centres = (ref_runs[:, 0] + ref_runs[:, 1] - 1) / 2.0 if len(ref_runs) else np.empty(0)
+    pairs: list[tuple[int, int]] = []
+    if len(anchors) and len(ref_runs):
+        allowed = (anchors[:, None] >= ref_runs[None, :, 0] - tol) & (anchors[:, None] <= ref_runs[None, :, 1] - 1 + tol)
+        cost = np.abs(anchors[:, None] - centres[None, :])
+        # a forbidden pair costs more than any set of allowed ones: most pairs first, then closest
+        big = (float(cost.max()) + 1.0) * (min(cost.shape) + 1)
+        rows, cols = linear_sum_assignment(np.where(allowed, cost, big))
+        pairs = [(int(r), int(c)) for r, c in zip(rows, cols) if allowed[r, c]]
+    pairs.sort(key=lambda rc: rc[1])
+    used_d = {r for r, _ in pairs}
+    used_r = {c for _, c in pairs}
+    matches = np.array([[anchors[r], centres[c]] for r, c in pairs], dtype=np.float64).reshape(-1, 2)
+    missed = np.array([centres[j] for j in range(len(centres)) if j not in used_r], dtype=np.float64)
+    false = np.array([anchors[i] for i in range(len(anchors)) if i not in used_d], dtype=np.float64)
+    return EventMatches(_readonly(matches), _readonly(missed), _readonly(false))
+
+
 def step_detection_from_swings(
     detected_mask: ArrayLike,
     swings: ArrayLike,
@@ -1230,8 +1250,14 @@ def step_detection_from_swings(
       most ``tolerance_samples`` samples that touches the span's edge is dropped: it is a
       detection ending (or starting) a few samples past a boundary that coincides with a
       labelled swing's edge, timing jitter within the tolerance, not a stance.
-    * Detected and reference stances are matched one to one as in :func:`step_detection`
-      (anchor, :func:`match_events` within ``tolerance_samples``).
+    * A detected stance (represented by its ``anchor``) is found when the anchor lies inside a
+      reference stance widened by ``tolerance_samples`` on each side, one to one (a reference
+      stance split in two by a detector finds one; the other is false). Inside, not near the
+      reference's centre: the reference stance runs from heel strike to toe-off, the whole
+      ground contact, while a zero-velocity detector finds its still middle, usually shifted
+      toward heel-off (on IPOL trial 1-1, 10-15 samples from the reference centre). Among the
+      admissible one-to-one pairings the one with most pairs, then the smallest summed distance
+      of anchors to reference centres, is taken (linear sum assignment, as :func:`match_events`).
 
     Parameters
     ----------
@@ -1245,14 +1271,16 @@ def step_detection_from_swings(
         ``(start, end)`` sample indices of the labelled span, half-open
         (``FootTruth.meta["trial_boundaries"]`` of :func:`footnav.core.io.read_ipol`).
     tolerance_samples
-        Largest anchor distance for a match, samples; also the longest boundary sliver dropped.
+        Widening of each reference stance, samples; also the longest boundary sliver dropped.
     anchor
-        ``"center"`` (default) or ``"onset"`` of each (clipped) stance run.
+        ``"center"`` (default) or ``"onset"`` of each (clipped) detected stance run.
 
     Returns
     -------
     StepDetection
-        Counts inside the span; ``precision``, ``recall`` and ``f1`` as properties.
+        Counts inside the span; ``precision``, ``recall`` and ``f1`` as properties;
+        ``matches`` holds ``[detected anchor, reference stance centre]`` pairs, the missed
+        reference centres and the false detected anchors.
     """
     det = _mask(detected_mask, "detected_mask")
     n = len(det)
@@ -1281,7 +1309,7 @@ def step_detection_from_swings(
     for a, z in clipped[keep]:
         det_in[a:z] = True
     # runs of det_in are the kept runs: clipped runs of one mask never touch each other
-    m = match_events(_anchors(det_in, anchor), _anchors(ref, anchor), tolerance=tol)
+    m = _match_inside(_anchors(det_in, anchor), stance_intervals(ref), tol)
     n_det = len(m.matches) + len(m.false)
     n_ref = len(m.matches) + len(m.missed)
     return StepDetection(

@@ -501,9 +501,10 @@ def _mask(n, runs):
 
 
 def test_step_detection_from_swings_hand_computed():
-    # detected: [0, 11) -> clipped [5, 11), centre 7.5, matches 7; [22, 39) centre 30 matches
-    # 29.5; [44, 46) inside a swing, centre 44.5: false; [50, 70) not detected: missed;
-    # [81, 97) -> clipped [81, 95), centre 87.5, matches 87; [98, 100) outside: ignored.
+    # detected: [0, 11) -> clipped [5, 11), centre 7.5, inside [5, 10) +- 3: found; [22, 39)
+    # centre 30 inside [20, 40): found; [44, 46) centre 44.5, inside the swing [40, 50) and more
+    # than 3 from both neighbouring stances (last sample 39, first 50): false; [50, 70) not
+    # detected: missed; [81, 97) -> clipped [81, 95), centre 87.5: found; [98, 100) outside.
     det = _mask(100, [(0, 11), (22, 39), (44, 46), (81, 97), (98, 100)])
     res = step_detection_from_swings(det, SWINGS, (5, 95), tolerance_samples=3)
     assert (res.n_detected, res.n_reference) == (4, 4)
@@ -513,6 +514,21 @@ def test_step_detection_from_swings_hand_computed():
     assert res.f1 == pytest.approx(0.75)
     np.testing.assert_allclose(res.matches.missed, [59.5])
     np.testing.assert_allclose(res.matches.false, [44.5])
+
+
+def test_step_detection_from_swings_counts_a_stance_by_containment_one_to_one():
+    # Reference stance [50, 70) (heel strike to toe-off, centre 59.5). A detector's still part
+    # [60, 68) has its centre 63.5 four samples from the reference centre, more than the
+    # tolerance 3, but inside the stance: found. Split in two, [52, 56) and [60, 68): one found,
+    # the other false (one to one); the pairing keeps the anchor nearest the centre (59.5 - 53.5
+    # = 6 > 63.5 - 59.5 = 4).
+    base = [(5, 10), (20, 40), (80, 95)]
+    res = step_detection_from_swings(_mask(100, base + [(60, 68)]), SWINGS, (5, 95), tolerance_samples=3)
+    assert (res.found, res.missed, res.false) == (4, 0, 0)
+    res = step_detection_from_swings(_mask(100, base + [(52, 56), (60, 68)]), SWINGS, (5, 95), tolerance_samples=3)
+    assert (res.found, res.missed, res.false) == (4, 0, 1)
+    np.testing.assert_allclose(res.matches.false, [53.5])
+    assert res.f1 == pytest.approx(2 * 4 / (5 + 4))
 
 
 def test_step_detection_from_swings_ignores_stances_outside_the_boundaries():

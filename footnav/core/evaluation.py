@@ -6,6 +6,12 @@ recording supports (see :mod:`footnav.core.metrics` for the definitions):
 * per foot: path length; with reference positions, the 2-D and 3-D absolute trajectory error
   after rigid alignment (``ate_2d_m``, ``ate_3d_m``); for closed walks, the loop-closure error;
   with reference stance, per-sample F1 and steps found / missed / false;
+* per foot, with footprint truth (``FootTruth.frame == "footprints"``, the gait-driven set):
+  ``footprint_rmse`` and ``footprint_final_error`` (m) after one rigid 2-D fit, instead of the
+  ATE rows (which would compare the same points again, and 3-D against footprints at z = 0);
+* per foot, with labelled swings inside trial boundaries (the IPOL set, ``meta["labelled"]``):
+  ``step_f1``, ``steps_found`` / ``steps_missed`` / ``steps_false`` and a per-sample
+  ``stance_f1``, all computed inside the labelled span only (outside it the truth says nothing);
 * both feet: the final foot separation E_s (seed 001 eq. 8);
 * the runtime of the pipeline.
 """
@@ -102,6 +108,17 @@ def trajectory_at(traj: FootTrajectory, t: np.ndarray) -> tuple[np.ndarray, np.n
     return pos, inside
 
 
+def _labelled_swings(truth: FootTruth) -> tuple[np.ndarray, tuple[int, int], np.ndarray] | None:
+    """(labelled mask, half-open boundaries, (K, 2) swings) when the truth labels swings only inside
+    trial boundaries (read_ipol), else None."""
+    labelled = truth.meta.get("labelled")
+    boundaries = truth.meta.get("trial_boundaries")
+    if labelled is None or boundaries is None or not {"toe_off", "heel_strike"} <= set(truth.events):
+        return None
+    pairs = np.column_stack((truth.events["toe_off"], truth.events["heel_strike"]))
+    return np.asarray(labelled, dtype=bool), (int(boundaries[0]), int(boundaries[1])), pairs
+
+
 def _foot_metrics(
     traj: FootTrajectory, stance: StanceResult, truth: FootTruth | None, rate_hz: float
 ) -> list[tuple[str, float, str]]:
@@ -111,7 +128,15 @@ def _foot_metrics(
     ]
     if truth is None:
         return out
-    if len(truth.t) > 1:
+    if truth.frame == "footprints":
+        if len(truth.t) > 1:
+            est, inside = trajectory_at(traj, truth.t)
+            if inside.sum() >= 2:
+                fp = metrics.footprint_errors(est, truth.position[inside])
+                out.append(("footprint_rmse", fp.rmse_m, "m"))
+                out.append(("footprint_final_error", fp.final_m, "m"))
+                out.append(("reference_path_length", metrics.travelled_distance(truth.position[inside], dims=2), "m"))
+    elif len(truth.t) > 1:
         est, inside = trajectory_at(traj, truth.t)
         ref = truth.position[inside]
         out.append(("ate_2d", metrics.ate_rmse(est, ref, dims=2), "m"))
@@ -121,10 +146,22 @@ def _foot_metrics(
         loop = metrics.loop_closure_error(traj.position, dims=2)
         out.append(("loop_closure", float(loop.error_m), "m"))
         out.append(("loop_closure_percent", float(loop.error_percent), "%"))
-    if truth.stance is not None and len(truth.stance) == len(stance.mask):
+    tolerance = max(1, round(0.1 * rate_hz))
+    swings = _labelled_swings(truth)
+    if swings is not None:
+        labelled, boundaries, pairs = swings
+        if len(labelled) == len(stance.mask) and truth.stance is not None:
+            scores = metrics.sample_scores(stance.mask[labelled], truth.stance[labelled])
+            out.append(("stance_f1", float(scores.f1), ""))
+            steps = metrics.step_detection_from_swings(stance.mask, pairs, boundaries, tolerance_samples=tolerance)
+            out.append(("step_f1", float(steps.f1), ""))
+            out.append(("steps_found", float(steps.found), "count"))
+            out.append(("steps_missed", float(steps.missed), "count"))
+            out.append(("steps_false", float(steps.false), "count"))
+    elif truth.stance is not None and len(truth.stance) == len(stance.mask):
         scores = metrics.sample_scores(stance.mask, truth.stance)
         out.append(("stance_f1", float(scores.f1), ""))
-        steps = metrics.step_detection(stance.mask, truth.stance, tolerance_samples=max(1, int(round(0.1 * rate_hz))))
+        steps = metrics.step_detection(stance.mask, truth.stance, tolerance_samples=tolerance)
         out.append(("steps_found", float(steps.found), "count"))
         out.append(("steps_missed", float(steps.missed), "count"))
         out.append(("steps_false", float(steps.false), "count"))

@@ -54,3 +54,52 @@ def test_trajectory_at_interpolates_inside_span_only(loop):
     assert pos.shape == (2, 3)
     np.testing.assert_allclose(pos[0], traj.position[10])
     np.testing.assert_allclose(pos[1], 0.5 * (traj.position[10] + traj.position[11]))
+
+
+def test_footprint_truth_reports_footprint_errors_not_ate(loop):
+    # footprint truth as the gait-driven reader builds it: positions at a few stance samples
+    from footnav.core.types import FootTruth, stance_intervals
+
+    runs = stance_intervals(loop.truth_left.stance)
+    idx = ((runs[:, 0] + runs[:, 1]) // 2)[::2]
+    truth = FootTruth(
+        t=loop.left.t[idx], position=loop.truth_left.position[idx] * [1.0, 1.0, 0.0],
+        events={"footprint": idx}, frame="footprints",
+    )
+    rec = footnav.Recording(left=loop.left, truth_left=truth, name="fp")
+    report = evaluate(footnav.make_pipeline(), rec, pipeline_name="p")
+    res = report.results[("fp", "p")]
+    direct = metrics.footprint_errors(res.left.position, truth.position, index=idx)
+    assert report.value("footprint_rmse") == pytest.approx(direct.rmse_m)
+    assert report.value("footprint_final_error") == pytest.approx(direct.final_m)
+    assert report.value("footprint_rmse") < 0.5
+    with pytest.raises(KeyError):
+        report.value("ate_2d")
+
+
+def test_labelled_swings_truth_reports_step_f1_inside_the_boundaries(loop):
+    # IPOL-style truth: swings = gaps between the simulator's stances, labelled only inside a
+    # span that leaves out the first and last stances; stance False outside the span
+    from footnav.core.types import FootTruth, stance_intervals
+
+    runs = stance_intervals(loop.truth_left.stance)
+    swings = np.column_stack((runs[:-1, 1], runs[1:, 0]))
+    start, end = int(swings[1, 0]), int(swings[-2, 1])
+    labelled = np.zeros(len(loop.left.t), dtype=bool)
+    labelled[start:end] = True
+    truth = FootTruth(
+        t=np.empty(0), position=np.empty((0, 3)), stance=loop.truth_left.stance & labelled,
+        events={"toe_off": swings[:, 0], "heel_strike": swings[:, 1]}, frame="gait_events",
+        meta={"labelled": labelled, "trial_boundaries": (start, end)},
+    )
+    rec = footnav.Recording(left=loop.left, truth_left=truth, name="sw")
+    report = evaluate(footnav.make_pipeline(), rec, pipeline_name="p")
+    mask = report.results[("sw", "p")].stance_left.mask
+    direct = metrics.step_detection_from_swings(mask, swings, (start, end), tolerance_samples=round(0.1 * loop.left.rate_hz))
+    assert report.value("step_f1") == pytest.approx(direct.f1)
+    assert report.value("steps_found") == direct.found and direct.found == len(runs) - 4  # stances between swings 1..22
+    assert report.value("steps_missed") == direct.missed and report.value("steps_false") == direct.false
+    assert report.value("stance_f1") == pytest.approx(metrics.sample_scores(mask[labelled], truth.stance[labelled]).f1)
+    for name in ("ate_2d", "ate_3d", "footprint_rmse"):
+        with pytest.raises(KeyError):
+            report.value(name)

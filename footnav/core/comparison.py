@@ -2,10 +2,14 @@
 
 For each detector and foot, against whatever reference the recording has:
 
+* with hand-labelled swings inside trial boundaries (IPOL): steps found / missed / false by
+  :func:`~footnav.core.metrics.step_detection_from_swings`, per-sample scores inside the labelled
+  span;
 * with a reference stance mask (simulator truth, proxy labels): steps found / missed / false by
   matching stance phases (:func:`~footnav.core.metrics.step_detection`), per-sample precision,
   recall and F1;
-* with one reference event per stance (mocap-derived ``mid_stance``, as in the gaitmap example):
+* with one reference event per stance (mocap-derived ``mid_stance``, as in the gaitmap example;
+  each ``footprint`` of the gait-driven set):
   steps found / missed / false by :func:`~footnav.core.metrics.step_detection_from_events`;
 * for every gait event both the detector and the reference give (heel strike, foot flat, heel
   off, toe off): the mean absolute timing error (seed 003 Table 1 counts, plus timing);
@@ -23,7 +27,7 @@ from typing import Any, Sequence
 from footnav.core import metrics
 from footnav.core.component import StanceDetector
 from footnav.core.errors import FootnavError
-from footnav.core.evaluation import EvaluationReport, Metric
+from footnav.core.evaluation import EvaluationReport, Metric, labelled_swings
 from footnav.core.stance_check import check_stances
 from footnav.core.types import FootTruth, ImuData, Recording, StanceResult
 
@@ -91,18 +95,29 @@ def _foot_metrics(
         return rows
     tol = tol_s * rate_hz
     steps = None
-    if truth.stance is not None and len(truth.stance) == len(stance.mask):
+    swings = labelled_swings(truth)
+    if swings is not None and len(swings[0]) == len(stance.mask) and truth.stance is not None:
+        # hand-labelled swings inside trial boundaries (IPOL): outside them the truth says nothing
+        labelled, boundaries, pairs = swings
+        steps = metrics.step_detection_from_swings(stance.mask, pairs, boundaries, tolerance_samples=tol)
+        scores = metrics.sample_scores(stance.mask[labelled], truth.stance[labelled])
+        rows += [("precision", scores.precision, ""), ("recall", scores.recall, ""), ("f1", scores.f1, "")]
+    elif truth.stance is not None and len(truth.stance) == len(stance.mask):
         steps = metrics.step_detection(stance.mask, truth.stance, tolerance_samples=tol)
         scores = metrics.sample_scores(stance.mask, truth.stance)
         rows += [("precision", scores.precision, ""), ("recall", scores.recall, ""), ("f1", scores.f1, "")]
-    elif len(truth.events.get("mid_stance", ())):
-        steps = metrics.step_detection_from_events(stance.mask, truth.events["mid_stance"], tolerance_samples=tol)
+    else:
+        # one reference instant per stance: mocap mid-stance (gaitmap), a footprint (gaitdriven)
+        event = next((e for e in ("mid_stance", "footprint") if len(truth.events.get(e, ()))), None)
+        if event is not None:
+            steps = metrics.step_detection_from_events(stance.mask, truth.events[event], tolerance_samples=tol)
     if steps is not None:
         rows = rows[:3] + [
             ("steps_reference", float(steps.n_reference), "count"),
             ("steps_found", float(steps.n_found), "count"),
             ("steps_missed", float(steps.n_missed), "count"),
             ("steps_false", float(steps.n_false), "count"),
+            ("step_f1", float(steps.f1), ""),
         ] + rows[3:]
     for event in _EVENTS:
         det, ref = stance.events.get(event), truth.events.get(event)

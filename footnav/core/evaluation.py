@@ -108,7 +108,7 @@ def trajectory_at(traj: FootTrajectory, t: np.ndarray) -> tuple[np.ndarray, np.n
     return pos, inside
 
 
-def _labelled_swings(truth: FootTruth) -> tuple[np.ndarray, tuple[int, int], np.ndarray] | None:
+def labelled_swings(truth: FootTruth) -> tuple[np.ndarray, tuple[int, int], np.ndarray] | None:
     """(labelled mask, half-open boundaries, (K, 2) swings) when the truth labels swings only inside
     trial boundaries (read_ipol), else None."""
     labelled = truth.meta.get("labelled")
@@ -147,7 +147,7 @@ def _foot_metrics(
         out.append(("loop_closure", float(loop.error_m), "m"))
         out.append(("loop_closure_percent", float(loop.error_percent), "%"))
     tolerance = max(1, round(0.1 * rate_hz))
-    swings = _labelled_swings(truth)
+    swings = labelled_swings(truth)
     if swings is not None:
         labelled, boundaries, pairs = swings
         if len(labelled) == len(stance.mask) and truth.stance is not None:

@@ -144,3 +144,19 @@ def test_interrupt_while_writing_leaves_no_partial_result(sim_csv, tmp_path, mon
     assert main(["evaluate", str(sim_csv), "--out", str(out)]) == 1
     assert calls["n"] == 1 and not out.exists()
     assert not [p for p in tmp_path.iterdir() if p.name.endswith(".partial")]
+
+
+def test_run_says_when_strides_have_no_stance(never_still_gait, tmp_path, capsys):
+    imu, _ = never_still_gait(floor_radps=0.9)
+    csv = tmp_path / "run.csv"
+    np.savetxt(csv, np.column_stack([imu.t, imu.acc, imu.gyr]), delimiter=",",
+               header="t,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z", comments="")
+    capsys.readouterr()
+    assert main(["run", "--left", str(csv), "--detector", "threshold", "--out", str(tmp_path / "strict")]) == 0
+    err = capsys.readouterr().err
+    assert "footnav: warning: left foot: 12 of 12 gait cycles have no stance" in err
+    doc = json.loads((tmp_path / "strict" / "summary.json").read_text())
+    assert doc["provenance"]["stance_check"]["left"]["cycles_without_stance"] == 12
+    # the default detector finds every stride's stance, and nothing is said
+    assert main(["run", "--left", str(csv), "--out", str(tmp_path / "default")]) == 0
+    assert "gait cycles have no stance" not in capsys.readouterr().err

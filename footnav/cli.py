@@ -8,12 +8,15 @@ from __future__ import annotations
 import argparse
 import logging
 import sys
+from contextlib import ExitStack, nullcontext
 from pathlib import Path as FilePath
 from typing import Sequence
 
 from footnav.core.errors import FootnavError, PluginError
 
 EXIT_OK, EXIT_INTERNAL, EXIT_USAGE = 0, 1, 2
+#: First line of every table footnav writes as CSV (EvaluationReport.to_csv): how --force knows one.
+REPORT_CSV_HEADER = "recording,pipeline,foot,name,value,unit"
 
 EPILOG_RUN = """examples:
   footnav run --left L.csv --right R.csv --acc-unit g --gyr-unit deg/s --out results/walk1
@@ -87,42 +90,72 @@ def _print_stance_check(result) -> None:
 
 def cmd_run(args: argparse.Namespace) -> int:
     from footnav.core.io import read_footnav_csv
+    from footnav.core.output import claim_output
     from footnav.core.results import write_results
 
     pipeline = _pipeline_from_args(args)
-    units = dict(acc_unit=args.acc_unit, gyr_unit=args.gyr_unit, t_unit=args.t_unit, drop_duplicates=args.drop_duplicates)
-    left = read_footnav_csv(args.left, **units)
-    right = None if args.right is None else read_footnav_csv(args.right, **units)
-    result = pipeline.run(left, right)
-    if args.plot:
-        _plot_run(result, None, args.plot)
-    summary = {
-        "left_path_length_m": result.left.path_length_m,
-        "left_stances": result.stance_left.n_stances,
-    }
-    if result.right is not None:
-        summary["right_path_length_m"] = result.right.path_length_m
-        summary["right_stances"] = result.stance_right.n_stances
-    out = write_results(result, args.out, force=args.force, summary=summary, pipeline_toml=pipeline.to_toml())
+    inputs = [p for p in (args.left, args.right, args.pipeline) if p]
+    with ExitStack() as claims:
+        # every output is claimed before any work, and appears only when all of it succeeded
+        out_claim = claims.enter_context(claim_output(args.out, force=args.force, inputs=inputs, what="output folder"))
+        plot_claim = _claim_figure(claims, args.plot, args.force, inputs)
+        units = dict(acc_unit=args.acc_unit, gyr_unit=args.gyr_unit, t_unit=args.t_unit, drop_duplicates=args.drop_duplicates)
+        left = read_footnav_csv(args.left, **units)
+        right = None if args.right is None else read_footnav_csv(args.right, **units)
+        result = pipeline.run(left, right)
+        summary = {
+            "left_path_length_m": result.left.path_length_m,
+            "left_stances": result.stance_left.n_stances,
+        }
+        if result.right is not None:
+            summary["right_path_length_m"] = result.right.path_length_m
+            summary["right_stances"] = result.stance_right.n_stances
+        with plot_claim.staged() if plot_claim else nullcontext() as figure:
+            if figure is not None:
+                _plot_trajectories(result, None, figure)
+            out = write_results(result, out_claim, force=args.force, summary=summary, pipeline_toml=pipeline.to_toml())
     print(_format_table(("quantity", "value"), list(summary.items())))
     _print_stance_check(result)
     print(f"results written to {out}")
+    if plot_claim:
+        print(f"figure: {args.plot}")
     return EXIT_OK
+
+
+def _claim_figure(claims: ExitStack, path, force: bool, inputs):
+    """Claim a figure path (None when not asked for, or when matplotlib is missing: said once)."""
+    from footnav.core.output import claim_output, is_footnav_figure
+
+    if not path:
+        return None
+    try:
+        import matplotlib  # noqa: F401
+    except ImportError:
+        print("(install the 'plot' extra for figures)", file=sys.stderr)
+        return None
+    return claims.enter_context(
+        claim_output(path, kind="file", force=force, inputs=inputs, signature=is_footnav_figure, what="figure")
+    )
+
+
+def _plot_trajectories(result, recording, path) -> None:
+    from footnav.plot import plot_trajectories
+
+    plot_trajectories(result, recording, path)
 
 
 def cmd_simulate(args: argparse.Namespace) -> int:
     import footnav
     from footnav.core.io.footnav_csv import write_footnav_csv, write_footnav_truth
-    from footnav.core.results import atomic_folder
+    from footnav.core.output import claim_output
 
     out = FilePath(args.out)
-    if out.exists() and any(out.iterdir()) and not args.force:
-        raise FootnavError(f"output folder {str(out)!r} exists and is not empty; pass --force to overwrite")
-    rec = footnav.simulate(args.scenario, seed=args.seed, rate_hz=args.rate_hz)
-    with atomic_folder(out, force=args.force) as tmp:
-        for side, imu, truth in (("left", rec.left, rec.truth_left), ("right", rec.right, rec.truth_right)):
-            write_footnav_csv(imu, tmp / f"{side}.csv")
-            write_footnav_truth(truth, tmp / f"{side}_truth.csv")
+    with claim_output(out, force=args.force, what="output folder") as claim:
+        rec = footnav.simulate(args.scenario, seed=args.seed, rate_hz=args.rate_hz)
+        with claim.staged() as tmp:
+            for side, imu, truth in (("left", rec.left, rec.truth_left), ("right", rec.right, rec.truth_right)):
+                write_footnav_csv(imu, tmp / f"{side}.csv")
+                write_footnav_truth(truth, tmp / f"{side}_truth.csv")
     print(f"simulated {args.scenario!r} walk, {rec.left.duration_s:.1f} s at {args.rate_hz:g} Hz, written to {out}")
     return EXIT_OK
 
@@ -135,68 +168,93 @@ def cmd_demo(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
-def _plot_run(result, recording, path) -> None:
-    try:
-        from footnav.plot import plot_trajectories
-    except ImportError:
-        print("(install the 'plot' extra for figures)", file=sys.stderr)
-        return
-    print(f"figure: {plot_trajectories(result, recording, path)}")
-
-
 def cmd_evaluate(args: argparse.Namespace) -> int:
     from footnav.core.batch import evaluate_many
     from footnav.core.datasets import load_dataset
     from footnav.core.io import load
+    from footnav.core.output import claim_output, csv_signature
     from footnav.core.pipeline import load_pipeline, make_pipeline
-    from footnav.core.results import atomic_folder, write_report
+    from footnav.core.results import write_report
 
     if not args.dataset and not args.recordings:
         raise FootnavError("nothing to evaluate: give --dataset NAME and/or recording paths")
-    if args.out and FilePath(args.out).exists() and any(FilePath(args.out).iterdir()) and not args.force:
-        raise FootnavError(f"output folder {args.out!r} exists and is not empty; choose another or pass --force")
-    pipelines = [(FilePath(p).stem, load_pipeline(p)) for p in args.pipeline] or [("default", make_pipeline())]
-    recordings = [load_dataset(name, args.data_dir) for name in args.dataset]
-    recordings += [load(path) for path in args.recordings]
-    backend = "dask" if args.dask_scheduler else "loky"
-    logging.getLogger("footnav").info("evaluating %d pipeline(s) on %d recording(s)", len(pipelines), len(recordings))
-    report = evaluate_many(pipelines, recordings, n_jobs=args.jobs, backend=backend, scheduler=args.dask_scheduler)
+    inputs = [*args.recordings, *args.pipeline]
+    with ExitStack() as claims:
+        out_claim = (
+            claims.enter_context(claim_output(args.out, force=args.force, inputs=inputs, what="output folder"))
+            if args.out
+            else None
+        )
+        csv_claim = (
+            claims.enter_context(claim_output(args.csv, kind="file", force=args.force, inputs=inputs,
+                                              signature=csv_signature(REPORT_CSV_HEADER), what="table"))
+            if args.csv
+            else None
+        )
+        plot_claim = None
+        if args.plot:
+            try:
+                import matplotlib  # noqa: F401
+            except ImportError:
+                print("(install the 'plot' extra for figures)", file=sys.stderr)
+            else:
+                plot_claim = claims.enter_context(claim_output(args.plot, force=args.force, inputs=inputs, what="figure folder"))
+        pipelines = [(FilePath(p).stem, load_pipeline(p)) for p in args.pipeline] or [("default", make_pipeline())]
+        recordings = [load_dataset(name, args.data_dir) for name in args.dataset]
+        recordings += [load(path) for path in args.recordings]
+        backend = "dask" if args.dask_scheduler else "loky"
+        logging.getLogger("footnav").info("evaluating %d pipeline(s) on %d recording(s)", len(pipelines), len(recordings))
+        report = evaluate_many(pipelines, recordings, n_jobs=args.jobs, backend=backend, scheduler=args.dask_scheduler)
+        with ExitStack() as staged:
+            figures = staged.enter_context(plot_claim.staged()) if plot_claim else None
+            if figures is not None:
+                from footnav.plot import plot_position_errors, plot_trajectories
+
+                by_name = {rec.name: rec for rec in recordings}
+                for (rec_name, pname), result in report.results.items():
+                    safe = "".join(c if c.isalnum() or c in "-_." else "_" for c in f"{rec_name}-{pname}")
+                    rec = by_name.get(rec_name)
+                    plot_trajectories(result, rec, figures / f"{safe}.png")
+                    if rec is not None and rec.truth_left is not None:
+                        plot_position_errors(result, rec, figures / f"{safe}-errors.png")
+            if csv_claim:
+                staged.enter_context(csv_claim.staged()).write_text(report.to_csv(), encoding="utf-8")
+            if out_claim:
+                write_report(report, out_claim, pipelines={name: pipe.to_toml() for name, pipe in pipelines})
     print(report.to_text())
     if args.csv:
-        FilePath(args.csv).write_text(report.to_csv(), encoding="utf-8")
         print(f"table written to {args.csv}")
     if args.out:
-        write_report(report, args.out, force=args.force, pipelines={name: pipe.to_toml() for name, pipe in pipelines})
         print(f"report written to {args.out}")
-    if args.plot:
-        try:
-            from footnav.plot import plot_trajectories
-        except ImportError:
-            print("(install the 'plot' extra for figures)", file=sys.stderr)
-            return EXIT_OK
-        from footnav.plot import plot_position_errors
-
-        by_name = {rec.name: rec for rec in recordings}
-        with atomic_folder(args.plot, force=args.force) as tmp:
-            for (rec_name, pname), result in report.results.items():
-                safe = "".join(c if c.isalnum() or c in "-_." else "_" for c in f"{rec_name}-{pname}")
-                rec = by_name.get(rec_name)
-                plot_trajectories(result, rec, tmp / f"{safe}.png")
-                if rec is not None and rec.truth_left is not None:
-                    plot_position_errors(result, rec, tmp / f"{safe}-errors.png")
+    if plot_claim:
         print(f"figures written to {args.plot}")
     return EXIT_OK
 
 
 def cmd_compare_detectors(args: argparse.Namespace) -> int:
+    from footnav.core.output import claim_output, csv_signature
+
+    sources = [x for x in (args.recording, args.dataset, args.simulate) if x]
+    if len(sources) != 1:
+        raise FootnavError("give exactly one of RECORDING, --dataset NAME or --simulate SCENARIO")
+    inputs = [args.recording] if args.recording else []
+    with ExitStack() as claims:
+        csv_claim = (
+            claims.enter_context(claim_output(args.csv, kind="file", force=args.force, inputs=inputs,
+                                              signature=csv_signature(REPORT_CSV_HEADER), what="table"))
+            if args.csv
+            else None
+        )
+        plot_claim = _claim_figure(claims, args.plot, args.force, inputs)
+        return _compare(args, csv_claim, plot_claim)
+
+
+def _compare(args: argparse.Namespace, csv_claim, plot_claim) -> int:
     import footnav
     from footnav.core.comparison import compare_detectors
     from footnav.core.datasets import load_dataset
     from footnav.core.io import load
 
-    sources = [x for x in (args.recording, args.dataset, args.simulate) if x]
-    if len(sources) != 1:
-        raise FootnavError("give exactly one of RECORDING, --dataset NAME or --simulate SCENARIO")
     if args.recording:
         rec = load(args.recording)
     elif args.dataset:
@@ -205,17 +263,16 @@ def cmd_compare_detectors(args: argparse.Namespace) -> int:
         rec = footnav.simulate(args.simulate, seed=args.seed, rate_hz=args.rate_hz)
     names = [d.strip() for d in args.detectors.split(",") if d.strip()] if args.detectors else None
     comparison = compare_detectors(rec, names, tolerance_s=args.tolerance_s)
+    with ExitStack() as staged:
+        if csv_claim:
+            staged.enter_context(csv_claim.staged()).write_text(comparison.to_csv(), encoding="utf-8")
+        if plot_claim:
+            comparison.plot(staged.enter_context(plot_claim.staged()), seconds=tuple(args.seconds) if args.seconds else None)
     print(comparison.to_text())
-    if args.csv:
-        FilePath(args.csv).write_text(comparison.to_csv(), encoding="utf-8")
+    if csv_claim:
         print(f"table written to {args.csv}")
-    if args.plot:
-        try:
-            path = comparison.plot(args.plot, seconds=tuple(args.seconds) if args.seconds else None)
-        except ImportError:
-            print("(install the 'plot' extra for the figure)", file=sys.stderr)
-        else:
-            print(f"figure: {path}")
+    if plot_claim:
+        print(f"figure: {args.plot}")
     return EXIT_OK
 
 
@@ -254,7 +311,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--estimator", help="estimator name")
     p.add_argument("--fusion", help="fusion name")
     p.add_argument("--out", required=True, help="output folder (must not exist or be empty)")
-    p.add_argument("--force", action="store_true", help="replace a non-empty output folder")
+    p.add_argument("--force", action="store_true", help="replace an output folder (and figure) that footnav wrote")
     p.add_argument("--plot", help="also write the trajectory figure (PNG) here")
     p.set_defaults(func=cmd_run)
 
@@ -289,7 +346,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--data-dir", help="shared data folder (default $FOOTNAV_DATA or ../shared/data)")
     p.add_argument("--csv", help="also write the table as CSV")
     p.add_argument("--out", help="write the report (CSV, JSON with versions and input hashes, pipelines) to this folder")
-    p.add_argument("--force", action="store_true", help="replace a non-empty --out / --plot folder")
+    p.add_argument("--force", action="store_true", help="replace an --out / --plot folder or --csv that footnav wrote")
     p.add_argument("--plot", help="write a trajectory figure per run (PNG) into this folder")
     p.add_argument("--jobs", type=int, default=1, help="parallel worker processes (-1: every core)")
     p.add_argument("--dask-scheduler", metavar="ADDRESS", help="run on a Dask cluster (tcp://host:8786)")
@@ -315,6 +372,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--data-dir", help="shared data folder")
     p.add_argument("--csv", help="also write the table as CSV")
     p.add_argument("--plot", help="write the stance figure (PNG) here")
+    p.add_argument("--force", action="store_true", help="replace a --csv / --plot that footnav wrote before")
     p.add_argument("--seconds", type=float, nargs=2, metavar=("START", "STOP"), help="time window of the figure")
     p.set_defaults(func=cmd_compare_detectors)
 

@@ -8,11 +8,13 @@ position truth for each foot.
 from __future__ import annotations
 
 import logging
+from contextlib import ExitStack
 from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path as FilePath
 
 from footnav.core.evaluation import EvaluationReport, evaluate
+from footnav.core.output import OutputClaim, claim_output, is_footnav_figure
 from footnav.core.pipeline import make_pipeline
 from footnav.core.types import Recording
 
@@ -41,7 +43,26 @@ class DemoReport:
 
 
 def run_demo(plot: str | None = "footnav-demo.png") -> DemoReport:
-    """Run the default pipeline on the bundled recording; print-ready table and optional figure."""
+    """Run the default pipeline on the bundled recording; print-ready table and optional figure.
+
+    The figure replaces an earlier demo figure but never a file footnav did not write
+    (:func:`footnav.core.output.claim_output`); it is claimed before the run.
+    """
+    with ExitStack() as claims:
+        claim = None
+        if plot:
+            try:
+                import matplotlib  # noqa: F401
+            except ImportError:
+                claim = "no matplotlib"
+            else:
+                claim = claims.enter_context(
+                    claim_output(plot, kind="file", force=True, signature=is_footnav_figure, what="figure")
+                )
+        return _run_demo(claim, plot)
+
+
+def _run_demo(claim: OutputClaim | str | None, plot: str | None) -> DemoReport:
     rec = demo_recording()
     pipeline = make_pipeline()
     report = evaluate(pipeline, rec, pipeline_name="default")
@@ -70,13 +91,13 @@ def run_demo(plot: str | None = "footnav-demo.png") -> DemoReport:
         f"runtime: {report.value('runtime', 'both'):.2f} s (includes numba compilation on the first run)",
     ]
     figure = None
-    if plot:
-        try:
-            from footnav.plot import plot_trajectories
-        except ImportError:
-            lines.append("(install the 'plot' extra for a trajectory figure)")
-        else:
-            result = report.results[(rec.name, "default")]
-            figure = str(plot_trajectories(result, rec, plot))
-            lines.append(f"figure: {figure}")
+    if claim == "no matplotlib":
+        lines.append("(install the 'plot' extra for a trajectory figure)")
+    elif isinstance(claim, OutputClaim):
+        from footnav.plot import plot_trajectories
+
+        with claim.staged() as staged:
+            plot_trajectories(report.results[(rec.name, "default")], rec, staged)
+        figure = str(plot)
+        lines.append(f"figure: {figure}")
     return DemoReport(report=report, text="\n".join(lines), figure=figure)

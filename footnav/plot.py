@@ -11,14 +11,24 @@ import matplotlib
 
 matplotlib.use("Agg")  # files only: footnav never opens windows
 import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
 
 from footnav.core import metrics  # noqa: E402
 from footnav.core.evaluation import trajectory_at  # noqa: E402
 from footnav.core.types import PipelineResult, Recording  # noqa: E402
 
-import numpy as np  # noqa: E402
-
 __all__ = ["plot_trajectories", "plot_stance_comparison", "plot_position_errors"]
+
+
+def _save(fig, path: FilePath, dpi: int) -> None:
+    """Save and close; a PNG names footnav as its software, so that ``--force`` may replace it
+    (:func:`footnav.core.output.is_footnav_figure`)."""
+    from footnav import __version__
+    from footnav.core.output import FIGURE_SOFTWARE
+
+    png = FilePath(path).suffix.lower() == ".png"
+    fig.savefig(path, dpi=dpi, metadata={"Software": f"{FIGURE_SOFTWARE} {__version__}"} if png else None)
+    plt.close(fig)
 
 
 def plot_trajectories(result: PipelineResult, recording: Recording | None, path: str | FilePath) -> FilePath:
@@ -50,8 +60,7 @@ def plot_trajectories(result: PipelineResult, recording: Recording | None, path:
     ax.legend(loc="best", fontsize="small")
     ax.grid(True, alpha=0.3)
     path = FilePath(path)
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    _save(fig, path, 120)
     return path
 
 
@@ -95,8 +104,7 @@ def plot_stance_comparison(comparison, path: str | FilePath, *, seconds: tuple[f
         axes[-1].set_xlim(*seconds)
     fig.suptitle(f"stance per detector: {rec.name or 'recording'}")
     path = FilePath(path)
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    _save(fig, path, 110)
     return path
 
 
@@ -121,6 +129,5 @@ def plot_position_errors(result: PipelineResult, recording: Recording, path: str
     ax.grid(True, alpha=0.3)
     ax.set_title(f"position error: {recording.name or 'recording'}")
     path = FilePath(path)
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    _save(fig, path, 110)
     return path

@@ -2,9 +2,10 @@
 provenance (JSON: the pipeline, footnav's and its dependencies' versions, the input files'
 SHA-256), and the exact pipeline as TOML; or, for an evaluation, the report as CSV and JSON.
 
-Every folder is written under a temporary name beside its target and renamed at the end, so an
-interrupted run (Ctrl-C included) never leaves a half-written result; an existing non-empty folder
-is replaced only with ``force=True``.
+Every folder is claimed before the work and written under a temporary name beside its target,
+then put in place (:mod:`footnav.core.output`), so an interrupted run (Ctrl-C included) never
+leaves a half-written result; an existing non-empty folder is replaced only with ``force=True``,
+and only when footnav wrote it.
 """
 
 from __future__ import annotations
@@ -12,15 +13,13 @@ from __future__ import annotations
 import hashlib
 import json
 import os
-import shutil
-import tempfile
 from contextlib import contextmanager
 from pathlib import Path as FilePath
-from typing import Any, Iterator, Mapping
+from typing import Any, Iterable, Iterator, Mapping
 
 import numpy as np
 
-from footnav.core.errors import InvalidInputError
+from footnav.core.output import OutputClaim, claim_output
 from footnav.core.types import FootTrajectory, Path, PipelineResult
 
 __all__ = ["write_results", "write_report", "versions", "file_sha256", "atomic_folder", "TRAJECTORY_COLUMNS"]
@@ -89,51 +88,58 @@ def _input_hashes(metas: list[Mapping[str, Any]]) -> dict[str, str]:
 
 
 @contextmanager
-def atomic_folder(folder: str | os.PathLike, *, force: bool = False) -> Iterator[FilePath]:
-    """Write into a temporary folder beside ``folder`` and rename it into place on success.
+def atomic_folder(
+    folder: str | os.PathLike | OutputClaim, *, force: bool = False, inputs: Iterable[str | os.PathLike] = ()
+) -> Iterator[FilePath]:
+    """Write into a temporary folder beside ``folder`` and put it in place on success.
 
-    On any exception (KeyboardInterrupt included) the temporary folder is removed and ``folder``
-    is left as it was.
+    ``folder`` is claimed first (:func:`footnav.core.output.claim_output`: never the working
+    folder or one above it, a folder holding an input, or a non-empty folder footnav did not
+    write; another footnav run's folder is refused) unless it is a claim already. On any exception
+    (KeyboardInterrupt included) the temporary folder is removed and ``folder`` is left as it was.
 
     Raises
     ------
     InvalidInputError
-        ``folder`` exists and is not empty, and ``force`` is False.
+        ``folder`` cannot be claimed; the message says why (``field="out"``).
     """
-    folder = FilePath(folder)
-    if folder.exists() and (not folder.is_dir() or any(folder.iterdir())) and not force:
-        raise InvalidInputError(
-            f"output folder {str(folder)!r} exists and is not empty; choose another or pass --force to replace it",
-            field="out",
-        )
-    folder.parent.mkdir(parents=True, exist_ok=True)
-    tmp = FilePath(tempfile.mkdtemp(prefix=f".{folder.name}.", suffix=".partial", dir=folder.parent))
-    try:
-        yield tmp
-        if folder.exists():
-            shutil.rmtree(folder) if folder.is_dir() else folder.unlink()
-        os.replace(tmp, folder)
-    except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
-        raise
+    if isinstance(folder, OutputClaim):
+        with folder.staged() as tmp:
+            yield tmp
+        return
+    with claim_output(folder, kind="folder", force=force, inputs=inputs, what="output folder") as claim:
+        with claim.staged() as tmp:
+            yield tmp
 
 
-def write_report(report: Any, folder: str | os.PathLike, *, force: bool = False, pipelines: Mapping[str, str] | None = None) -> FilePath:
+def write_report(
+    report: Any,
+    folder: str | os.PathLike | OutputClaim,
+    *,
+    force: bool = False,
+    pipelines: Mapping[str, str] | None = None,
+) -> FilePath:
     """Write an evaluation report into ``folder``: ``report.csv``, ``report.json`` (metrics,
     versions, input hashes) and each pipeline's TOML (``pipelines``: name -> TOML text)."""
-    with atomic_folder(folder, force=force) as tmp:
+    sources = [
+        m["source"]
+        for res in report.results.values()
+        for m in res.meta.get("input", {}).values()
+        if m and isinstance(m.get("source"), str)
+    ]
+    with atomic_folder(folder, force=force, inputs=sources) as tmp:
         (tmp / "report.csv").write_text(report.to_csv(), encoding="utf-8")
         metas = [m for res in report.results.values() for m in res.meta.get("input", {}).values() if m]
         doc = {"metrics": report.rows(), "versions": versions(), "input_sha256": _input_hashes(metas)}
         (tmp / "report.json").write_text(json.dumps(_jsonable(doc), indent=2) + "\n", encoding="utf-8")
         for name, toml in (pipelines or {}).items():
             (tmp / f"pipeline-{name}.toml").write_text(toml, encoding="utf-8")
-    return FilePath(folder)
+    return folder.target if isinstance(folder, OutputClaim) else FilePath(folder)
 
 
 def write_results(
     result: PipelineResult,
-    folder: str | os.PathLike,
+    folder: str | os.PathLike | OutputClaim,
     *,
     force: bool = False,
     summary: Mapping[str, Any] | None = None,
@@ -146,9 +152,11 @@ def write_results(
     Raises
     ------
     InvalidInputError
-        ``folder`` exists and is not empty, and ``force`` is False.
+        ``folder`` cannot be claimed (:func:`atomic_folder`): not empty and ``force`` False, not
+        written by footnav, the working folder, an input or a folder holding one.
     """
-    with atomic_folder(folder, force=force) as tmp:
+    sources = [m["source"] for m in result.meta.get("input", {}).values() if m and isinstance(m.get("source"), str)]
+    with atomic_folder(folder, force=force, inputs=sources) as tmp:
         arrays = {}
         for foot, traj, stance in (("left", result.left, result.stance_left), ("right", result.right, result.stance_right)):
             if traj is None:
@@ -176,4 +184,4 @@ def write_results(
         (tmp / "summary.json").write_text(json.dumps(_jsonable(doc), indent=2) + "\n", encoding="utf-8")
         if pipeline_toml is not None:
             (tmp / "pipeline.toml").write_text(pipeline_toml, encoding="utf-8")
-    return FilePath(folder)
+    return folder.target if isinstance(folder, OutputClaim) else FilePath(folder)

@@ -1,0 +1,181 @@
+"""Outputs never destroy what a user owns (issue 14, output safety).
+
+Each case names the command, the expected refusal, and checks that every file the user had is
+still there, byte for byte.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import subprocess
+import sys
+import warnings
+from pathlib import Path
+
+import pytest
+
+from footnav.cli import main
+from footnav.core.errors import DataQualityWarning, InvalidInputError
+from footnav.core.output import MARKER, claim_output, is_footnav_figure
+
+pytestmark = pytest.mark.fault
+
+
+def _snapshot(root: Path) -> dict[str, str]:
+    """Every file under ``root`` (footnav's lock and temporary names aside) and its SHA-256."""
+    out = {}
+    for p in sorted(root.rglob("*")):
+        if p.is_file():
+            out[str(p.relative_to(root))] = hashlib.sha256(p.read_bytes()).hexdigest()
+    return out
+
+
+@pytest.fixture
+def workspace(tmp_path, monkeypatch):
+    """A user's folder: a recording in data/, notes, a sub-folder; the working folder is ws/."""
+    ws = tmp_path / "ws"
+    assert main(["simulate", "straight", "--seed", "3", "--out", str(ws / "data")]) == 0
+    (ws / "notes.txt").write_text("my notes\n")
+    (ws / "sub").mkdir()
+    (ws / "sub" / "keep.txt").write_text("keep me\n")
+    (tmp_path / "sibling.txt").write_text("beside the working folder\n")
+    monkeypatch.chdir(ws)
+    return ws
+
+
+def _run(*extra: str) -> int:
+    return main(["run", "--left", "data/left.csv", *extra])
+
+
+@pytest.mark.parametrize("out", [".", "..", "data", "data/left.csv", "sub"])
+def test_force_never_replaces_a_users_folder_or_file(workspace, out, capsys):
+    before = _snapshot(workspace.parent)
+    assert _run("--out", out, "--force") == 2
+    err = capsys.readouterr().err
+    assert "error:" in err and "Traceback" not in err
+    assert _snapshot(workspace.parent) == before
+    assert not [p for p in workspace.parent.rglob("*") if ".footnav-lock" in p.name or ".partial" in p.name]
+
+
+def test_force_replaces_only_footnav_results(workspace, capsys):
+    assert _run("--out", "res") == 0
+    first = (workspace / "res" / "summary.json").read_bytes()
+    assert (workspace / "res" / MARKER).is_file()
+    assert _run("--out", "res") == 2  # not without --force
+    assert "--force" in capsys.readouterr().err
+    assert _run("--out", "res", "--force") == 0
+    assert (workspace / "res" / "summary.json").read_bytes() != first  # a new run (new runtime)
+    # a folder the user filled by hand is refused even with --force
+    mine = workspace / "mine"
+    mine.mkdir()
+    (mine / "a.txt").write_text("mine\n")
+    capsys.readouterr()
+    assert _run("--out", "mine", "--force") == 2
+    assert "not written by footnav" in capsys.readouterr().err
+    assert (mine / "a.txt").read_text() == "mine\n" and sorted(os.listdir(mine)) == ["a.txt"]
+
+
+def test_the_output_is_checked_before_the_work(workspace, monkeypatch, capsys):
+    import footnav.core.pipeline as pipeline
+
+    def no_work(*args, **kwargs):
+        raise AssertionError("the pipeline ran although the output was refused")
+
+    monkeypatch.setattr(pipeline.Pipeline, "run", no_work)
+    assert _run("--out", "sub") == 2
+    assert "not empty" in capsys.readouterr().err
+
+
+def test_a_refused_run_writes_no_figure(workspace):
+    figure = workspace / "figure.png"
+    figure.write_bytes(b"my own picture")
+    assert _run("--out", "sub", "--plot", "figure.png") == 2  # --out refused
+    assert figure.read_bytes() == b"my own picture"
+    assert _run("--out", "res", "--plot", "figure.png", "--force") == 2  # not footnav's figure
+    assert figure.read_bytes() == b"my own picture" and not (workspace / "res").exists()
+
+
+def test_figures_footnav_wrote_are_replaced_with_force(workspace):
+    pytest.importorskip("matplotlib")
+    assert _run("--out", "res", "--plot", "walk.png") == 0
+    assert is_footnav_figure(workspace / "walk.png")
+    assert _run("--out", "res2", "--plot", "walk.png") == 2  # exists, no --force
+    assert _run("--out", "res2", "--plot", "walk.png", "--force") == 0
+
+
+def test_results_follow_the_umask(workspace):
+    old = os.umask(0o027)
+    try:
+        assert _run("--out", "res") == 0
+    finally:
+        os.umask(old)
+    assert (workspace / "res").stat().st_mode & 0o777 == 0o750
+
+
+def test_two_concurrent_runs_never_both_succeed(workspace):
+    cmd = [sys.executable, "-m", "footnav.cli", "run", "--left", "data/left.csv", "--right", "data/right.csv", "--out", "res"]
+    procs = [subprocess.Popen(cmd, cwd=workspace, stdout=subprocess.PIPE, stderr=subprocess.PIPE) for _ in range(2)]
+    codes = [p.wait(timeout=300) for p in procs]
+    assert sorted(codes) == [0, 2], [p.stderr.read()[-300:] for p in procs]
+    assert (workspace / "res" / "summary.json").is_file() and (workspace / "res" / MARKER).is_file()
+
+
+def test_a_lock_held_by_a_live_run_refuses_a_second(tmp_path):
+    with claim_output(tmp_path / "res"):
+        with pytest.raises(InvalidInputError, match="another footnav run"):
+            claim_output(tmp_path / "res")
+    claim_output(tmp_path / "res").release()  # released: free again
+
+
+def test_a_kill_during_replacement_leaves_a_whole_result(tmp_path, monkeypatch):
+    import footnav.core.output as output
+
+    target = tmp_path / "res"
+    with claim_output(target) as claim, claim.staged() as tmp:
+        (tmp / "result.txt").write_text("old\n")
+    renames = []
+    real_rename = os.rename
+
+    def killed_after_first(src, dst):
+        renames.append((src, dst))
+        real_rename(src, dst)
+        if len(renames) == 1:  # the old result is aside, the new one not yet in: the process dies here
+            raise SystemExit("killed")
+
+    monkeypatch.setattr(output.os, "rename", killed_after_first)
+    with pytest.raises(SystemExit):
+        with claim_output(target, force=True) as claim, claim.staged() as tmp:
+            (tmp / "result.txt").write_text("new\n")
+    monkeypatch.setattr(output.os, "rename", real_rename)
+    assert not target.exists()
+    aside = [p for p in tmp_path.iterdir() if p.name.endswith(".old")]
+    assert len(aside) == 1 and (aside[0] / "result.txt").read_text() == "old\n"  # whole
+    # the next claim puts the whole result back and says so
+    with pytest.warns(DataQualityWarning, match="put back"):
+        claim_output(target, force=True).release()
+    assert (target / "result.txt").read_text() == "old\n"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["res"]
+
+
+def test_partial_folders_of_killed_runs_are_removed_and_named(tmp_path):
+    target = tmp_path / "res"
+    leftover = tmp_path / ".res.deadbeef.partial"
+    leftover.mkdir()
+    (leftover / "left.csv").write_text("half")
+    (tmp_path / ".res.footnav-lock").write_text("999999999\n")  # a writer that no longer exists
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        claim_output(target).release()
+    assert any("left by an interrupted run" in str(w.message) for w in caught)
+    assert sorted(p.name for p in tmp_path.iterdir()) == []
+
+
+def test_simulate_and_evaluate_outputs_are_guarded_too(workspace, capsys):
+    assert main(["simulate", "straight", "--out", ".", "--force"]) == 2
+    assert main(["simulate", "straight", "--out", "sub", "--force"]) == 2
+    assert main(["evaluate", "data", "--out", "data", "--force"]) == 2
+    assert main(["evaluate", "data", "--csv", "notes.txt", "--force"]) == 2
+    assert (workspace / "notes.txt").read_text() == "my notes\n"
+    assert (workspace / "sub" / "keep.txt").read_text() == "keep me\n"
+    assert (workspace / "data" / "left.csv").is_file()

@@ -179,3 +179,25 @@ def test_simulate_and_evaluate_outputs_are_guarded_too(workspace, capsys):
     assert (workspace / "notes.txt").read_text() == "my notes\n"
     assert (workspace / "sub" / "keep.txt").read_text() == "keep me\n"
     assert (workspace / "data" / "left.csv").is_file()
+
+
+def test_sigkill_at_any_moment_of_a_replacement_leaves_one_whole_result(workspace):
+    import signal
+    import time
+
+    cmd = [sys.executable, "-m", "footnav.cli", "run", "--left", "data/left.csv", "--out", "res", "--force"]
+    assert subprocess.run(cmd, cwd=workspace, capture_output=True).returncode == 0
+    whole = {"left.csv", "path.csv", "trajectories.npz", "summary.json", "pipeline.toml", MARKER}
+    start = time.perf_counter()
+    subprocess.run(cmd, cwd=workspace, capture_output=True)
+    duration = time.perf_counter() - start
+    for fraction in (0.3, 0.6, 0.8, 0.9, 0.95, 0.99):
+        proc = subprocess.Popen(cmd, cwd=workspace, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        time.sleep(fraction * duration)
+        proc.send_signal(signal.SIGKILL)
+        proc.wait()
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", DataQualityWarning)
+            claim_output(workspace / "res", force=True).release()  # what the next run does first
+        assert {p.name for p in (workspace / "res").iterdir()} == whole, fraction
+        assert not [p for p in workspace.iterdir() if p.name.startswith(".res.")]

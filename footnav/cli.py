@@ -31,6 +31,34 @@ class _Parser(argparse.ArgumentParser):
         self.exit(EXIT_USAGE, f"footnav: error: {message}\n")
 
 
+def _seed(text: str) -> int:
+    """argparse type: a seed is an integer >= 0 (numpy's generators refuse negative ones)."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not an integer") from None
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"{text!r} is negative; a seed is an integer >= 0")
+    return value
+
+
+def _positive(text: str) -> float:
+    """argparse type: a finite number > 0."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
+    if not (value > 0 and value < float("inf")):
+        raise argparse.ArgumentTypeError(f"{text!r} is not a finite number > 0")
+    return value
+
+
+def _os_message(exc: OSError) -> str:
+    """One line for an error of the file system or the network: what, on which file."""
+    where = f" {exc.filename!r}" if getattr(exc, "filename", None) else ""
+    return f"{exc.strerror or exc}{':' if where else ''}{where}"
+
+
 def _format_table(header: Sequence[str], rows: Sequence[Sequence[object]]) -> str:
     cells = [[str(h) for h in header]] + [[_fmt(c) for c in r] for r in rows]
     widths = [max(len(row[i]) for row in cells) for i in range(len(header))]
@@ -323,8 +351,8 @@ def build_parser() -> argparse.ArgumentParser:
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     p.add_argument("scenario", nargs="?", default="straight", help="straight, rectangle or path (default straight)")
-    p.add_argument("--seed", type=int, default=0)
-    p.add_argument("--rate-hz", type=float, default=100.0)
+    p.add_argument("--seed", type=_seed, default=0, help="simulator seed (an integer >= 0)")
+    p.add_argument("--rate-hz", type=_positive, default=100.0, help="sampling rate, Hz")
     p.add_argument("--out", required=True)
     p.add_argument("--force", action="store_true")
     p.set_defaults(func=cmd_simulate)
@@ -365,10 +393,10 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("recording", nargs="?", help="recording file or folder (format guessed)")
     p.add_argument("--dataset", help="shared recording by name (see footnav evaluate)")
     p.add_argument("--simulate", metavar="SCENARIO", help="a simulated walk: straight, rectangle")
-    p.add_argument("--seed", type=int, default=0, help="simulator seed")
-    p.add_argument("--rate-hz", type=float, default=100.0, help="simulator rate")
+    p.add_argument("--seed", type=_seed, default=0, help="simulator seed (an integer >= 0)")
+    p.add_argument("--rate-hz", type=_positive, default=100.0, help="simulator rate, Hz")
     p.add_argument("--detectors", help="comma-separated names (default: every detector that fits)")
-    p.add_argument("--tolerance-s", type=float, default=0.15, help="matching tolerance for steps and events, s")
+    p.add_argument("--tolerance-s", type=_positive, default=0.15, help="matching tolerance for steps and events, s")
     p.add_argument("--data-dir", help="shared data folder")
     p.add_argument("--csv", help="also write the table as CSV")
     p.add_argument("--plot", help="write the stance figure (PNG) here")
@@ -404,8 +432,25 @@ def main(argv: Sequence[str] | None = None) -> int:
     except FootnavError as exc:
         print(f"footnav {args.command}: error: {exc}", file=sys.stderr)
         return EXIT_USAGE
+    except UnicodeDecodeError as exc:  # a binary file where text was expected (pipeline TOML, CSV)
+        print(f"footnav {args.command}: error: not a UTF-8 text file ({exc.reason} at byte {exc.start})", file=sys.stderr)
+        return EXIT_USAGE
+    except OSError as exc:  # unreadable input, full disk, read-only folder, unreachable scheduler
+        if args.verbose:
+            raise
+        print(f"footnav {args.command}: error: {_os_message(exc)}", file=sys.stderr)
+        return EXIT_USAGE
     except KeyboardInterrupt:
         print("footnav: interrupted", file=sys.stderr)
+        return EXIT_INTERNAL
+    except Exception as exc:  # a bug: one line, the traceback with -v
+        if args.verbose:
+            raise
+        print(
+            f"footnav {args.command}: internal error: {type(exc).__name__}: {exc} "
+            "(run with -v for the traceback, and please report it)",
+            file=sys.stderr,
+        )
         return EXIT_INTERNAL
 
 

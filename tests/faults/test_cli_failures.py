@@ -62,7 +62,7 @@ def test_a_full_disk_leaves_nothing_and_says_so(walk, tmp_path, monkeypatch, cap
 
 
 def test_a_bug_is_one_line_and_exit_1_with_the_traceback_under_v(walk, tmp_path, monkeypatch, capsys):
-    import footnav.core.pipeline as pipeline
+    from footnav.core import pipeline
 
     def bug(*args, **kwargs):
         raise ZeroDivisionError("division by zero")

@@ -1,7 +1,8 @@
 """Loading plugins: the built-ins, then third-party packages through the ``footnav`` entry points.
 
-Each entry point is loaded on its own: one that fails to import, or that implements a misspelt
-hook, becomes a :class:`~footnav.core.errors.PluginWarning` naming it, and the others still load.
+Each entry point is loaded on its own: one that fails to import, that implements a misspelt hook,
+or that registers a name already taken (or something that is not a component), becomes a
+:class:`~footnav.core.errors.PluginWarning` naming it, and the others still load.
 Set ``FOOTNAV_DISABLE_PLUGIN_AUTOLOAD=1`` to load the built-ins only (the test suite does).
 """
 
@@ -108,7 +109,15 @@ def build_registry(
             origin = origins.get(impl.plugin_name, "<direct>")
 
             def register(cls: type, name: str | None = None, *, _kind=kind, _p=impl.plugin_name, _o=origin) -> None:
-                registry.add(_kind, cls, name=name, plugin=_p, origin=_o)
+                try:
+                    registry.add(_kind, cls, name=name, plugin=_p, origin=_o)
+                except PluginError as exc:
+                    if _o == "footnav":  # footnav's own registrations must not clash: a bug here
+                        raise
+                    # a clashing or malformed registration skips that component only: the
+                    # built-ins and every other plugin keep working
+                    registry.failed.append((_p, _o, str(exc)))
+                    warnings.warn(f"footnav plugin {_p!r} ({_o}): {exc}; skipped", PluginWarning, stacklevel=2)
 
             try:
                 impl.function(register=register)

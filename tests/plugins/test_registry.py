@@ -87,25 +87,30 @@ def test_direct_plugin_registers_and_is_usable_by_name():
     assert pipe.detector.fraction == 0.3
 
 
-def test_duplicate_name_is_an_error_naming_both():
+def test_a_duplicate_name_is_reported_and_skipped_and_the_rest_keep_working():
     class Impostor(HalfDetector):
         name = "threshold"
 
     def footnav_register_detectors(register):
         register(Impostor)
+        register(HalfDetector)  # the plugin's other components still register
 
-    with pytest.raises(PluginError) as err:
-        build_registry([_plugin(footnav_register_detectors=footnav_register_detectors)], autoload=False)
-    msg = str(err.value)
+    with pytest.warns(PluginWarning, match="registered twice") as caught:
+        reg = build_registry([_plugin(footnav_register_detectors=footnav_register_detectors)], autoload=False)
+    msg = str(caught[0].message)
     assert "footnav.builtin" in msg and "fake_plugin" in msg and "ThresholdDetector" in msg and "Impostor" in msg
+    assert reg.get("detector", "threshold").origin == "footnav"  # the built-in keeps its name
+    assert reg.get("detector", "half").cls is HalfDetector
+    assert [f[0] for f in reg.failed] == ["fake_plugin"]
 
 
-def test_registering_a_non_component_is_an_error():
+def test_registering_a_non_component_is_reported_and_skipped():
     def footnav_register_detectors(register):
         register(dict)
 
-    with pytest.raises(PluginError, match="subclass of footnav.StanceDetector"):
-        build_registry([_plugin(footnav_register_detectors=footnav_register_detectors)], autoload=False)
+    with pytest.warns(PluginWarning, match="subclass of footnav.StanceDetector"):
+        reg = build_registry([_plugin(footnav_register_detectors=footnav_register_detectors)], autoload=False)
+    assert "threshold" in reg.names("detector")
 
 
 def test_misspelt_hook_is_a_warning_and_others_still_load():

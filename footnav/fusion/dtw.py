@@ -32,7 +32,7 @@ from footnav.core import dtw
 from footnav.core import quaternion as quat
 from footnav.core.component import Fusion, require, require_non_negative, require_positive
 from footnav.core.types import FootTrajectory, FusionResult, Path
-from footnav.fusion.joint import LEFT, RIGHT, finish_joint, check_two_feet, start_joint
+from footnav.fusion.joint import LEFT, RIGHT, finish_joint, fuse_on_common_span, start_joint
 
 __all__ = ["DtwFusion", "heading_mismatch", "timeless_average"]
 
@@ -181,8 +181,15 @@ class DtwFusion(Fusion):
         require(self.path in PATHS, self, "path", " or ".join(map(repr, PATHS)))
 
     def fuse(self, estimator, left, stance_left, right=None, stance_right=None) -> FusionResult:
-        """Both feet in one filter, tied at each mid-swing; smoothed; averaged."""
-        check_two_feet(self, estimator, right, stance_right)
+        """Both feet in one filter, tied at each mid-swing; smoothed; averaged.
+
+        On the feet's common time span; outside it each foot alone
+        (:func:`footnav.fusion.joint.fuse_on_common_span`).
+        """
+        return fuse_on_common_span(self, estimator, left, stance_left, right, stance_right, self._fuse_span)
+
+    def _fuse_span(self, estimator, left, stance_left, right, stance_right) -> FusionResult:
+        """:meth:`fuse` on feet that share their whole time span."""
         filt0, singles = start_joint(estimator, left, stance_left, right, stance_right, self.step_width_m, return_singles=True)
         meta: dict = {"fusion": self.describe()}
         if self.initial_heading == "dtw":

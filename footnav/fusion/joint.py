@@ -6,21 +6,36 @@ of its first step, then starts the joint :class:`~footnav.core.ins_filter.InsFil
 foot turned so that its first step points along +x and the feet ``step_width_m`` apart across it
 (left foot at +y). :func:`finish_joint` smooths the run as the estimator says and returns both
 feet and their midpoint path.
+
+:func:`fuse_on_common_span` is what every coupled fusion's ``fuse`` is: the feet cut to their
+common time span (:func:`footnav.core.spans.common_span`; refused with InvalidInputError when
+they share less than 3 s), fused there, and each foot's samples outside that span filled with
+the foot estimated alone (the estimator on the whole foot), turned and moved rigidly so that it
+continues the fused foot at the span's edge (for the start: at the fused estimate's first
+stance). The returned trajectories stay sample-aligned with each foot's input;
+``meta["span"]`` says which samples were fused and which estimated alone.
 """
 
 from __future__ import annotations
 
+import warnings
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
 
-from footnav.core.errors import CompositionError
+from footnav.core import quaternion as quat
+from footnav.core.errors import CompositionError, DataQualityWarning, InvalidInputError
 from footnav.core.ins_filter import InsFilter
 from footnav.core.smoothing import smooth
-from footnav.core.types import FusionResult, ImuData, StanceResult
+from footnav.core.spans import FootCut, common_span, slice_stance
+from footnav.core.types import FootTrajectory, FusionResult, ImuData, StanceResult
 from footnav.fusion.independent import midpoint_path
 
-__all__ = ["start_joint", "finish_joint", "require_stepable", "check_two_feet"]
+__all__ = ["check_two_feet", "finish_joint", "fuse_on_common_span", "require_stepable", "start_joint"]
+
+#: What a coupled fusion does with a foot's samples outside the common span (meta and warning).
+OUTSIDE_SPAN = "each foot's samples outside it are that foot estimated alone, continued rigidly from the fused edge"
 
 #: Feet indices in the joint filter.
 LEFT, RIGHT = 0, 1
@@ -82,3 +97,94 @@ def finish_joint(estimator: Any, filt: InsFilter, stance_left: StanceResult, sta
     left = estimator.trajectory(filt, LEFT, stance_left, smoothed)
     right = estimator.trajectory(filt, RIGHT, stance_right, smoothed)
     return FusionResult(left=left, right=right, path=midpoint_path(left, right), meta=meta)
+
+
+def _continue_alone(fused: FootTrajectory, alone: FootTrajectory, cut: FootCut) -> tuple[FootTrajectory, dict]:
+    """``fused`` (samples ``cut.start_index:cut.stop_index`` of the foot) on the foot's whole
+    sample grid: outside, ``alone`` (the foot estimated alone) turned about z and moved so that
+    it meets the fused foot at the anchor sample (the span's last sample after it; the fused
+    estimate's start, i.e. its first stance, before it)."""
+    i0, i1 = cut.start_index, cut.stop_index
+    pos, vel, q = alone.position.copy(), alone.velocity.copy(), alone.quaternion.copy()
+    std = alone.position_std.copy()
+    s0 = int(fused.meta.get("estimate_start_index", 0)) if i0 > 0 else 0
+    first = i0 + s0  # the first fused sample kept
+    pos[first:i1], vel[first:i1] = fused.position[s0:], fused.velocity[s0:]
+    q[first:i1], std[first:i1] = fused.quaternion[s0:], fused.position_std[s0:]
+    for lo, hi, anchor in ((0, first, first), (i1, cut.n_samples, i1 - 1)):
+        if hi <= lo:
+            continue
+        k = anchor - i0  # in the fused trajectory
+        turn = float(quat.yaw(fused.quaternion[k]) - quat.yaw(alone.quaternion[anchor]))
+        c, s = np.cos(turn), np.sin(turn)
+        rot = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+        pos[lo:hi] = (alone.position[lo:hi] - alone.position[anchor]) @ rot.T + fused.position[k]
+        vel[lo:hi] = alone.velocity[lo:hi] @ rot.T
+        q[lo:hi] = quat.multiply(quat.from_yaw(turn), alone.quaternion[lo:hi])
+        # the fused uncertainty at the edge plus what the foot alone gained since (or before)
+        grow = np.maximum(alone.position_std[lo:hi] ** 2 - alone.position_std[anchor] ** 2, 0.0)
+        std[lo:hi] = np.sqrt(fused.position_std[k] ** 2 + grow)
+    alone_idx = [[0, first], [i1, cut.n_samples]]
+    info = {"fused_samples": [first, i1], "alone_samples": [r for r in alone_idx if r[1] > r[0]]}
+    traj = FootTrajectory(
+        t=alone.t, position=pos, velocity=vel, quaternion=q, position_std=std, steps=alone.steps,
+        meta={**fused.meta, "span": info, "estimate_start_index": first if i0 > 0 else fused.meta.get("estimate_start_index", 0)},
+    )
+    return traj, info
+
+
+def fuse_on_common_span(
+    fusion: Any,
+    estimator: Any,
+    left: ImuData,
+    stance_left: StanceResult,
+    right: ImuData | None,
+    stance_right: StanceResult | None,
+    fuse_span: Callable[..., FusionResult],
+) -> FusionResult:
+    """Run ``fuse_span(estimator, left, stance_left, right, stance_right)`` on the feet's common
+    time span (module docstring); ``meta["span"]`` records the span and each foot's cut.
+
+    Raises
+    ------
+    CompositionError
+        As :func:`check_two_feet`.
+    InvalidInputError
+        Field ``t``: the feet share no (or less than 3 s of) time span, or the common span holds
+        no stance of a foot.
+    """
+    check_two_feet(fusion, estimator, right, stance_right)
+    assert right is not None and stance_right is not None
+    pairs = ((left, stance_left), (right, stance_right))
+    if any(len(st.mask) != len(imu.t) for imu, st in pairs):
+        return fuse_span(estimator, left, stance_left, right, stance_right)  # the estimator names the bad mask
+    span = common_span(left, right, fusion=fusion.name)
+    if not span.cut:
+        result = fuse_span(estimator, left, stance_left, right, stance_right)
+        return FusionResult(result.left, result.right, result.path, meta={**result.meta, "span": {**span.as_meta(), "outside": None}})
+    if span.warn:
+        warnings.warn(span.message(fusion.name, OUTSIDE_SPAN), DataQualityWarning, stacklevel=3)
+    cuts = (span.left, span.right)
+    feet, stances = [], []
+    for (imu, st), cut, name in zip(pairs, cuts, ("left", "right")):
+        st_cut = slice_stance(st, cut.start_index, cut.stop_index)
+        if not st_cut.mask.any():
+            raise InvalidInputError(
+                f"fusion {fusion.name!r}: the common span {span.start_s:.6g}..{span.stop_s:.6g} s holds no stance "
+                f"of the {name} foot; nothing to fuse there",
+                field="t",
+            )
+        feet.append(imu.slice(cut.start_index, cut.stop_index))
+        stances.append(st_cut)
+    result = fuse_span(estimator, feet[0], stances[0], feet[1], stances[1])
+    out, infos = [], {}
+    for (imu, st), cut, fused, name in zip(pairs, cuts, (result.left, result.right), ("left", "right")):
+        if not cut.cut:
+            out.append(fused)
+            continue
+        alone = estimator.estimate(imu, st)
+        traj, infos[name] = _continue_alone(fused, alone, cut)
+        out.append(traj)
+    meta = {**result.meta, "span": {**span.as_meta(), "outside": OUTSIDE_SPAN, **{f"{k}_samples": v for k, v in infos.items()}}}
+    path = result.path
+    return FusionResult(left=out[0], right=out[1], path=type(path)(t=path.t, position=path.position, meta={**path.meta, "span": [span.start_s, span.stop_s]}), meta=meta)

@@ -68,7 +68,7 @@ from numpy.typing import NDArray
 
 from footnav.core.component import Fusion, require, require_non_negative
 from footnav.core.types import FusionResult
-from footnav.fusion.joint import LEFT, RIGHT, check_two_feet, finish_joint, start_joint
+from footnav.fusion.joint import LEFT, RIGHT, finish_joint, fuse_on_common_span, start_joint
 
 __all__ = ["ParticleFusion", "systematic_resample", "offset_rayleigh", "gaussian_sum", "equivalent_measurement"]
 
@@ -330,8 +330,15 @@ class ParticleFusion(Fusion):
         require_non_negative(self, "sigma_sys_m", "step_width_m")
 
     def fuse(self, estimator, left, stance_left, right=None, stance_right=None) -> FusionResult:
-        """Both feet's EKFs with their horizontal positions carried by particle clouds."""
-        check_two_feet(self, estimator, right, stance_right)
+        """Both feet's EKFs with their horizontal positions carried by particle clouds.
+
+        On the feet's common time span; outside it each foot alone
+        (:func:`footnav.fusion.joint.fuse_on_common_span`).
+        """
+        return fuse_on_common_span(self, estimator, left, stance_left, right, stance_right, self._fuse_span)
+
+    def _fuse_span(self, estimator, left, stance_left, right, stance_right) -> FusionResult:
+        """:meth:`fuse` on feet that share their whole time span."""
         rng = np.random.default_rng(self.seed)
         n = int(self.n_particles)
         filt = start_joint(estimator, left, stance_left, right, stance_right, self.step_width_m)

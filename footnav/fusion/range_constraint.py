@@ -19,7 +19,7 @@ import numpy as np
 
 from footnav.core.component import Fusion, is_number, require, require_positive
 from footnav.core.types import FusionResult
-from footnav.fusion.joint import LEFT, RIGHT, finish_joint, check_two_feet, start_joint
+from footnav.fusion.joint import LEFT, RIGHT, finish_joint, fuse_on_common_span, start_joint
 
 __all__ = ["RangeConstraintFusion"]
 
@@ -74,8 +74,15 @@ class RangeConstraintFusion(Fusion):
         require(self.projection in PROJECTIONS, self, "projection", " or ".join(map(repr, PROJECTIONS)))
 
     def fuse(self, estimator, left, stance_left, right=None, stance_right=None) -> FusionResult:
-        """Both feet in one filter; separations beyond the bound are projected back onto it."""
-        check_two_feet(self, estimator, right, stance_right)
+        """Both feet in one filter; separations beyond the bound are projected back onto it.
+
+        On the feet's common time span; outside it each foot alone
+        (:func:`footnav.fusion.joint.fuse_on_common_span`).
+        """
+        return fuse_on_common_span(self, estimator, left, stance_left, right, stance_right, self._fuse_span)
+
+    def _fuse_span(self, estimator, left, stance_left, right, stance_right) -> FusionResult:
+        """:meth:`fuse` on feet that share their whole time span."""
         imus, stances = (left, right), (stance_left, stance_right)
         filt = start_joint(estimator, left, stance_left, right, stance_right, self.step_width_m)
         t0, t1 = max(left.t[0], right.t[0]), min(left.t[-1], right.t[-1])

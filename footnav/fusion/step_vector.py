@@ -34,7 +34,7 @@ from footnav.core import quaternion as quat
 from footnav.core.component import Fusion, is_number, require, require_non_negative, require_positive
 from footnav.core.errors import CompositionError
 from footnav.core.types import FusionResult, ImuData, StanceResult
-from footnav.fusion.joint import LEFT, RIGHT, finish_joint, check_two_feet, start_joint
+from footnav.fusion.joint import LEFT, RIGHT, finish_joint, fuse_on_common_span, start_joint
 
 __all__ = ["StepVectorFusion", "pendulum_step_length"]
 
@@ -173,8 +173,15 @@ class StepVectorFusion(Fusion):
 
     # -- the fusion -----------------------------------------------------------------------------
     def fuse(self, estimator, left, stance_left, right=None, stance_right=None) -> FusionResult:
-        """Both feet in one filter with a relative-position update at every straight step."""
-        check_two_feet(self, estimator, right, stance_right)
+        """Both feet in one filter with a relative-position update at every straight step.
+
+        On the feet's common time span; outside it each foot alone
+        (:func:`footnav.fusion.joint.fuse_on_common_span`).
+        """
+        return fuse_on_common_span(self, estimator, left, stance_left, right, stance_right, self._fuse_span)
+
+    def _fuse_span(self, estimator, left, stance_left, right, stance_right) -> FusionResult:
+        """:meth:`fuse` on feet that share their whole time span."""
         imus, stances = (left, right), (stance_left, stance_right)
         filt, singles = start_joint(estimator, left, stance_left, right, stance_right, self.step_width_m, return_singles=True)
         leg = self.leg_length_m if self.leg_length_m is not None else self._fit_leg_length(imus, stances, singles)

@@ -3,13 +3,22 @@
 The baseline every dual-foot method is compared with. With two feet the path is the midpoint of the
 feet on the left foot's time grid (the right foot interpolated linearly, within the common time
 span); with one foot the path is that foot.
+
+Each foot is estimated over its own whole time span. When the feet's spans differ markedly
+(starts or ends more than 2 s or 5 % of the longer recording apart,
+:func:`footnav.core.spans.span_difference`) the fusion warns (DataQualityWarning); the spans and
+their differences are in ``meta["span"]`` whenever both feet are given.
 """
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 
 from footnav.core.component import Fusion
+from footnav.core.errors import DataQualityWarning
+from footnav.core.spans import span_difference
 from footnav.core.types import FootTrajectory, FusionResult, Path
 
 __all__ = ["IndependentFusion", "midpoint_path"]
@@ -39,8 +48,12 @@ class IndependentFusion(Fusion):
 
     def fuse(self, estimator, left, stance_left, right=None, stance_right=None) -> FusionResult:
         """Estimate each foot with ``estimator`` and average them into the pedestrian path."""
+        meta: dict = {"fusion": self.describe()}
+        if right is not None and len(left.t) and len(right.t):
+            diff = span_difference(left, right)
+            if diff["marked"]:
+                warnings.warn(f"fusion {self.name!r}: {diff['message']}", DataQualityWarning, stacklevel=3)
+            meta["span"] = {k: v for k, v in diff.items() if k != "message"}
         traj_left = estimator.estimate(left, stance_left)
         traj_right = None if right is None else estimator.estimate(right, stance_right)
-        return FusionResult(
-            left=traj_left, right=traj_right, path=midpoint_path(traj_left, traj_right), meta={"fusion": self.describe()}
-        )
+        return FusionResult(left=traj_left, right=traj_right, path=midpoint_path(traj_left, traj_right), meta=meta)

@@ -28,10 +28,10 @@ from dataclasses import dataclass
 from typing import Literal
 
 import numpy as np
-from numba import njit
 from numpy.typing import ArrayLike, NDArray
 from scipy.optimize import minimize_scalar
 
+from footnav.core._numba import njit  # numba.njit that survives a read-only install
 from footnav.core.errors import InvalidInputError, InvalidParameterError
 
 __all__ = [

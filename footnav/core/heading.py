@@ -10,9 +10,9 @@ pass: the estimators hand over arrays nothing else holds.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 from numpy.typing import NDArray
 
+from footnav.core._numba import njit  # numba.njit that survives a read-only install
 
 __all__ = ["MIN_FIRST_STEP_M", "heading_of_first_step", "rotate_about_z", "turn_to_first_step"]
 

@@ -34,9 +34,9 @@ from dataclasses import dataclass, field
 from typing import NamedTuple
 
 import numpy as np
-from numba import njit
 from numpy.typing import NDArray
 
+from footnav.core._numba import njit  # numba.njit that survives a read-only install
 from footnav.core.buffers import staggered
 from footnav.core.errors import InvalidInputError
 from footnav.core.mechanization import strapdown_step

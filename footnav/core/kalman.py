@@ -13,8 +13,9 @@ from plain Python. Notation as in Simon, *Optimal State Estimation* (2006), ch. 
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 from numpy.typing import NDArray
+
+from footnav.core._numba import njit  # numba.njit that survives a read-only install
 
 __all__ = ["workspace", "predict", "update", "update_block", "rts_step", "symmetrize", "spd_inverse"]
 

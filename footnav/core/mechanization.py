@@ -14,9 +14,9 @@ with the trapezoidal rule.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 from numpy.typing import NDArray
 
+from footnav.core._numba import njit  # numba.njit that survives a read-only install
 from footnav.core.quaternion import as_matrix_nb, from_rotvec_nb, normalize_nb
 from footnav.core.types import GRAVITY_MPS2, ImuData
 

@@ -9,8 +9,9 @@ written into a preallocated output, no allocation).
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 from numpy.typing import ArrayLike, NDArray
+
+from footnav.core._numba import njit  # numba.njit that survives a read-only install
 
 __all__ = [
     "IDENTITY",

@@ -34,9 +34,9 @@ import time
 from typing import Literal
 
 import numpy as np
-from numba import njit
 
 from footnav.core import quaternion as quat
+from footnav.core._numba import njit  # numba.njit that survives a read-only install
 from footnav.core.component import FootEstimator, require, require_non_negative, require_positive
 from footnav.core.heading import turn_to_first_step
 from footnav.core.initial_alignment import MIN_STILL_SAMPLES, Alignment, align_first_stance

@@ -63,9 +63,9 @@ from numbers import Integral
 from typing import ClassVar
 
 import numpy as np
-from numba import njit
 from numpy.typing import NDArray
 
+from footnav.core._numba import njit  # numba.njit that survives a read-only install
 from footnav.core.component import Fusion, require, require_non_negative
 from footnav.core.types import FusionResult
 from footnav.fusion.joint import LEFT, RIGHT, finish_joint, fuse_on_common_span, start_joint

@@ -15,43 +15,40 @@ scanned line by line, to name the first bad line and column.
 from __future__ import annotations
 
 import warnings
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path as FilePath
-from typing import Any, Mapping, Sequence
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
 from footnav.core.errors import DataNotFoundError, DataQualityWarning, InvalidInputError
-from footnav.core.types import GRAVITY_MPS2, ImuData
+from footnav.core.types import (  # noqa: F401  (CLIP_*: re-exported, they were defined here)
+    CLIP_FRACTION_OF_FULL_SCALE,
+    CLIP_MIN_ACC_MPS2,
+    CLIP_MIN_GYR_RADPS,
+    CLIP_MIN_REPEATS,
+    ImuData,
+    detect_clipping,
+)
 
 __all__ = [
-    "TextFile",
-    "check_file",
-    "read_text",
-    "split_header",
-    "parse_table",
-    "build_imu",
-    "detect_clipping",
-    "remap_indices",
-    "changes_of",
     "ROTATE_180_ABOUT_X",
+    "TextFile",
+    "build_imu",
+    "changes_of",
+    "check_file",
+    "detect_clipping",
+    "parse_table",
+    "read_text",
+    "remap_indices",
+    "split_header",
 ]
 
 #: Proper rotation of 180 degrees about x: (x, y, z) -> (x, -y, -z). Turns a z-down frame into a
 #: z-up one without mirroring (a z flip alone would be a reflection, det = -1).
 ROTATE_180_ABOUT_X = np.diag([1.0, -1.0, -1.0])
-
-#: An extreme value held by at least this many samples of one axis is a full-scale plateau.
-CLIP_MIN_REPEATS = 3
-#: Plateaus below this magnitude are the rest readings of a quantised sensor, not clipping.
-CLIP_MIN_ACC_MPS2 = 2.0 * GRAVITY_MPS2
-#: Gyroscope plateaus below this magnitude (rad/s, ~290 deg/s) are not clipping either.
-CLIP_MIN_GYR_RADPS = 5.0
-#: With a known full scale, readings at or above this fraction of it count as clipped: after the
-#: sensor's calibration (scale, cross-axis) a saturated raw axis is no longer one constant value.
-CLIP_FRACTION_OF_FULL_SCALE = 0.98
-
 
 @dataclass(frozen=True)
 class TextFile:
@@ -209,59 +206,6 @@ def _scan(
     return out
 
 
-def detect_clipping(
-    acc: NDArray[np.float64], gyr: NDArray[np.float64], *, acc_full_scale_mps2: float | None = None
-) -> dict[str, Any] | None:
-    """Find samples at the sensor's full scale.
-
-    Two rules, either marks a sample of one axis as clipped:
-
-    * plateau: the axis' largest (or smallest) value is held by at least ``CLIP_MIN_REPEATS``
-      samples and its magnitude is at least ``CLIP_MIN_ACC_MPS2`` (``CLIP_MIN_GYR_RADPS`` for the
-      gyroscope) -- a saturated ADC repeats its maximum code;
-    * full scale (accelerometer, only when the format documents it): ``|a| >=
-      CLIP_FRACTION_OF_FULL_SCALE * acc_full_scale_mps2``.
-
-    Returns
-    -------
-    dict or None
-        ``{"acc": n, "first_index": i, "gyr": m, "gyr_first_index": j, "rule": ...}`` with ``n``
-        (``m``) the number of samples with at least one clipped accelerometer (gyroscope) axis,
-        ``i`` (``j``) the first such sample (None if none); None when nothing is clipped.
-    """
-
-    def plateau(x: NDArray[np.float64], floor: float) -> NDArray[np.bool_]:
-        hit = np.zeros(x.shape, dtype=bool)
-        for k in range(x.shape[1]):
-            col = x[:, k]
-            for extreme in (col.max(), col.min()):
-                if abs(extreme) >= floor:
-                    same = col == extreme
-                    if same.sum() >= CLIP_MIN_REPEATS:
-                        hit[:, k] |= same
-        return hit
-
-    acc_hit = plateau(acc, CLIP_MIN_ACC_MPS2)
-    if acc_full_scale_mps2 is not None:
-        acc_hit |= np.abs(acc) >= CLIP_FRACTION_OF_FULL_SCALE * acc_full_scale_mps2
-    gyr_hit = plateau(gyr, CLIP_MIN_GYR_RADPS)
-    acc_rows = acc_hit.any(axis=1)
-    gyr_rows = gyr_hit.any(axis=1)
-    if not acc_rows.any() and not gyr_rows.any():
-        return None
-    rule = f"extreme value repeated >= {CLIP_MIN_REPEATS} times"
-    if acc_full_scale_mps2 is not None:
-        rule += f", or |acc| >= {CLIP_FRACTION_OF_FULL_SCALE:g} x full scale {acc_full_scale_mps2:.4g} m/s^2"
-    return {
-        "acc": int(acc_rows.sum()),
-        "first_index": int(np.argmax(acc_rows)) if acc_rows.any() else None,
-        "gyr": int(gyr_rows.sum()),
-        "gyr_first_index": int(np.argmax(gyr_rows)) if gyr_rows.any() else None,
-        "acc_full_scale_mps2": acc_full_scale_mps2,
-        "rule": rule,
-    }
-
-
 def build_imu(
     t: Any,
     acc: Any,
@@ -285,8 +229,9 @@ def build_imu(
     ``drop_duplicates``; then :meth:`ImuData.from_arrays` drops them and this function adds to
     ``meta["duplicates_dropped"]`` the line of the first one, how many were exact copies of the
     previous row and how many conflicting (same time, different values -- warned). Backwards
-    time always raises. Gaps are reported by ImuData. Clipping is detected with
-    :func:`detect_clipping` and recorded in ``meta["clipped"]`` with a DataQualityWarning.
+    time always raises. Gaps are reported by ImuData. Clipping (:func:`detect_clipping`),
+    the time base and rate, and the units are checked by :meth:`ImuData.from_arrays`, which warns
+    and records its findings in meta (``"clipped"``, ``"rate_check"``, ``"acc_at_rest"``, ...).
 
     Returns
     -------
@@ -363,6 +308,7 @@ def build_imu(
         mag_unit=mag_unit,
         drop_duplicates=drop_duplicates,
         meta=meta,
+        acc_full_scale_mps2=acc_full_scale_mps2,  # clipping is found (and warned) there
     )
     new_meta = dict(imu.meta)
     converted = {
@@ -375,20 +321,6 @@ def build_imu(
     new_meta["units_converted"] = converted
     if dup_info:
         new_meta["duplicates_dropped"] = {**new_meta["duplicates_dropped"], **dup_info}
-    clipped = detect_clipping(imu.acc, imu.gyr, acc_full_scale_mps2=acc_full_scale_mps2)
-    if clipped is not None:
-        new_meta["clipped"] = clipped
-        parts = []
-        if clipped["acc"]:
-            parts.append(f"{clipped['acc']} accelerometer sample(s) (first at index {clipped['first_index']})")
-        if clipped["gyr"]:
-            parts.append(f"{clipped['gyr']} gyroscope sample(s) (first at index {clipped['gyr_first_index']})")
-        warnings.warn(
-            f"{label}: {' and '.join(parts)} at the sensor's full scale: the true value is unknown there "
-            "(clipping); recorded in meta['clipped']",
-            DataQualityWarning,
-            stacklevel=3,
-        )
     return replace(imu, meta=new_meta), keep
 
 

@@ -6,12 +6,15 @@ new component needs no edit to this file.
 
 from __future__ import annotations
 
+import copy
 import sys
 import time
 import warnings
 from contextlib import contextmanager
 from pathlib import Path as FilePath
 from typing import Any, Mapping
+
+import numpy as np
 
 from footnav.core.component import Component, FootEstimator, Fusion, StanceDetector
 from footnav.core.errors import (
@@ -24,7 +27,7 @@ from footnav.core.errors import (
     PluginError,
 )
 from footnav.core.stance_check import check_stances
-from footnav.core.types import ImuData, PipelineResult, Recording
+from footnav.core.types import FusionResult, ImuData, PipelineResult, Recording, StanceResult
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -141,26 +144,70 @@ class Pipeline:
                 f"step-able filter (start(imus, stances)), such as 'ekf'; {self.estimator.name!r} has none"
             )
 
+    @staticmethod
+    def _origin(comp: Component) -> str:
+        try:
+            return _registry().get(comp.kind, comp.name).origin
+        except FootnavError:
+            return type(comp).__module__
+
     @contextmanager
     def _blame(self, *components: Component):
-        """Turn an unexpected exception of a third-party component into a PluginError naming it."""
+        """Turn an unexpected exception of a third-party component into a PluginError naming it.
+
+        ``SystemExit`` too: a plugin that calls ``sys.exit`` must not end the user's program (the
+        CLI exited 0 with no results). Ctrl-C (KeyboardInterrupt) passes.
+        """
         try:
             yield
         except FootnavError:
             raise
-        except Exception as exc:
-            reg = _registry()
+        except (Exception, SystemExit) as exc:
             for comp in components:
-                try:
-                    origin = reg.get(comp.kind, comp.name).origin
-                except FootnavError:
-                    origin = type(comp).__module__
+                origin = self._origin(comp)
                 if origin != "footnav":
                     raise PluginError(
                         f"{comp.kind} {comp.name!r} from {origin} failed: {type(exc).__name__}: {exc} "
                         f"(a bug in that package; the other components are unaffected)"
                     ) from exc
             raise
+
+    def _faulty(self, comp: Component, what: str) -> Exception:
+        """The error for a component whose output breaks its contract: a PluginError naming a
+        third-party package, a RuntimeError (a bug to report) for footnav's own."""
+        origin = self._origin(comp)
+        if origin != "footnav":
+            return PluginError(f"{comp.kind} {comp.name!r} from {origin} {what} (a bug in that package)")
+        return RuntimeError(f"footnav's {comp.kind} {comp.name!r} {what}; please report this bug")
+
+    def _check_stance_output(self, stance: Any, imu: ImuData | None, foot: str) -> None:
+        if imu is None:
+            return
+        if not isinstance(stance, StanceResult):
+            raise self._faulty(self.detector, f"returned {type(stance).__name__} for the {foot} foot, not a StanceResult")
+        if len(stance.mask) != imu.n_samples:
+            raise self._faulty(
+                self.detector,
+                f"returned a stance mask of {len(stance.mask)} samples for the {foot} foot's {imu.n_samples}",
+            )
+
+    def _check_fused_output(self, fused: Any, left: ImuData, right: ImuData | None) -> None:
+        culprit = self.fusion if self._origin(self.fusion) != "footnav" else self.estimator
+        if not isinstance(fused, FusionResult):
+            raise self._faulty(self.fusion, f"returned {type(fused).__name__}, not a FusionResult")
+        for foot, traj, imu in (("left", fused.left, left), ("right", fused.right, right)):
+            if imu is None:
+                continue
+            if traj is None or len(traj.t) != imu.n_samples:
+                n = "no trajectory" if traj is None else f"a trajectory of {len(traj.t)} samples"
+                raise self._faulty(culprit, f"returned {n} for the {foot} foot's {imu.n_samples} samples")
+            bad = ~np.isfinite(traj.position).all(axis=1)
+            if bad.any():
+                raise self._faulty(
+                    culprit,
+                    f"returned non-finite positions for the {foot} foot (first at sample {int(np.argmax(bad))}, "
+                    f"{int(bad.sum())} in all)",
+                )
 
     def _check_stances(self, left, stance_left, right, stance_right) -> dict[str, Any]:
         """Each foot's stances against its gait cycles (:mod:`footnav.core.stance_check`); warns
@@ -204,14 +251,19 @@ class Pipeline:
             magnetometer=left.has_mag and (right is None or right.has_mag),
         )
         t0 = time.perf_counter()
+        # the inputs' provenance as given, before any component could touch it
+        inputs = {"left": copy.deepcopy(dict(left.meta)), "right": None if right is None else copy.deepcopy(dict(right.meta))}
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
             with self._blame(self.detector):
                 stance_left, stance_right = self.detector.detect_pair(left, right)
+            self._check_stance_output(stance_left, left, "left")
+            self._check_stance_output(stance_right, right, "right")
             stance_checks = self._check_stances(left, stance_left, right, stance_right)
             # the fusion drives the estimator: a failure inside names whichever is not footnav's
             with self._blame(self.fusion, self.estimator):
                 fused = self.fusion.fuse(self.estimator, left, stance_left, right, stance_right)
+            self._check_fused_output(fused, left, right)
         for w in caught:  # recorded for provenance, and still shown to the caller
             warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
         from footnav import __version__
@@ -222,7 +274,7 @@ class Pipeline:
             "warnings": [f"{w.category.__name__}: {w.message}" for w in caught],
             "stance_check": stance_checks,
             "runtime_s": time.perf_counter() - t0,
-            "input": {"left": dict(left.meta), "right": None if right is None else dict(right.meta)},
+            "input": inputs,
         }
         return PipelineResult(
             left=fused.left,

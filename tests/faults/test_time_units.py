@@ -4,6 +4,7 @@ DataQualityWarning whose finding is recorded in ``meta``."""
 
 from __future__ import annotations
 
+import os
 import warnings
 
 import numpy as np
@@ -11,7 +12,7 @@ import pytest
 
 import footnav
 from footnav import DataQualityWarning, InvalidInputError
-from footnav.core.io import read_footnav_csv
+from footnav.core.io import load, read_footnav_csv
 from footnav.core.io.footnav_csv import write_footnav_csv
 from footnav.core.types import GRAVITY_MPS2, ImuData
 
@@ -204,3 +205,51 @@ def test_a_clean_walk_raises_no_check(walk):
     t, acc, gyr = _arrays(walk.left)
     imu = _quiet(ImuData.from_arrays, t, acc, gyr)
     assert not {"rate_check", "gyr_unit_check", "acc_at_rest", "clipped"} & set(imu.meta)
+
+
+# -- format guessing never invents a rate ---------------------------------------------------------------
+def _headerless(walk, path):
+    rows = np.hstack([walk.left.acc, walk.left.gyr])
+    path.write_text("\n".join(",".join(f"{v:.6f}" for v in r) for r in rows.tolist()) + "\n")
+    return path
+
+
+def test_headerless_six_columns_are_refused_without_a_rate(walk, tmp_path):
+    path = _headerless(walk, tmp_path / "sensor100hz.csv")
+    with pytest.raises(InvalidInputError, match="rate_hz=") as err:
+        load(path)
+    assert err.value.field == "rate_hz" and err.value.path == str(path)
+    rec = _quiet(load, path, rate_hz=100.0)  # the user says the rate: read, and recorded as guessed
+    assert rec.meta["format"] == "openshoe" and rec.left.rate_hz == pytest.approx(100.0)
+    assert rec.left.duration_s == pytest.approx(walk.left.duration_s)
+    named = _headerless(walk, tmp_path / "OpenShoe_trial.txt")  # the name is the evidence for 820 Hz
+    assert load(named).left.rate_hz == pytest.approx(820.0)
+
+
+# -- bounded reading ---------------------------------------------------------------------------------
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="no FIFOs on this system")
+def test_a_fifo_is_refused_without_blocking(tmp_path):
+    fifo = tmp_path / "pipe.csv"
+    os.mkfifo(fifo)
+    for call in (lambda: read_footnav_csv(fifo), lambda: load(fifo)):
+        with pytest.raises(InvalidInputError, match="FIFO") as err:
+            call()
+        assert err.value.path == str(fifo)
+
+
+@pytest.mark.skipif(not os.path.exists("/dev/zero"), reason="no /dev/zero")
+def test_a_device_is_refused():
+    with pytest.raises(InvalidInputError, match="device"):
+        read_footnav_csv("/dev/zero")
+    with pytest.raises(InvalidInputError, match="device"):
+        load("/dev/zero")
+
+
+def test_a_file_above_the_size_limit_is_refused_with_how_to_raise_it(walk, tmp_path, monkeypatch):
+    path = write_footnav_csv(walk.left, tmp_path / "big.csv")
+    monkeypatch.setenv("FOOTNAV_MAX_INPUT_MB", str(path.stat().st_size / 2e6))
+    with pytest.raises(InvalidInputError, match="FOOTNAV_MAX_INPUT_MB") as err:
+        read_footnav_csv(path)
+    assert err.value.path == str(path)
+    monkeypatch.setenv("FOOTNAV_MAX_INPUT_MB", str(path.stat().st_size / 1e6 + 1))
+    assert read_footnav_csv(path).n_samples == walk.left.n_samples

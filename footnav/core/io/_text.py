@@ -14,6 +14,8 @@ scanned line by line, to name the first bad line and column.
 
 from __future__ import annotations
 
+import os
+import stat
 import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, replace
@@ -39,6 +41,8 @@ __all__ = [
     "build_imu",
     "changes_of",
     "check_file",
+    "max_input_bytes",
+    "DEFAULT_MAX_INPUT_MB",
     "detect_clipping",
     "parse_table",
     "read_text",
@@ -63,23 +67,80 @@ class TextFile:
     ends_with_newline: bool
 
 
+#: Largest input file footnav reads, in MB (10^6 bytes), unless the environment variable
+#: ``FOOTNAV_MAX_INPUT_MB`` says otherwise. Reading a text table takes about 5 x its size in memory
+#: (the text, its lines, the parsed floats): 512 MB of text is ~2.6 GB. The largest shared
+#: recording is under 10 MB; a 62-minute walk at 100 Hz in footnav CSV is ~50 MB.
+DEFAULT_MAX_INPUT_MB = 512.0
+MAX_INPUT_ENV = "FOOTNAV_MAX_INPUT_MB"
+
+
+def max_input_bytes() -> int:
+    """The input size limit in bytes: ``FOOTNAV_MAX_INPUT_MB`` (MB) or ``DEFAULT_MAX_INPUT_MB``."""
+    text = os.environ.get(MAX_INPUT_ENV, "").strip()
+    if not text:
+        return int(DEFAULT_MAX_INPUT_MB * 1e6)
+    try:
+        mb = float(text)
+    except ValueError:
+        mb = float("nan")
+    if not (mb > 0 and np.isfinite(mb)):
+        raise InvalidInputError(f"{MAX_INPUT_ENV}={text!r} is not a positive number of MB", field=MAX_INPUT_ENV)
+    return int(mb * 1e6)
+
+
 def check_file(path: Any, *, what: str = "file") -> FilePath:
-    """Return ``path`` as a Path; DataNotFoundError if it does not exist, InvalidInputError if a folder."""
+    """Return ``path`` as a Path after checking it can be read with bounded memory and time.
+
+    Raises
+    ------
+    DataNotFoundError
+        It does not exist.
+    InvalidInputError
+        A folder; not a regular file (a device such as /dev/zero reads forever, a FIFO blocks
+        until a writer comes); larger than :func:`max_input_bytes` (the message says how to raise
+        the limit).
+    """
     p = FilePath(path)
     if not p.exists():
         raise DataNotFoundError(f"{what} {str(p)!r} does not exist")
     if p.is_dir():
         raise InvalidInputError(f"is a folder; expected a {what}", path=str(p))
+    st = p.stat()
+    if not stat.S_ISREG(st.st_mode):
+        kind = "a FIFO (named pipe)" if stat.S_ISFIFO(st.st_mode) else (
+            "a device" if stat.S_ISCHR(st.st_mode) or stat.S_ISBLK(st.st_mode) else "not a regular file")
+        raise InvalidInputError(
+            f"is {kind}; expected a {what} (footnav reads regular files only: a device or pipe may never end)",
+            path=str(p),
+        )
+    limit = max_input_bytes()
+    if st.st_size > limit:
+        raise InvalidInputError(
+            f"is {st.st_size / 1e6:.0f} MB, above footnav's input limit of {limit / 1e6:g} MB (reading takes about "
+            f"5 x the file size in memory); raise it with the environment variable {MAX_INPUT_ENV}=<MB>",
+            path=str(p),
+        )
     return p
 
 
 def read_text(path: Any, *, what: str = "file") -> TextFile:
-    """Read a text file (UTF-8, optional BOM). Empty files (only blank lines) are an error."""
+    """Read a text file (UTF-8, optional BOM) checked by :func:`check_file`. Empty files (only
+    blank lines) are an error."""
     p = check_file(path, what=what)
+    limit = max_input_bytes()
+    with p.open("rb") as fh:
+        raw = fh.read(limit + 1)  # bounded even if the file grows after the check
+    if len(raw) > limit:
+        raise InvalidInputError(
+            f"grew beyond footnav's input limit of {limit / 1e6:g} MB while being read; raise it with the "
+            f"environment variable {MAX_INPUT_ENV}=<MB>",
+            path=str(p),
+        )
     try:
-        text = p.read_text(encoding="utf-8-sig")
+        text = raw.decode("utf-8-sig")
     except UnicodeDecodeError as exc:
-        line = p.read_bytes()[: exc.start].count(b"\n") + 1
+        line = raw[: exc.start].count(b"\n") + 1
         raise InvalidInputError(
             f"not a UTF-8 text file ({exc.reason} at byte {exc.start})", path=str(p), line=line
         ) from None

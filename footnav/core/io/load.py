@@ -7,6 +7,12 @@ frequency: ...``, name ``<stem>_lf.txt`` / ``<stem>_rf.txt`` with its other foot
 read as the two-foot IPOL trial, not as a one-sensor Xsens export. The guess is logged (``logging`` INFO on ``footnav.core.io.load``) and recorded:
 ``meta["format"]`` and ``meta["format_guessed"] = True``. A file matching no known format is an
 InvalidInputError listing the formats.
+
+A guess never invents a sampling rate: a headerless file of 6 numeric columns (the OpenShoe
+layout, no time column) is read as OpenShoe at 820 Hz only when its name says OpenShoe
+(``OpenShoeDataSet.txt``); otherwise ``load`` refuses it unless ``rate_hz`` is given. Devices,
+FIFOs and files above the input size limit are refused before anything is read
+(:func:`footnav.core.io._text.check_file`).
 """
 
 from __future__ import annotations
@@ -18,12 +24,13 @@ from pathlib import Path as FilePath
 from typing import Any, Callable
 
 from footnav.core.errors import DataNotFoundError, InvalidInputError
+from footnav.core.io._text import check_file
 from footnav.core.io.azure_fgo import AZURE_FGO_FILES, read_azure_fgo
 from footnav.core.io.footnav_csv import read_footnav_folder, read_footnav_recording
 from footnav.core.io.gaitdriven import GAITDRIVEN_VARIABLES, read_gaitdriven
 from footnav.core.io.gaitmap import read_gaitmap
 from footnav.core.io.ipol import ipol_trial_files, read_ipol
-from footnav.core.io.openshoe import read_openshoe
+from footnav.core.io.openshoe import OPENSHOE_RATE_HZ, read_openshoe
 from footnav.core.io.pyshoe import read_pyshoe
 from footnav.core.io.xio import read_xio
 from footnav.core.io.xsens import read_xsens
@@ -109,6 +116,7 @@ def guess_format(path: Any) -> tuple[str, str, dict[str, Any]]:
             "pass format=...",
             path=str(p),
         )
+    check_file(p)  # a device or FIFO would block the sniffing below; a huge file is refused
     if p.suffix.lower() == ".mat":
         from scipy.io import whosmat
 
@@ -155,7 +163,12 @@ def guess_format(path: Any) -> tuple[str, str, dict[str, Any]]:
     if header.replace(" ", "").startswith("t,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z"):
         return "footnav_csv", "footnav CSV header 't,acc_x,...'", {}
     if _is_numeric_row(first, 6):
-        return "openshoe", "no header, 6 numeric comma-separated columns (OpenShoe)", {}
+        # No header and no time column: the layout fits OpenShoe, but nothing in the file gives the
+        # rate, and a wrong rate scales every distance (a 100 Hz file read at 820 Hz: 20 m -> 0.2 m).
+        # The OpenShoe rate is taken only when the file name says OpenShoe; else load() needs rate_hz.
+        if "openshoe" in p.name.lower():
+            return "openshoe", f"no header, 6 numeric columns, file name says OpenShoe: {OPENSHOE_RATE_HZ:g} Hz", {}
+        return "openshoe", "no header, 6 numeric comma-separated columns (OpenShoe layout)", {"_needs_rate": True}
     raise InvalidInputError(
         f"cannot tell the format from the first line {first[:80]!r}; known formats: {known}; pass format=...",
         path=str(p),
@@ -202,6 +215,14 @@ def load(path: Any, format: str | None = None, **options: Any) -> Recording:
     else:
         format, reason, implied = guess_format(p)
         target = implied.pop("_path", p)
+        if implied.pop("_needs_rate", False) and "rate_hz" not in options:
+            raise InvalidInputError(
+                "no header and no time column: 6 numeric columns fit the OpenShoe layout (acc m/s^2, gyr rad/s), "
+                "but the file does not say its sampling rate, and a wrong rate scales every distance; pass it: "
+                f"load(path, rate_hz=100.0), or format='openshoe' for the OpenShoe data set's {OPENSHOE_RATE_HZ:g} Hz",
+                path=str(p),
+                field="rate_hz",
+            )
         log.info("footnav.load: reading %s as %r (%s)", p, format, reason)
         rec = READERS[format](target, **{**implied, **options})
         guessed = True

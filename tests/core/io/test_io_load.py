@@ -53,7 +53,7 @@ def _make(kind, tmp):
         p.write_text(header + "\n".join(_rows(10, "\t", str)) + "\n")
         return p
     if kind == "openshoe":
-        p = tmp / "shoe.txt"
+        p = tmp / "OpenShoe_walk.txt"  # the name is the evidence for the 820 Hz rate
         p.write_text("\n".join(",".join(r.split(",")[1:]) for r in _rows(10)) + "\n")
         return p
     if kind == "gaitmap":

@@ -14,9 +14,8 @@ import inspect
 import math
 import re
 from dataclasses import dataclass
+from numbers import Integral, Real
 from typing import Any, ClassVar, Mapping
-
-from numbers import Real
 
 from footnav.core.errors import InvalidParameterError
 
@@ -30,6 +29,7 @@ __all__ = [
     "is_number",
     "require_positive",
     "require_non_negative",
+    "require_in_range",
 ]
 
 #: Unit suffix of a parameter name -> unit, longest suffix first.
@@ -246,15 +246,81 @@ def is_number(value: Any) -> bool:
     return isinstance(value, Real) and not isinstance(value, bool) and math.isfinite(value)
 
 
-def require_positive(component: Component, *names: str) -> None:
-    """InvalidParameterError naming the first of ``names`` that is not a positive number."""
-    for name in names:
-        value = getattr(component, name)
-        require(is_number(value) and value > 0, component, name, "a positive number")
+def require_positive(component: Component, *names: str, high: float = math.inf) -> None:
+    """InvalidParameterError naming the first of ``names`` that is not a number in (0, high]."""
+    require_in_range(component, *names, low=0.0, high=high, low_open=True)
 
 
-def require_non_negative(component: Component, *names: str) -> None:
-    """InvalidParameterError naming the first of ``names`` that is not a number >= 0."""
+def require_non_negative(component: Component, *names: str, high: float = math.inf) -> None:
+    """InvalidParameterError naming the first of ``names`` that is not a number in [0, high]."""
+    require_in_range(component, *names, low=0.0, high=high)
+
+
+# Upper bounds shared by the built-in components' parameters (listed in docs/reliability.md).
+# Each lies far above any value that makes sense and far below where a value would exhaust
+# memory or time (durations and rates multiply into sample counts) or overflow (standard
+# deviations and noise densities are squared, 1e308 ** 2 is inf).
+#: Windows, minimum durations, gait intervals in s: no gait event lasts a minute.
+MAX_DURATION_S = 60.0
+#: Angular rates (thresholds, noise, bias walks) in rad/s: 30x a 2000 deg/s full scale.
+MAX_RATE_RADPS = 1000.0
+#: Accelerations (thresholds, noise, bias walks) in m/s^2: about 100 g.
+MAX_ACC_MPS2 = 1000.0
+#: Lengths and their standard deviations in m (foot separation, step geometry).
+MAX_LENGTH_M = 100.0
+#: Velocity standard deviations in m/s.
+MAX_SPEED_MPS = 100.0
+#: Angle standard deviations in rad: above 2 pi an angle is not known at all.
+MAX_ANGLE_RAD = 10.0
+
+
+def _format_bound(value: float) -> str:
+    return f"{value:g}" if math.isfinite(value) else ("inf" if value > 0 else "-inf")
+
+
+def require_in_range(
+    component: Component,
+    *names: str,
+    low: float,
+    high: float,
+    low_open: bool = False,
+    high_open: bool = False,
+    integer: bool = False,
+) -> None:
+    """InvalidParameterError naming the first of ``names`` outside ``low .. high``.
+
+    The upper bounds of footnav's parameters are where a larger value would exhaust memory or
+    time (windows and rates that multiply into sample counts) or overflow (a standard deviation
+    is squared), set well above any value that makes sense; docs/reliability.md lists them.
+
+    Parameters
+    ----------
+    component
+        The component whose attributes are checked; the message names its kind and name.
+    *names
+        Parameter names sharing the range.
+    low, high
+        The bounds, included unless ``low_open`` / ``high_open``; ``high=math.inf`` for none.
+    low_open, high_open
+        Exclude the bound: ``low=0, low_open=True`` is "positive".
+    integer
+        Require an integer (``int`` or a numpy integer, not a bool) rather than a finite real.
+
+    Raises
+    ------
+    InvalidParameterError
+        Naming the component, the parameter, its value and the range with the parameter's unit,
+        e.g. ``parameter window_s=1e+308 is invalid; expected a number in (0, 60] s``.
+    """
+    left = "(" if low_open else "["
+    right = ")" if high_open or not math.isfinite(high) else "]"
     for name in names:
         value = getattr(component, name)
-        require(is_number(value) and value >= 0, component, name, "a number >= 0")
+        kind_ok = (isinstance(value, Integral) and not isinstance(value, bool)) if integer else is_number(value)
+        unit = unit_of(name)
+        expected = (
+            f"{'an integer' if integer else 'a number'} in {left}{_format_bound(low)}, {_format_bound(high)}{right}"
+            + (f" {unit}" if unit else "")
+        )
+        ok = kind_ok and (value > low if low_open else value >= low) and (value < high if high_open else value <= high)
+        require(ok, component, name, expected)

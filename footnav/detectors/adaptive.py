@@ -41,7 +41,15 @@ from typing import Any
 
 import numpy as np
 
-from footnav.core.component import StanceDetector, is_number, require, require_non_negative, require_positive
+from footnav.core.component import (
+    MAX_ACC_MPS2,
+    MAX_DURATION_S,
+    MAX_RATE_RADPS,
+    StanceDetector,
+    require_in_range,
+    require_non_negative,
+    require_positive,
+)
 from footnav.core.gait_cycles import SWING_ACC_MPS2, swing_peaks
 from footnav.core.types import GRAVITY_MPS2, ImuData, StanceResult, stance_intervals
 from footnav.core.windows import acc_magnitude_rms, centred, gyr_rms, window_samples
@@ -154,23 +162,19 @@ class AdaptiveDetector(StanceDetector):
         self.max_pivot_s = max_pivot_s
 
     def validate_params(self) -> None:
-        require_positive(
-            self,
-            "window_s",
-            "gyr_threshold_radps",
-            "acc_tolerance_mps2",
-            "stance_factor",
-            "swing_fraction",
-            "min_scale",
-            "swing_window_s",
-            "min_swing_peak_radps",
-            "min_stride_s",
-        )
-        require_non_negative(
-            self, "swing_prominence", "stride_fraction", "base_stance_s", "min_stance_s", "min_swing_s", "pivot_acc_mps2", "max_pivot_s"
-        )
-        require(is_number(self.pivot_yaw_share) and 0 <= self.pivot_yaw_share <= 1, self, "pivot_yaw_share", "a number in [0, 1]")
-        require(self.min_scale <= 1.0, self, "min_scale", "a number in (0, 1]")
+        # Upper bounds (footnav.core.component): durations multiply into window lengths in
+        # samples, rates and accelerations overflow when squared; the unitless factors and
+        # fractions are kept at 1000x / 1000 their sensible range, where every sample is still
+        # or none is.
+        require_positive(self, "window_s", "swing_window_s", "min_stride_s", high=MAX_DURATION_S)
+        require_positive(self, "gyr_threshold_radps", "min_swing_peak_radps", high=MAX_RATE_RADPS)
+        require_positive(self, "acc_tolerance_mps2", high=MAX_ACC_MPS2)
+        require_positive(self, "stance_factor", "swing_fraction", high=1e3)
+        require_positive(self, "min_scale", high=1.0)
+        require_non_negative(self, "swing_prominence", "stride_fraction", high=1e3)
+        require_non_negative(self, "base_stance_s", "min_stance_s", "min_swing_s", "max_pivot_s", high=MAX_DURATION_S)
+        require_non_negative(self, "pivot_acc_mps2", high=MAX_ACC_MPS2)
+        require_in_range(self, "pivot_yaw_share", low=0.0, high=1.0)
 
     def detect(self, imu: ImuData) -> StanceResult:
         """Stance mask, ``foot_flat`` / ``heel_off`` events, ``score`` = statistic / cycle bound."""

@@ -60,7 +60,15 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.signal import find_peaks
 
-from footnav.core.component import StanceDetector, is_number, require
+from footnav.core.component import (
+    MAX_ACC_MPS2,
+    MAX_DURATION_S,
+    MAX_RATE_RADPS,
+    StanceDetector,
+    require,
+    require_non_negative,
+    require_positive,
+)
 from footnav.core.errors import CompositionError, InvalidInputError
 from footnav.core.types import ImuData, StanceResult, stance_intervals
 from footnav.detectors.threshold import ThresholdDetector
@@ -236,10 +244,13 @@ class DualGaitDetector(StanceDetector):
 
     # -- parameters ---------------------------------------------------------------------------
     def validate_params(self) -> None:
-        for name in ("window_s", "gyr_threshold_radps", "acc_tolerance_mps2", "hs_min_interval_s", "hs_search_s", "standing_s"):
-            require(is_number(getattr(self, name)) and getattr(self, name) > 0, self, name, "a positive number")
-        for name in ("min_flat_s", "min_swing_s", "hs_min_acc_mps2"):
-            require(is_number(getattr(self, name)) and getattr(self, name) >= 0, self, name, "a number >= 0")
+        # Upper bounds (footnav.core.component): durations multiply into sample counts,
+        # thresholds overflow when squared.
+        require_positive(self, "window_s", "hs_min_interval_s", "hs_search_s", "standing_s", high=MAX_DURATION_S)
+        require_positive(self, "gyr_threshold_radps", high=MAX_RATE_RADPS)
+        require_positive(self, "acc_tolerance_mps2", high=MAX_ACC_MPS2)
+        require_non_negative(self, "min_flat_s", "min_swing_s", high=MAX_DURATION_S)
+        require_non_negative(self, "hs_min_acc_mps2", high=MAX_ACC_MPS2)
         require(
             isinstance(self.zupt_rule, str) and self.zupt_rule in ZUPT_RULES,
             self,

@@ -58,7 +58,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.signal import butter, find_peaks, sosfiltfilt
 
-from footnav.core.component import StanceDetector, is_number, require
+from footnav.core.component import MAX_DURATION_S, StanceDetector, require, require_in_range, require_positive
 from footnav.core.errors import (
     DataQualityWarning,
     FootnavError,
@@ -625,11 +625,17 @@ class HmmDetector(StanceDetector):
     def validate_params(self) -> None:
         require(isinstance(self.features, str) and self.features in FEATURES, self, "features",
                 " or ".join(repr(f) for f in FEATURES))
-        for name in ("model_rate_hz", "lowpass_cutoff_hz", "reorder_min_stance_s", "tol", "min_std"):
-            require(is_number(getattr(self, name)) and getattr(self, name) > 0, self, name, "a positive number")
+        # Upper bounds: the signal is resampled to model_rate_hz (samples, so time and memory of
+        # the fit grow with it; 1 kHz is above any foot IMU's useful band) and the fit runs up to
+        # max_iter EM iterations; tol and min_std (of standardised features) are harmless when
+        # large but overflow when squared.
+        require_positive(self, "model_rate_hz", high=1000.0)
+        require_positive(self, "lowpass_cutoff_hz", high=500.0)
+        require_positive(self, "reorder_min_stance_s", high=MAX_DURATION_S)
+        require_positive(self, "tol", "min_std", high=1e6)
         require(self.lowpass_cutoff_hz < 0.5 * self.model_rate_hz, self, "lowpass_cutoff_hz",
                 f"below the Nyquist frequency of the model rate ({0.5 * self.model_rate_hz:g} Hz)")
-        require(_is_int(self.max_iter) and self.max_iter >= 1, self, "max_iter", "an integer >= 1")
+        require_in_range(self, "max_iter", low=1, high=10_000, integer=True)
         require(_is_int(self.seed) and 0 <= self.seed < 2**32, self, "seed", "an integer in 0 .. 2**32 - 1")
 
     @property

@@ -35,7 +35,16 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.ndimage import maximum_filter1d, minimum_filter1d
 
-from footnav.core.component import StanceDetector, is_number, require
+from footnav.core.component import (
+    MAX_ACC_MPS2,
+    MAX_DURATION_S,
+    MAX_RATE_RADPS,
+    StanceDetector,
+    require,
+    require_non_negative,
+    require_positive,
+    unit_of,
+)
 from footnav.core.types import ImuData, StanceResult, stance_intervals
 from footnav.core.windows import acc_magnitude_rms, acc_moving_std, centred, gyr_rms, window_samples, window_sums
 
@@ -170,16 +179,19 @@ class WindowedStanceDetector(StanceDetector):
     min_swing_s: float
 
     def validate_params(self) -> None:
+        # Upper bounds by unit (footnav.core.component): a longer window exhausts memory, a
+        # larger threshold or sigma overflows when squared; unitless is the GLRT's gamma, for
+        # which 1e15 already marks every window still.
+        highs = {"s": MAX_DURATION_S, "rad/s": MAX_RATE_RADPS, "m/s^2": MAX_ACC_MPS2}
         for name in self._positive_params:
-            require(is_number(getattr(self, name)) and getattr(self, name) > 0, self, name, "a positive number")
+            require_positive(self, name, high=highs.get(unit_of(name), 1e15))
         require(
             isinstance(self.combine, str) and self.combine in COMBINE_RULES,
             self,
             "combine",
             " or ".join(repr(c) for c in COMBINE_RULES),
         )
-        for name in ("min_stance_s", "min_swing_s"):
-            require(is_number(getattr(self, name)) and getattr(self, name) >= 0, self, name, "a number >= 0 (s)")
+        require_non_negative(self, "min_stance_s", "min_swing_s", high=MAX_DURATION_S)
 
     def window_statistic(self, imu: ImuData, win: int) -> NDArray[np.float64]:  # pragma: no cover - abstract
         """The statistic of every full window, by start index, shape (N-W+1,)."""

@@ -18,7 +18,17 @@ import numpy as np
 from numpy.typing import NDArray
 
 from footnav.core import quaternion as quat
-from footnav.core.component import FootEstimator, require, require_non_negative, require_positive
+from footnav.core.component import (
+    MAX_ACC_MPS2,
+    MAX_ANGLE_RAD,
+    MAX_LENGTH_M,
+    MAX_RATE_RADPS,
+    MAX_SPEED_MPS,
+    FootEstimator,
+    require,
+    require_non_negative,
+    require_positive,
+)
 from footnav.core.errors import InvalidParameterError
 from footnav.core.heading import turn_to_first_step
 from footnav.core.initial_alignment import align_first_stance
@@ -132,21 +142,23 @@ class EkfEstimator(FootEstimator):
         self.closed_loop_std_m = closed_loop_std_m
 
     def validate_params(self) -> None:
+        # Upper bounds (footnav.core.component): every std and noise density is squared into the
+        # filter's covariance, where 1e308 overflows to inf and turns the estimate into NaN.
+        require_positive(self, "acc_noise_mps2_sqrthz", "acc_bias_walk_mps3_sqrthz", "init_acc_bias_std_mps2", high=MAX_ACC_MPS2)
         require_positive(
             self,
-            "acc_noise_mps2_sqrthz",
             "gyr_noise_radps_sqrthz",
-            "zupt_std_mps",
-            "init_attitude_std_rad",
-            "init_velocity_std_mps",
             "still_gyr_max_radps",
-            "acc_bias_walk_mps3_sqrthz",
             "gyr_bias_walk_radps2_sqrthz",
-            "init_acc_bias_std_mps2",
             "init_gyr_bias_std_radps",
-            "closed_loop_std_m",
+            high=MAX_RATE_RADPS,
         )
-        require_non_negative(self, "zaru_std_radps", "smoother_cache_mb")
+        require_positive(self, "zupt_std_mps", "init_velocity_std_mps", high=MAX_SPEED_MPS)
+        require_positive(self, "init_attitude_std_rad", high=MAX_ANGLE_RAD)
+        require_positive(self, "closed_loop_std_m", high=MAX_LENGTH_M)
+        require_non_negative(self, "zaru_std_radps", high=MAX_RATE_RADPS)
+        # a cap, not an allocation; 1 TB keeps the MB -> bytes conversion far from overflow
+        require_non_negative(self, "smoother_cache_mb", high=1e6)
         require(self.heading in ("first-step", "sensor"), self, "heading", "'first-step' or 'sensor'")
         require(self.gyro_bias in ("initial-standstill", "none"), self, "gyro_bias", "'initial-standstill' or 'none'")
         require(isinstance(self.bias_states, (bool, np.bool_)), self, "bias_states", "True or False")

@@ -37,7 +37,15 @@ import numpy as np
 
 from footnav.core import quaternion as quat
 from footnav.core._numba import njit  # numba.njit that survives a read-only install
-from footnav.core.component import FootEstimator, require, require_non_negative, require_positive
+from footnav.core.component import (
+    MAX_ACC_MPS2,
+    MAX_RATE_RADPS,
+    MAX_SPEED_MPS,
+    FootEstimator,
+    require,
+    require_non_negative,
+    require_positive,
+)
 from footnav.core.heading import turn_to_first_step
 from footnav.core.initial_alignment import MIN_STILL_SAMPLES, Alignment, align_first_stance
 from footnav.core.ins_filter import sym3_inverse
@@ -316,8 +324,12 @@ class MadgwickEstimator(FootEstimator):
         self.still_gyr_max_radps = still_gyr_max_radps
 
     def validate_params(self) -> None:
-        require_positive(self, "acc_noise_mps2_sqrthz", "acc_error_walk_mps3_sqrthz", "init_acc_error_std_mps2", "zupt_std_mps", "still_gyr_max_radps")
-        require_non_negative(self, "beta_radps")
+        # Upper bounds (footnav.core.component): the stds and densities are squared into the
+        # velocity filter's covariance (overflow at 1e308); beta is a gyro-error rate.
+        require_positive(self, "acc_noise_mps2_sqrthz", "acc_error_walk_mps3_sqrthz", "init_acc_error_std_mps2", high=MAX_ACC_MPS2)
+        require_positive(self, "zupt_std_mps", high=MAX_SPEED_MPS)
+        require_positive(self, "still_gyr_max_radps", high=MAX_RATE_RADPS)
+        require_non_negative(self, "beta_radps", high=MAX_RATE_RADPS)
         require(isinstance(self.use_magnetometer, (bool, np.bool_)), self, "use_magnetometer", "True or False")
         require(self.heading in ("first-step", "sensor"), self, "heading", "'first-step' or 'sensor'")
         require(self.gyro_bias in ("initial-standstill", "none"), self, "gyro_bias", "'initial-standstill' or 'none'")

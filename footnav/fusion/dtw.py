@@ -30,7 +30,7 @@ from numpy.typing import NDArray
 
 from footnav.core import dtw
 from footnav.core import quaternion as quat
-from footnav.core.component import Fusion, require, require_non_negative, require_positive
+from footnav.core.component import MAX_LENGTH_M, Fusion, require, require_non_negative, require_positive
 from footnav.core.types import FootTrajectory, FusionResult, Path
 from footnav.fusion.joint import LEFT, RIGHT, finish_joint, fuse_on_common_span, start_joint
 
@@ -175,8 +175,13 @@ class DtwFusion(Fusion):
         self.step_width_m = step_width_m
 
     def validate_params(self) -> None:
-        require_positive(self, "midswing_std_m", "band_s", "dtw_rate_hz")
-        require_non_negative(self, "lateral_offset_m", "step_width_m")
+        # The DTW kernel holds (duration x dtw_rate_hz) x (2 band_s dtw_rate_hz + 1) int8
+        # back-pointers: 50 Hz and 10 s keep a one-hour walk near 180 MB (at 1 MHz one minute
+        # needed terabytes). Lengths overflow when squared.
+        require_positive(self, "dtw_rate_hz", high=50.0)
+        require_positive(self, "band_s", high=10.0)
+        require_positive(self, "midswing_std_m", high=MAX_LENGTH_M)
+        require_non_negative(self, "lateral_offset_m", "step_width_m", high=MAX_LENGTH_M)
         require(self.initial_heading in ("dtw", "first-step"), self, "initial_heading", "'dtw' or 'first-step'")
         require(self.path in PATHS, self, "path", " or ".join(map(repr, PATHS)))
 

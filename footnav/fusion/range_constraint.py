@@ -17,7 +17,7 @@ from typing import ClassVar, Literal
 
 import numpy as np
 
-from footnav.core.component import Fusion, is_number, require, require_positive
+from footnav.core.component import MAX_DURATION_S, MAX_LENGTH_M, Fusion, is_number, require, require_positive
 from footnav.core.types import FusionResult
 from footnav.fusion.joint import LEFT, RIGHT, finish_joint, fuse_on_common_span, start_joint
 
@@ -68,7 +68,10 @@ class RangeConstraintFusion(Fusion):
         self.step_width_m = step_width_m
 
     def validate_params(self) -> None:
-        require_positive(self, "max_separation_m", "check_interval_s", "constraint_std_m")
+        # Upper bounds (footnav.core.component): lengths are squared into the update's
+        # covariance; a check interval longer than a minute never checks a walk.
+        require_positive(self, "max_separation_m", "constraint_std_m", high=MAX_LENGTH_M)
+        require_positive(self, "check_interval_s", high=MAX_DURATION_S)
         v = self.step_width_m
         require(is_number(v) and 0 <= v < self.max_separation_m, self, "step_width_m", "a number >= 0 below max_separation_m")
         require(self.projection in PROJECTIONS, self, "projection", " or ".join(map(repr, PROJECTIONS)))

@@ -31,7 +31,16 @@ from typing import ClassVar
 import numpy as np
 
 from footnav.core import quaternion as quat
-from footnav.core.component import Fusion, is_number, require, require_non_negative, require_positive
+from footnav.core.component import (
+    MAX_DURATION_S,
+    MAX_LENGTH_M,
+    Fusion,
+    is_number,
+    require,
+    require_in_range,
+    require_non_negative,
+    require_positive,
+)
 from footnav.core.errors import CompositionError
 from footnav.core.types import FusionResult, ImuData, StanceResult
 from footnav.fusion.joint import LEFT, RIGHT, finish_joint, fuse_on_common_span, start_joint
@@ -106,10 +115,20 @@ class StepVectorFusion(Fusion):
         self.heel_strike_before_stance_s = heel_strike_before_stance_s
 
     def validate_params(self) -> None:
-        require(self.leg_length_m is None or (is_number(self.leg_length_m) and self.leg_length_m > 0), self, "leg_length_m", "None (fit to the walk) or a positive number")
-        require_positive(self, "step_length_std_m", "step_width_std_m", "step_elevation_std_m", "turn_threshold_deg")
-        require_non_negative(self, "step_width_m", "heel_strike_before_stance_s")
-        require(is_number(self.step_elevation_m), self, "step_elevation_m", "a finite number")
+        # Upper bounds (footnav.core.component): lengths and their stds are squared into the
+        # step update's covariance (overflow at 1e308); a turn threshold above a full turn
+        # never fires.
+        require(
+            self.leg_length_m is None or (is_number(self.leg_length_m) and 0 < self.leg_length_m <= MAX_LENGTH_M),
+            self,
+            "leg_length_m",
+            f"None (fit to the walk) or a number in (0, {MAX_LENGTH_M:g}] m",
+        )
+        require_positive(self, "step_length_std_m", "step_width_std_m", "step_elevation_std_m", high=MAX_LENGTH_M)
+        require_positive(self, "turn_threshold_deg", high=360.0)
+        require_non_negative(self, "step_width_m", high=MAX_LENGTH_M)
+        require_non_negative(self, "heel_strike_before_stance_s", high=MAX_DURATION_S)
+        require_in_range(self, "step_elevation_m", low=-MAX_LENGTH_M, high=MAX_LENGTH_M)
 
     # -- the steps ------------------------------------------------------------------------------
     def _heel_strike(self, imu: ImuData, stance: StanceResult, start: int) -> int:

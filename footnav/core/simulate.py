@@ -128,6 +128,18 @@ _DIRECTIONS = ("ccw", "cw")
 # -- option handling ----------------------------------------------------------------------------
 
 
+# Upper bounds of the options (docs/reliability.md): far above any walk or sensor that makes sense,
+# far below where a value exhausts memory or time or overflows. The simulator holds about 1 KB
+# per sample of both feet at its peak (truth, sensor errors and their intermediates), so
+# _MAX_SAMPLES (5.5 h at 100 Hz, 33 min at 1 kHz) peaks near 2 GB; rate_hz=2e5 with the default
+# 100 m asked for 17 million samples per foot.
+_MAX_RATE_HZ = 10_000.0
+_MAX_SAMPLES = 2_000_000
+_MAX_LENGTH_M = 1e6  # distance_m, width_m, height_m, segment lengths: before the sample budget
+_MAX_DURATION_S = 60.0  # stride_period_s and its phases, exchange delays
+_MAX_NOISE = 1e3  # noise densities, bias stds and walks in their units: squared, 1e308 overflows
+
+
 def _fail(name: str, value: Any, expected: str) -> InvalidParameterError:
     return InvalidParameterError(f"simulate(): option {name}={value!r} is invalid; expected {expected}")
 
@@ -139,18 +151,27 @@ def _number(opts: dict[str, Any], name: str) -> float:
     return float(value)
 
 
-def _positive(opts: dict[str, Any], name: str) -> float:
+def _positive(opts: dict[str, Any], name: str, high: float = math.inf) -> float:
     value = _number(opts, name)
-    if value <= 0:
-        raise _fail(name, opts[name], "a number > 0")
+    if not 0 < value <= high:
+        raise _fail(name, opts[name], "a number > 0" if high == math.inf else f"a number in (0, {high:g}]")
     return value
 
 
-def _non_negative(opts: dict[str, Any], name: str) -> float:
+def _non_negative(opts: dict[str, Any], name: str, high: float = math.inf) -> float:
     value = _number(opts, name)
-    if value < 0:
-        raise _fail(name, opts[name], "a number >= 0")
+    if not 0 <= value <= high:
+        raise _fail(name, opts[name], "a number >= 0" if high == math.inf else f"a number in [0, {high:g}]")
     return value
+
+
+def _walk_length_m(scenario: str, opts: Mapping[str, Any]) -> float:
+    """Length of the centre line, m (turns as arcs of turn_radius_m), for the sample budget."""
+    if scenario == "straight":
+        return opts["distance_m"]
+    if scenario == "rectangle":
+        return 2 * (opts["width_m"] + opts["height_m"])
+    return sum(d + math.radians(abs(a)) * opts["turn_radius_m"] for d, a in opts["segments"])
 
 
 def _resolve_options(scenario: Any, rate_hz: Any, options: Mapping[str, Any]) -> dict[str, Any]:
@@ -159,8 +180,8 @@ def _resolve_options(scenario: Any, rate_hz: Any, options: Mapping[str, Any]) ->
         raise InvalidParameterError(
             f"simulate(): unknown scenario {scenario!r}; valid scenarios: {', '.join(SCENARIOS)}"
         )
-    if isinstance(rate_hz, bool) or not isinstance(rate_hz, Real) or not (math.isfinite(rate_hz) and rate_hz > 0):
-        raise _fail("rate_hz", rate_hz, "a finite number > 0 (Hz)")
+    if isinstance(rate_hz, bool) or not isinstance(rate_hz, Real) or not (0 < rate_hz <= _MAX_RATE_HZ):
+        raise _fail("rate_hz", rate_hz, f"a number in (0, {_MAX_RATE_HZ:g}] Hz: above any foot-mounted IMU's rate")
     valid = {**_SCENARIO_DEFAULTS[scenario], **_COMMON_DEFAULTS}
     unknown = [k for k in options if k not in valid]
     if unknown:
@@ -174,22 +195,28 @@ def _resolve_options(scenario: Any, rate_hz: Any, options: Mapping[str, Any]) ->
         )
     opts = {**valid, **options}
 
-    for name in ("stride_length_m", "stride_period_s", "turn_radius_m", "foot_lift_m", "heel_off_s",
-                 "swing_s", "foot_flat_s"):
-        opts[name] = _positive(opts, name)
-    opts["heel_strike_impact_s"] = _positive(opts, "heel_strike_impact_s")
+    for name in ("stride_period_s", "heel_off_s", "swing_s", "foot_flat_s", "heel_strike_impact_s"):
+        opts[name] = _positive(opts, name, _MAX_DURATION_S)
+    opts["stride_length_m"] = _positive(opts, "stride_length_m", 10.0)
+    opts["foot_lift_m"] = _positive(opts, "foot_lift_m", 10.0)
+    opts["turn_radius_m"] = _positive(opts, "turn_radius_m", 1e4)
     opts["clock_offset_s"] = _number(opts, "clock_offset_s")
+    if not abs(opts["clock_offset_s"]) <= 1e10:  # Unix times (1.7e9 s) fit; beyond, t loses its ms
+        raise _fail("clock_offset_s", opts["clock_offset_s"], "an offset in [-1e10, 1e10] s")
     drift = _number(opts, "clock_drift_ppm")
     if not -1e5 < drift < 1e5:
         raise _fail("clock_drift_ppm", opts["clock_drift_ppm"], "a rate error in (-1e5, 1e5) ppm")
     opts["clock_drift_ppm"] = drift
     n_ex = opts["clock_exchanges"]
-    if isinstance(n_ex, bool) or not isinstance(n_ex, (int, np.integer)) or n_ex < 0 or n_ex == 1:
-        raise _fail("clock_exchanges", n_ex, "0 (none) or an integer >= 2")
-    opts["exchange_delay_s"] = _non_negative(opts, "exchange_delay_s")
-    opts["exchange_jitter_s"] = _non_negative(opts, "exchange_jitter_s")
-    for name in ("step_width_m", "standstill_s", "heel_strike_impact_mps2", *_NOISE_KEYS):
-        opts[name] = _non_negative(opts, name)
+    if isinstance(n_ex, bool) or not isinstance(n_ex, (int, np.integer)) or n_ex < 0 or n_ex == 1 or n_ex > 1_000_000:
+        raise _fail("clock_exchanges", n_ex, "0 (none) or an integer >= 2 and <= 1000000")
+    opts["exchange_delay_s"] = _non_negative(opts, "exchange_delay_s", _MAX_DURATION_S)
+    opts["exchange_jitter_s"] = _non_negative(opts, "exchange_jitter_s", _MAX_DURATION_S)
+    opts["step_width_m"] = _non_negative(opts, "step_width_m", 10.0)
+    opts["standstill_s"] = _non_negative(opts, "standstill_s", 3600.0)
+    opts["heel_strike_impact_mps2"] = _non_negative(opts, "heel_strike_impact_mps2", 1e3)
+    for name in _NOISE_KEYS:
+        opts[name] = _non_negative(opts, name, _MAX_NOISE)
     for name in ("toe_off_pitch_deg", "heel_strike_pitch_deg"):
         value = _number(opts, name)
         if not 0 < value < 90:
@@ -202,8 +229,8 @@ def _resolve_options(scenario: Any, rate_hz: Any, options: Mapping[str, Any]) ->
         rpy = tuple(float(a) for a in opts["mounting_rpy_deg"])
     except (TypeError, ValueError):
         rpy = ()
-    if len(rpy) != 3 or not all(math.isfinite(a) for a in rpy):
-        raise _fail("mounting_rpy_deg", opts["mounting_rpy_deg"], "three finite angles (roll, pitch, yaw) in deg")
+    if len(rpy) != 3 or not all(abs(a) <= 360 for a in rpy):  # also refuses NaN
+        raise _fail("mounting_rpy_deg", opts["mounting_rpy_deg"], "three angles (roll, pitch, yaw) in [-360, 360] deg")
     opts["mounting_rpy_deg"] = rpy
 
     # Walking, not running: while one foot is airborne the other must be flat on the ground, which
@@ -227,10 +254,10 @@ def _resolve_options(scenario: Any, rate_hz: Any, options: Mapping[str, Any]) ->
         raise _fail("turn_radius_m", opts["turn_radius_m"], f"> step_width_m / 2 = {opts['step_width_m'] / 2:g} m")
 
     if scenario == "straight":
-        opts["distance_m"] = _positive(opts, "distance_m")
+        opts["distance_m"] = _positive(opts, "distance_m", _MAX_LENGTH_M)
     elif scenario == "rectangle":
         for name in ("width_m", "height_m"):
-            value = _positive(opts, name)
+            value = _positive(opts, name, _MAX_LENGTH_M)
             if value <= 2 * opts["turn_radius_m"]:
                 raise _fail(name, opts[name], f"> 2 * turn_radius_m = {2 * opts['turn_radius_m']:g} m")
             opts[name] = value
@@ -238,11 +265,21 @@ def _resolve_options(scenario: Any, rate_hz: Any, options: Mapping[str, Any]) ->
             raise _fail("direction", opts["direction"], f"one of {', '.join(map(repr, _DIRECTIONS))}")
     else:
         opts["segments"] = _check_segments(opts["segments"])
+    # The walk's samples, from the options alone (before anything is allocated): the standstills
+    # and one stride per stride_length_m of centre line, plus one for the half-stride stagger.
+    strides = _walk_length_m(scenario, opts) / opts["stride_length_m"] + 2
+    duration_s = 2 * opts["standstill_s"] + strides * opts["stride_period_s"]
+    if rate_hz * duration_s > _MAX_SAMPLES:
+        raise InvalidParameterError(
+            f"simulate(): rate_hz={rate_hz!r} over a walk of about {duration_s:,.0f} s makes about "
+            f"{rate_hz * duration_s:,.0f} samples per foot; at most {_MAX_SAMPLES:,} are simulated (about 1 KB "
+            "each while simulating): lower rate_hz or shorten the walk (distance, stride_length_m, standstill_s)"
+        )
     return opts
 
 
 def _check_segments(segments: Any) -> list[tuple[float, float]]:
-    expected = "a non-empty sequence of (distance_m >= 0, turn_deg) pairs with some walking"
+    expected = "a non-empty sequence of (distance_m in [0, 1e6], turn_deg in [-36000, 36000]) pairs with some walking"
     if segments is None:
         raise InvalidParameterError(
             "simulate(): scenario 'path' needs option segments=[(distance_m, turn_deg), ...]"
@@ -251,7 +288,8 @@ def _check_segments(segments: Any) -> list[tuple[float, float]]:
         out = [(float(d), float(a)) for d, a in segments]
     except (TypeError, ValueError):
         raise _fail("segments", segments, expected) from None
-    if not out or any(not (math.isfinite(d) and math.isfinite(a)) or d < 0 for d, a in out):
+    # bounded so that the walk's length stays finite for the sample budget
+    if not out or any(not (0 <= d <= _MAX_LENGTH_M and abs(a) <= 36_000) for d, a in out):
         raise _fail("segments", segments, expected)
     if all(d == 0 and a == 0 for d, a in out):
         raise _fail("segments", segments, expected)

@@ -824,6 +824,9 @@ def simulate(scenario: str = "straight", *, seed: int = 0, rate_hz: float = 100.
     >>> rec.truth_left.closed_loop
     True
     """
+    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
+        # numpy's generators refuse negative seeds with a message that does not name the option
+        raise _fail("seed", seed, "an integer >= 0")
     opts = _resolve_options(scenario, rate_hz, options)
     rate_hz = float(rate_hz)
     line, line_info = _centre_line(scenario, opts)

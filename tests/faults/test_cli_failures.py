@@ -74,3 +74,11 @@ def test_a_bug_is_one_line_and_exit_1_with_the_traceback_under_v(walk, tmp_path,
     assert "internal error: ZeroDivisionError" in line and "-v" in line
     with pytest.raises(ZeroDivisionError):
         main(["-v", *argv])
+
+
+def test_simulate_refuses_a_negative_seed_by_name():
+    import footnav
+    from footnav.core.errors import InvalidParameterError
+
+    with pytest.raises(InvalidParameterError, match="seed=-1 is invalid; expected an integer >= 0"):
+        footnav.simulate(seed=-1)

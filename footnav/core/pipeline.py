@@ -243,9 +243,6 @@ class Pipeline:
                 raise InvalidInputError(f"expected ImuData, got {type(imu).__name__}", field=name)
         if left is None:
             raise InvalidInputError("no data for the left (or only) foot", field="left")
-        for imu in (left, right):
-            if imu is not None:
-                imu.check_units()
         self.check(
             n_feet=1 if right is None else 2,
             magnetometer=left.has_mag and (right is None or right.has_mag),
@@ -255,6 +252,9 @@ class Pipeline:
         inputs = {"left": copy.deepcopy(dict(left.meta)), "right": None if right is None else copy.deepcopy(dict(right.meta))}
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
+            for imu in (left, right):  # inside: what the checks find is recorded with the run
+                if imu is not None:
+                    imu.check_units()
             with self._blame(self.detector):
                 stance_left, stance_right = self.detector.detect_pair(left, right)
             self._check_stance_output(stance_left, left, "left")

@@ -74,3 +74,15 @@ def test_single_foot_path_is_that_foot(walk):
 def test_midpoint_path_of_two_feet(walk):
     res = footnav.make_pipeline().run(walk.left, walk.right)
     np.testing.assert_allclose(res.path.position, 0.5 * (res.left.position + res.right.position))
+
+
+def test_the_input_checks_findings_are_recorded_with_the_run():
+    import warnings
+
+    rec = footnav.simulate("straight", distance_m=20, rate_hz=100, seed=1)
+    imu = rec.left
+    slow = footnav.ImuData(imu.t[::10], imu.acc[::10], imu.gyr[::10])  # 10 Hz, built without checks
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        result = footnav.make_pipeline().run(slow)
+    assert any("sampling rate 10 Hz" in w for w in result.meta["warnings"])

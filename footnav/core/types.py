@@ -440,6 +440,32 @@ def _check_data(
     return findings
 
 
+class ReadOnlyMeta(dict):
+    """A dict that cannot be changed in place: an input's provenance (its ``source`` and the
+    changes its reader made) is what the result files and their SHA-256 record, so no component
+    may rewrite it. Build a changed copy with ``dataclasses.replace(imu, meta={**imu.meta, ...})``.
+    Pickles, compares and serialises (JSON) as a dict."""
+
+    def _refuse(self, *args: Any, **kwargs: Any) -> None:
+        raise TypeError(
+            "ImuData.meta is read-only (the input's provenance); make a changed copy with "
+            "dataclasses.replace(imu, meta={**imu.meta, key: value})"
+        )
+
+    __setitem__ = __delitem__ = clear = pop = popitem = setdefault = update = _refuse  # type: ignore[assignment]
+
+    def __ior__(self, other: Any) -> "ReadOnlyMeta":
+        self._refuse()
+        return self
+
+    def __reduce__(self) -> tuple:
+        return (ReadOnlyMeta, (dict(self),))
+
+    def copy(self) -> dict:  # type: ignore[override]
+        """A plain, changeable dict."""
+        return dict(self)
+
+
 @dataclass(frozen=True, eq=False)
 class ImuData:
     """One inertial sensor's recording, in SI units and the sensor's body frame.
@@ -530,7 +556,7 @@ class ImuData:
         object.__setattr__(self, "acc", _readonly(acc))
         object.__setattr__(self, "gyr", _readonly(gyr))
         object.__setattr__(self, "mag", None if mag is None else _readonly(mag))
-        object.__setattr__(self, "meta", meta)
+        object.__setattr__(self, "meta", ReadOnlyMeta(meta))
 
     # -- construction -------------------------------------------------------------------------
     @classmethod

@@ -114,7 +114,7 @@ def _shared_names(prefix: str) -> list[str]:
     return [n for n in dataset_names(root) if n.startswith(prefix)]
 
 
-@pytest.mark.filterwarnings("ignore:.*lost packet")  # IPOL's wireless packet loss, recorded in meta
+@pytest.mark.filterwarnings("ignore::footnav.DataQualityWarning")  # IPOL's packet loss and left-foot scale, in meta
 def test_ipol_hand_checked_steps():
     from footnav.core.datasets import load_dataset
 

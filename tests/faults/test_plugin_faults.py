@@ -98,7 +98,10 @@ def test_a_plugin_calling_sys_exit_does_not_end_the_cli_with_success(plugins, wa
     assert "SystemExit" in capsys.readouterr().err and not (tmp_path / "o").exists()
 
 
-def test_the_inputs_provenance_is_what_was_given(walk):
+def test_the_inputs_provenance_cannot_be_rewritten(walk):
+    import json
+    import pickle
+
     class Meddler(StanceDetector):
         name = "meddler"
 
@@ -110,5 +113,14 @@ def test_the_inputs_provenance_is_what_was_given(walk):
             return footnav.make_detector("adaptive").detect(imu)
 
     imu = footnav.ImuData(walk.left.t, walk.left.acc, walk.left.gyr, meta={"source": "walk.csv"})
-    result = footnav.make_pipeline(Meddler()).run(imu)
-    assert result.meta["input"]["left"]["source"] == "walk.csv"
+    with pytest.raises(PluginError, match="meddler.*read-only"):
+        footnav.make_pipeline(Meddler()).run(imu)
+    assert imu.meta["source"] == "walk.csv"
+    # still a dict for everything that reads it: copies, pickles (worker processes), JSON
+    assert pickle.loads(pickle.dumps(imu)).meta == {"source": "walk.csv"}
+    assert json.loads(json.dumps(imu.meta)) == {"source": "walk.csv"}
+    changed = {**imu.meta, "source": "other.csv"}
+    assert changed["source"] == "other.csv" and imu.meta.copy() == {"source": "walk.csv"}
+    for mutate in (lambda m: m.update(a=1), lambda m: m.pop("source"), lambda m: m.clear(), lambda m: m.setdefault("b", 2)):
+        with pytest.raises(TypeError, match="read-only"):
+            mutate(imu.meta)

@@ -20,9 +20,9 @@ learned model:
    otherwise ``stance_factor x`` its stillest ``s`` (so the cycle's quietest stretch is stance
    even when the foot never stops), at least 1; in every cycle at most ``swing_fraction x`` the
    lower of the two swing peaks bounding the cycle in units of the gyro bound (a stance bound
-   stays far below the swing), and never below ``min_scale`` (the lowest bound, for slow swings of ~1 rad/s whose
-   neighbouring stances rest near 0.02 rad/s). A cycle that is not bounded by swings on both
-   sides (the recording's ends, a long standstill) keeps the base bounds.
+   stays far below the swing), and never below ``min_scale`` (the lowest bound, for slow swings
+   of ~1 rad/s whose neighbouring stances rest near 0.02 rad/s). A cycle that is not bounded by
+   swings on both sides (the recording's ends, a long standstill) keeps the base bounds.
 4. A gap between two stances where the foot turns about gravity without accelerating is a pivot
    on the ground (turning on the spot, the shuffles of a U-turn), not a step: it is bridged.
    While the foot pivots, its sensor moves by about its distance from the pivot point times the

@@ -207,23 +207,34 @@ def _time_seconds(t: Any, t_unit: str, path: str | None) -> tuple[Any, dict[str,
 
 def _held_peak(x: NDArray[np.float64], hold: int) -> float:
     """Largest value ``x`` stays at or above for ``hold`` consecutive samples."""
+    from scipy.ndimage import minimum_filter1d
+
     if len(x) < hold:
         return float(x.min()) if len(x) else 0.0
-    return float(np.lib.stride_tricks.sliding_window_view(x, hold).min(axis=1).max())
+    # running minimum of every full window of ``hold`` samples (the filter centres window i on
+    # i - hold // 2 .. i + hold - 1 - hold // 2: the padded edge windows are dropped), then its max
+    running = minimum_filter1d(x, hold, mode="nearest")
+    return float(running[hold // 2 : len(x) - (hold - 1 - hold // 2)].max())
 
 
 def _at_rest(acc_norm: NDArray[np.float64], gyr_norm: NDArray[np.float64], rate_hz: float) -> NDArray[np.bool_]:
     """Samples inside a ``REST_WINDOW_S`` window of steady |acc| and small |gyr|."""
+    from scipy.ndimage import maximum_filter1d, uniform_filter1d
+
     n = len(acc_norm)
     k = max(5, round(REST_WINDOW_S * rate_hz))
     if n < k:
         return np.zeros(n, dtype=bool)
-    view_a = np.lib.stride_tricks.sliding_window_view(acc_norm, k)
-    view_w = np.lib.stride_tricks.sliding_window_view(gyr_norm, k)
-    ok = (view_a.std(axis=1) < REST_ACC_REL_STD * np.median(acc_norm)) & (view_w.mean(axis=1) < REST_GYR_RADPS)
-    # a sample is at rest when any window holding it is: dilate the window starts by k - 1
-    count = np.convolve(ok.astype(np.int64), np.ones(k, dtype=np.int64))
-    return count[:n] > 0
+    # O(N) running moments of the centred windows (no k x N window views: this runs on every
+    # input); |acc| is taken about its median so that E[x^2] - E[x]^2 does not cancel ~g^2
+    median = float(np.median(acc_norm))
+    a = acc_norm - median
+    mean_a = uniform_filter1d(a, k, mode="nearest")
+    std_a = np.sqrt(np.maximum(uniform_filter1d(a * a, k, mode="nearest") - mean_a * mean_a, 0.0))
+    ok = (std_a < REST_ACC_REL_STD * median) & (uniform_filter1d(gyr_norm, k, mode="nearest") < REST_GYR_RADPS)
+    # a sample is at rest when any window holding it is (an even window's centre sits half a
+    # sample early, so the dilation is shifted back by one to cover exactly those windows)
+    return maximum_filter1d(ok.astype(np.uint8), k, mode="constant", cval=0, origin=-1 if k % 2 == 0 else 0) > 0
 
 
 def _full_scale_of(value: float, scales: tuple[float, ...], unit_si: float) -> float | None:

@@ -14,21 +14,11 @@ from __future__ import annotations
 
 import argparse
 import platform
-import time
+
+from _common import best_of, cpu_name  # benchmarks/_common.py (scripts run from benchmarks/)
 
 #: Issue 13's budget for the default detector, us/sample.
 DETECTOR_BUDGET_US = 0.2
-
-
-def _cpu_name() -> str:
-    try:
-        with open("/proc/cpuinfo", encoding="utf-8") as fh:
-            for line in fh:
-                if line.startswith("model name"):
-                    return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return platform.processor() or "cpu"
 
 
 def main() -> None:
@@ -49,14 +39,9 @@ def main() -> None:
     n = imu.n_samples
 
     def best(fn) -> float:
-        times = []
-        for _ in range(args.repeat):
-            t0 = time.perf_counter()
-            fn()
-            times.append(time.perf_counter() - t0)
-        return min(times)
+        return best_of(fn, args.repeat)[0]
 
-    print(f"machine: {platform.machine()} {_cpu_name()}, python {platform.python_version()}, numpy {np.__version__}")
+    print(f"machine: {platform.machine()} {cpu_name()}, python {platform.python_version()}, numpy {np.__version__}")
     print(f"recording: simulated straight walk, {n} samples per foot ({n / args.rate_hz / 60:.1f} min at {args.rate_hz:g} Hz)")
     per_sample = {}
     for name in ("threshold", "adaptive", "glrt"):

@@ -20,6 +20,7 @@ import time
 import tracemalloc
 
 import numpy as np
+from _common import best_of  # benchmarks/_common.py (scripts run from benchmarks/)
 
 
 def main() -> None:
@@ -48,12 +49,7 @@ def main() -> None:
     first_s = time.perf_counter() - t0
 
     def best(fn) -> float:
-        times = []
-        for _ in range(args.repeat):
-            t0 = time.perf_counter()
-            fn()
-            times.append(time.perf_counter() - t0)
-        return min(times)
+        return best_of(fn, args.repeat)[0]
 
     def peak_mb(fn) -> float:
         tracemalloc.start()

@@ -13,23 +13,12 @@ from __future__ import annotations
 import argparse
 import os
 import platform
-import time
 
 import numpy as np
+from _common import best_of, cpu_name  # benchmarks/_common.py (scripts run from benchmarks/)
 
 #: The brief's budget for fitting 10 minutes of 100 Hz data, s.
 FIT_BUDGET_S = 5.0
-
-
-def _cpu_name() -> str:
-    try:
-        with open("/proc/cpuinfo", encoding="utf-8") as fh:
-            for line in fh:
-                if line.startswith("model name"):
-                    return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return platform.processor() or "cpu"
 
 
 def main() -> None:
@@ -50,19 +39,14 @@ def main() -> None:
     imu = rec.left
 
     def best(fn) -> tuple[float, object]:
-        times, out = [], None
-        for _ in range(args.repeat):
-            t0 = time.perf_counter()
-            out = fn()
-            times.append(time.perf_counter() - t0)
-        return min(times), out
+        return best_of(fn, args.repeat)
 
     fit_s, det = best(lambda: HmmDetector(seed=0).fit(imu))
     detect_s, _ = best(lambda: det.detect(imu))
     fresh_s, _ = best(lambda: HmmDetector(seed=0).detect(imu))
     info = det.fit_info_
 
-    print(f"machine: {platform.machine()}, {_cpu_name()}, {os.cpu_count()} cores, Python {platform.python_version()}, "
+    print(f"machine: {platform.machine()}, {cpu_name()}, {os.cpu_count()} cores, Python {platform.python_version()}, "
           f"numpy {np.__version__}, scikit-learn {sklearn.__version__}, hmmlearn {hmmlearn.__version__}")
     print(f"recording: {imu.duration_s / 60:.1f} min simulated at {args.rate_hz:g} Hz, {imu.n_samples} samples, "
           f"model rate {det.model_rate_hz_:g} Hz ({info['n_samples']} samples)")

@@ -45,7 +45,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from footnav.core.errors import InvalidInputError
-from footnav.core.io._text import build_imu, changes_of, check_file, remap_indices
+from footnav.core.io._mat import mat_imu, mat_vector, read_mat
+from footnav.core.io._text import build_imu, changes_of, remap_indices
 from footnav.core.types import FootTruth, Recording
 
 __all__ = ["GAITDRIVEN_VARIABLES", "read_gaitdriven"]
@@ -125,26 +126,11 @@ def read_gaitdriven(
         Not a MATLAB file, a variable missing or of the wrong shape, a footprint index outside
         the recording (named: path, field, first bad index).
     """
-    from scipy.io import loadmat
-
-    p = check_file(path, what="gait-driven .mat file")
+    mat, p = read_mat(path, what="gait-driven .mat file", required=("imu_data", "timestamps"))
     src = str(p)
-    try:
-        mat = loadmat(p)
-    except Exception as exc:  # noqa: BLE001 -- scipy raises ValueError, TypeError, MatReadError... for bad files
-        raise InvalidInputError(f"cannot read MATLAB file ({type(exc).__name__}: {exc})", path=src) from None
-    for name in ("imu_data", "timestamps"):
-        if name not in mat:
-            raise InvalidInputError(
-                f"no variable {name!r}; found {sorted(k for k in mat if not k.startswith('__'))}", path=src, field=name
-            )
-    raw = np.asarray(mat["imu_data"], dtype=np.float64)
-    if raw.ndim != 2 or raw.shape[1] != 6:
-        raise InvalidInputError(f"expected shape (N, 6) = acc then gyro, got {raw.shape}", path=src, field="imu_data")
+    raw = mat_imu(mat, "imu_data", src)
     n = len(raw)
-    ts = np.asarray(mat["timestamps"], dtype=np.float64).reshape(-1)
-    if len(ts) != n:
-        raise InvalidInputError(f"has {len(ts)} values, imu_data has {n} rows", path=src, field="timestamps")
+    ts = mat_vector(mat, "timestamps", n, src, rows_of="imu_data").astype(np.float64)
     imu, keep = build_imu(
         ts,
         raw[:, :3],

@@ -39,7 +39,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from footnav.core.errors import DataQualityWarning, InvalidInputError, InvalidParameterError
-from footnav.core.io._text import ROTATE_180_ABOUT_X, build_imu, changes_of, check_file
+from footnav.core.io._mat import mat_imu, mat_vector, read_mat
+from footnav.core.io._text import ROTATE_180_ABOUT_X, build_imu, changes_of
 from footnav.core.types import GRAVITY_MPS2, FootTruth, Recording
 
 __all__ = ["read_pyshoe", "PYSHOE_DETECTORS"]
@@ -54,13 +55,6 @@ REST_GYR_RADPS = 0.1
 REST_ACC_TOL_MPS2 = 1.0
 #: Fewer rest samples than this: fall back to the mean accelerometer reading of the whole trial.
 MIN_REST_SAMPLES = 20
-
-
-def _mat_vector(mat: dict, name: str, n: int, path: str) -> NDArray:
-    arr = np.asarray(mat[name]).reshape(-1)
-    if len(arr) != n:
-        raise InvalidInputError(f"has {len(arr)} values, imu has {n} rows", path=path, field=name)
-    return arr
 
 
 def _gravity_z_sign(acc: NDArray[np.float64], gyr: NDArray[np.float64]) -> tuple[float, str]:
@@ -121,24 +115,11 @@ def read_pyshoe(
         ``truth_left`` = FootTruth(``frame="vicon"``, z up, ``stance`` = the proxy labels with
         ``meta["stance_source"]``, every ``zv_*`` label in ``meta["zv_labels"]``).
     """
-    from scipy.io import loadmat
-
-    p = check_file(path, what="pyshoe .mat file")
-    try:
-        mat = loadmat(p)
-    except Exception as exc:  # scipy raises ValueError, TypeError, MatReadError... for bad files
-        raise InvalidInputError(f"cannot read MATLAB file ({type(exc).__name__}: {exc})", path=str(p)) from None
+    mat, p = read_mat(path, what="pyshoe .mat file", required=("imu", "ts"))
     src = str(p)
-    for name in ("imu", "ts"):
-        if name not in mat:
-            raise InvalidInputError(
-                f"no variable {name!r}; found {sorted(k for k in mat if not k.startswith('__'))}", path=src, field=name
-            )
-    raw = np.asarray(mat["imu"], dtype=np.float64)
-    if raw.ndim != 2 or raw.shape[1] != 6:
-        raise InvalidInputError(f"expected shape (N, 6) = acc then gyro, got {raw.shape}", path=src, field="imu")
+    raw = mat_imu(mat, "imu", src)
     n = len(raw)
-    ts = _mat_vector(mat, "ts", n, src).astype(np.float64)
+    ts = mat_vector(mat, "ts", n, src).astype(np.float64)
     acc, gyr = raw[:, :3], raw[:, 3:]
 
     if sensor_z not in ("auto", "up", "down"):
@@ -193,7 +174,7 @@ def read_pyshoe(
     for det in PYSHOE_DETECTORS:
         key = f"zv_{det}_opt"
         if key in mat:
-            lab = _mat_vector(mat, key, n, src)
+            lab = mat_vector(mat, key, n, src)
             if not np.isin(lab, (0, 1)).all():
                 raise InvalidInputError(f"labels must be 0 or 1, found {np.unique(lab)[:5]}", path=src, field=key)
             labels[det] = lab.astype(bool)[keep]

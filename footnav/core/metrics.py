@@ -1069,6 +1069,21 @@ class StepDetection:
         return 2.0 * self.n_found / den if den else float("nan")
 
 
+def _step_detection(m: EventMatches) -> StepDetection:
+    """The counts of one-to-one matches: detected = matched + false, reference = matched + missed."""
+    n_ref = len(m.matches) + len(m.missed)
+    return StepDetection(
+        len(m.matches) + len(m.false),
+        n_ref,
+        len(m.matches),
+        len(m.missed),
+        len(m.false),
+        _percent(len(m.missed), n_ref),
+        _percent(len(m.false), n_ref),
+        m,
+    )
+
+
 def _anchors(mask: NDArray[np.bool_], anchor: str) -> NDArray[np.float64]:
     iv = stance_intervals(mask)
     if anchor == "center":
@@ -1110,18 +1125,7 @@ def step_detection(
     if anchor not in ("center", "onset"):
         raise InvalidParameterError(f"anchor must be 'center' or 'onset', got {anchor!r}")
     m = match_events(_anchors(det, anchor), _anchors(ref, anchor), tolerance=tolerance_samples)
-    n_det = len(m.matches) + len(m.false)
-    n_ref = len(m.matches) + len(m.missed)
-    return StepDetection(
-        n_det,
-        n_ref,
-        len(m.matches),
-        len(m.missed),
-        len(m.false),
-        _percent(len(m.missed), n_ref),
-        _percent(len(m.false), n_ref),
-        m,
-    )
+    return _step_detection(m)
 
 
 def step_detection_from_events(
@@ -1171,17 +1175,8 @@ def step_detection_from_events(
     matches = np.array([[0.5 * (runs[d, 0] + runs[d, 1] - 1), ref[r]] for d, r in pairs]).reshape(-1, 2)
     missed = np.array([ref[i] for i in range(len(ref)) if i not in used_ref])
     false = np.array([0.5 * (runs[j, 0] + runs[j, 1] - 1) for j in range(len(runs)) if j not in used_det])
-    n_ref = len(ref)
-    return StepDetection(
-        len(runs),
-        n_ref,
-        len(pairs),
-        len(missed),
-        len(false),
-        _percent(len(missed), n_ref),
-        _percent(len(false), n_ref),
-        EventMatches(matches, missed, false),
-    )
+    # every kept run is matched or false, every reference event matched or missed
+    return _step_detection(EventMatches(matches, missed, false))
 
 
 def _swing_pairs(value: ArrayLike, n: int) -> NDArray[np.int64]:
@@ -1310,18 +1305,7 @@ def step_detection_from_swings(
         det_in[a:z] = True
     # runs of det_in are the kept runs: clipped runs of one mask never touch each other
     m = _match_inside(_anchors(det_in, anchor), stance_intervals(ref), tol)
-    n_det = len(m.matches) + len(m.false)
-    n_ref = len(m.matches) + len(m.missed)
-    return StepDetection(
-        n_det,
-        n_ref,
-        len(m.matches),
-        len(m.missed),
-        len(m.false),
-        _percent(len(m.missed), n_ref),
-        _percent(len(m.false), n_ref),
-        m,
-    )
+    return _step_detection(m)
 
 
 @dataclass(frozen=True)

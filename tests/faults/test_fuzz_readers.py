@@ -6,6 +6,7 @@ import tempfile
 import warnings
 from pathlib import Path
 
+import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -34,6 +35,8 @@ content = st.tuples(st.sampled_from(HEADERS), st.lists(row, max_size=40), st.boo
     lambda h: h[0] + ("\n" if h[0] else "") + "\n".join(h[1]) + ("\n" if h[2] else "")
 )
 binary = st.binary(max_size=400)
+
+pytestmark = pytest.mark.fault  # malformed files are bad-input cases
 
 READERS = [read_footnav_csv, read_xio, read_xsens, read_openshoe, read_gaitmap, load]
 FUZZ = settings(max_examples=120, deadline=None, suppress_health_check=[HealthCheck.too_slow])

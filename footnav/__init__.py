@@ -27,6 +27,7 @@ from footnav.core.errors import (
 from footnav.core.comparison import DetectorComparison, compare_detectors
 from footnav.core.batch import evaluate_many
 from footnav.core.evaluation import EvaluationReport, evaluate
+from footnav.core.warning_log import warn
 from footnav.core.pipeline import (
     Pipeline,
     list_components,
@@ -107,5 +108,6 @@ __all__ = [
     "DataNotFoundError",
     "FootnavWarning",
     "DataQualityWarning",
+    "warn",
     "PluginWarning",
 ]

@@ -8,11 +8,12 @@ from __future__ import annotations
 import argparse
 import logging
 import sys
+import warnings
 from contextlib import ExitStack, nullcontext
 from pathlib import Path as FilePath
 from typing import Sequence
 
-from footnav.core.errors import FootnavError, PluginError
+from footnav.core.errors import FootnavError, FootnavWarning, PluginError
 
 EXIT_OK, EXIT_INTERNAL, EXIT_USAGE = 0, 1, 2
 #: First line of every table footnav writes as CSV (EvaluationReport.to_csv): how --force knows one.
@@ -51,6 +52,18 @@ def _positive(text: str) -> float:
     if not (value > 0 and value < float("inf")):
         raise argparse.ArgumentTypeError(f"{text!r} is not a finite number > 0")
     return value
+
+
+def _warning_printer(verbose: bool):
+    """``warnings.showwarning`` for the command line: one line per warning, in the user's words
+    (footnav's own without their class, others with it), the source line only with ``-v``."""
+
+    def show(message, category, filename, lineno, file=None, line=None) -> None:
+        kind = "" if issubclass(category, FootnavWarning) else f"{category.__name__}: "
+        where = f" ({filename}:{lineno})" if verbose else ""
+        print(f"footnav: warning: {kind}{message}{where}", file=sys.stderr if file is None else file)
+
+    return show
 
 
 def _os_message(exc: OSError) -> str:
@@ -103,19 +116,6 @@ def _pipeline_from_args(args: argparse.Namespace):
     return make_pipeline(args.detector or "adaptive", args.estimator or "ekf", args.fusion or "independent")
 
 
-def _print_stance_check(result) -> None:
-    """Say on stderr when a foot's stances disagree with its gait cycles (the result is suspect)."""
-    for foot, check in result.meta.get("stance_check", {}).items():
-        if check["suspicious"]:
-            times = ", ".join(f"{t:.1f}" for t in check["cycles_without_stance_at_s"][:5])
-            print(
-                f"footnav: warning: {foot} foot: {check['cycles_without_stance']} of {check['gait_cycles']} gait cycles "
-                f"have no stance (at {times} s ...), {check['stances_over_swing']} stances hold a swing; "
-                "the trajectory is probably wrong (details in summary.json, stance_check)",
-                file=sys.stderr,
-            )
-
-
 def cmd_run(args: argparse.Namespace) -> int:
     from footnav.core.io import read_footnav_csv
     from footnav.core.output import claim_output
@@ -143,7 +143,6 @@ def cmd_run(args: argparse.Namespace) -> int:
                 _plot_trajectories(result, None, figure)
             out = write_results(result, out_claim, force=args.force, summary=summary, pipeline_toml=pipeline.to_toml())
     print(_format_table(("quantity", "value"), list(summary.items())))
-    _print_stance_check(result)
     print(f"results written to {out}")
     if plot_claim:
         print(f"figure: {args.plot}")
@@ -425,7 +424,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         parser.print_help()
         return EXIT_USAGE
     try:
-        return args.func(args)
+        with warnings.catch_warnings():  # restored on return: main() may run inside someone's process
+            warnings.showwarning = _warning_printer(args.verbose)
+            return args.func(args)
     except PluginError as exc:  # not the user's input: a component package's bug
         print(f"footnav {args.command}: error: {exc}", file=sys.stderr)
         return EXIT_INTERNAL

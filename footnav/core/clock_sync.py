@@ -20,7 +20,6 @@ clocks from the angular-rate energy; see its Notes for what the data can and can
 
 from __future__ import annotations
 
-import warnings
 from dataclasses import dataclass, field, replace
 from typing import Literal
 
@@ -31,6 +30,7 @@ from scipy.signal import correlate
 
 from footnav.core.errors import DataQualityWarning, InvalidInputError, InvalidParameterError
 from footnav.core.types import ImuData
+from footnav.core.warning_log import warn
 
 __all__ = ["ClockMap", "fit_clock", "align_from_data", "apply_clock"]
 
@@ -542,7 +542,7 @@ def align_from_data(
     if leading_foot is not None and edge_start:
         agree = fits[(d_start[fits] > 0) == (leading_foot == "reference")]
         if len(agree) == 0:
-            warnings.warn(
+            warn(
                 f"align_from_data: the data say the {'other' if leading_foot == 'reference' else 'reference'} "
                 f"foot started walking, not the {leading_foot!r} one; kept the data's offset",
                 DataQualityWarning,
@@ -564,7 +564,7 @@ def align_from_data(
                 f"a recording starts mid-walk and one ends mid-walk: the offset is known only modulo the "
                 f"stride, {stride:.3f} s, and is as likely any whole number of strides away"
             )
-        warnings.warn(
+        warn(
             f"align_from_data: offsets {b + ks[best] * stride:.3f} s and "
             f"{', '.join(f'{x:.3f}' for x in alternatives)} s (a stride apart) fit the data equally well "
             f"({why}); returned the one nearest the walking envelope's",

@@ -13,8 +13,6 @@ bias. Only the samples whose angular-rate norm is below ``still_gyr_max_radps`` 
 
 from __future__ import annotations
 
-import warnings
-
 from dataclasses import dataclass
 
 import numpy as np
@@ -22,6 +20,7 @@ from numpy.typing import NDArray
 
 from footnav.core import quaternion as quat
 from footnav.core.errors import DataQualityWarning, InvalidInputError
+from footnav.core.warning_log import warn
 
 __all__ = ["Alignment", "align_at_rest", "align_first_stance"]
 
@@ -120,7 +119,7 @@ def align_first_stance(imu, stance, *, still_gyr_max_radps: float, stacklevel: i
     s0, e0 = int(steps[0, 0]), int(steps[0, 1])
     if s0 > 0:
         meta["estimate_start_index"] = s0
-        warnings.warn(
+        warn(
             f"{source or 'ImuData'}: recording does not start at standstill; the estimate "
             f"starts at the first stance phase (index {s0}) and holds that state before it",
             DataQualityWarning,
@@ -133,7 +132,7 @@ def align_first_stance(imu, stance, *, still_gyr_max_radps: float, stacklevel: i
         # the strapdown step spans a gap as one interval: right in stance, a guess in swing
         longest = max(gaps, key=lambda g: g[1])
         meta["gaps_bridged"] = gaps
-        warnings.warn(
+        warn(
             f"{source or 'ImuData'}: the filter integrates across {len(gaps)} sampling gap(s) "
             f"(longest {longest[1] * 1e3:.3g} ms before index {longest[0]}); positions after a gap in a swing "
             "are less certain; listed in the trajectory's meta['gaps_bridged']",

@@ -29,7 +29,6 @@ Trajectory metrics compare arrays *as given*: none of them aligns frames implici
 
 from __future__ import annotations
 
-import warnings
 from dataclasses import dataclass
 from typing import Iterator, Literal, NamedTuple
 
@@ -40,6 +39,7 @@ from scipy.optimize import linear_sum_assignment
 from footnav.core.dtw import DtwAlignment, dtw_align
 from footnav.core.errors import DataQualityWarning, InvalidInputError, InvalidParameterError
 from footnav.core.types import stance_intervals
+from footnav.core.warning_log import warn
 
 __all__ = [
     "DEFAULT_RATIO_MIN_DISTANCE_M",
@@ -794,7 +794,7 @@ def stride_length_errors(est_footprints: ArrayLike, ref_footprints: ArrayLike, *
     fe = _points(est_footprints, "est_footprints", dims, min_rows=2)[:, :dims]
     fr = _points(ref_footprints, "ref_footprints", dims, min_rows=2)[:, :dims]
     if len(fe) != len(fr):
-        warnings.warn(
+        warn(
             f"{len(fe)} estimated vs {len(fr)} reference footprints: comparing the first "
             f"{min(len(fe), len(fr)) - 1} strides in order; a missed/extra step shifts the pairing",
             DataQualityWarning,

@@ -26,7 +26,6 @@ import json
 import os
 import secrets
 import shutil
-import warnings
 from collections.abc import Callable, Iterable, Iterator
 from contextlib import contextmanager
 from datetime import datetime, timezone
@@ -34,6 +33,7 @@ from pathlib import Path as FilePath
 from typing import Literal
 
 from footnav.core.errors import DataQualityWarning, InvalidInputError
+from footnav.core.warning_log import warn
 
 __all__ = ["MARKER", "OutputClaim", "claim_output", "csv_signature", "is_footnav_figure"]
 
@@ -251,7 +251,7 @@ def claim_output(
         # with the lock held, whatever a run left beside the target is from a run that died
         done = _recover(target)
         if done:
-            warnings.warn(f"{target}: " + "; ".join(done), DataQualityWarning, stacklevel=2)
+            warn(f"{target}: " + "; ".join(done), DataQualityWarning, stacklevel=2)
         _check_existing(target, kind, force, signature, what)
     except BaseException:
         claim.release()

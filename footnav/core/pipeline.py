@@ -9,7 +9,6 @@ from __future__ import annotations
 import copy
 import sys
 import time
-import warnings
 from contextlib import contextmanager
 from pathlib import Path as FilePath
 from typing import Any, Mapping
@@ -28,6 +27,7 @@ from footnav.core.errors import (
 )
 from footnav.core.stance_check import check_stances
 from footnav.core.types import FusionResult, ImuData, PipelineResult, Recording, StanceResult
+from footnav.core.warning_log import recording, warn
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -219,7 +219,7 @@ class Pipeline:
             check = check_stances(imu, stance)
             out[foot] = check.as_meta()
             if check.suspicious:
-                warnings.warn(check.message(foot, self.detector.name), DataQualityWarning, stacklevel=3)
+                warn(check.message(foot, self.detector.name), DataQualityWarning, stacklevel=3)
         return out
 
     def run(self, left: ImuData | Recording, right: ImuData | None = None) -> PipelineResult:
@@ -250,8 +250,7 @@ class Pipeline:
         t0 = time.perf_counter()
         # the inputs' provenance as given, before any component could touch it
         inputs = {"left": copy.deepcopy(dict(left.meta)), "right": None if right is None else copy.deepcopy(dict(right.meta))}
-        with warnings.catch_warnings(record=True) as caught:
-            warnings.simplefilter("always")
+        with recording() as caught:  # this run's warnings, not another thread's (core/warning_log.py)
             for imu in (left, right):  # inside: what the checks find is recorded with the run
                 if imu is not None:
                     imu.check_units()
@@ -264,14 +263,12 @@ class Pipeline:
             with self._blame(self.fusion, self.estimator):
                 fused = self.fusion.fuse(self.estimator, left, stance_left, right, stance_right)
             self._check_fused_output(fused, left, right)
-        for w in caught:  # recorded for provenance, and still shown to the caller
-            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
         from footnav import __version__
 
         meta = {
             "pipeline": self.config(),
             "footnav_version": __version__,
-            "warnings": [f"{w.category.__name__}: {w.message}" for w in caught],
+            "warnings": [str(w) for w in caught],
             "stance_check": stance_checks,
             "runtime_s": time.perf_counter() - t0,
             "input": inputs,

@@ -14,7 +14,6 @@ its frame in a ``frame`` attribute:
 from __future__ import annotations
 
 import functools
-import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
 from typing import Any
@@ -23,6 +22,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from footnav.core.errors import DataQualityWarning, InvalidInputError
+from footnav.core.warning_log import warn
 
 __all__ = [
     "GAP_FACTOR",
@@ -556,7 +556,7 @@ class ImuData:
         gap_idx = np.flatnonzero(dt > GAP_FACTOR * median_dt)
         if len(gap_idx) and "gaps" not in meta:
             meta["gaps"] = [(int(i + 1), float(dt[i])) for i in gap_idx]
-            warnings.warn(
+            warn(
                 f"{path or 'ImuData'}: {len(gap_idx)} sampling gap(s) longer than {GAP_FACTOR:g} x the "
                 f"median interval {median_dt * 1e3:.3g} ms (first at index {gap_idx[0] + 1}, "
                 f"{dt[gap_idx[0]] * 1e3:.3g} ms); listed in meta['gaps']",
@@ -654,7 +654,7 @@ class ImuData:
                 t_arr, acc_arr, gyr_arr = t_arr[keep], acc_arr[keep], gyr_arr[keep]
                 mag_arr = None if mag_arr is None else mag_arr[keep]
                 meta["duplicates_dropped"] = {"count": len(dup), "indices": dup.tolist()}
-                warnings.warn(
+                warn(
                     f"{path or 'ImuData'}: dropped {len(dup)} sample(s) with a repeated time stamp "
                     f"(first at index {dup[0]}); recorded in meta['duplicates_dropped']",
                     DataQualityWarning,
@@ -666,7 +666,7 @@ class ImuData:
             if findings:
                 imu = replace(imu, meta={**imu.meta, **{key: record for key, record, _ in findings}})
                 for _, _, message in findings:
-                    warnings.warn(message, DataQualityWarning, stacklevel=2)
+                    warn(message, DataQualityWarning, stacklevel=2)
         return imu
 
     def check_units(self) -> None:
@@ -686,7 +686,7 @@ class ImuData:
         # exact peaks every stride, which the plateau rule would call clipping
         for key, _, message in _check_data(self.t, self.acc, self.gyr, self.meta, clipping=False):
             if key not in self.meta:
-                warnings.warn(message, DataQualityWarning, stacklevel=2)
+                warn(message, DataQualityWarning, stacklevel=2)
 
     @classmethod
     def from_dataframe(cls, frame: Any, *, time_column: str = "t", **units: Any) -> ImuData:

@@ -47,7 +47,6 @@ from __future__ import annotations
 import json
 import logging
 import math
-import warnings
 from dataclasses import dataclass
 from numbers import Integral
 from os import PathLike
@@ -68,6 +67,7 @@ from footnav.core.errors import (
     InvalidParameterError,
 )
 from footnav.core.types import GRAVITY_MPS2, ImuData, StanceResult, stance_intervals
+from footnav.core.warning_log import recording, warn
 
 __all__ = [
     "HmmDetector",
@@ -682,9 +682,7 @@ class HmmDetector(StanceDetector):
         _LOG.addHandler(handler)
         _LOG.propagate = False
         try:
-            with warnings.catch_warnings(record=True) as w:
-                warnings.simplefilter("always")
-                model.fit(x, lengths)
+            model.fit(x, lengths)
         finally:
             _LOG.removeHandler(handler)
             _LOG.propagate = old_propagate
@@ -692,12 +690,19 @@ class HmmDetector(StanceDetector):
             "history": list(model.monitor_.history),
             "n_iter": model.monitor_.iter,
             "messages": handler.messages,
-            "warnings": [f"{type(m.message).__name__}: {m.message}" for m in w],
         }
 
     # -- learning -----------------------------------------------------------------------------
     def _learn(self, recordings: Sequence[ImuData]) -> dict[str, Any]:
-        """Learn a model from ``recordings``; returns the learned values (nothing is stored)."""
+        """Learn a model from ``recordings``; returns the learned values (nothing is stored).
+
+        ``fit_info_["warnings"]`` lists the warnings footnav issued while learning."""
+        with recording() as log:
+            learned = self._learn_model(recordings)
+        learned["fit_info_"]["warnings"] = [str(w) for w in log]
+        return learned
+
+    def _learn_model(self, recordings: Sequence[ImuData]) -> dict[str, Any]:
         from sklearn.cluster import KMeans
 
         rate = float(self.model_rate_hz)
@@ -705,7 +710,6 @@ class HmmDetector(StanceDetector):
         x = np.concatenate([g.features for g in grids])
         lengths = [len(g.features) for g in grids]
         total_s = sum(imu.duration_s for imu in recordings)
-        caught: list[str] = []
         n_feat = x.shape[1]
         # per state: a mean, a full covariance and one exit probability Delta_k
         n_free = N_STATES * (n_feat + n_feat * (n_feat + 1) // 2 + 1)
@@ -717,10 +721,7 @@ class HmmDetector(StanceDetector):
         gyr_norm = np.linalg.norm(x[:, :3], axis=1)
 
         # K-means guess (seed 003 Sec. 2: "Commonly, the initialization is performed using Kmeans")
-        with warnings.catch_warnings(record=True) as w:
-            warnings.simplefilter("always")
-            km = KMeans(n_clusters=N_STATES, n_init=KMEANS_N_INIT, random_state=self.seed).fit(x)
-        caught += [f"{type(m.message).__name__}: {m.message}" for m in w]
+        km = KMeans(n_clusters=N_STATES, n_init=KMEANS_N_INIT, random_state=self.seed).fit(x)
         labels = km.labels_.astype(np.int64)
         counts = np.bincount(labels, minlength=N_STATES)
         median_rate = np.array(
@@ -799,19 +800,18 @@ class HmmDetector(StanceDetector):
                     f"the stance state is not the stillest state ({check['problem']}); its mask would not be "
                     "stance. Fit the detector on a longer or cleaner walk and detect this recording with it"
                 )
-            warnings.warn(
+            warn(
                 f"HmmDetector: the learned model failed the check after decoding ({first['problem']}); "
                 f"{fallback['action']}" + ("" if check["ok"] else f", still: {check['problem']}")
                 + "; recorded in fit_info_['fallback']",
                 DataQualityWarning,
                 stacklevel=3,
             )
-        caught += em["warnings"]
         history = em["history"]
         # hmmlearn's monitor_.converged is also True when it merely ran out of iterations
         converged = len(history) >= 2 and history[-1] - history[-2] < float(self.tol)
         if not converged:
-            warnings.warn(
+            warn(
                 f"HmmDetector: Baum-Welch did not converge in max_iter={self.max_iter} iterations (last gain "
                 f"{history[-1] - history[-2] if len(history) >= 2 else float('nan'):.3g} nats >= tol={self.tol:g}); "
                 "recorded in fit_info_['converged']",
@@ -837,7 +837,7 @@ class HmmDetector(StanceDetector):
             "check": check,
             "fallback": fallback,
             "messages": em["messages"],
-            "warnings": caught,
+            "warnings": [],  # filled by _learn
         }
         return {
             "startprob_": np.array(model.startprob_, dtype=np.float64),

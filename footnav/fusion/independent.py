@@ -12,14 +12,13 @@ their differences are in ``meta["span"]`` whenever both feet are given.
 
 from __future__ import annotations
 
-import warnings
-
 import numpy as np
 
 from footnav.core.component import Fusion
 from footnav.core.errors import DataQualityWarning
 from footnav.core.spans import span_difference
 from footnav.core.types import FootTrajectory, FusionResult, Path
+from footnav.core.warning_log import warn
 
 __all__ = ["IndependentFusion", "midpoint_path"]
 
@@ -52,7 +51,7 @@ class IndependentFusion(Fusion):
         if right is not None and len(left.t) and len(right.t):
             diff = span_difference(left, right)
             if diff["marked"]:
-                warnings.warn(f"fusion {self.name!r}: {diff['message']}", DataQualityWarning, stacklevel=3)
+                warn(f"fusion {self.name!r}: {diff['message']}", DataQualityWarning, stacklevel=3)
             meta["span"] = {k: v for k, v in diff.items() if k != "message"}
         traj_left = estimator.estimate(left, stance_left)
         traj_right = None if right is None else estimator.estimate(right, stance_right)

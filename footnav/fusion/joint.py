@@ -18,7 +18,6 @@ stance). The returned trajectories stay sample-aligned with each foot's input;
 
 from __future__ import annotations
 
-import warnings
 from collections.abc import Callable
 from typing import Any
 
@@ -30,6 +29,7 @@ from footnav.core.ins_filter import InsFilter
 from footnav.core.smoothing import smooth
 from footnav.core.spans import FootCut, common_span, slice_stance
 from footnav.core.types import FootTrajectory, FusionResult, ImuData, StanceResult
+from footnav.core.warning_log import warn
 from footnav.fusion.independent import midpoint_path
 
 __all__ = ["check_two_feet", "finish_joint", "fuse_on_common_span", "require_stepable", "start_joint"]
@@ -163,7 +163,7 @@ def fuse_on_common_span(
         result = fuse_span(estimator, left, stance_left, right, stance_right)
         return FusionResult(result.left, result.right, result.path, meta={**result.meta, "span": {**span.as_meta(), "outside": None}})
     if span.warn:
-        warnings.warn(span.message(fusion.name, OUTSIDE_SPAN), DataQualityWarning, stacklevel=3)
+        warn(span.message(fusion.name, OUTSIDE_SPAN), DataQualityWarning, stacklevel=3)
     cuts = (span.left, span.right)
     feet, stances = [], []
     for (imu, st), cut, name in zip(pairs, cuts, ("left", "right")):

@@ -10,13 +10,13 @@ from __future__ import annotations
 
 import importlib.metadata
 import os
-import warnings
 from types import ModuleType
 from typing import Iterable
 
 import pluggy
 
 from footnav.core.errors import PluginError, PluginWarning
+from footnav.core.warning_log import warn
 from footnav.plugins import hookspecs
 from footnav.plugins.registry import Registry
 
@@ -46,7 +46,7 @@ def _register_checked(pm: pluggy.PluginManager, plugin: object, name: str, origi
         if pm.is_registered(plugin):
             pm.unregister(plugin)
         registry.failed.append((name, origin, str(exc)))
-        warnings.warn(f"footnav plugin {name!r} ({origin}) is invalid and was skipped: {exc}", PluginWarning, stacklevel=3)
+        warn(f"footnav plugin {name!r} ({origin}) is invalid and was skipped: {exc}", PluginWarning, stacklevel=3)
         return False
     return True
 
@@ -93,7 +93,7 @@ def build_registry(
                 module = ep.load()
             except Exception as exc:  # any import-time failure of someone else's code
                 registry.failed.append((ep.name, dist, f"{type(exc).__name__}: {exc}"))
-                warnings.warn(
+                warn(
                     f"footnav plugin {ep.name!r} from {dist} failed to import and was skipped: "
                     f"{type(exc).__name__}: {exc}",
                     PluginWarning,
@@ -117,7 +117,7 @@ def build_registry(
                     # a clashing or malformed registration skips that component only: the
                     # built-ins and every other plugin keep working
                     registry.failed.append((_p, _o, str(exc)))
-                    warnings.warn(f"footnav plugin {_p!r} ({_o}): {exc}; skipped", PluginWarning, stacklevel=2)
+                    warn(f"footnav plugin {_p!r} ({_o}): {exc}; skipped", PluginWarning, stacklevel=2)
 
             try:
                 impl.function(register=register)
@@ -125,7 +125,7 @@ def build_registry(
                 raise
             except Exception as exc:
                 registry.failed.append((impl.plugin_name, origin, f"{type(exc).__name__}: {exc}"))
-                warnings.warn(
+                warn(
                     f"footnav plugin {impl.plugin_name!r} ({origin}) failed in {hook_name}: {exc}",
                     PluginWarning,
                     stacklevel=2,

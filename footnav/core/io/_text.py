@@ -16,7 +16,6 @@ from __future__ import annotations
 
 import os
 import stat
-import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path as FilePath
@@ -34,6 +33,7 @@ from footnav.core.types import (  # noqa: F401  (CLIP_*: re-exported, they were 
     ImuData,
     detect_clipping,
 )
+from footnav.core.warning_log import warn
 
 __all__ = [
     "ROTATE_180_ABOUT_X",
@@ -209,9 +209,7 @@ def parse_table(
     texts = [tf.lines[k] for k in rows]
     ncols = len(names)
     try:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")  # numpy warns on empty input; handled below
-            data = np.loadtxt(texts, delimiter=delimiter, dtype=np.float64, ndmin=2, comments=None)
+        data = np.loadtxt(texts, delimiter=delimiter, dtype=np.float64, ndmin=2, comments=None)  # rows: not empty
     except ValueError:  # any bad cell or row: find and name it line by line
         data = None
     if data is None or data.shape[1] != ncols:
@@ -351,7 +349,7 @@ def build_imu(
         }
         if (~exact).any():
             i = int(dup[np.argmax(~exact)])
-            warnings.warn(
+            warn(
                 f"{label}: {int((~exact).sum())} dropped row(s) repeat the previous time stamp with different "
                 f"values (first at index {i}" + (f", line {line_of(i)}" if line_numbers is not None else "")
                 + "); the first row of each time stamp was kept",

@@ -27,7 +27,6 @@ from __future__ import annotations
 
 import csv
 import io
-import warnings
 from pathlib import Path as FilePath
 from typing import Any
 
@@ -45,6 +44,7 @@ from footnav.core.io._text import (
     split_header,
 )
 from footnav.core.types import GRAVITY_MPS2, FootTruth, Recording
+from footnav.core.warning_log import warn
 
 __all__ = ["read_gaitmap", "GAITMAP_RATE_HZ", "GAITMAP_MOCAP_RATE_HZ", "GAITMAP_EVENT_NAMES"]
 
@@ -119,7 +119,7 @@ def _time_from_first_column(
         file_rate = 1.0 / float(np.median(steps)) if np.median(steps) > 0 else float("nan")
         info["rate_hz_from_time_column"] = file_rate
         if not np.isclose(file_rate, rate_hz, rtol=0.01):
-            warnings.warn(
+            warn(
                 f"{path}: the time column gives {file_rate:.6g} Hz but rate_hz={rate_hz:g}; the time column is used",
                 DataQualityWarning,
                 stacklevel=3,

@@ -55,7 +55,6 @@ Truth, per foot (:class:`~footnav.core.types.FootTruth`, ``frame="gait_events"``
 from __future__ import annotations
 
 import json
-import warnings
 from dataclasses import replace
 from pathlib import Path as FilePath
 from typing import Any
@@ -67,6 +66,7 @@ from footnav.core.errors import DataNotFoundError, DataQualityWarning, InvalidIn
 from footnav.core.io._text import changes_of
 from footnav.core.io.xsens import read_xsens
 from footnav.core.types import FootTruth, ImuData, Recording
+from footnav.core.warning_log import warn
 
 __all__ = ["ipol_trial_files", "read_ipol"]
 
@@ -155,7 +155,7 @@ def _foot_truth(
     outside = (swings_c[:, 0] < counter[0]) | (swings_c[:, 1] > counter[-1])
     if outside.any():
         i = int(np.argmax(outside))
-        warnings.warn(
+        warn(
             f"{src}: {int(outside.sum())} {foot} swing(s) lie outside the {foot} file's counter span "
             f"[{counter[0]}, {counter[-1]}] (first: {swings_c[i].tolist()}); dropped from the truth",
             DataQualityWarning,
@@ -288,7 +288,7 @@ def read_ipol(
         if "UTurnBoundaries" in info:
             meta["uturn_boundaries_counter"] = _pair(info["UTurnBoundaries"], src, "UTurnBoundaries")
     else:
-        warnings.warn(
+        warn(
             f"IPOL trial {stem!r}: {str(js)!r} not found; read without truth", DataQualityWarning, stacklevel=2
         )
     changes = changes_of("left", feet["left"]) + changes_of("right", feet["right"]) + changes

@@ -32,7 +32,6 @@ Frames, as found in the data:
 
 from __future__ import annotations
 
-import warnings
 from typing import Any
 
 import numpy as np
@@ -42,6 +41,7 @@ from footnav.core.errors import DataQualityWarning, InvalidInputError, InvalidPa
 from footnav.core.io._mat import mat_imu, mat_vector, read_mat
 from footnav.core.io._text import ROTATE_180_ABOUT_X, build_imu, changes_of
 from footnav.core.types import GRAVITY_MPS2, FootTruth, Recording
+from footnav.core.warning_log import warn
 
 __all__ = ["read_pyshoe", "PYSHOE_DETECTORS"]
 
@@ -132,7 +132,7 @@ def read_pyshoe(
     elif sensor_z != data_says:
         # Either the foot rests upside down (the VICON set has crawling trials) or this trial's
         # sensor was mounted differently: the reader cannot tell, so it keeps the requested axes.
-        warnings.warn(
+        warn(
             f"{src}: the sensor reads {'+' if sign > 0 else '-'}g on z at rest ({how}), but sensor_z={sensor_z!r}: "
             f"after conversion acc reads {'-' if sign > 0 else '+'}g on z at rest. Either the foot rests upside "
             "down (e.g. a crawling trial) or the sensor was mounted the other way in this trial; pass "
@@ -216,7 +216,7 @@ def read_pyshoe(
             if truth_z == "auto":
                 truth_z = gt_z
             elif truth_z != gt_z:
-                warnings.warn(
+                warn(
                     f"{src}: truth_z={truth_z!r} forced, but the data say z {gt_z} ({evidence})",
                     DataQualityWarning,
                     stacklevel=2,

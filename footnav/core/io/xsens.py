@@ -27,7 +27,6 @@ Format::
 from __future__ import annotations
 
 import re
-import warnings
 from pathlib import Path as FilePath
 from typing import Any
 
@@ -37,6 +36,7 @@ from numpy.typing import NDArray
 from footnav.core.errors import DataQualityWarning, InvalidInputError
 from footnav.core.io._text import build_imu, changes_of, parse_table, read_text, split_header
 from footnav.core.types import Recording
+from footnav.core.warning_log import warn
 
 __all__ = ["read_xsens", "XSENS_COUNTER_MODULUS", "unwrap_counter"]
 
@@ -188,7 +188,7 @@ def read_xsens(
     )
     if gaps:
         first = gaps[0][0]
-        warnings.warn(
+        warn(
             f"{tf.path}: {lost} lost packet(s) in {len(gaps)} gap(s) of the PacketCounter (first before sample "
             f"{first}, line {int(lines[np.flatnonzero(keep_rows)[first]])}); time follows the counter, the gaps are "
             "in meta['gaps'] and meta['lost_packets']",

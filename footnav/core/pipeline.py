@@ -270,6 +270,8 @@ class Pipeline:
             "footnav_version": __version__,
             "warnings": [str(w) for w in caught],
             "stance_check": stance_checks,
+            # what the fusion computed (update counts, fitted values, suspended turns, the span)
+            "fusion": copy.deepcopy(dict(fused.meta)),
             "runtime_s": time.perf_counter() - t0,
             "input": inputs,
         }

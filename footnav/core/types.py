@@ -913,8 +913,10 @@ class PipelineResult:
     """Everything a pipeline run produced, with its provenance.
 
     ``meta`` holds ``"pipeline"`` (the configuration, re-runnable with ``make_pipeline(**...)``),
-    ``"footnav_version"``, ``"warnings"`` (messages raised during the run), ``"runtime_s"`` and the
-    inputs' own meta.
+    ``"footnav_version"``, ``"warnings"`` (the warnings :func:`footnav.warn` issued during this
+    run), ``"stance_check"`` (each foot's stances against its gait cycles), ``"fusion"`` (what the
+    fusion computed: its update counts, fitted values and suspended intervals, the feet's common
+    span), ``"runtime_s"`` and ``"input"`` (the inputs' own meta).
     """
 
     left: FootTrajectory

@@ -86,3 +86,22 @@ def test_the_input_checks_findings_are_recorded_with_the_run():
         warnings.simplefilter("ignore")
         result = footnav.make_pipeline().run(slow)
     assert any("sampling rate 10 Hz" in w for w in result.meta["warnings"])
+
+
+@pytest.mark.parametrize("fusion", ["range", "step-vector"])
+def test_what_the_fusion_computed_comes_back_with_the_run(walk, fusion, tmp_path):
+    pipe = footnav.make_pipeline("threshold", "ekf", fusion)
+    res = pipe.run(walk.left, walk.right)
+    det = footnav.make_detector("threshold")
+    direct = footnav.make_fusion(fusion).fuse(
+        footnav.make_estimator("ekf"), walk.left, det.detect(walk.left), walk.right, det.detect(walk.right)
+    ).meta
+    assert res.meta["fusion"] == direct
+    counts = {"range": "checks", "step-vector": "updates"}[fusion]
+    assert res.meta["fusion"][counts] > 0  # a 10 m walk has steps to check or update at
+    from footnav.core.results import write_results
+    import json
+
+    out = write_results(res, tmp_path / "out")
+    doc = json.loads((out / "summary.json").read_text())
+    assert doc["provenance"]["fusion"][counts] == res.meta["fusion"][counts]

@@ -1,23 +1,69 @@
-"""Counts the fault-injection cases and prints "N bad-input cases tried, N handled as specified"."""
+"""Counts the fault-injection cases and prints "N bad-input cases tried, N handled as specified".
+
+A bad-input case is a test marked ``fault`` (``pytestmark = pytest.mark.fault`` in a file whose
+tests all are, ``@pytest.mark.fault`` on a single test). A case is tried when it runs (a test
+skipped on this machine is not tried) and handled when it passes.
+
+With ``FOOTNAV_FAULT_REPORT=<path>`` the outcome of every test under tests/faults, marked or not,
+is also written there as JSON; ``docs/make_reliability.py`` reads it to regenerate the figures of
+docs/reliability.md.
+"""
+
+import json
+import os
+from pathlib import Path
 
 import pytest
 
+REPORT_ENV = "FOOTNAV_FAULT_REPORT"
+_HERE = Path(__file__).resolve().parent
+
 _TRIED: list[str] = []
 _HANDLED: list[str] = []
+#: nodeid -> {"file", "fault", "outcome"} of every test under tests/faults (for the report).
+_OUTCOMES: dict[str, dict] = {}
+
+
+def _ours(item) -> bool:
+    return _HERE in Path(item.path).resolve().parents
 
 
 @pytest.hookimpl(hookwrapper=True)
 def pytest_runtest_makereport(item, call):
     outcome = yield
     report = outcome.get_result()
-    if report.when == "call" and item.get_closest_marker("fault") is not None:
+    fault = item.get_closest_marker("fault") is not None
+    if report.when == "call" and fault:
         _TRIED.append(item.nodeid)
         if report.passed:
             _HANDLED.append(item.nodeid)
+    if _ours(item):
+        entry = _OUTCOMES.setdefault(item.nodeid, {"file": Path(item.path).name, "fault": fault, "outcome": "not run"})
+        if report.skipped:
+            entry["outcome"] = "skipped"
+        elif report.failed:
+            entry["outcome"] = "failed"
+        elif report.when == "call" and entry["outcome"] == "not run":
+            entry["outcome"] = "passed"
 
 
 def pytest_configure(config):
     config.addinivalue_line("markers", "fault: a bad-input case of the fault-injection suite")
+
+
+def pytest_collection_finish(session):
+    for item in session.items:
+        if _ours(item):
+            _OUTCOMES.setdefault(item.nodeid, {"file": Path(item.path).name,
+                                               "fault": item.get_closest_marker("fault") is not None,
+                                               "outcome": "not run"})
+
+
+def pytest_sessionfinish(session, exitstatus):
+    path = os.environ.get(REPORT_ENV)
+    if path:
+        report = {"exitstatus": int(exitstatus), "tests": _OUTCOMES}
+        Path(path).write_text(json.dumps(report, indent=1), encoding="utf-8")
 
 
 def pytest_terminal_summary(terminalreporter):

@@ -1,21 +1,47 @@
-"""Particle-filter dual-foot fusion with lateral systematic drift (seed 004, Lee, Cho, Park 2022).
+"""Particle-filter dual-foot fusion with lateral systematic drift (Lee, Cho & Park (2022)).
 
-Seed 004 keeps each foot's horizontal position in a particle filter (PF) and the other error
-states in the foot's EKF (a marginalised structure, eq. 2-3 and 8). Per foot, at the end of each
-of its zero-velocity phases:
+Two modes (``ParticleFusion(mode=...)``):
 
-* **Propagation** (eq. 10-12): the particles move with the EKF's displacement since the foot's
-  previous stance end, spread by the EKF's velocity uncertainty integrated over the step
-  (``P_pos = P_vel dt^2``, eq. 11) plus a *lateral* systematic drift in the foot's frame,
-  ``C_b^n [0, f'(sigma_sys)]`` (eq. 12), ``f'`` an offset Rayleigh distribution skewed one way
-  for the right shoe and mirrored for the left (Sec. 2.2).
-* **Fusion** (eq. 13-14): each foot's cloud is summarised by its mean and covariance and the two
-  Gaussians are summed (equal weights) into one pedestrian position.
-* **Update** (eq. 15-16): that position weighs the particles, ``L = N(p_fused | x_n, Sigma_i)``
-  with ``Sigma_i`` the foot's own cloud covariance, and the cloud is resampled systematically
-  (Kitagawa 1996).
+``"paper"`` -- the paper as written (:mod:`footnav.fusion.particle_ekf` holds one foot):
 
-footnav's reading, where the paper leaves room:
+* each foot's EKF has the error state of eq. 3, ``[dp_z, dv (3), dphi_h (2), db_a (3)]``:
+  no horizontal position, no heading, no gyro bias (the first standstill's mean rate), Phi of
+  eq. 6, ZUPT of eq. 7; the horizontal position is a cloud of ``n_particles`` particles
+  (eq. 2, 8-9);
+* **propagation at every time update** (Algorithm 1, eq. 10-12): each particle moves with the
+  mechanization's displacement plus a draw of ``N(0, P_vel dt^2)`` and, while the foot moves,
+  the lateral drift ``C_b^n [0, f', 0]'`` with ``f' = Rayleigh(sigma_sys_m) - drift_offset_m``
+  (the offset kept: a mean of ``sigma sqrt(pi/2) - offset`` per step, toward the other foot),
+  split over the swing's samples so that one step's sum has the moments of one draw
+  (:func:`footnav.fusion.particle_ekf.drift_scales`);
+* **fusion** (eq. 13-14): at the end of each zero-velocity phase of a foot, the two clouds'
+  means and covariances (1/N) are summed into one Gaussian mixture with equal weights, whose
+  mean *and* covariance (``sum a_i (Sigma_i + (mu_i - mu)(mu_i - mu)')``) are the pedestrian's
+  position;
+* **update** (eq. 15-16): each particle of that foot is weighed by ``N(mu | x_n, Sigma)``, the
+  fused mean and covariance in 2-D, and the cloud is resampled systematically (Kitagawa 1996).
+  The particles never feed back into the EKF; no smoothing.
+
+``"footnav"`` (default) -- footnav's variant, kept because it is better on the simulator
+(measured below): both feet in footnav's generic joint EKF ``[phi, v, p(, b)]``
+(:mod:`footnav.fusion.joint`, with its RTS smoother); the particles move once per step by the
+EKF's displacement and covariance growth; the drift is made zero-mean; the update uses the fused
+*mean* only, across the foot's heading, shifted by half the step width; the EKF follows the
+cloud by Jeffrey's rule. Its points 1-5 below.
+
+Measured on the simulator's square (``path``: 23.25 m sides, 93 m round as in Sec. 4, three
+laps, back to the start; the paper's MTw noise of Table 1 (gyro 8.7e-4 rad/s/sqrt(Hz), acc
+3e-3 m/s^2/sqrt(Hz)), gyro bias walk 5e-5 rad/s^2/sqrt(Hz), 5 s standstill, 100 Hz; threshold
+detector; seeds 0-4; ``benchmarks/bench_particle.py --square``), RMS cross-track error per foot
+over its footprints, mean +- std over seeds: independent 0.335 +- 0.093 m (forward-only
+0.339), ``"paper"`` 0.385 +- 0.080 m, ``"footnav"`` 0.239 +- 0.105 m. The paper reports (Table
+3, position error on the square) 0.50 / 1.28 m standalone and 0.32 / 0.31 m proposed (left /
+right). On the simulator the feet's heading errors are independent random walks, not the
+symmetric drift the paper models, and paper mode pulls both feet toward their midpoint (eq. 15
+takes each foot's position for the pedestrian's), which costs about half the step width across
+the walk: its final cross-track error drops (0.212 -> 0.161 m) but not its RMS.
+
+footnav's reading (``mode="footnav"``), where the paper leaves room:
 
 1. *The feet in one frame.* Both feet run in the joint filter of :mod:`footnav.fusion.joint`
    (first step along +x, left foot at +y); the PF is their only coupling.
@@ -64,12 +90,21 @@ from typing import ClassVar
 import numpy as np
 from numpy.typing import NDArray
 
+from footnav.core import quaternion as quat
 from footnav.core._numba import njit  # numba.njit that survives a read-only install
-from footnav.core.component import MAX_LENGTH_M, Fusion, require_in_range, require_non_negative
-from footnav.core.types import FusionResult
+from footnav.core.component import MAX_LENGTH_M, Fusion, require, require_in_range, require_non_negative
+from footnav.core.initial_alignment import align_first_stance
+from footnav.core.types import FootTrajectory, FusionResult
+from footnav.fusion.independent import midpoint_path
 from footnav.fusion.joint import LEFT, RIGHT, finish_joint, fuse_on_common_span, start_joint
+from footnav.fusion.particle_ekf import N_STATES, PaperFoot, drift_scales
 
-__all__ = ["ParticleFusion", "systematic_resample", "offset_rayleigh", "gaussian_sum", "equivalent_measurement"]
+__all__ = [
+    "ParticleFusion", "systematic_resample", "offset_rayleigh", "gaussian_sum", "equivalent_measurement", "MODES",
+]
+
+#: Values of ``ParticleFusion(mode=...)``.
+MODES = ("paper", "footnav")
 
 #: Largest variance ratio (PF / EKF, whitened) that still counts as information: above it the
 #: equivalent measurement's variance would exceed 1e6 x the EKF's, and the update only moves
@@ -145,7 +180,7 @@ def _weigh_and_resample(cloud, z, lateral, var, u, out, logw, mean, cov):
 
 
 def systematic_resample(weights: NDArray[np.float64], rng: np.random.Generator) -> NDArray[np.int64]:
-    """Indices of N particles drawn by systematic resampling (Kitagawa 1996; seed 004 Sec. 3.2).
+    """Indices of N particles drawn by systematic resampling (Kitagawa 1996; Lee, Cho & Park (2022), Sec. 3.2).
 
     One uniform draw ``u ~ U[0, 1)``; the points ``(u + k) / N``, k = 0..N-1, fall into the
     slices of the cumulative normalised weights, and particle i is copied once per point in its
@@ -171,20 +206,25 @@ def systematic_resample(weights: NDArray[np.float64], rng: np.random.Generator) 
     return np.searchsorted(cum, points, side="right").astype(np.int64)
 
 
-def offset_rayleigh(sigma_m: float, size: int, rng: np.random.Generator) -> NDArray[np.float64]:
-    """Samples of the offset Rayleigh distribution of seed 004 eq. 1 and 12, m.
+def offset_rayleigh(
+    sigma_m: float, size: int, rng: np.random.Generator, offset_m: float | None = None
+) -> NDArray[np.float64]:
+    """Samples of the offset Rayleigh distribution ``Rayleigh(sigma) - offset``, m (Lee, Cho &
+    Park (2022), eq. 1 and 12).
 
-    ``Rayleigh(sigma) - sigma sqrt(pi/2)``: the Rayleigh distribution shifted by its mean, so
-    zero mean, variance ``(2 - pi/2) sigma^2``, mode ``sigma (1 - sqrt(pi/2)) < 0`` and a long
-    positive tail (the right shoe's; the left shoe's is its mirror, ``-x``).
+    ``offset_m`` None: the Rayleigh mean ``sigma sqrt(pi/2)`` (footnav's zero-mean drift): variance
+    ``(2 - pi/2) sigma^2``, mode ``sigma (1 - sqrt(pi/2)) < 0`` and a long positive tail (the
+    right shoe's; the left shoe's is its mirror, ``-x``). Any other offset leaves the mean
+    ``sigma sqrt(pi/2) - offset``: the systematic drift the paper fits to a histogram (Sec. 2.2).
     """
-    return rng.rayleigh(sigma_m, size) - sigma_m * np.sqrt(np.pi / 2)
+    offset = sigma_m * np.sqrt(np.pi / 2) if offset_m is None else offset_m
+    return rng.rayleigh(sigma_m, size) - offset
 
 
 def gaussian_sum(
     means: NDArray[np.float64], covs: NDArray[np.float64], weights: NDArray[np.float64]
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """Mean and covariance of the Gaussian mixture ``sum_i a_i N(mu_i, S_i)`` (seed 004 eq. 13).
+    """Mean and covariance of the Gaussian mixture ``sum_i a_i N(mu_i, S_i)`` (Lee, Cho & Park (2022), eq. 13).
 
     ``mu = sum a_i mu_i``, ``S = sum a_i (S_i + (mu_i - mu)(mu_i - mu)')``, the weights ``a``
     normalised to sum to 1. ``means`` (K, d), ``covs`` (K, d, d), ``weights`` (K,).
@@ -264,6 +304,27 @@ def equivalent_measurement(p_prior, cov_prior, mean_post, cov_post, a, y, r):
         y[i] = (1.0 + r[i]) * (a[i, 0] * d0 + a[i, 1] * d1)
 
 
+#: The estimator parameters paper mode reads for its own EKF (eq. 3), with EkfEstimator's defaults.
+_PAPER_NOISE_DEFAULTS = {
+    "acc_noise_mps2_sqrthz": 0.05,
+    "gyr_noise_radps_sqrthz": 2e-3,
+    "acc_bias_walk_mps3_sqrthz": 1e-3,
+    "zupt_std_mps": 0.01,
+    "init_velocity_std_mps": 0.01,
+    "init_attitude_std_rad": 0.01,
+    "init_acc_bias_std_mps2": 0.05,
+}
+
+
+def _gaussian_weights(cloud: NDArray[np.float64], z: NDArray[np.float64], cov: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Unnormalised ``N(z | x_n, cov)`` of each particle (eq. 15), scaled so the largest is 1;
+    ``cov`` (2, 2) gets a floor of 1e-12 m^2 on its diagonal."""
+    d = cloud - z
+    inv = np.linalg.inv(cov + _MIN_VAR_M2 * np.eye(2))
+    logw = -0.5 * np.einsum("ni,ij,nj->n", d, inv, d)
+    return np.exp(logw - logw.max())
+
+
 def _yaw(q: NDArray[np.float64]) -> float:
     """ZYX yaw of the quaternion [w, x, y, z], rad (as :func:`footnav.core.quaternion.yaw`)."""
     w, x, y, z = q
@@ -271,24 +332,35 @@ def _yaw(q: NDArray[np.float64]) -> float:
 
 
 class ParticleFusion(Fusion):
-    """Each foot's horizontal position in a particle filter, fused by a Gaussian sum (seed 004).
+    """Each foot's horizontal position in a particle filter, fused by a Gaussian sum (Lee, Cho & Park (2022)).
 
     Parameters
     ----------
+    mode : {"footnav", "paper"}
+        ``"paper"``: the paper's eq. 3 EKF, particles at each time update, the offset drift and
+        the Gaussian sum's mean and covariance as measurement; ``"footnav"``: footnav's variant
+        (module docstring: better on the simulator's square, 0.24 against 0.39 m RMS
+        cross-track).
     n_particles : int
-        Particles per foot (seed 004: 100).
+        Particles per foot (Lee, Cho & Park (2022), Sec. 3.2: 100).
     sigma_sys_m : float
-        Scale sigma of the offset-Rayleigh lateral drift added per step, m (seed 004 eq. 12);
-        0 leaves only the EKF's Gaussian spread.
+        Scale sigma of the offset-Rayleigh lateral drift per step, m (Lee, Cho & Park (2022),
+        eq. 12); 0 leaves only the EKF's Gaussian spread.
+    drift_offset_m : float
+        ``"paper"`` only: the offset of eq. 12's Rayleigh distribution, m. The default, sigma,
+        puts the mode at zero and leaves a mean drift of ``0.25 sigma`` per step toward the other
+        foot (the paper fits it to a histogram, Fig. 2, and gives no number). ``"footnav"``
+        always offsets by the mean.
     step_width_m : float
-        Lateral distance between the feet, m: where the feet start, and each foot's offset from
-        the pedestrian position in the likelihood (the simulator's walker: 0.2 m).
+        Lateral distance between the feet, m: where the feet start, and (``"footnav"``) each
+        foot's offset from the pedestrian position in the likelihood (the simulator's walker:
+        0.2 m).
     seed : int
         Seed of ``numpy.random.default_rng`` for the particles.
 
     Notes
     -----
-    Per foot and stance end (module docstring for footnav's reading)::
+    ``mode="footnav"``, per foot and stance end (module docstring for the paper mode)::
 
         x_n <- x_n + dp_EKF + N(0, P_pos) - s l f'(sigma_sys)              (eq. 10-12)
         p_fused = sum_i a_i N(mu_i, Sigma_i),  mu_i, Sigma_i the clouds    (eq. 13-14)
@@ -313,10 +385,19 @@ class ParticleFusion(Fusion):
     needs_stepable_estimator: ClassVar[bool] = True
 
     def __init__(
-        self, *, n_particles: int = 100, sigma_sys_m: float = 0.05, step_width_m: float = 0.2, seed: int = 0
+        self,
+        *,
+        mode: str = "footnav",
+        n_particles: int = 100,
+        sigma_sys_m: float = 0.05,
+        drift_offset_m: float = 0.05,
+        step_width_m: float = 0.2,
+        seed: int = 0,
     ) -> None:
+        self.mode = mode
         self.n_particles = n_particles
         self.sigma_sys_m = sigma_sys_m
+        self.drift_offset_m = drift_offset_m
         self.step_width_m = step_width_m
         self.seed = seed
 
@@ -327,6 +408,8 @@ class ParticleFusion(Fusion):
         # numpy.random.default_rng takes seeds >= 0 only (a negative one raised ValueError)
         require_in_range(self, "seed", low=0, high=2**128, integer=True)
         require_non_negative(self, "sigma_sys_m", "step_width_m", high=MAX_LENGTH_M)
+        require(self.mode in MODES, self, "mode", " or ".join(repr(m) for m in MODES))
+        require_in_range(self, "drift_offset_m", low=-MAX_LENGTH_M, high=MAX_LENGTH_M)
 
     def fuse(self, estimator, left, stance_left, right=None, stance_right=None) -> FusionResult:
         """Both feet's EKFs with their horizontal positions carried by particle clouds.
@@ -338,6 +421,72 @@ class ParticleFusion(Fusion):
 
     def _fuse_span(self, estimator, left, stance_left, right, stance_right) -> FusionResult:
         """:meth:`fuse` on feet that share their whole time span."""
+        if self.mode == "paper":
+            return self._fuse_paper(estimator, left, stance_left, right, stance_right)
+        return self._fuse_footnav(estimator, left, stance_left, right, stance_right)
+
+    def _fuse_paper(self, estimator, left, stance_left, right, stance_right) -> FusionResult:
+        """Lee, Cho & Park (2022) as written: each foot's EKF of eq. 3 (no horizontal position, no
+        yaw) with its particles moved at every time update (eq. 10-12), the clouds' Gaussian sum
+        (eq. 13-14) the measurement of each foot's PF at the end of each of its zero-velocity
+        phases (eq. 15-16), systematic resampling. No smoothing (the paper filters forward)."""
+        rng = np.random.default_rng(self.seed)
+        n = int(self.n_particles)
+        params = estimator.get_params()
+        forward = estimator.clone(smoother="none", heading="first-step")
+        var = {k: float(params.get(k, d)) ** 2 for k, d in _PAPER_NOISE_DEFAULTS.items()}
+        noise = [var["acc_noise_mps2_sqrthz"], var["gyr_noise_radps_sqrthz"], var["acc_bias_walk_mps3_sqrthz"], var["zupt_std_mps"]]
+        cov0 = [0.0] + [var["init_velocity_std_mps"]] * 3 + [var["init_attitude_std_rad"]] * 2 + [var["init_acc_bias_std_mps2"]] * 3
+        assert len(cov0) == N_STATES
+        still = float(params.get("still_gyr_max_radps", 0.05))
+        half = 0.5 * float(self.step_width_m)
+        feet, metas = [], []
+        for foot, (imu, st) in enumerate(((left, stance_left), (right, stance_right))):
+            # the nav frame of the joint filter (joint.start_joint): the first step along +x,
+            # the left foot at +y
+            yaw = float(forward.estimate(imu, st).meta.get("heading_rotation_rad", 0.0))
+            s0, align, meta = align_first_stance(imu, st, still_gyr_max_radps=still, stacklevel=5)
+            side = 1.0 if foot == RIGHT else -1.0  # the right shoe's tail along its +y (Sec. 2.2)
+            p0 = np.array([0.0, -side * half, 0.0])
+            scale, offset = drift_scales(st.mask, float(self.sigma_sys_m), float(self.drift_offset_m))
+            feet.append(PaperFoot(
+                imu.t, imu.acc, imu.gyr, st.mask, s0, quat.multiply(quat.from_yaw(yaw), align.quaternion), p0,
+                align.gyro_bias_radps, cov0, noise, np.tile(p0[:2], (n, 1)), side, scale, offset,
+            ))
+            metas.append(meta)
+        events = sorted(
+            (float(imu.t[stop - 1]), foot)
+            for foot, (imu, st) in enumerate(((left, stance_left), (right, stance_right)))
+            for _, stop in st.intervals[:-1]
+        )
+        times = (left.t, right.t)
+        for t, foot in events:
+            for f in (LEFT, RIGHT):
+                feet[f].run_until(np.searchsorted(times[f], t, side="right") - 1, rng)
+            moments = []
+            for f in (LEFT, RIGHT):
+                mean, cov_c = np.empty(2), np.empty((2, 2))
+                _moments(feet[f].cloud, mean, cov_c)  # eq. 14
+                moments.append((mean, cov_c))
+            # eq. 13: the pedestrian's position, the equal-weight Gaussian sum of the two clouds
+            z, cov_z = gaussian_sum(np.array([m for m, _ in moments]), np.array([c for _, c in moments]), _EQUAL)
+            # eq. 15-16: q_n = N(z | x_n, Sigma_fused), systematic resampling
+            weights = _gaussian_weights(feet[foot].cloud, z, cov_z)
+            feet[foot].set_cloud(feet[foot].cloud[systematic_resample(weights, rng)])
+        out = []
+        for f, (imu, st) in enumerate(((left, stance_left), (right, stance_right))):
+            feet[f].run_until(len(imu.t) - 1, rng)
+            pf = feet[f]
+            out.append(FootTrajectory(
+                t=imu.t, position=pf.position, velocity=pf.velocity, quaternion=pf.quaternion,
+                position_std=pf.position_std, steps=st.intervals,
+                meta={**metas[f], "estimator": "particle-ekf (Lee, Cho & Park 2022, eq. 3)"},
+            ))
+        meta = {"fusion": self.describe(), "pf_updates": len(events), "n_particles": n}
+        return FusionResult(left=out[0], right=out[1], path=midpoint_path(out[0], out[1]), meta=meta)
+
+    def _fuse_footnav(self, estimator, left, stance_left, right, stance_right) -> FusionResult:
+        """footnav's variant (module docstring, points 1-5)."""
         rng = np.random.default_rng(self.seed)
         n = int(self.n_particles)
         filt = start_joint(estimator, left, stance_left, right, stance_right, self.step_width_m)

@@ -2,6 +2,7 @@
 
 Run:  python benchmarks/bench_particle.py [--minutes 10] [--repeat 5]
       python benchmarks/bench_particle.py --accuracy [--seeds 5]     # accuracy instead of time
+      python benchmarks/bench_particle.py --square [--seeds 5]       # paper vs footnav mode, cross-track
 
 The issue's target: the particle filter with 1000 particles adds < 20 % to the pipeline runtime.
 Prints the machine, then the warm best-of-``repeat`` runtime of the whole pipeline (threshold
@@ -101,13 +102,48 @@ def accuracy(n_seeds: int) -> None:
             print(f"  {name:10s} {label:12s} ATE {ate[0]:.3f} / {ate[1]:.3f}  E_s {es:.3f} (truth {truth_es:.3f})")
 
 
+def square(n_seeds: int, laps: int = 3) -> None:
+    """Cross-track error on the square of Lee, Cho & Park (2022), Sec. 4: paper mode, footnav mode,
+    independent feet (smoothed and forward-only)."""
+    import sys
+
+    sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "tests", "fusion"))
+    from test_particle_paper import cross_track
+    from test_particle_paper import square as square_walk
+
+    from footnav.estimators.ekf import EkfEstimator
+
+    det = footnav.make_detector("threshold")
+    runs = {"independent": (IndependentFusion(), EkfEstimator()),
+            "independent, forward only": (IndependentFusion(), EkfEstimator(smoother="none")),
+            "particle, mode=paper": (ParticleFusion(mode="paper"), EkfEstimator()),
+            "particle, mode=footnav": (ParticleFusion(mode="footnav"), EkfEstimator())}
+    rows: dict[str, list] = {name: [] for name in runs}
+    for seed in range(n_seeds):
+        rec = square_walk(seed, laps=laps)
+        sl, sr = det.detect(rec.left), det.detect(rec.right)
+        for name, (fusion, est) in runs.items():
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                res = fusion.fuse(est, rec.left, sl, rec.right, sr)
+            rows[name].append(np.mean([cross_track(res.left, rec.truth_left), cross_track(res.right, rec.truth_right)], axis=0))
+    print(f"square 93 m round x {laps} laps, MTw noise, seeds 0..{n_seeds - 1}: cross-track error per foot, mean +- std over seeds (m)")
+    for name, v in rows.items():
+        v = np.array(v)
+        print(f"  {name:26s} RMS {v[:, 0].mean():.3f} +- {v[:, 0].std():.3f}   final {v[:, 1].mean():.3f} +- {v[:, 1].std():.3f}")
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--minutes", type=float, default=10.0)
     ap.add_argument("--repeat", type=int, default=5)
     ap.add_argument("--accuracy", action="store_true", help="E_s and E_p instead of the runtime")
     ap.add_argument("--seeds", type=int, default=5, help="simulator seeds for --accuracy")
+    ap.add_argument("--square", action="store_true", help="cross-track error on the paper's square (--seeds)")
     args = ap.parse_args()
+    if args.square:
+        square(args.seeds)
+        return
     if args.accuracy:
         accuracy(args.seeds)
         return

@@ -18,13 +18,14 @@ stance). The returned trajectories stay sample-aligned with each foot's input;
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from typing import Any
 
 import numpy as np
 
 from footnav.core import quaternion as quat
 from footnav.core.errors import CompositionError, DataQualityWarning, InvalidInputError
+from footnav.core.final_rest import final_rest
 from footnav.core.ins_filter import InsFilter
 from footnav.core.smoothing import smooth
 from footnav.core.spans import FootCut, common_span, slice_stance
@@ -32,7 +33,7 @@ from footnav.core.types import FootTrajectory, FusionResult, ImuData, StanceResu
 from footnav.core.warning_log import warn
 from footnav.fusion.independent import midpoint_path
 
-__all__ = ["check_two_feet", "finish_joint", "fuse_on_common_span", "require_stepable", "start_joint"]
+__all__ = ["check_two_feet", "close_loops", "closing_time", "finish_joint", "forward_only", "fuse_on_common_span", "require_stepable", "start_joint"]
 
 #: What a coupled fusion does with a foot's samples outside the common span (meta and warning).
 OUTSIDE_SPAN = "each foot's samples outside it are that foot estimated alone, continued rigidly from the fused edge"
@@ -56,11 +57,14 @@ def require_stepable(fusion: Any, estimator: Any) -> None:
             f"fusion {fusion.name!r} drives the per-foot filters step by step and needs an estimator "
             f"with a step-able filter (start(imus, stances)), such as 'ekf'; {estimator.name!r} has none"
         )
+
+
+def forward_only(estimator: Any) -> Any:
+    """The estimator as a forward filter (no smoother, no closed loop), its first step along +x."""
+    changes = {"smoother": "none", "heading": "first-step"}
     if getattr(estimator, "closed_loop", False):
-        raise CompositionError(
-            f"fusion {fusion.name!r}: the estimator's closed_loop constraint is for one foot alone; "
-            "turn it off for a two-foot fusion"
-        )
+        changes["closed_loop"] = False
+    return estimator.clone(**changes)
 
 
 def start_joint(
@@ -77,7 +81,7 @@ def start_joint(
     the feet), ready to run; with ``return_singles`` also each foot's own forward solution
     (FootTrajectory, first step along +x)."""
     yaws, singles = [], []
-    forward = estimator.clone(smoother="none", heading="first-step")
+    forward = forward_only(estimator)
     for imu, stance in ((left, stance_left), (right, stance_right)):
         traj = forward.estimate(imu, stance)
         singles.append(traj)
@@ -89,8 +93,65 @@ def start_joint(
     return (filt, singles) if return_singles else filt
 
 
-def finish_joint(estimator: Any, filt: InsFilter, stance_left: StanceResult, stance_right: StanceResult, meta: dict) -> FusionResult:
-    """Run to the end, smooth as ``estimator.smoother`` says, and package both feet and the path."""
+def closing_time(estimator: Any, imus: Sequence[ImuData], stances: Sequence[StanceResult]) -> float:
+    """Time (s) a fusion's own updates must stop at so that :func:`close_loops` can apply the
+    closed loop at the first final rest: that rest's last sample, or inf without ``closed_loop``."""
+    if not getattr(estimator, "closed_loop", False):
+        return np.inf
+    return min(float(imu.t[final_rest(imu.t, st, what=f"{estimator.name}: closed_loop")]) for imu, st in zip(imus, stances))
+
+
+def close_loops(estimator: Any, filt: InsFilter, imus: Sequence[ImuData], stances: Sequence[StanceResult]) -> dict | None:
+    """With the estimator's ``closed_loop``, each foot's start position as a measurement at its
+    final standstill (Chistyakov et al. 2021, Alg. 1, here inside the two-foot filter of Alg. 2),
+    in time order; the final rest is checked (:func:`footnav.core.final_rest.final_rest`).
+    Returns what was applied (for meta), or None without ``closed_loop``."""
+    if not getattr(estimator, "closed_loop", False):
+        return None
+    std = float(estimator.closed_loop_std_m)
+    applied, ends = {}, []
+    for foot, (imu, stance, name) in enumerate(zip(imus, stances, ("left", "right"))):
+        last = final_rest(imu.t, stance, what=f"{estimator.name}: closed_loop ({name} foot)")
+        ends.append((float(imu.t[last]), foot))
+        applied[name] = {"index": last, "std_m": std}
+    starts = [filt.outputs(foot)[2][0].copy() for foot in range(len(imus))]  # samples up to the start hold p0
+    t_first = min(t for t, _ in ends)
+    for foot in range(len(imus)):
+        if filt.time(foot) > t_first:  # a fusion's own events must stop at closing_time()
+            raise RuntimeError(f"the joint filter ran past the final rest at {t_first:.6g} s")
+    filt.run_until(t_first)
+    # both feet at once while both stand (the usual case): closing one foot alone and then the
+    # other would move the first again through their correlation
+    k = [int(np.searchsorted(imu.t, t_first, side="right")) - 1 for imu in imus]
+    if all(st.mask[min(max(kk, 0), len(st.mask) - 1)] for kk, st in zip(k, stances)):
+        blocks = [filt.block(foot, "pos") for foot in range(len(imus))]
+        h = filt.selection(np.concatenate([np.arange(b.start, b.start + 3) for b in blocks]))
+        innov = np.concatenate([filt.position(foot) - starts[foot] for foot in range(len(imus))])
+        filt.update(h, innov, np.full(len(innov), std**2))
+        return applied
+    for t, foot in sorted(ends):
+        filt.run_until(t)
+        filt.update_position(foot, starts[foot], std)
+    return applied
+
+
+def finish_joint(
+    estimator: Any,
+    filt: InsFilter,
+    stance_left: StanceResult,
+    stance_right: StanceResult,
+    meta: dict,
+    imus: Sequence[ImuData] | None = None,
+) -> FusionResult:
+    """Close the loops (the estimator's ``closed_loop``; needs ``imus``), run to the end, smooth
+    as ``estimator.smoother`` says, and package both feet and the path."""
+    if getattr(estimator, "closed_loop", False):
+        if imus is None:
+            raise CompositionError(
+                f"{meta.get('fusion', {}).get('name', 'this fusion')!r} does not apply the estimator's closed_loop; "
+                "turn closed_loop off, or use the 'dtw' or 'range' fusion"
+            )
+        meta["closed_loop"] = close_loops(estimator, filt, imus, (stance_left, stance_right))
     filt.run_until()
     mode = getattr(estimator, "smoother", "none")
     smoothed = None if mode == "none" else smooth(filt, mode)
@@ -162,6 +223,13 @@ def fuse_on_common_span(
     if not span.cut:
         result = fuse_span(estimator, left, stance_left, right, stance_right)
         return FusionResult(result.left, result.right, result.path, meta={**result.meta, "span": {**span.as_meta(), "outside": None}})
+    if getattr(estimator, "closed_loop", False) and (span.left.stop_index < span.left.n_samples or span.right.stop_index < span.right.n_samples):
+        raise InvalidInputError(
+            f"fusion {fusion.name!r}: closed_loop needs both feet's final rests inside their common span "
+            f"({span.start_s:.6g}..{span.stop_s:.6g} s), but a foot goes on after it; cut the feet to a common end "
+            "or turn closed_loop off",
+            field="t",
+        )
     if span.warn:
         warn(span.message(fusion.name, OUTSIDE_SPAN), DataQualityWarning, stacklevel=3)
     cuts = (span.left, span.right)

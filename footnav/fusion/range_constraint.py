@@ -19,7 +19,7 @@ import numpy as np
 
 from footnav.core.component import MAX_DURATION_S, MAX_LENGTH_M, Fusion, is_number, require, require_positive
 from footnav.core.types import FusionResult
-from footnav.fusion.joint import LEFT, RIGHT, finish_joint, fuse_on_common_span, start_joint
+from footnav.fusion.joint import LEFT, RIGHT, closing_time, finish_joint, fuse_on_common_span, start_joint
 
 __all__ = ["RangeConstraintFusion"]
 
@@ -92,6 +92,7 @@ class RangeConstraintFusion(Fusion):
         checks = np.arange(t0, t1, self.check_interval_s)
         landings = [imu.t[stance.intervals[1:, 0]] for imu, stance in zip(imus, stances)]
         times = np.unique(np.concatenate([checks, *landings]))
+        times = times[times <= closing_time(estimator, imus, stances)]
         bound = float(self.max_separation_m)
         applied = 0
         for t in times:
@@ -115,4 +116,4 @@ class RangeConstraintFusion(Fusion):
                 filt.update_position(RIGHT, centre - 0.5 * bound * u, self.constraint_std_m)
             applied += 1
         meta = {"fusion": self.describe(), "constraint_updates": applied, "checks": len(times)}
-        return finish_joint(estimator, filt, stance_left, stance_right, meta)
+        return finish_joint(estimator, filt, stance_left, stance_right, meta, imus)

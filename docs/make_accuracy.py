@@ -22,10 +22,10 @@ from footnav.core.evaluation import evaluate
 REFERENCE = {
     ("azure_fgo", "ate_2d", "left"): "0.36 (gaitmap RtsKalman)",
     ("azure_fgo", "ate_2d", "right"): "0.76 (gaitmap RtsKalman)",
-    ("xio_short", "loop_closure", "left"): "1.09 (gaitmap RtsKalman); 0.082 (publisher)",
-    ("xio_long", "loop_closure", "left"): "1.76 (gaitmap RtsKalman); 0.421 (publisher)",
+    ("xio_short", "loop_closure_2d", "left"): "1.09 (gaitmap RtsKalman); 0.082 (publisher)",
+    ("xio_long", "loop_closure_2d", "left"): "1.76 (gaitmap RtsKalman); 0.421 (publisher)",
 }
-SHOWN = ("ate_2d", "ate_3d", "loop_closure", "loop_closure_percent", "final_separation", "path_length",
+SHOWN = ("ate_2d", "ate_3d", "loop_closure_2d", "loop_closure_2d_percent", "loop_closure_3d", "final_separation", "path_length",
          "reference_path_length", "stances", "stance_f1", "steps_missed", "steps_false")
 #: Development sets of issue 13, summarised in their own section (one row per trial is too many).
 DEV_SETS = ("ipol_", "gaitdriven_")
@@ -79,10 +79,10 @@ def estimator_section(root, names) -> list[str]:
                     cells.append("")
                     continue
                 report = evaluate(footnav.make_pipeline("adaptive", est, "independent", estimator_params=params), rec)
-                metric = "loop_closure" if name in LOOPS else "ate_2d"
+                metric = "loop_closure_2d" if name in LOOPS else "ate_2d"
                 feet = ["left"] + (["right"] if rec.right is not None else [])
                 cells.append(" / ".join(_fmt(_value(report, metric, f)) for f in feet))
-        ref = REFERENCE.get((name, "ate_2d", "left")) or REFERENCE.get((name, "loop_closure", "left")) or ""
+        ref = REFERENCE.get((name, "ate_2d", "left")) or REFERENCE.get((name, "loop_closure_2d", "left")) or ""
         if (name, "ate_2d", "right") in REFERENCE:
             ref = "0.36 / 0.76 (gaitmap RtsKalman)"
         if name.startswith("pyshoe_") and "best_error" in rec.truth_left.meta:
@@ -228,7 +228,7 @@ def main() -> None:
         "smoothing, each foot alone).",
         "",
         "Metrics (definitions in `footnav/core/metrics.py`): `ate_2d`/`ate_3d` = RMSE after rigid "
-        "alignment to the truth (m); `loop_closure` = end-to-start distance of a walk that returns to "
+        "alignment to the truth (m); `loop_closure_2d`/`_3d` = end-to-start distance of a walk that returns to "
         "its start (m, % of path); `final_separation` = E_s of seed 001 (m); `stance_f1`, "
         "`steps_missed`/`steps_false` against the recording's stance labels (for pyshoe these are "
         "proxy labels of the best detector per trial, not hand labels).",

@@ -4,7 +4,7 @@ Every accuracy figure footnav reports comes from :func:`evaluate`. It computes e
 recording supports (see :mod:`footnav.core.metrics` for the definitions):
 
 * per foot: path length; with reference positions, the 2-D and 3-D absolute trajectory error
-  after rigid alignment (``ate_2d_m``, ``ate_3d_m``); for closed walks, the loop-closure error;
+  after rigid alignment (``ate_2d``, ``ate_3d``);
   with reference stance, per-sample F1 and steps found / missed / false;
 * per foot, with footprint truth (``FootTruth.frame == "footprints"``, the gait-driven set):
   ``footprint_rmse`` and ``footprint_final_error`` (m) after one rigid 2-D fit, instead of the
@@ -12,7 +12,16 @@ recording supports (see :mod:`footnav.core.metrics` for the definitions):
 * per foot, with labelled swings inside trial boundaries (the IPOL set, ``meta["labelled"]``):
   ``step_f1``, ``steps_found`` / ``steps_missed`` / ``steps_false`` and a per-sample
   ``stance_f1``, all computed inside the labelled span only (outside it the truth says nothing);
-* both feet: the final foot separation E_s (seed 001 eq. 8);
+* per foot, with reference positions: the papers' errors after aligning the start and the
+  initial heading only (:func:`footnav.core.metrics.align_at_start`): ``end_error_2d`` /
+  ``end_error_3d`` (Zhao et al. 2019's E_p, eq. 8, is the 3-D one; Li et al. 2018's end-to-end
+  error the 2-D one), ``travelled_distance_error_percent`` (Li et al. 2018, Table 2),
+  ``max_deviation_2d`` (Chistyakov et al. 2021, Table 2) and, where the truth marks waypoints
+  (the simulator does), ``waypoint_error_mean`` / ``_max`` (Lee, Cho & Park 2022, Table 3);
+  for walks that return to their start ``loop_closure_2d`` / ``loop_closure_3d`` (m and %);
+* both feet: the final foot separation E_s (Zhao et al. 2019, eq. 8, 3-D) and the DTW distance
+  between the feet's tracks ``dtw_distance_feet`` (Chistyakov et al. 2021, Table 1);
+* over several recordings or seeds, :meth:`EvaluationReport.summary`: mean +- std of each;
 * the runtime of the pipeline.
 """
 
@@ -77,23 +86,65 @@ class EvaluationReport:
         writer.writerows(self.rows())
         return buf.getvalue()
 
+    def summary(self) -> list[dict[str, Any]]:
+        """Each metric's mean and standard deviation over the recordings, per pipeline and foot.
+
+        The papers report mean +- std over repeated walks; with the simulator, repeat by seed::
+
+            runs = [functools.partial(footnav.simulate, "rectangle", seed=s) for s in range(10)]
+            footnav.evaluate_many(pipe, runs).summary()
+
+        Returns
+        -------
+        list of dict
+            Rows with ``pipeline, foot, name, unit, mean, std, n`` (``std`` with ddof=1: the
+            sample standard deviation, nan for one recording); non-finite values are left out
+            of both and not counted in ``n``.
+        """
+        groups: dict[tuple[str, str, str, str], list[float]] = {}
+        for m in self.metrics:
+            groups.setdefault((m.pipeline, m.foot, m.name, m.unit), []).append(m.value)
+        rows = []
+        for (pipe, foot, name, unit), values in groups.items():
+            v = np.asarray([x for x in values if np.isfinite(x)], dtype=float)
+            rows.append({
+                "pipeline": pipe, "foot": foot, "name": name, "unit": unit,
+                "mean": float(v.mean()) if len(v) else float("nan"),
+                "std": float(v.std(ddof=1)) if len(v) > 1 else float("nan"),
+                "n": int(len(v)),
+            })
+        return rows
+
+    def summary_text(self) -> str:
+        """:meth:`summary` as a table: one row per (metric, foot), ``mean +- std (n)`` per pipeline."""
+        rows = self.summary()
+        pipelines = list(dict.fromkeys(r["pipeline"] for r in rows))
+        keys = list(dict.fromkeys((r["name"], r["foot"], r["unit"]) for r in rows))
+        cell = {(r["name"], r["foot"], r["unit"], r["pipeline"]): f"{_fmt(r['mean'])} +- {_fmt(r['std'])} ({r['n']})" for r in rows}
+        return _table(["metric", "foot", "unit"] + pipelines, [list(k) + [cell.get(k + (p,), "") for p in pipelines] for k in keys])
+
     def to_text(self) -> str:
         """A table: one row per (recording, metric, foot), one column per pipeline."""
         pipelines = list(dict.fromkeys(m.pipeline for m in self.metrics))
         keys = list(dict.fromkeys((m.recording, m.name, m.foot, m.unit) for m in self.metrics))
         table = {(m.recording, m.name, m.foot, m.unit, m.pipeline): m.value for m in self.metrics}
         header = ["recording", "metric", "foot", "unit"] + pipelines
-        rows = [list(k) + [_fmt(table.get(k + (p,))) for p in pipelines] for k in keys]
-        widths = [max(len(str(r[i])) for r in [header] + rows) for i in range(len(header))]
-        out = ["  ".join(str(c).ljust(w) for c, w in zip(header, widths)).rstrip()]
-        out.append("  ".join("-" * w for w in widths))
-        out += ["  ".join(str(c).ljust(w) for c, w in zip(r, widths)).rstrip() for r in rows]
-        return "\n".join(out)
+        return _table(header, [list(k) + [_fmt(table.get(k + (p,))) for p in pipelines] for k in keys])
+
+
+def _table(header: list[str], rows: list[list[Any]]) -> str:
+    widths = [max(len(str(r[i])) for r in [header] + rows) for i in range(len(header))]
+    out = ["  ".join(str(c).ljust(w) for c, w in zip(header, widths)).rstrip()]
+    out.append("  ".join("-" * w for w in widths))
+    out += ["  ".join(str(c).ljust(w) for c, w in zip(r, widths)).rstrip() for r in rows]
+    return "\n".join(out)
 
 
 def _fmt(value: float | None) -> str:
     if value is None:
         return ""
+    if not np.isfinite(value):
+        return "nan"
     if float(value).is_integer() and abs(value) < 1e6:
         return str(int(value))
     return f"{value:.3f}"
@@ -119,6 +170,48 @@ def labelled_swings(truth: FootTruth) -> tuple[np.ndarray, tuple[int, int], np.n
     return np.asarray(labelled, dtype=bool), (int(boundaries[0]), int(boundaries[1])), pairs
 
 
+def _paper_metrics(est: np.ndarray, ref: np.ndarray, truth: FootTruth) -> list[tuple[str, float, str]]:
+    """The papers' errors of a walk with a known start and initial heading
+    (:func:`footnav.core.metrics.align_at_start`): end error (E_p of Zhao et al. 2019, eq. 8, in
+    3-D; Li et al. 2018's end-to-end error in 2-D), travelled-distance error (Li et al. 2018,
+    Table 2), maximum deviation (Chistyakov et al. 2021, Table 2) and, where the truth has
+    waypoints, the waypoint error (Lee, Cho & Park 2022, Table 3)."""
+    aligned = metrics.align_at_start(est, ref).aligned
+    out: list[tuple[str, float, str]] = []
+    for dims in (2, 3):
+        end = metrics.end_to_end_error(aligned, ref, dims=dims)
+        out.append((f"end_error_{dims}d", end.error_m, "m"))
+        out.append((f"end_error_{dims}d_percent", end.error_percent, "%"))
+    dist = metrics.travelled_distance_error(aligned, ref, dims=2)
+    out.append(("travelled_distance_error_percent", dist.error_percent, "%"))
+    dev = metrics.max_deviation(aligned, ref, dims=2)
+    out.append(("max_deviation_2d", dev.max_deviation_m, "m"))
+    out.append(("max_deviation_2d_percent", dev.max_deviation_percent, "%"))
+    waypoints = truth.meta.get("waypoints_m")
+    if waypoints is not None and len(waypoints):
+        wp = metrics.waypoint_errors(aligned, ref, waypoints)
+        if len(wp.errors_m):
+            out.append(("waypoint_error_mean", wp.mean_m, "m"))
+            out.append(("waypoint_error_max", wp.max_m, "m"))
+    return out
+
+
+#: The feet's tracks are compared at this rate, with matched points at most FEET_DTW_BAND_S apart
+#: in time (Chistyakov et al. 2021, Sec. 3: "a limit on the maximum difference of indices").
+FEET_DTW_RATE_HZ, FEET_DTW_BAND_S = 10.0, 2.0
+
+
+def _feet_dtw(left: FootTrajectory, right: FootTrajectory) -> float:
+    """Mean banded DTW distance between the two feet's horizontal tracks, m (Chistyakov et al.
+    2021, Table 1), on their common span resampled to ``FEET_DTW_RATE_HZ``."""
+    t = np.arange(max(left.t[0], right.t[0]), min(left.t[-1], right.t[-1]), 1.0 / FEET_DTW_RATE_HZ)
+    if len(t) < 2:
+        return float("nan")
+    a, _ = trajectory_at(left, t)
+    b, _ = trajectory_at(right, t)
+    return float(metrics.dtw_distance(a, b, band=int(round(FEET_DTW_BAND_S * FEET_DTW_RATE_HZ)), dims=2).distance_m)
+
+
 def _foot_metrics(
     traj: FootTrajectory, stance: StanceResult, truth: FootTruth | None, rate_hz: float
 ) -> list[tuple[str, float, str]]:
@@ -142,10 +235,13 @@ def _foot_metrics(
         out.append(("ate_2d", metrics.ate_rmse(est, ref, dims=2), "m"))
         out.append(("ate_3d", metrics.ate_rmse(est, ref, dims=3), "m"))
         out.append(("reference_path_length", metrics.travelled_distance(ref, dims=2), "m"))
+        if len(ref) >= 2:
+            out += _paper_metrics(est, ref, truth)
     if truth.closed_loop:
-        loop = metrics.loop_closure_error(traj.position, dims=2)
-        out.append(("loop_closure", float(loop.error_m), "m"))
-        out.append(("loop_closure_percent", float(loop.error_percent), "%"))
+        for dims in (2, 3):
+            loop = metrics.loop_closure_error(traj.position, dims=dims)
+            out.append((f"loop_closure_{dims}d", float(loop.error_m), "m"))
+            out.append((f"loop_closure_{dims}d_percent", float(loop.error_percent), "%"))
     tolerance = max(1, round(0.1 * rate_hz))
     swings = labelled_swings(truth)
     if swings is not None:
@@ -202,6 +298,7 @@ def evaluate(
         rows.append(
             Metric(rec_name, name, "both", "final_separation", metrics.final_separation(result.left.position, result.right.position), "m")
         )
+        rows.append(Metric(rec_name, name, "both", "dtw_distance_feet", _feet_dtw(result.left, result.right), "m"))
     rows.append(Metric(rec_name, name, "both", "runtime", runtime, "s"))
     return EvaluationReport(tuple(rows), {(rec_name, name): result})
 

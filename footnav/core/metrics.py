@@ -13,6 +13,7 @@ Seed papers (``/work/shared/seeds``):
   RTK reference and its maximum ratio to the distance travelled (Table 2).
 * [003] Li, Derrode et al., TAIMA 2018 -- steps found / missing / false (Table 1); end-to-end
   error, travelled distance and its relative error, DTW distance (Table 2).
+* [004] Lee, Cho, Park, JPNT 2022 -- position error at surveyed waypoints (Table 3).
 
 Dataset papers whose truth some metrics are shaped for:
 
@@ -54,7 +55,10 @@ __all__ = [
     "StepDetection",
     "SampleScores",
     "TimingError",
+    "WaypointErrors",
     "rigid_align",
+    "align_at_start",
+    "waypoint_errors",
     "ate_rmse",
     "final_separation",
     "final_position_error",
@@ -308,6 +312,113 @@ def rigid_align(
     aligned[:, :dims] *= scale
     aligned += trans
     return RigidAlignment(_readonly(aligned), _readonly(rot), _readonly(trans), scale, dims)
+
+
+def align_at_start(estimate: ArrayLike, reference: ArrayLike, *, distance_m: float = 2.0) -> RigidAlignment:
+    """The estimate moved to the reference's start and turned about z to its initial heading.
+
+    The papers' end, return and deviation errors compare trajectories that share a known start
+    and initial heading ([001] Sec. V, [002] Sec. 6, [003] Table 2), not a best fit over the
+    whole walk (which :func:`rigid_align` gives, and which hides drift). Here the start points
+    coincide (3-D) and the heading is the rotation about the start that best maps the estimate's
+    first ``distance_m`` of reference walking onto the reference (least squares, closed form).
+
+    Parameters
+    ----------
+    estimate, reference
+        Time-matched positions (N, 3) in m.
+    distance_m
+        How much of the start (reference distance travelled, m) sets the heading: about one
+        stride; long enough to average a step's sway, short enough to precede most drift.
+
+    Returns
+    -------
+    RigidAlignment
+        As :func:`rigid_align` with ``dims=2``.
+    """
+    est = _points(estimate, "estimate", 3, min_rows=2)
+    ref = _points(reference, "reference", 3, min_rows=2)
+    _same_length(est, ref, "estimate", "reference")
+    if not (np.isfinite(distance_m) and distance_m > 0):
+        raise InvalidParameterError(f"distance_m must be > 0 m, got {distance_m!r}")
+    s = np.concatenate(([0.0], np.cumsum(np.linalg.norm(np.diff(ref[:, :2], axis=0), axis=1))))
+    k = max(2, int(np.searchsorted(s, distance_m, side="right")))
+    a, b = est[:k, :2] - est[0, :2], ref[:k, :2] - ref[0, :2]
+    yaw = float(np.arctan2(np.sum(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]), np.sum(a[:, 0] * b[:, 0] + a[:, 1] * b[:, 1])))
+    c, sn = np.cos(yaw), np.sin(yaw)
+    ncol = est.shape[1]
+    rot = np.eye(ncol)
+    rot[:2, :2] = [[c, -sn], [sn, c]]
+    trans = ref[0] - rot @ est[0]
+    aligned = est @ rot.T + trans
+    return RigidAlignment(_readonly(aligned), _readonly(rot), _readonly(trans), 1.0, 2)
+
+
+@dataclass(frozen=True)
+class WaypointErrors:
+    """Result of :func:`waypoint_errors`: one row per pass of the reference by a waypoint.
+
+    Attributes
+    ----------
+    errors_m
+        Estimate-to-reference distance at each pass, m.
+    index
+        The sample of each pass (the reference's closest approach), int.
+    waypoint
+        Which waypoint each pass belongs to, int.
+    mean_m, max_m
+        Mean and maximum of ``errors_m`` (nan without passes), m.
+    """
+
+    errors_m: NDArray[np.float64]
+    index: NDArray[np.int64]
+    waypoint: NDArray[np.int64]
+    mean_m: float
+    max_m: float
+
+
+def waypoint_errors(
+    estimate: ArrayLike, reference: ArrayLike, waypoints: ArrayLike, *, radius_m: float = 1.0, dims: int = 2
+) -> WaypointErrors:
+    """Position error where the walk passes surveyed waypoints ([004] Table 3).
+
+    Each time the reference comes within ``radius_m`` of a waypoint (horizontally) is one pass;
+    its sample is the closest approach, and the error there is ``|| e_k - r_k ||``. A walk of
+    several laps passes a waypoint several times.
+
+    Parameters
+    ----------
+    estimate, reference
+        Time-matched positions (N, 2|3) in m, one frame (align first, e.g. :func:`align_at_start`).
+    waypoints
+        (K, 2) horizontal waypoint positions in the reference's frame, m.
+    radius_m
+        How close a pass comes, m (the feet pass a centre-line mark at half the step width).
+    dims
+        2 (horizontal, default, as [004]) or 3.
+    """
+    dims = _check_dims(dims)
+    est = _points(estimate, "estimate", dims)[:, :dims]
+    ref = _points(reference, "reference", dims)
+    _same_length(est, ref, "estimate", "reference")
+    wp = _points(waypoints, "waypoints", 2)[:, :2]
+    errors, index, which = [], [], []
+    for j, w in enumerate(wp):
+        d = np.linalg.norm(ref[:, :2] - w, axis=1)
+        near = d <= radius_m
+        if not near.any():
+            continue
+        edges = np.flatnonzero(np.diff(np.concatenate(([0], near.astype(np.int8), [0]))))
+        for a, b in edges.reshape(-1, 2):
+            k = a + int(np.argmin(d[a:b]))
+            errors.append(float(np.linalg.norm(est[k] - ref[k, :dims])))
+            index.append(k)
+            which.append(j)
+    e = np.asarray(errors, dtype=float)
+    return WaypointErrors(
+        errors_m=_readonly(e), index=_readonly(np.asarray(index, dtype=np.int64)), waypoint=_readonly(np.asarray(which, dtype=np.int64)),
+        mean_m=float(e.mean()) if len(e) else float("nan"), max_m=float(e.max()) if len(e) else float("nan"),
+    )
 
 
 def ate_rmse(estimate: ArrayLike, reference: ArrayLike, *, dims: int = 2, with_scale: bool = False) -> float:

@@ -348,7 +348,8 @@ def _centre_line(scenario: str, opts: dict[str, Any]) -> tuple[_CentreLine, dict
     """The scenario's centre line and a description of it for the truth's meta."""
     r = opts["turn_radius_m"]
     if scenario == "straight":
-        return _CentreLine.build([(opts["distance_m"], 0.0)]), {}
+        pieces = [(opts["distance_m"], 0.0)]
+        return _CentreLine.build(pieces), {"waypoints_m": _waypoints(pieces)}
     if scenario == "rectangle":
         w, h = opts["width_m"], opts["height_m"]
         sign = 1.0 if opts["direction"] == "ccw" else -1.0
@@ -361,13 +362,27 @@ def _centre_line(scenario: str, opts: dict[str, Any]) -> tuple[_CentreLine, dict
         pieces += [(quarter, sign / r), (w / 2 - r, 0.0)]
         y0, y1 = (0.0, h) if sign > 0 else (-h, 0.0)
         corners = np.array([[-w / 2, y0], [w / 2, y0], [w / 2, y1], [-w / 2, y1]])
-        return _CentreLine.build(pieces), {"rectangle_corners_m": corners}
+        return _CentreLine.build(pieces), {"rectangle_corners_m": corners, "waypoints_m": _waypoints(pieces)}
     pieces = []
     for distance, turn_deg in opts["segments"]:
         pieces.append((distance, 0.0))
         if turn_deg != 0:
             pieces.append((abs(math.radians(turn_deg)) * r, math.copysign(1.0 / r, turn_deg)))
-    return _CentreLine.build(pieces), {}
+    return _CentreLine.build(pieces), {"waypoints_m": _waypoints(pieces)}
+
+
+def _waypoints(pieces: list[tuple[float, float]]) -> NDArray[np.float64]:
+    """Centre-line points a surveyor would mark: the apex of every turn and the end, (K, 2) m
+    (for :func:`footnav.core.metrics.waypoint_errors`, Lee, Cho & Park 2022, Table 3)."""
+    line = _CentreLine.build(pieces)
+    s, marks = 0.0, []
+    for length, curvature in pieces:
+        if curvature != 0.0:
+            marks.append(s + 0.5 * length)
+        s += length
+    marks.append(s)
+    xy, _ = line(np.asarray(marks, dtype=float))
+    return np.asarray(xy, dtype=float)
 
 
 # -- gait plan ----------------------------------------------------------------------------------

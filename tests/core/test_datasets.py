@@ -33,7 +33,7 @@ def test_cli_evaluate_prints_one_table(shared_data, tmp_path, capsys):
     out = capsys.readouterr().out
     rows = [l.split() for l in out.splitlines()]
     assert ["azure_fgo", "ate_2d", "left", "m"] == rows[2 + [r[:3] for r in rows[2:]].index(["azure_fgo", "ate_2d", "left"])][:4]
-    assert any(r[:2] == ["xio_short", "loop_closure"] for r in rows)
+    assert any(r[:2] == ["xio_short", "loop_closure_2d"] for r in rows)
     assert csv.read_text().startswith("recording,pipeline,foot,name,value,unit")
 
 

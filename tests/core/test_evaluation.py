@@ -18,7 +18,7 @@ def test_metrics_equal_direct_computation(loop):
     res = report.results[(loop.name, "p")]
     for foot, traj, truth in (("left", res.left, loop.truth_left), ("right", res.right, loop.truth_right)):
         assert report.value("ate_2d", foot) == pytest.approx(metrics.ate_rmse(traj.position, truth.position, dims=2))
-        assert report.value("loop_closure", foot) == pytest.approx(metrics.loop_closure_error(traj.position).error_m)
+        assert report.value("loop_closure_2d", foot) == pytest.approx(metrics.loop_closure_error(traj.position).error_m)
         assert report.value("stance_f1", foot) == pytest.approx(metrics.sample_scores(res.stance_left.mask if foot == "left" else res.stance_right.mask, truth.stance).f1)
         assert report.value("steps_missed", foot) == 0 and report.value("steps_false", foot) == 0
     assert report.value("final_separation", "both") == pytest.approx(

@@ -219,9 +219,9 @@ def test_closed_loop_constraint_on_the_xio_loops(shared_data, name):
     from footnav.core.evaluation import evaluate
 
     rec = load_dataset(name, shared_data)
-    free = evaluate(footnav.make_pipeline(), rec).value("loop_closure", "left")
+    free = evaluate(footnav.make_pipeline(), rec).value("loop_closure_2d", "left")
     pipe = footnav.make_pipeline("threshold", "ekf", "independent", estimator_params={"closed_loop": True})
-    closed = evaluate(pipe, rec).value("loop_closure", "left")
+    closed = evaluate(pipe, rec).value("loop_closure_2d", "left")
     # measured: short 0.077 -> 0.002 m, long 0.209 -> 0.001 m (publisher without it: 0.08 / 0.42)
     assert free < {"xio_short": 0.09, "xio_long": 0.42}[name]
     assert closed < 0.01

@@ -1,4 +1,4 @@
-"""Coupled two-foot fusions built on the joint filter: step vector (seed 001) and range constraint."""
+"""Coupled two-foot fusions built on the joint filter: step vector (Zhao et al. 2019) and range constraint."""
 
 import numpy as np
 import pytest
@@ -76,14 +76,15 @@ def test_step_vector_suspends_updates_in_turns():
     assert 8 <= res.meta["suspended_turning"] <= 40
 
 
-def test_given_leg_length_is_used_and_a_wrong_one_hurts():
+def test_fitted_leg_length_gets_the_walk_length_and_the_paper_one_is_used_as_given():
     rec = footnav.simulate("straight", seed=0, distance_m=30.0)
-    fitted = _fuse(StepVectorFusion(), rec)
+    fitted = _fuse(StepVectorFusion(step_length="fitted"), rec)
+    assert fitted.meta["step_length"] == "fitted"
     assert 1.5 < fitted.meta["leg_length_m"] < 3.5  # the foot turns less than the leg: l > leg
-    short = _fuse(StepVectorFusion(leg_length_m=0.9), rec)
-    assert short.meta["leg_length_m"] == 0.9
+    paper = _fuse(StepVectorFusion(leg_length_m=0.9), rec)
+    assert paper.meta["leg_length_m"] == 0.9 and paper.meta["step_length"] == "pendulum"
     length = lambda res: float(np.linalg.norm(res.path.position[-1, :2] - res.path.position[0, :2]))  # noqa: E731
-    assert abs(length(fitted) - 30.0) < abs(length(short) - 30.0)
+    assert abs(length(fitted) - 30.0) < abs(length(paper) - 30.0)
 
 
 @pytest.mark.parametrize("fusion", [StepVectorFusion, RangeConstraintFusion])

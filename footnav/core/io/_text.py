@@ -323,25 +323,29 @@ def build_imu(
             field="t",
             index=i,
         )
-    if len(dup) and not drop_duplicates:
-        i = int(dup[0])
-        raise InvalidInputError(
-            f"duplicate time stamp t={float(t[i])!r} {t_unit} (same as the previous row"
-            + (f", line {line_of(i - 1)}" if line_numbers is not None else "")
-            + f"); {len(dup)} duplicate row(s) in total; pass drop_duplicates=True to drop them "
-            "(the count is recorded in meta['duplicates_dropped'])",
-            path=path,
-            line=line_of(i),
-            field="t",
-            index=i,
-        )
     keep = np.ones(len(t), dtype=bool)
     dup_info: dict[str, Any] = {}
     if len(dup):
-        keep[dup] = False
         cols = [t[:, None], acc, gyr] + ([] if mag is None else [mag])
         rows = np.hstack(cols)
         exact = (rows[dup] == rows[dup - 1]).all(axis=1)
+        if not drop_duplicates and not exact.all():
+            # a repeated time with other values: which row is right is unknown; the user decides
+            i = int(dup[np.argmax(~exact)])
+            raise InvalidInputError(
+                f"duplicate time stamp t={float(t[i])!r} {t_unit} with values different from the previous row"
+                + (f" (line {line_of(i - 1)})" if line_numbers is not None else "")
+                + f"; {int((~exact).sum())} such row(s) in total; pass drop_duplicates=True (footnav run: "
+                "--drop-duplicates) to keep the first row of each time stamp (recorded in meta['duplicates_dropped'])",
+                path=path,
+                line=line_of(i),
+                field="t",
+                index=i,
+            )
+        # exact copies of the previous row (a logger writing a packet twice) carry no information:
+        # they are dropped by default, with the warning and record from_arrays gives
+        drop_duplicates = True
+        keep[dup] = False
         dup_info = {
             "first_line": line_of(int(dup[0])),
             "exact_row_copies": int(exact.sum()),

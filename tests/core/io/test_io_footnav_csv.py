@@ -65,15 +65,20 @@ def test_duplicate_rows_raise_with_line_and_index_or_are_dropped_and_counted(tmp
     p = tmp_path / "dup.csv"
     rows = ["0,0,0,9.8,0,0,0", "0.01,0,0,9.8,0,0,0", "0.01,0,0,9.8,0,0,0", "0.02,0,0,9.8,0,0,0", "0.02,0,0,9.8,0,0,0"]
     p.write_text("# a comment\n" + HEADER + "\n" + "\n".join(rows) + "\n")
-    with pytest.raises(InvalidInputError) as err:
+    # exact copies of the previous row carry nothing: dropped by default, said and recorded
+    for options in ({}, {"drop_duplicates": True}):
+        with pytest.warns(DataQualityWarning, match="dropped 2"):
+            imu = read_footnav_csv(p, **options)
+        assert imu.n_samples == 3
+        dd = imu.meta["duplicates_dropped"]
+        assert dd["count"] == 2 and dd["first_line"] == 5 and dd["exact_row_copies"] == 2 and dd["conflicting"] == 0
+    # a repeated time with other values is an error naming its line, unless the user drops it
+    rows[4] = "0.02,1,0,9.8,0,0,0"
+    p.write_text("# a comment\n" + HEADER + "\n" + "\n".join(rows) + "\n")
+    with pytest.raises(InvalidInputError, match="different from the previous row") as err:
         read_footnav_csv(p)
-    assert err.value.line == 5 and err.value.index == 2 and err.value.path == str(p)
-    assert "dup.csv" in str(err.value) and "line 5" in str(err.value)
-    with pytest.warns(DataQualityWarning, match="dropped 2"):
-        imu = read_footnav_csv(p, drop_duplicates=True)
-    assert imu.n_samples == 3
-    dd = imu.meta["duplicates_dropped"]
-    assert dd["count"] == 2 and dd["first_line"] == 5 and dd["exact_row_copies"] == 2 and dd["conflicting"] == 0
+    assert err.value.line == 7 and err.value.index == 4 and err.value.path == str(p)
+    assert "dup.csv" in str(err.value) and "--drop-duplicates" in str(err.value)
 
 
 def test_conflicting_duplicate_is_dropped_with_a_warning(tmp_path, warning_text):

@@ -30,14 +30,14 @@ def _write(path, n=40, dup_rows=(5, 20), gap_after=30):
     path.write_text(HEADER + "\n" + "\n".join(rows) + "\n")
 
 
-def test_synthetic_duplicates_raise_with_file_line_index(tmp_path):
+def test_synthetic_exact_duplicates_are_dropped_by_default(tmp_path, warning_text):
     p = tmp_path / "walk.csv"
     _write(p)
-    with pytest.raises(InvalidInputError) as err:
-        read_xio(p)
+    with pytest.warns(DataQualityWarning) as record:
+        rec = read_xio(p)
+    assert "dropped 2" in warning_text(record)
     # Row i=5 is on line 7 (header + rows 0..5); its copy on line 8 is sample index 6.
-    assert (err.value.line, err.value.index, err.value.path) == (8, 6, str(p))
-    assert "walk.csv' line 8" in str(err.value) and "index 6" in str(err.value) and "2 duplicate" in str(err.value)
+    assert rec.left.meta["duplicates_dropped"]["first_line"] == 8 and rec.left.n_samples == 40
 
 
 def test_synthetic_drop_units_gap_truth(tmp_path, warning_text):
@@ -78,16 +78,14 @@ def test_synthetic_header_units_are_read(tmp_path):
 )
 def test_shared_walks(shared_file, name, n_rows, n_dup, dup_line, dup_index, max_gap_ms):
     p = shared_file("xio_gait_tracking", name)
-    with pytest.raises(InvalidInputError) as err:
-        read_xio(p)
-    assert (err.value.line, err.value.index) == (dup_line, dup_index)
-    assert name in str(err.value) and f"{n_dup} duplicate" in str(err.value)
+    # the publisher's own files: every repeated time stamp is an exact copy, dropped by default
     with warnings.catch_warnings(record=True) as record:
         warnings.simplefilter("always")
-        rec = read_xio(p, drop_duplicates=True)
-    assert any(issubclass(w.category, DataQualityWarning) for w in record)
+        rec = read_xio(p)
+    assert any(issubclass(w.category, DataQualityWarning) and "dropped" in str(w.message) for w in record)
     imu = rec.left
     assert imu.meta["duplicates_dropped"]["count"] == n_dup
+    assert imu.meta["duplicates_dropped"]["first_line"] == dup_line and imu.meta["duplicates_dropped"]["indices"][0] == dup_index
     assert imu.meta["duplicates_dropped"]["exact_row_copies"] == n_dup  # all exact copies
     assert imu.n_samples == n_rows - n_dup
     assert imu.rate_hz == pytest.approx(398.3, abs=1.0)

@@ -712,6 +712,10 @@ class InsFilter:
         """Sample index (within the foot's own recording) of the foot's current state."""
         return int(self._k[foot] - self._offsets[foot])
 
+    def start_index(self, foot: int) -> int:
+        """Sample index (within the foot's own recording) where the foot's filter started."""
+        return int(self._start[foot])
+
     def time(self, foot: int) -> float:
         return float(self._t[self._k[foot]])
 

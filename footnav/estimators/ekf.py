@@ -31,6 +31,7 @@ from footnav.core.component import (
 )
 from footnav.core.errors import InvalidParameterError
 from footnav.core.heading import turn_to_first_step
+from footnav.core.heading_drift import heading_drift_cov, standstill_rate_std
 from footnav.core.initial_alignment import align_first_stance
 from footnav.core.ins_filter import FilterNoise, InsFilter
 from footnav.core.smoothing import KEEP_RECORD_MB, SMOOTHERS, SegmentRecords, StepSmoother, smooth
@@ -91,6 +92,17 @@ class EkfEstimator(FootEstimator):
         measurement (seed 002); needs ``smoother="whole"`` to correct the whole trajectory.
     closed_loop_std_m : float
         Standard deviation of that start-equals-end measurement, m.
+    heading_drift_in_std : bool
+        Add the heading drift the filter does not estimate to ``position_std``
+        (:mod:`footnav.core.heading_drift`; 9 states only, the 15-state filter carries its gyro
+        bias itself): a constant yaw-rate error with the std of the initial-standstill bias
+        estimate (the standard error of the still samples' mean rate; ``init_gyr_bias_std_radps``
+        with ``gyro_bias="none"``) and a bias random walk of ``yaw_bias_walk_radps2_sqrthz``.
+        Changes ``position_std`` only, never the estimate. False: the filter's covariance alone,
+        overconfident beyond a few minutes (docs/concepts.md, "What position_std means").
+    yaw_bias_walk_radps2_sqrthz : float
+        Random walk of the gyro bias about the vertical, which no zero-velocity update observes,
+        rad/s^2/sqrt(Hz): the consumer MEMS grade of the simulator's default sensor.
 
     Examples
     --------
@@ -121,6 +133,8 @@ class EkfEstimator(FootEstimator):
         smoother_cache_mb: float = KEEP_RECORD_MB,
         closed_loop: bool = False,
         closed_loop_std_m: float = 0.01,
+        heading_drift_in_std: bool = True,
+        yaw_bias_walk_radps2_sqrthz: float = 1e-5,
     ) -> None:
         self.acc_noise_mps2_sqrthz = acc_noise_mps2_sqrthz
         self.gyr_noise_radps_sqrthz = gyr_noise_radps_sqrthz
@@ -140,6 +154,8 @@ class EkfEstimator(FootEstimator):
         self.smoother_cache_mb = smoother_cache_mb
         self.closed_loop = closed_loop
         self.closed_loop_std_m = closed_loop_std_m
+        self.heading_drift_in_std = heading_drift_in_std
+        self.yaw_bias_walk_radps2_sqrthz = yaw_bias_walk_radps2_sqrthz
 
     def validate_params(self) -> None:
         # Upper bounds (footnav.core.component): every std and noise density is squared into the
@@ -156,13 +172,14 @@ class EkfEstimator(FootEstimator):
         require_positive(self, "zupt_std_mps", "init_velocity_std_mps", high=MAX_SPEED_MPS)
         require_positive(self, "init_attitude_std_rad", high=MAX_ANGLE_RAD)
         require_positive(self, "closed_loop_std_m", high=MAX_LENGTH_M)
-        require_non_negative(self, "zaru_std_radps", high=MAX_RATE_RADPS)
+        require_non_negative(self, "zaru_std_radps", "yaw_bias_walk_radps2_sqrthz", high=MAX_RATE_RADPS)
         # a cap, not an allocation; 1 TB keeps the MB -> bytes conversion far from overflow
         require_non_negative(self, "smoother_cache_mb", high=1e6)
         require(self.heading in ("first-step", "sensor"), self, "heading", "'first-step' or 'sensor'")
         require(self.gyro_bias in ("initial-standstill", "none"), self, "gyro_bias", "'initial-standstill' or 'none'")
         require(isinstance(self.bias_states, (bool, np.bool_)), self, "bias_states", "True or False")
         require(isinstance(self.closed_loop, (bool, np.bool_)), self, "closed_loop", "True or False")
+        require(isinstance(self.heading_drift_in_std, (bool, np.bool_)), self, "heading_drift_in_std", "True or False")
         require(self.smoother in SMOOTHERS, self, "smoother", " or ".join(repr(m) for m in SMOOTHERS))
         if self.closed_loop and self.smoother != "whole":
             raise InvalidParameterError(
@@ -246,6 +263,8 @@ class EkfEstimator(FootEstimator):
         s0, align, meta = align_first_stance(imu, stance, still_gyr_max_radps=self.still_gyr_max_radps, stacklevel=4)
         if self.gyro_bias == "initial-standstill":
             meta["gyro_bias_radps"] = align.gyro_bias_radps.tolist()
+            # the bias estimate's standard error: the yaw-rate error the 9-state filter keeps
+            meta["gyro_bias_sem_radps"] = standstill_rate_std(imu.gyr, align.start, align.stop, self.still_gyr_max_radps)
         return s0, align, meta
 
     def trajectory(
@@ -270,9 +289,17 @@ class EkfEstimator(FootEstimator):
             meta["acc_bias_std_mps2"] = np.sqrt(np.diag(cov)[filt.block(foot, "acc_bias")]).tolist()
             meta["gyr_bias_std_radps"] = np.sqrt(np.diag(cov)[filt.block(foot, "gyr_bias")]).tolist()
         t = filt._t[filt.global_index(foot, 0) : filt.global_index(foot, len(q_out) - 1) + 1]
+        drift_in_std = self.heading_drift_in_std and self.n_states == 9
         if copy:
-            pos, vel, q_out, pos_cov = pos.copy(), vel.copy(), q_out.copy(), pos_cov.copy()
-        # the smoothed covariance is at most the filtered one: std is the forward filter's
+            pos, vel, q_out = pos.copy(), vel.copy(), q_out.copy()
+            pos_cov = pos_cov if drift_in_std else pos_cov.copy()
+        # the smoothed covariance is at most the filtered one: std is the forward filter's, plus
+        # the heading drift it does not model (a new array: the filter's own stays as it is)
+        if drift_in_std:
+            rate_std = filt.meta[foot].get("gyro_bias_sem_radps", self.init_gyr_bias_std_radps)
+            drift = heading_drift_cov(t, vel, filt.start_index(foot), rate_std, self.yaw_bias_walk_radps2_sqrthz)
+            pos_cov = np.concatenate([pos_cov[:, :3] + drift, pos_cov[:, 3:]], axis=1)
+            meta["heading_drift"] = {"yaw_rate_std_radps": float(rate_std), "yaw_bias_walk_radps2_sqrthz": float(self.yaw_bias_walk_radps2_sqrthz)}
         if heading:
             pos, vel, q_out, std = turn_to_first_step(pos, vel, q_out, pos_cov, stance.intervals, meta)
         else:

@@ -47,6 +47,7 @@ from footnav.core.component import (
     require_positive,
 )
 from footnav.core.heading import turn_to_first_step
+from footnav.core.heading_drift import TURN_ON_BIAS_STD_RADPS, heading_drift_cov, standstill_rate_std
 from footnav.core.initial_alignment import MIN_STILL_SAMPLES, Alignment, align_first_stance
 from footnav.core.ins_filter import sym3_inverse
 from footnav.core.quaternion import as_matrix_nb
@@ -292,6 +293,15 @@ class MadgwickEstimator(FootEstimator):
     still_gyr_max_radps : float
         Samples of the first stance used for levelling and gyro bias must turn slower than this,
         rad/s.
+    heading_drift_in_std : bool
+        Add the heading drift of gyro integration to ``position_std`` when there is no
+        magnetometer (:mod:`footnav.core.heading_drift`): a constant yaw-rate error with the std
+        of the initial-standstill bias estimate (the standard error of the still samples' mean
+        rate; a consumer MEMS turn-on bias with ``gyro_bias="none"``) and a bias random walk of
+        ``yaw_bias_walk_radps2_sqrthz``. Changes ``position_std`` only, never the estimate.
+    yaw_bias_walk_radps2_sqrthz : float
+        Random walk of the gyro bias about the vertical, rad/s^2/sqrt(Hz): the consumer MEMS grade
+        of the simulator's default sensor.
 
     Examples
     --------
@@ -312,6 +322,8 @@ class MadgwickEstimator(FootEstimator):
         heading: Literal["first-step", "sensor"] = "first-step",
         gyro_bias: Literal["initial-standstill", "none"] = "initial-standstill",
         still_gyr_max_radps: float = 0.05,
+        heading_drift_in_std: bool = True,
+        yaw_bias_walk_radps2_sqrthz: float = 1e-5,
     ) -> None:
         self.beta_radps = beta_radps
         self.use_magnetometer = use_magnetometer
@@ -322,6 +334,8 @@ class MadgwickEstimator(FootEstimator):
         self.heading = heading
         self.gyro_bias = gyro_bias
         self.still_gyr_max_radps = still_gyr_max_radps
+        self.heading_drift_in_std = heading_drift_in_std
+        self.yaw_bias_walk_radps2_sqrthz = yaw_bias_walk_radps2_sqrthz
 
     def validate_params(self) -> None:
         # Upper bounds (footnav.core.component): the stds and densities are squared into the
@@ -329,7 +343,8 @@ class MadgwickEstimator(FootEstimator):
         require_positive(self, "acc_noise_mps2_sqrthz", "acc_error_walk_mps3_sqrthz", "init_acc_error_std_mps2", high=MAX_ACC_MPS2)
         require_positive(self, "zupt_std_mps", high=MAX_SPEED_MPS)
         require_positive(self, "still_gyr_max_radps", high=MAX_RATE_RADPS)
-        require_non_negative(self, "beta_radps", high=MAX_RATE_RADPS)
+        require_non_negative(self, "beta_radps", "yaw_bias_walk_radps2_sqrthz", high=MAX_RATE_RADPS)
+        require(isinstance(self.heading_drift_in_std, (bool, np.bool_)), self, "heading_drift_in_std", "True or False")
         require(isinstance(self.use_magnetometer, (bool, np.bool_)), self, "use_magnetometer", "True or False")
         require(self.heading in ("first-step", "sensor"), self, "heading", "'first-step' or 'sensor'")
         require(self.gyro_bias in ("initial-standstill", "none"), self, "gyro_bias", "'initial-standstill' or 'none'")
@@ -385,6 +400,14 @@ class MadgwickEstimator(FootEstimator):
             float(self.acc_noise_mps2_sqrthz) ** 2, float(self.acc_error_walk_mps3_sqrthz) ** 2,
             float(self.zupt_std_mps) ** 2, p0, q_out, v_out, r_out, cov,
         )
+        if self.heading_drift_in_std and not use_mag:  # a magnetometer bounds the heading error
+            if self.gyro_bias == "initial-standstill":
+                rate_std = standstill_rate_std(imu.gyr, align.start, align.stop, self.still_gyr_max_radps)
+                meta["gyro_bias_sem_radps"] = rate_std
+            else:
+                rate_std = TURN_ON_BIAS_STD_RADPS
+            cov[:, :3] += heading_drift_cov(imu.t, v_out, s0, rate_std, self.yaw_bias_walk_radps2_sqrthz)
+            meta["heading_drift"] = {"yaw_rate_std_radps": float(rate_std), "yaw_bias_walk_radps2_sqrthz": float(self.yaw_bias_walk_radps2_sqrthz)}
         if self.heading == "first-step":
             r_out, v_out, q_out, std = turn_to_first_step(r_out, v_out, q_out, cov, steps, meta)
         else:

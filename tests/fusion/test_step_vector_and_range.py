@@ -81,7 +81,7 @@ def test_fitted_leg_length_gets_the_walk_length_and_the_paper_one_is_used_as_giv
     fitted = _fuse(StepVectorFusion(step_length="fitted"), rec)
     assert fitted.meta["step_length"] == "fitted"
     assert 1.5 < fitted.meta["leg_length_m"] < 3.5  # the foot turns less than the leg: l > leg
-    paper = _fuse(StepVectorFusion(leg_length_m=0.9), rec)
+    paper = _fuse(StepVectorFusion(step_length="pendulum", leg_length_m=0.9), rec)
     assert paper.meta["leg_length_m"] == 0.9 and paper.meta["step_length"] == "pendulum"
     length = lambda res: float(np.linalg.norm(res.path.position[-1, :2] - res.path.position[0, :2]))  # noqa: E731
     assert abs(length(fitted) - 30.0) < abs(length(paper) - 30.0)

@@ -105,7 +105,7 @@ def test_simulator_foot_turns_only_by_its_heel_strike_pitch():
 
 def test_fusion_measures_theta_as_the_truth_does():
     rec = footnav.simulate("straight", seed=0, distance_m=20.0)
-    res = _fuse(StepVectorFusion(), rec)
+    res = _fuse(StepVectorFusion(step_length="pendulum", leg_length_m=0.9), rec)
     truth = np.median(_truth_pendulum(rec, 0.9))
     assert res.meta["step_length_m"]["median"] == pytest.approx(truth, abs=0.03)  # 0.293 vs 0.313
 

@@ -6,18 +6,34 @@ parallel run gives the same table as a serial one (but for the ``runtime`` rows)
 joblib's ``loky`` processes (``n_jobs``); with ``backend="dask"`` it submits to a Dask
 distributed scheduler (``scheduler`` address, or the current client, or a new in-process one)
 when one machine is outgrown. A progress bar (tqdm, optional) shows on a terminal.
+
+A pair that raises (a two-foot fusion on a one-foot recording, a detector failing on one trial, a
+file that cannot be read) does not end the batch: by default (``on_error="record"``) it becomes an
+:class:`~footnav.core.evaluation.EvaluationFailure` in ``report.failures`` -- an ``error`` row in
+the table and the CSV -- the other pairs run, and one warning says how many failed. The error is
+caught where the pair runs, so this holds on every backend. KeyboardInterrupt, SystemExit and
+MemoryError still end the batch.
 """
 
 from __future__ import annotations
 
+import functools
 import os
 import sys
 from typing import Any, Callable, Iterable, Literal, Mapping, Sequence
 
-from footnav.core.errors import InvalidParameterError
-from footnav.core.evaluation import EvaluationReport, evaluate
+from footnav.core.errors import FootnavWarning, InvalidParameterError
+from footnav.core.evaluation import (
+    ON_ERROR,
+    EvaluationFailure,
+    EvaluationReport,
+    evaluate,
+    evaluate_or_record,
+    fatal,
+)
 from footnav.core.pipeline import Pipeline
 from footnav.core.types import Recording
+from footnav.core.warning_log import warn
 
 __all__ = ["evaluate_many", "BACKENDS"]
 
@@ -43,6 +59,26 @@ def _named(pipelines: Any) -> list[tuple[str, Pipeline]]:
     return out
 
 
+def _check_recording(recording: Any) -> Any:
+    """A recording as given, or InvalidParameterError now (a wrong type is the caller's mistake,
+    not a failed pair)."""
+    if isinstance(recording, (Recording, str, os.PathLike)) or callable(recording):
+        return recording
+    raise InvalidParameterError(
+        f"evaluate_many: a recording must be a Recording, a path or a zero-argument callable; got {type(recording).__name__}"
+    )
+
+
+def _label(recording: Any) -> str:
+    """A name for a recording that could not be read or made: its path, or its factory's call."""
+    if isinstance(recording, (str, os.PathLike)):
+        return os.fspath(recording)
+    if isinstance(recording, functools.partial):
+        args = [repr(a) for a in recording.args] + [f"{k}={v!r}" for k, v in recording.keywords.items()]
+        return f"{getattr(recording.func, '__name__', 'recording')}({', '.join(args)})"
+    return getattr(recording, "__name__", None) or repr(recording)
+
+
 def _materialise(recording: Any) -> Recording:
     """A Recording from a Recording, a path (read with footnav.load) or a zero-argument callable."""
     if isinstance(recording, Recording):
@@ -61,9 +97,19 @@ def _materialise(recording: Any) -> Recording:
     )
 
 
-def _run_one(pipeline_name: str, pipeline: Pipeline, recording: Any, keep_results: bool) -> EvaluationReport:
-    report = evaluate(pipeline, _materialise(recording), pipeline_name=pipeline_name)
-    return report if keep_results else EvaluationReport(report.metrics)
+def _run_one(pipeline_name: str, pipeline: Pipeline, recording: Any, keep_results: bool, record: bool) -> EvaluationReport:
+    """One pair, where it runs (here or in a worker): its report, or -- ``record`` -- its failure."""
+    if not record:
+        report = evaluate(pipeline, _materialise(recording), pipeline_name=pipeline_name)
+    else:
+        try:
+            rec = _materialise(recording)
+        except BaseException as exc:
+            if (end := fatal(exc)) is not None:
+                raise end
+            return EvaluationReport((), failures=(EvaluationFailure.from_exception(_label(recording), pipeline_name, exc),))
+        report = evaluate_or_record(pipeline, rec, pipeline_name)
+    return report if keep_results else EvaluationReport(report.metrics, failures=report.failures)
 
 
 def _progress(total: int, progress: bool | None):
@@ -87,6 +133,7 @@ def evaluate_many(
     scheduler: str | None = None,
     progress: bool | None = None,
     keep_results: bool = True,
+    on_error: Literal["record", "raise"] = "record",
 ) -> EvaluationReport:
     """Evaluate every pipeline on every recording; one report, in (recording, pipeline) order.
 
@@ -112,17 +159,34 @@ def evaluate_many(
     keep_results
         Keep every run's trajectories in ``report.results``; False returns the metrics only
         (less to send back from workers).
+    on_error
+        ``"record"`` (default): a pair that raises becomes an entry of ``report.failures`` (an
+        ``error`` row in the table and the CSV), the other pairs run, and a FootnavWarning says
+        how many failed. ``"raise"``: the first error ends the batch, as from :func:`evaluate`.
+        KeyboardInterrupt, SystemExit and MemoryError always end it.
 
     Returns
     -------
     EvaluationReport
-        The metrics of all runs (``runtime`` is each run's own wall time) and their results.
+        The metrics of all runs (``runtime`` is each run's own wall time), their results, and the
+        failed pairs in ``failures``.
+
+    Examples
+    --------
+    >>> report = footnav.evaluate_many({"fused": two_foot_pipe, "plain": footnav.make_pipeline()},
+    ...                                [walk, left_only])
+    >>> [(f.recording, f.pipeline, f.error_type) for f in report.failures]
+    [('left only', 'fused', 'CompositionError')]
     """
     if backend not in BACKENDS:
         raise InvalidParameterError(f"evaluate_many: unknown backend {backend!r}; valid: {', '.join(BACKENDS)}")
     if not isinstance(n_jobs, int) or isinstance(n_jobs, bool) or n_jobs == 0 or n_jobs < -1:
         raise InvalidParameterError(f"evaluate_many: n_jobs={n_jobs!r} is invalid; expected a positive int or -1 (all cores)")
-    tasks = [(name, pipe, rec, keep_results) for rec in recordings for name, pipe in _named(pipelines)]
+    if on_error not in ON_ERROR:
+        raise InvalidParameterError(f"evaluate_many: on_error={on_error!r} is invalid; expected one of {', '.join(ON_ERROR)}")
+    record = on_error == "record"
+    named = _named(pipelines)
+    tasks = [(name, pipe, _check_recording(rec), keep_results, record) for rec in recordings for name, pipe in named]
     bar = _progress(len(tasks), progress)
     reports: list[EvaluationReport | None] = [None] * len(tasks)
     try:
@@ -148,6 +212,14 @@ def evaluate_many(
     total = EvaluationReport(())
     for report in reports:
         total = total + report
+    if total.failures:
+        n = len(total.failures)
+        warn(
+            f"evaluate_many: {n} of {len(tasks)} (recording, pipeline) pair{'s' if len(tasks) != 1 else ''} failed "
+            f"and {'have' if n != 1 else 'has'} no metrics (see report.failures); first: {total.failures[0]}",
+            FootnavWarning,
+            stacklevel=2,
+        )
     return total
 
 

@@ -2,21 +2,28 @@
 
 ``footnav evaluate --dataset azure_fgo`` and :func:`load_dataset` resolve names here. The data
 folder is, in order: the ``data_dir`` argument, ``$FOOTNAV_DATA``, ``../shared/data`` from the
-current folder, ``shared/data`` beside the footnav source tree.
+current folder, ``shared/data`` beside the footnav source tree. The recordings in
+:data:`BUNDLED` ship inside the package (``footnav/data/``): they load from there when the data
+folder is missing or lacks them, so ``footnav evaluate --dataset azure_fgo`` works in a fresh
+install.
 """
 
 from __future__ import annotations
 
 import os
+from dataclasses import replace
+from importlib import resources
 from pathlib import Path as FilePath
 from typing import Callable
 
 from footnav.core.errors import DataNotFoundError, UnknownDatasetError
 from footnav.core.types import Recording
 
-__all__ = ["DATA_ENV", "data_dir", "dataset_names", "load_dataset"]
+__all__ = ["BUNDLED", "DATA_ENV", "data_dir", "dataset_names", "load_dataset"]
 
 DATA_ENV = "FOOTNAV_DATA"
+#: Datasets shipped inside the package, in ``footnav/data/<name>/`` (package data).
+BUNDLED = ("azure_fgo",)
 
 
 def data_dir(explicit: str | os.PathLike | None = None) -> FilePath:
@@ -96,8 +103,25 @@ def dataset_names(root: FilePath | None = None) -> list[str]:
     return names
 
 
+def _bundled(name: str) -> Recording:
+    """A :data:`BUNDLED` recording, read from the package's own copy."""
+    with resources.as_file(resources.files("footnav") / "data") as root:
+        return _fixed()[name](FilePath(root))
+
+
 def load_dataset(name: str, data: str | os.PathLike | None = None) -> Recording:
-    """Read a shared recording by name, with its truth; the recording's ``name`` is ``name``."""
+    """Read a shared recording by name, with its truth; the recording's ``name`` is ``name``.
+
+    A :data:`BUNDLED` name is read from the data folder when it holds it, else from the copy
+    inside the package; every other name needs the data folder (:func:`data_dir`).
+    """
+    if name in BUNDLED:
+        try:
+            shared = data_dir(data) / name
+        except DataNotFoundError:
+            shared = None
+        if shared is None or not shared.is_dir():
+            return replace(_bundled(name), name=name)
     root = data_dir(data)
     fixed = _fixed()
     if name in fixed:
@@ -119,6 +143,4 @@ def load_dataset(name: str, data: str | os.PathLike | None = None) -> Recording:
         rec = read_gaitdriven(root / _GAITDRIVEN_DIR / f"{_GAITDRIVEN_PREFIX}{name[11:]}{_GAITDRIVEN_SUFFIX}")
     else:
         raise UnknownDatasetError(f"no dataset named {name!r}; available: {', '.join(dataset_names(root))}")
-    from dataclasses import replace
-
     return replace(rec, name=name)

@@ -23,6 +23,11 @@ recording supports (see :mod:`footnav.core.metrics` for the definitions):
   between the feet's tracks ``dtw_distance_feet`` (Chistyakov et al. 2021, Table 1);
 * over several recordings or seeds, :meth:`EvaluationReport.summary`: mean +- std of each;
 * the runtime of the pipeline.
+
+A run that raises does not have to end a batch: ``evaluate(..., on_error="record")`` (the default
+of :func:`footnav.evaluate_many`) returns a report holding an :class:`EvaluationFailure` instead
+of metrics, shown as an ``error`` row in :meth:`EvaluationReport.to_text` and
+:meth:`EvaluationReport.to_csv`.
 """
 
 from __future__ import annotations
@@ -30,16 +35,24 @@ from __future__ import annotations
 import csv
 import io
 import time
+import traceback as tb
 from dataclasses import dataclass, field
-from typing import Any, Iterable
+from typing import Any, Iterable, Literal
 
 import numpy as np
 
 from footnav.core import metrics
+from footnav.core.errors import FootnavWarning, InvalidParameterError
 from footnav.core.pipeline import Pipeline
 from footnav.core.types import FootTrajectory, FootTruth, PipelineResult, Recording, StanceResult
+from footnav.core.warning_log import warn
 
-__all__ = ["Metric", "EvaluationReport", "evaluate", "trajectory_at"]
+__all__ = ["Metric", "EvaluationFailure", "EvaluationReport", "evaluate", "trajectory_at"]
+
+#: ``on_error`` values of :func:`evaluate` and :func:`footnav.evaluate_many`.
+ON_ERROR = ("raise", "record")
+#: Name of the row a failed run gets in :meth:`EvaluationReport.to_text` and ``to_csv``.
+ERROR_ROW = "error"
 
 
 @dataclass(frozen=True)
@@ -55,11 +68,54 @@ class Metric:
 
 
 @dataclass(frozen=True)
+class EvaluationFailure:
+    """A (recording, pipeline) run that raised instead of giving metrics.
+
+    ``error_type`` is the exception's class name (``CompositionError``, ``PluginError`` for a
+    third-party component's bug, ``LinAlgError`` ...), ``message`` its text; ``traceback`` is the
+    formatted traceback, for a bug report (left out of ``repr`` and comparisons).
+    """
+
+    recording: str
+    pipeline: str
+    error_type: str
+    message: str
+    traceback: str = field(default="", repr=False, compare=False)
+
+    @classmethod
+    def from_exception(cls, recording: str, pipeline: str, exc: BaseException) -> "EvaluationFailure":
+        return cls(recording, pipeline, type(exc).__name__, str(exc), "".join(tb.format_exception(exc)))
+
+    def __str__(self) -> str:
+        message = " ".join(self.message.split())  # one line, whatever the exception's text
+        return f"{self.recording} / {self.pipeline}: {self.error_type}: {message}"
+
+
+def fatal(exc: BaseException) -> BaseException | None:
+    """The exception that must end a batch instead of being recorded, or None.
+
+    Recorded: any :class:`Exception` -- footnav's own errors, a component's (a plugin's bug or
+    ``sys.exit`` arrives as a PluginError naming it). Fatal: KeyboardInterrupt, SystemExit and
+    MemoryError, including a MemoryError a PluginError wraps (then the MemoryError is returned).
+    """
+    if not isinstance(exc, Exception):
+        return exc
+    cause: BaseException | None = exc
+    while cause is not None:
+        if isinstance(cause, MemoryError):
+            return cause
+        cause = cause.__cause__
+    return None
+
+
+@dataclass(frozen=True)
 class EvaluationReport:
-    """The metrics of one or more (pipeline, recording) runs, and the runs' results."""
+    """The metrics of one or more (pipeline, recording) runs, the runs' results, and the runs that
+    failed (``failures``: one :class:`EvaluationFailure` each, no metrics, no result)."""
 
     metrics: tuple[Metric, ...]
     results: dict[tuple[str, str], PipelineResult] = field(default_factory=dict, compare=False)
+    failures: tuple[EvaluationFailure, ...] = ()
 
     def value(self, name: str, foot: str = "left", recording: str | None = None, pipeline: str | None = None) -> float:
         """The value of one metric (the first match)."""
@@ -71,17 +127,44 @@ class EvaluationReport:
                 and (pipeline is None or m.pipeline == pipeline)
             ):
                 return m.value
+        failed = [
+            f for f in self.failures
+            if (recording is None or f.recording == recording) and (pipeline is None or f.pipeline == pipeline)
+        ]
+        if failed:
+            raise KeyError(f"no metric {name!r} for foot {foot!r}: the run failed ({failed[0]})")
         raise KeyError(f"no metric {name!r} for foot {foot!r}")
 
     def __add__(self, other: "EvaluationReport") -> "EvaluationReport":
-        return EvaluationReport(self.metrics + other.metrics, {**self.results, **other.results})
+        return EvaluationReport(
+            self.metrics + other.metrics, {**self.results, **other.results}, self.failures + other.failures
+        )
 
     def rows(self) -> list[dict[str, Any]]:
-        return [m.__dict__.copy() for m in self.metrics]
+        """The rows of :meth:`to_csv`, as dicts: each metric, then an ``error`` row per failure."""
+        rows = [m.__dict__.copy() for m in self.metrics]
+        if not self.failures:
+            return rows
+        for row in rows:
+            row["error"] = ""
+        return rows + [
+            {"recording": f.recording, "pipeline": f.pipeline, "foot": "both", "name": ERROR_ROW,
+             "value": float("nan"), "unit": "", "error": f"{f.error_type}: {f.message}"}
+            for f in self.failures
+        ]
 
     def to_csv(self) -> str:
+        """The metrics as CSV: ``recording,pipeline,foot,name,value,unit``, one row per metric.
+
+        With failures, a last column ``error`` is added: empty for the metrics, and one row per
+        failed run with ``name`` ``error``, ``foot`` ``both``, ``value`` nan and ``error``
+        ``"ErrorType: message"`` -- so ``pandas.read_csv`` keeps ``value`` numeric and
+        ``df[df.name == "error"]`` lists the failures. (Without failures the header stays the
+        six columns earlier versions wrote.)
+        """
         buf = io.StringIO()
-        writer = csv.DictWriter(buf, fieldnames=["recording", "pipeline", "foot", "name", "value", "unit"])
+        fields = ["recording", "pipeline", "foot", "name", "value", "unit"] + (["error"] if self.failures else [])
+        writer = csv.DictWriter(buf, fieldnames=fields)
         writer.writeheader()
         writer.writerows(self.rows())
         return buf.getvalue()
@@ -99,7 +182,7 @@ class EvaluationReport:
         list of dict
             Rows with ``pipeline, foot, name, unit, mean, std, n`` (``std`` with ddof=1: the
             sample standard deviation, nan for one recording); non-finite values are left out
-            of both and not counted in ``n``.
+            of both and not counted in ``n``, and so are failed runs (``failures``).
         """
         groups: dict[tuple[str, str, str, str], list[float]] = {}
         for m in self.metrics:
@@ -121,15 +204,32 @@ class EvaluationReport:
         pipelines = list(dict.fromkeys(r["pipeline"] for r in rows))
         keys = list(dict.fromkeys((r["name"], r["foot"], r["unit"]) for r in rows))
         cell = {(r["name"], r["foot"], r["unit"], r["pipeline"]): f"{_fmt(r['mean'])} +- {_fmt(r['std'])} ({r['n']})" for r in rows}
-        return _table(["metric", "foot", "unit"] + pipelines, [list(k) + [cell.get(k + (p,), "") for p in pipelines] for k in keys])
+        table = _table(["metric", "foot", "unit"] + pipelines, [list(k) + [cell.get(k + (p,), "") for p in pipelines] for k in keys])
+        return table + self._failures_text()
 
     def to_text(self) -> str:
-        """A table: one row per (recording, metric, foot), one column per pipeline."""
-        pipelines = list(dict.fromkeys(m.pipeline for m in self.metrics))
-        keys = list(dict.fromkeys((m.recording, m.name, m.foot, m.unit) for m in self.metrics))
-        table = {(m.recording, m.name, m.foot, m.unit, m.pipeline): m.value for m in self.metrics}
+        """A table: one row per (recording, metric, foot), one column per pipeline.
+
+        A failed run shows its error type in an ``error`` row of its recording (its other cells
+        stay empty), and after the table one line per failure gives the message.
+        """
+        pipelines = list(dict.fromkeys([m.pipeline for m in self.metrics] + [f.pipeline for f in self.failures]))
+        by_recording: dict[str, list[tuple[str, str, str, str]]] = {}
+        for m in self.metrics:
+            by_recording.setdefault(m.recording, []).append((m.recording, m.name, m.foot, m.unit))
+        for f in self.failures:
+            by_recording.setdefault(f.recording, []).append((f.recording, ERROR_ROW, "both", ""))
+        keys = list(dict.fromkeys(k for ks in by_recording.values() for k in ks))
+        table: dict[tuple[str, ...], str] = {(m.recording, m.name, m.foot, m.unit, m.pipeline): _fmt(m.value) for m in self.metrics}
+        table.update({(f.recording, ERROR_ROW, "both", "", f.pipeline): f.error_type for f in self.failures})
         header = ["recording", "metric", "foot", "unit"] + pipelines
-        return _table(header, [list(k) + [_fmt(table.get(k + (p,))) for p in pipelines] for k in keys])
+        return _table(header, [list(k) + [table.get(k + (p,), "") for p in pipelines] for k in keys]) + self._failures_text()
+
+    def _failures_text(self) -> str:
+        if not self.failures:
+            return ""
+        runs = len({(m.recording, m.pipeline) for m in self.metrics} | {(f.recording, f.pipeline) for f in self.failures})
+        return f"\n\nfailed ({len(self.failures)} of {runs} runs):" + "".join(f"\n  {f}" for f in self.failures)
 
 
 def _table(header: list[str], rows: list[list[Any]]) -> str:
@@ -269,6 +369,7 @@ def evaluate(
     recording: Recording,
     *,
     pipeline_name: str | None = None,
+    on_error: Literal["raise", "record"] = "raise",
 ) -> EvaluationReport:
     """Run ``pipeline`` on ``recording`` and measure every metric its truth supports.
 
@@ -280,13 +381,52 @@ def evaluate(
         The data and its truth (:func:`footnav.load`, :func:`footnav.simulate`).
     pipeline_name
         Column name in the table; default ``detector+estimator+fusion``.
+    on_error
+        ``"raise"`` (default): an error of the run propagates. ``"record"``: it is returned as
+        the report's one :class:`EvaluationFailure` (no metrics), with a warning -- what
+        :func:`footnav.evaluate_many` does for each pair so that one failure does not end a
+        batch. KeyboardInterrupt, SystemExit and MemoryError always propagate.
+
+    Examples
+    --------
+    >>> walk = footnav.simulate("rectangle", seed=3)
+    >>> one_foot = footnav.Recording(left=walk.left, truth_left=walk.truth_left, name="left only")
+    >>> report = footnav.evaluate(footnav.make_pipeline(fusion="step-vector"), one_foot, on_error="record")
+    >>> report.failures[0].error_type
+    'CompositionError'
     """
+    if on_error not in ON_ERROR:
+        raise InvalidParameterError(f"evaluate: on_error={on_error!r} is invalid; expected one of {', '.join(ON_ERROR)}")
     name = pipeline_name or "+".join(c.name for c in pipeline.components)
+    if on_error == "raise":
+        return _evaluate(pipeline, recording, name)
+    report = evaluate_or_record(pipeline, recording, name)
+    if report.failures:
+        warn(f"evaluate: the run failed: {report.failures[0]}", FootnavWarning, stacklevel=2)
+    return report
+
+
+def recording_label(recording: Recording) -> str:
+    """The name a recording's rows carry: its ``name``, else its source."""
+    return recording.name or str(recording.meta.get("source", "recording"))
+
+
+def evaluate_or_record(pipeline: Pipeline, recording: Recording, pipeline_name: str) -> EvaluationReport:
+    """:func:`evaluate` with ``on_error="record"``, without the warning (the batch warns once)."""
+    try:
+        return _evaluate(pipeline, recording, pipeline_name)
+    except BaseException as exc:
+        if (end := fatal(exc)) is not None:
+            raise end
+        return EvaluationReport((), failures=(EvaluationFailure.from_exception(recording_label(recording), pipeline_name, exc),))
+
+
+def _evaluate(pipeline: Pipeline, recording: Recording, name: str) -> EvaluationReport:
     t0 = time.perf_counter()
     result = pipeline.run(recording.left, recording.right)
     runtime = time.perf_counter() - t0
     rows: list[Metric] = []
-    rec_name = recording.name or str(recording.meta.get("source", "recording"))
+    rec_name = recording_label(recording)
     feet: Iterable[tuple[str, Any, Any, Any]] = [("left", result.left, result.stance_left, recording.truth_left)]
     if result.right is not None:
         feet = list(feet) + [("right", result.right, result.stance_right, recording.truth_right)]

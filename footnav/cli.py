@@ -212,9 +212,11 @@ def cmd_evaluate(args: argparse.Namespace) -> int:
             if args.out
             else None
         )
+        # a table with failed pairs has a last column "error" (EvaluationReport.to_csv)
+        ours = [csv_signature(REPORT_CSV_HEADER), csv_signature(REPORT_CSV_HEADER + ",error")]
         csv_claim = (
             claims.enter_context(claim_output(args.csv, kind="file", force=args.force, inputs=inputs,
-                                              signature=csv_signature(REPORT_CSV_HEADER), what="table"))
+                                              signature=lambda path: any(s(path) for s in ours), what="table"))
             if args.csv
             else None
         )
@@ -255,7 +257,7 @@ def cmd_evaluate(args: argparse.Namespace) -> int:
         print(f"report written to {args.out}")
     if plot_claim:
         print(f"figures written to {args.plot}")
-    return EXIT_OK
+    return EXIT_INTERNAL if report.failures else EXIT_OK  # the failures are listed under the table
 
 
 def cmd_compare_detectors(args: argparse.Namespace) -> int:

@@ -93,10 +93,11 @@ from numpy.typing import NDArray
 from footnav.core import quaternion as quat
 from footnav.core._numba import njit  # numba.njit that survives a read-only install
 from footnav.core.component import MAX_LENGTH_M, Fusion, require, require_in_range, require_non_negative
+from footnav.core.errors import CompositionError
 from footnav.core.initial_alignment import align_first_stance
 from footnav.core.types import FootTrajectory, FusionResult
 from footnav.fusion.independent import midpoint_path
-from footnav.fusion.joint import LEFT, RIGHT, finish_joint, fuse_on_common_span, start_joint
+from footnav.fusion.joint import LEFT, RIGHT, closing_time, finish_joint, forward_only, fuse_on_common_span, start_joint
 from footnav.fusion.particle_ekf import N_STATES, PaperFoot, drift_scales
 
 __all__ = [
@@ -422,6 +423,11 @@ class ParticleFusion(Fusion):
     def _fuse_span(self, estimator, left, stance_left, right, stance_right) -> FusionResult:
         """:meth:`fuse` on feet that share their whole time span."""
         if self.mode == "paper":
+            if getattr(estimator, "closed_loop", False):
+                raise CompositionError(
+                    f"fusion {self.name!r} mode='paper' runs its own per-foot filters (Lee, Cho & Park 2022, eq. 3) "
+                    "and does not apply the estimator's closed_loop; turn closed_loop off or use mode='footnav'"
+                )
             return self._fuse_paper(estimator, left, stance_left, right, stance_right)
         return self._fuse_footnav(estimator, left, stance_left, right, stance_right)
 
@@ -433,7 +439,7 @@ class ParticleFusion(Fusion):
         rng = np.random.default_rng(self.seed)
         n = int(self.n_particles)
         params = estimator.get_params()
-        forward = estimator.clone(smoother="none", heading="first-step")
+        forward = forward_only(estimator)
         var = {k: float(params.get(k, d)) ** 2 for k, d in _PAPER_NOISE_DEFAULTS.items()}
         noise = [var["acc_noise_mps2_sqrthz"], var["gyr_noise_radps_sqrthz"], var["acc_bias_walk_mps3_sqrthz"], var["zupt_std_mps"]]
         cov0 = [0.0] + [var["init_velocity_std_mps"]] * 3 + [var["init_attitude_std_rad"]] * 2 + [var["init_acc_bias_std_mps2"]] * 3
@@ -516,7 +522,10 @@ class ParticleFusion(Fusion):
             for _, stop in st.intervals[:-1]  # the end of each zero-velocity phase but the last
         )
         half_width = 0.5 * float(self.step_width_m)
+        closing = closing_time(estimator, (left, right), (stance_left, stance_right))
         for t, foot in events:
+            if t > closing:
+                break
             filt.run_until(t)
             other = 1 - foot
             o, o_other = pos[foot], pos[other]
@@ -558,4 +567,4 @@ class ParticleFusion(Fusion):
             last_p[foot], last_cov[foot] = filt.position(foot)[:2], cov[o : o + 2, o : o + 2].copy()
             summary[foot] = (mean, cov_c)
         meta = {"fusion": self.describe(), "pf_updates": len(events), "n_particles": n}
-        return finish_joint(estimator, filt, stance_left, stance_right, meta)
+        return finish_joint(estimator, filt, stance_left, stance_right, meta, (left, right))

@@ -73,7 +73,15 @@ from footnav.core.component import (
 from footnav.core.errors import CompositionError, DataQualityWarning, InvalidInputError
 from footnav.core.types import FusionResult, ImuData, StanceResult
 from footnav.core.warning_log import warn
-from footnav.fusion.joint import LEFT, RIGHT, check_two_feet, finish_joint, fuse_on_common_span, start_joint
+from footnav.fusion.joint import (
+    LEFT,
+    RIGHT,
+    check_two_feet,
+    closing_time,
+    finish_joint,
+    fuse_on_common_span,
+    start_joint,
+)
 
 __all__ = ["LEG_LENGTH_PER_HEIGHT", "StepVectorFusion", "leg_length_from_height", "pendulum_step_length"]
 
@@ -398,7 +406,10 @@ class StepVectorFusion(Fusion):
         runs = [st.intervals for st in stances]
         applied = suspended = skipped = 0
         lengths = []
+        closing = closing_time(estimator, imus, stances)
         for t, front, _, _ in self._landings(imus, stances):
+            if t > closing:
+                break
             rear = 1 - front
             filt.run_until(t)
             support = self._support(imus[rear], stances[rear], t, runs[rear])
@@ -439,4 +450,4 @@ class StepVectorFusion(Fusion):
             "skipped_rear_foot_moving": skipped,
             "step_length_m": {"median": float(np.median(lengths)) if lengths else None, "n": len(lengths)},
         }
-        return finish_joint(estimator, filt, stance_left, stance_right, meta)
+        return finish_joint(estimator, filt, stance_left, stance_right, meta, imus)

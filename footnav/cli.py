@@ -8,6 +8,7 @@ from __future__ import annotations
 import argparse
 import logging
 import sys
+import textwrap
 import warnings
 from contextlib import ExitStack, nullcontext
 from pathlib import Path as FilePath
@@ -21,6 +22,8 @@ REPORT_CSV_HEADER = "recording,pipeline,foot,name,value,unit"
 
 EPILOG_RUN = """examples:
   footnav run --left L.csv --right R.csv --acc-unit g --gyr-unit deg/s --out results/walk1
+  footnav run --left data/gaitmap_example --out results/gaitmap
+  footnav run --left walk.mat --out results/pyshoe
   footnav run --left L.csv --pipeline pipeline.toml --out results/walk1 --force
   footnav run --left L.csv --right R.csv --fusion step-vector --out results/walk1 --plot walk1.png
 """
@@ -116,8 +119,46 @@ def _pipeline_from_args(args: argparse.Namespace):
     return make_pipeline(args.detector or "adaptive", args.estimator or "ekf", args.fusion or "independent")
 
 
+#: CLI flag -> reader option (footnav.core.io.load.reader_options says which reader takes which).
+READER_FLAGS = {"format": "--format", "acc_unit": "--acc-unit", "gyr_unit": "--gyr-unit", "t_unit": "--t-unit",
+                "rate_hz": "--rate-hz", "drop_duplicates": "--drop-duplicates"}
+
+
+def _read_recording(path: str, args: argparse.Namespace):
+    """Read ``path`` in any format footnav reads, with the reader options given on the command
+    line; an option the file's reader does not take is an error naming both."""
+    from footnav.core.io.load import guess_format, load, reader_options
+
+    given = {k: getattr(args, k) for k in READER_FLAGS if k != "format" and getattr(args, k, None) not in (None, False)}
+    fmt = args.format or guess_format(path)[0]
+    accepted = reader_options(fmt)
+    refused = [READER_FLAGS[k] for k in given if k not in accepted]
+    if refused:
+        takes = ", ".join(READER_FLAGS[k] for k in READER_FLAGS if k in accepted) or "none"
+        raise FootnavError(
+            f"{path}: {' and '.join(refused)} {'does' if len(refused) == 1 else 'do'} not apply to {fmt} files (the "
+            f"format fixes them); options this format takes: {takes}"
+        )
+    return load(path, format=args.format, **given)
+
+
+def _run_inputs(args: argparse.Namespace):
+    """The left and right feet from --left / --right: one file per foot, or one two-foot
+    recording (gaitmap, IPOL, azure_fgo ...) given as --left."""
+    rec = _read_recording(args.left, args)
+    if args.right is None:
+        if rec.right is not None:
+            print(f"footnav: {args.left} holds both feet ({rec.meta.get('format')}): running both", file=sys.stderr)
+        return rec.left, rec.right
+    if rec.right is not None:
+        raise FootnavError(f"{args.left} holds both feet already; give it alone, without --right")
+    other = _read_recording(args.right, args)
+    if other.right is not None:
+        raise FootnavError(f"{args.right} holds both feet; give it alone as --left")
+    return rec.left, other.left
+
+
 def cmd_run(args: argparse.Namespace) -> int:
-    from footnav.core.io import read_footnav_csv
     from footnav.core.output import claim_output
     from footnav.core.results import write_results
 
@@ -127,9 +168,7 @@ def cmd_run(args: argparse.Namespace) -> int:
         # every output is claimed before any work, and appears only when all of it succeeded
         out_claim = claims.enter_context(claim_output(args.out, force=args.force, inputs=inputs, what="output folder"))
         plot_claim = _claim_figure(claims, args.plot, args.force, inputs)
-        units = dict(acc_unit=args.acc_unit, gyr_unit=args.gyr_unit, t_unit=args.t_unit, drop_duplicates=args.drop_duplicates)
-        left = read_footnav_csv(args.left, **units)
-        right = None if args.right is None else read_footnav_csv(args.right, **units)
+        left, right = _run_inputs(args)
         result = pipeline.run(left, right)
         summary = {
             "left_path_length_m": result.left.path_length_m,
@@ -322,19 +361,29 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.set_defaults(func=cmd_plugins)
 
+    from footnav.core.io.load import READERS
+
     p = sub.add_parser(
         "run",
-        help="run a pipeline on footnav CSV recordings",
-        description="Run a pipeline on footnav CSV files (t, acc_x..acc_z, gyr_x..gyr_z[, mag_x..mag_z]).",
+        help="run a pipeline on a recording of one or both feet",
+        description=textwrap.fill(
+            "Run a pipeline on a recording in any format footnav reads (" + ", ".join(READERS) + "; "
+            "guessed from the file unless --format is given): one file per foot, or one two-foot recording as --left. "
+            "docs/your-own-sensor.md lists the formats and how to bring any other sensor in.",
+            width=100,
+        ),
         epilog=EPILOG_RUN,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    p.add_argument("--left", required=True, help="left (or only) foot CSV")
-    p.add_argument("--right", help="right foot CSV")
-    p.add_argument("--acc-unit", default="m/s^2", choices=["m/s^2", "g"])
-    p.add_argument("--gyr-unit", default="rad/s", choices=["rad/s", "deg/s"])
-    p.add_argument("--t-unit", default="s", choices=["s", "ms"])
-    p.add_argument("--drop-duplicates", action="store_true", help="drop rows repeating the previous time stamp (recorded)")
+    p.add_argument("--left", required=True, help="left (or only) foot's recording, or a two-foot recording")
+    p.add_argument("--right", help="right foot's recording")
+    p.add_argument("--format", choices=list(READERS), help="the recordings' format (default: guessed from each file)")
+    p.add_argument("--acc-unit", choices=["m/s^2", "g"], help="accelerometer unit of a footnav CSV (default: its '# units:' line, else m/s^2)")
+    p.add_argument("--gyr-unit", choices=["rad/s", "deg/s"], help="gyroscope unit (footnav CSV, gaitmap)")
+    p.add_argument("--t-unit", choices=["s", "ms"], help="time unit of a footnav CSV (default s)")
+    p.add_argument("--rate-hz", type=_positive, help="sampling rate, Hz, for files without time stamps (e.g. headerless 6-column)")
+    p.add_argument("--drop-duplicates", action="store_true",
+                   help="also drop rows that repeat a time stamp with different values (exact copies are always dropped; recorded)")
     p.add_argument("--pipeline", help="pipeline TOML file ([detector], [estimator], [fusion] tables)")
     p.add_argument("--detector", help="detector name (see footnav plugins)")
     p.add_argument("--estimator", help="estimator name")

@@ -26,7 +26,7 @@ from typing import Any, Callable
 from footnav.core.errors import DataNotFoundError, InvalidInputError
 from footnav.core.io._text import check_file
 from footnav.core.io.azure_fgo import AZURE_FGO_FILES, read_azure_fgo
-from footnav.core.io.footnav_csv import read_footnav_folder, read_footnav_recording
+from footnav.core.io.footnav_csv import read_footnav_csv, read_footnav_folder, read_footnav_recording
 from footnav.core.io.gaitdriven import GAITDRIVEN_VARIABLES, read_gaitdriven
 from footnav.core.io.gaitmap import read_gaitmap
 from footnav.core.io.ipol import ipol_trial_files, read_ipol
@@ -36,7 +36,7 @@ from footnav.core.io.xio import read_xio
 from footnav.core.io.xsens import read_xsens
 from footnav.core.types import Recording
 
-__all__ = ["load", "guess_format", "READERS"]
+__all__ = ["load", "guess_format", "reader_options", "READERS"]
 
 log = logging.getLogger(__name__)
 
@@ -170,10 +170,23 @@ def guess_format(path: Any) -> tuple[str, str, dict[str, Any]]:
             return "openshoe", f"no header, 6 numeric columns, file name says OpenShoe: {OPENSHOE_RATE_HZ:g} Hz", {}
         return "openshoe", "no header, 6 numeric comma-separated columns (OpenShoe layout)", {"_needs_rate": True}
     raise InvalidInputError(
-        f"cannot tell the format from the first line {first[:80]!r}; known formats: {known}; pass format=...",
+        f"cannot tell the format from the first line {first[:80]!r}; known formats: {known}; pass format=... (command line: --format)",
         path=str(p),
         line=1,
     )
+
+
+def reader_options(format: str) -> tuple[str, ...]:
+    """The keyword options the reader of ``format`` takes (e.g. ``acc_unit``, ``rate_hz``)."""
+    import inspect
+
+    if format not in READERS:
+        raise InvalidInputError(f"unknown format {format!r}; known formats: {', '.join(READERS)}")
+    reader = READERS[format]
+    if format in ("footnav_csv", "footnav_folder"):  # options pass through to read_footnav_csv
+        reader = read_footnav_csv
+    params = list(inspect.signature(reader).parameters.values())[1:]  # after the path
+    return tuple(p.name for p in params if p.kind in (p.KEYWORD_ONLY, p.POSITIONAL_OR_KEYWORD) and not p.name.startswith("_"))
 
 
 def load(path: Any, format: str | None = None, **options: Any) -> Recording:
@@ -219,7 +232,8 @@ def load(path: Any, format: str | None = None, **options: Any) -> Recording:
             raise InvalidInputError(
                 "no header and no time column: 6 numeric columns fit the OpenShoe layout (acc m/s^2, gyr rad/s), "
                 "but the file does not say its sampling rate, and a wrong rate scales every distance; pass it: "
-                f"load(path, rate_hz=100.0), or format='openshoe' for the OpenShoe data set's {OPENSHOE_RATE_HZ:g} Hz",
+                f"load(path, rate_hz=100.0) (command line: --rate-hz 100), or format='openshoe' for the OpenShoe "
+                f"data set's {OPENSHOE_RATE_HZ:g} Hz",
                 path=str(p),
                 field="rate_hz",
             )

@@ -34,7 +34,7 @@ def test_run_writes_results_and_refuses_to_overwrite(sim_csv, tmp_path, capsys):
     args = ["run", "--left", str(sim_csv / "left.csv"), "--right", str(sim_csv / "right.csv"), "--out", str(out)]
     assert main(args) == 0
     assert {p.name for p in out.iterdir()} == {
-        "left.csv", "right.csv", "path.csv", "trajectories.npz", "summary.json", "pipeline.toml", ".footnav-result"
+        "left.csv", "right.csv", "path.csv", "strides.csv", "trajectories.npz", "summary.json", "pipeline.toml", ".footnav-result"
     }
     doc = json.loads((out / "summary.json").read_text())
     assert doc["provenance"]["footnav_version"] == footnav.__version__

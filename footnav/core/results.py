@@ -10,7 +10,9 @@ and only when footnav wrote it.
 
 from __future__ import annotations
 
+import csv
 import hashlib
+import io
 import json
 import os
 from contextlib import contextmanager
@@ -20,6 +22,7 @@ from typing import Any, Iterable, Iterator, Mapping
 import numpy as np
 
 from footnav.core.output import OutputClaim, claim_output
+from footnav.core.strides import STRIDE_COLUMNS, stride_parameters
 from footnav.core.types import FootTrajectory, Path, PipelineResult
 
 __all__ = ["write_results", "write_report", "versions", "file_sha256", "atomic_folder", "TRAJECTORY_COLUMNS"]
@@ -38,6 +41,21 @@ def _write_trajectory(traj: FootTrajectory, stance_mask, path: FilePath) -> None
         [traj.t, traj.position, traj.velocity, traj.quaternion, traj.position_std, np.asarray(stance_mask, dtype=float)]
     )
     np.savetxt(path, data, delimiter=",", header=f"frame: nav (z up)\n{TRAJECTORY_COLUMNS}", fmt="%.9g")
+
+
+def _strides_csv(result: PipelineResult) -> str:
+    """Both feet's strides (:func:`footnav.core.strides.stride_parameters`) as CSV text, one header
+    row of :data:`~footnav.core.strides.STRIDE_COLUMNS` (``foot, start_s, end_s, length_m,
+    duration_s`` first), left foot's strides first."""
+    buf = io.StringIO()
+    writer = csv.writer(buf, lineterminator="\n")
+    writer.writerow(STRIDE_COLUMNS)
+    for foot, traj, stance in (("left", result.left, result.stance_left), ("right", result.right, result.stance_right)):
+        if traj is None or stance is None:
+            continue
+        for row in stride_parameters(traj, stance, foot=foot):
+            writer.writerow([row[c] if c in ("foot", "start_index", "end_index") else f"{row[c]:.9g}" for c in STRIDE_COLUMNS])
+    return buf.getvalue()
 
 
 def _jsonable(value: Any) -> Any:
@@ -146,6 +164,7 @@ def write_results(
     pipeline_toml: str | None = None,
 ) -> FilePath:
     """Write ``result`` into ``folder``: ``left.csv`` (``right.csv``), ``path.csv``,
+    ``strides.csv`` (gait parameters per stride and foot, :meth:`PipelineResult.strides`),
     ``trajectories.npz`` (the same arrays), ``summary.json`` (``summary`` plus provenance: pipeline,
     versions, warnings, inputs and their SHA-256) and ``pipeline.toml``.
 
@@ -173,6 +192,7 @@ def write_results(
             fmt="%.9g",
         )
         arrays.update(path_t=path.t, path_position=path.position)
+        (tmp / "strides.csv").write_text(_strides_csv(result), encoding="utf-8")
         np.savez_compressed(tmp / "trajectories.npz", **arrays)  # plain arrays: np.load(..., allow_pickle=False)
         inputs = [m for m in result.meta.get("input", {}).values() if m]
         doc = {

@@ -187,7 +187,7 @@ def test_sigkill_at_any_moment_of_a_replacement_leaves_one_whole_result(workspac
 
     cmd = [sys.executable, "-m", "footnav.cli", "run", "--left", "data/left.csv", "--out", "res", "--force"]
     assert subprocess.run(cmd, cwd=workspace, capture_output=True).returncode == 0
-    whole = {"left.csv", "path.csv", "trajectories.npz", "summary.json", "pipeline.toml", MARKER}
+    whole = {"left.csv", "path.csv", "strides.csv", "trajectories.npz", "summary.json", "pipeline.toml", MARKER}
     start = time.perf_counter()
     subprocess.run(cmd, cwd=workspace, capture_output=True)
     duration = time.perf_counter() - start

@@ -104,7 +104,7 @@ def _run_one(pipeline_name: str, pipeline: Pipeline, recording: Any, keep_result
     else:
         try:
             rec = _materialise(recording)
-        except BaseException as exc:
+        except Exception as exc:  # KeyboardInterrupt and SystemExit pass by themselves
             if (end := fatal(exc)) is not None:
                 raise end
             return EvaluationReport((), failures=(EvaluationFailure.from_exception(_label(recording), pipeline_name, exc),))

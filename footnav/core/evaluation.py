@@ -83,7 +83,7 @@ class EvaluationFailure:
     traceback: str = field(default="", repr=False, compare=False)
 
     @classmethod
-    def from_exception(cls, recording: str, pipeline: str, exc: BaseException) -> "EvaluationFailure":
+    def from_exception(cls, recording: str, pipeline: str, exc: BaseException) -> EvaluationFailure:
         return cls(recording, pipeline, type(exc).__name__, str(exc), "".join(tb.format_exception(exc)))
 
     def __str__(self) -> str:
@@ -415,7 +415,7 @@ def evaluate_or_record(pipeline: Pipeline, recording: Recording, pipeline_name: 
     """:func:`evaluate` with ``on_error="record"``, without the warning (the batch warns once)."""
     try:
         return _evaluate(pipeline, recording, pipeline_name)
-    except BaseException as exc:
+    except Exception as exc:  # KeyboardInterrupt and SystemExit pass by themselves
         if (end := fatal(exc)) is not None:
             raise end
         return EvaluationReport((), failures=(EvaluationFailure.from_exception(recording_label(recording), pipeline_name, exc),))

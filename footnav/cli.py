@@ -69,17 +69,64 @@ def _warning_printer(verbose: bool):
     return show
 
 
+def _compile_notice():
+    """A numba event listener that says on stderr when numba compiles footnav's kernels (the
+    first run after installing, or after the cache was cleared: several seconds of silence
+    otherwise) and, with :meth:`report`, how long it took. numba is imported here, not when the
+    CLI starts, so ``footnav --help`` stays quick."""
+    import time
+
+    from numba.core import event
+
+    class CompileNotice(event.Listener):
+        def __init__(self) -> None:
+            self.depth, self.started, self.seconds, self.said = 0, 0.0, 0.0, False
+
+        def on_start(self, ev) -> None:
+            if self.depth == 0:  # nested events are callees compiled for their caller
+                self.started = time.perf_counter()
+                if not self.said:
+                    self.said = True
+                    print("footnav: compiling the numerical kernels (once: they are cached for the next runs) ...",
+                          file=sys.stderr, flush=True)
+            self.depth += 1
+
+        def on_end(self, ev) -> None:
+            self.depth -= 1
+            if self.depth == 0:
+                self.seconds += time.perf_counter() - self.started
+
+        def listening(self):
+            return event.install_listener("numba:compile", self)
+
+        def report(self) -> None:
+            if self.said:
+                print(f"footnav: compiled in {self.seconds:.1f} s", file=sys.stderr)
+
+    return CompileNotice()
+
+
 def _os_message(exc: OSError) -> str:
     """One line for an error of the file system or the network: what, on which file."""
     where = f" {exc.filename!r}" if getattr(exc, "filename", None) else ""
     return f"{exc.strerror or exc}{':' if where else ''}{where}"
 
 
-def _format_table(header: Sequence[str], rows: Sequence[Sequence[object]]) -> str:
+def _format_table(header: Sequence[str], rows: Sequence[Sequence[object]], width: int | None = None) -> str:
+    """A plain-text table; with ``width``, the last column wraps so that no line is wider."""
     cells = [[str(h) for h in header]] + [[_fmt(c) for c in r] for r in rows]
     widths = [max(len(row[i]) for row in cells) for i in range(len(header))]
-    lines = ["  ".join(c.ljust(w) for c, w in zip(row, widths)).rstrip() for row in cells]
-    lines.insert(1, "  ".join("-" * w for w in widths))
+    offset = sum(widths[:-1]) + 2 * (len(header) - 1)
+    room = None if width is None else max(20, width - offset)
+    if room is not None:
+        widths[-1] = min(widths[-1], room)
+    lines = []
+    for k, row in enumerate(cells):
+        last = textwrap.wrap(row[-1], room) if room is not None and len(row[-1]) > room else [row[-1]]
+        lines.append("  ".join(c.ljust(w) for c, w in zip(row[:-1] + [last[0] if last else ""], widths)).rstrip())
+        lines += [(" " * offset + more).rstrip() for more in last[1:]]
+        if k == 0:
+            lines.append("  ".join("-" * w for w in widths))
     return "\n".join(lines)
 
 
@@ -92,18 +139,38 @@ def _fmt(value: object) -> str:
 # -- commands ---------------------------------------------------------------------------------
 
 
+#: Widest line ``footnav plugins`` prints.
+PLUGINS_WIDTH = 120
+
+
+def _summary_line(cls: type) -> str:
+    """A class's docstring summary (its first paragraph, on one line)."""
+    import inspect
+
+    return " ".join((inspect.getdoc(cls) or "").strip().split("\n\n")[0].split()).rstrip(".")
+
+
 def cmd_plugins(args: argparse.Namespace) -> int:
     from footnav.plugins.manager import get_registry
 
     reg = get_registry()
-    rows = []
-    for e in reg:
-        params = ", ".join(
-            f"{p.name}={p.default!r}" + (f" [{p.unit}]" if p.unit else "") for p in e.cls.parameter_info()
-        )
-        needs = ",".join(n for n, f in (("two feet", e.cls.needs_two_feet), ("magnetometer", e.cls.needs_magnetometer)) if f)
-        rows.append((e.kind, e.name, e.origin, needs or "-", params or "-"))
-    print(_format_table(("kind", "name", "origin", "needs", "parameters"), rows))
+    if args.name:
+        entries = [e for e in reg if e.name == args.name]
+        if not entries:
+            names = ", ".join(sorted({e.name for e in reg}))
+            raise FootnavError(f"no component named {args.name!r}; registered: {names}")
+        for e in entries:
+            needs = [n for n, f in (("two feet", e.cls.needs_two_feet), ("magnetometer", e.cls.needs_magnetometer)) if f]
+            print(f"{e.name} ({e.kind}, from {e.origin}){': needs ' + ', '.join(needs) if needs else ''}")
+            print(textwrap.fill(_summary_line(e.cls), width=PLUGINS_WIDTH, initial_indent="  ", subsequent_indent="  "))
+            rows = [(p.name, repr(p.default), p.unit or "-", p.description or "-") for p in e.cls.parameter_info()]
+            if rows:
+                print()
+                print(_format_table(("parameter", "default", "unit", "description"), rows, width=PLUGINS_WIDTH))
+        return EXIT_OK
+    rows = [(e.kind, e.name, e.origin, _summary_line(e.cls)) for e in reg]
+    print(_format_table(("kind", "name", "origin", "description"), rows, width=PLUGINS_WIDTH))
+    print("footnav plugins NAME: one component's parameters")
     for name, origin, err in reg.failed:
         print(f"failed plugin: {name} ({origin}): {err}", file=sys.stderr)
     return EXIT_OK
@@ -188,17 +255,21 @@ def cmd_run(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+def _require_matplotlib() -> None:
+    """--plot without matplotlib is an error before any work, with the install command."""
+    try:
+        import matplotlib  # noqa: F401
+    except ImportError:
+        raise FootnavError("--plot needs matplotlib: pip install 'footnav[plot]'") from None
+
+
 def _claim_figure(claims: ExitStack, path, force: bool, inputs):
     """Claim a figure path (None when not asked for, or when matplotlib is missing: said once)."""
     from footnav.core.output import claim_output, is_footnav_figure
 
     if not path:
         return None
-    try:
-        import matplotlib  # noqa: F401
-    except ImportError:
-        print("(install the 'plot' extra for figures)", file=sys.stderr)
-        return None
+    _require_matplotlib()
     return claims.enter_context(
         claim_output(path, kind="file", force=force, inputs=inputs, signature=is_footnav_figure, what="figure")
     )
@@ -261,12 +332,8 @@ def cmd_evaluate(args: argparse.Namespace) -> int:
         )
         plot_claim = None
         if args.plot:
-            try:
-                import matplotlib  # noqa: F401
-            except ImportError:
-                print("(install the 'plot' extra for figures)", file=sys.stderr)
-            else:
-                plot_claim = claims.enter_context(claim_output(args.plot, force=args.force, inputs=inputs, what="figure folder"))
+            _require_matplotlib()
+            plot_claim = claims.enter_context(claim_output(args.plot, force=args.force, inputs=inputs, what="figure folder"))
         pipelines = [(FilePath(p).stem, load_pipeline(p)) for p in args.pipeline] or [("default", make_pipeline())]
         recordings = [load_dataset(name, args.data_dir) for name in args.dataset]
         recordings += [load(path) for path in args.recordings]
@@ -355,10 +422,11 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser(
         "plugins",
         help="list every registered component",
-        description="List every registered component: kind, name, origin package, needs, parameters.",
-        epilog="example:\n  footnav plugins | grep detector",
+        description="List every registered component (kind, name, origin package, what it is), or one component's parameters.",
+        epilog="examples:\n  footnav plugins | grep detector\n  footnav plugins ekf",
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
+    p.add_argument("name", nargs="?", help="a component's name: show its parameters")
     p.set_defaults(func=cmd_plugins)
 
     from footnav.core.io.load import READERS
@@ -475,9 +543,13 @@ def main(argv: Sequence[str] | None = None) -> int:
         parser.print_help()
         return EXIT_USAGE
     try:
-        with warnings.catch_warnings():  # restored on return: main() may run inside someone's process
+        notice = _compile_notice()
+        with warnings.catch_warnings(), notice.listening():  # both restored on return
             warnings.showwarning = _warning_printer(args.verbose)
-            return args.func(args)
+            try:
+                return args.func(args)
+            finally:
+                notice.report()
     except PluginError as exc:  # not the user's input: a component package's bug
         print(f"footnav {args.command}: error: {exc}", file=sys.stderr)
         return EXIT_INTERNAL

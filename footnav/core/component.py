@@ -132,8 +132,12 @@ class Component:
             for n in cls._param_names()
         ]
 
-    def get_params(self) -> dict[str, Any]:
-        """The constructor parameters as a dict (re-creates the component with ``type(self)(**p)``)."""
+    def get_params(self, deep: bool = True) -> dict[str, Any]:
+        """The constructor parameters as a dict (re-creates the component with ``type(self)(**p)``).
+
+        ``deep`` is scikit-learn's signature (``sklearn.base.clone`` passes ``deep=False``);
+        footnav components hold no nested components, so both give the same dict.
+        """
         return {n: getattr(self, n) for n in self._param_names()}
 
     def set_params(self, **params: Any) -> "Component":

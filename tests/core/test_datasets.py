@@ -37,8 +37,8 @@ def test_cli_evaluate_prints_one_table(shared_data, tmp_path, capsys):
     assert csv.read_text().startswith("recording,pipeline,foot,name,value,unit")
 
 
-def test_cli_evaluate_without_data_exits_2(tmp_path, capsys):
-    assert main(["evaluate", "--dataset", "azure_fgo", "--data-dir", str(tmp_path / "none")]) == 2
+def test_cli_evaluate_without_data_exits_2_unless_the_recording_is_bundled(tmp_path, capsys):
+    assert main(["evaluate", "--dataset", "xio_short", "--data-dir", str(tmp_path / "none")]) == 2
     assert "not found" in capsys.readouterr().err
 
 

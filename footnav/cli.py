@@ -106,6 +106,33 @@ def _compile_notice():
     return CompileNotice()
 
 
+def _segments(text: str) -> list[tuple[float, float]]:
+    """argparse type: ``10:90,5:-90`` -> [(10.0, 90.0), (5.0, -90.0)] (m, deg)."""
+    try:
+        pairs = [tuple(float(x) for x in item.split(":")) for item in text.split(",") if item.strip()]
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r}: expected DIST:DEG pairs separated by commas, e.g. 10:90,5:-90") from None
+    if not pairs or any(len(p) != 2 for p in pairs):
+        raise argparse.ArgumentTypeError(f"{text!r}: expected DIST:DEG pairs separated by commas, e.g. 10:90,5:-90")
+    return pairs  # type: ignore[return-value]
+
+
+def _option(text: str) -> tuple[str, object]:
+    """argparse type: ``NAME=VALUE`` with VALUE a number, true/false, or text."""
+    name, sep, raw = text.partition("=")
+    if not sep or not name.strip():
+        raise argparse.ArgumentTypeError(f"{text!r}: expected NAME=VALUE")
+    low = raw.strip().lower()
+    if low in ("true", "false"):
+        return name.strip(), low == "true"
+    for kind in (int, float):
+        try:
+            return name.strip(), kind(raw)
+        except ValueError:
+            pass
+    return name.strip(), raw.strip()
+
+
 def _os_message(exc: OSError) -> str:
     """One line for an error of the file system or the network: what, on which file."""
     where = f" {exc.filename!r}" if getattr(exc, "filename", None) else ""
@@ -287,8 +314,13 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     from footnav.core.output import claim_output
 
     out = FilePath(args.out)
+    options = dict(args.set or [])
+    if args.segments is not None:
+        options["segments"] = args.segments
+    if args.scenario == "path" and "segments" not in options:
+        raise FootnavError("the path scenario needs --segments, e.g. --segments 10:90,5:-90,3:0 (metres:turn degrees)")
     with claim_output(out, force=args.force, what="output folder") as claim:
-        rec = footnav.simulate(args.scenario, seed=args.seed, rate_hz=args.rate_hz)
+        rec = footnav.simulate(args.scenario, seed=args.seed, rate_hz=args.rate_hz, **options)
         with claim.staged() as tmp:
             for side, imu, truth in (("left", rec.left, rec.truth_left), ("right", rec.right, rec.truth_right)):
                 write_footnav_csv(imu, tmp / f"{side}.csv")
@@ -468,7 +500,11 @@ def build_parser() -> argparse.ArgumentParser:
         epilog="example:\n  footnav simulate rectangle --rate-hz 100 --seed 1 --out sim/rect",
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    p.add_argument("scenario", nargs="?", default="straight", help="straight, rectangle or path (default straight)")
+    p.add_argument("scenario", nargs="?", default="straight", choices=["straight", "rectangle", "path"],
+                   help="straight, rectangle or path (default straight)")
+    p.add_argument("--segments", type=_segments, help="path: walk DIST m then turn DEG, ...: 10:90,5:-90,3:0")
+    p.add_argument("--set", type=_option, action="append", metavar="NAME=VALUE",
+                   help="any simulator option, e.g. --set distance_m=50 --set noise=false (footnav.simulate's docs)")
     p.add_argument("--seed", type=_seed, default=0, help="simulator seed (an integer >= 0)")
     p.add_argument("--rate-hz", type=_positive, default=100.0, help="sampling rate, Hz")
     p.add_argument("--out", required=True)

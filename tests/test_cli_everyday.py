@@ -86,3 +86,16 @@ def test_nothing_is_said_when_nothing_compiles(capsys):
         pass
     notice.report()
     assert capsys.readouterr().err == ""
+
+
+def test_simulate_path_runs_from_the_command_line(tmp_path, capsys):
+    out = tmp_path / "p"
+    assert main(["simulate", "path", "--segments", "10:90,5:-90,3:0", "--set", "noise=false", "--out", str(out)]) == 0
+    truth = np.loadtxt(out / "left_truth.csv", delimiter=",", comments="#", skiprows=1)
+    rec = footnav.simulate("path", seed=0, segments=[(10, 90), (5, -90), (3, 0)], noise=False)
+    # the same walk as the library's: same length, same end
+    assert len(truth) == rec.truth_left.t.size
+    assert main(["simulate", "path", "--out", str(tmp_path / "q")]) == 2
+    assert "--segments" in capsys.readouterr().err
+    assert main(["simulate", "straight", "--set", "distnce_m=3", "--out", str(tmp_path / "r")]) == 2
+    assert "did you mean 'distance_m'" in capsys.readouterr().err

@@ -1,6 +1,6 @@
 """Regenerate docs/accuracy.md: every estimator and fusion on the shared recordings and the simulator.
 
-Run:  python docs/make_accuracy.py [--data-dir ../shared/data] [--seeds 5]
+Run:  python docs/make_accuracy.py [--data-dir ../shared/data] [--seeds 5] [--gaitmap-python PY]
 
 Every number in accuracy.md comes from footnav.evaluate on the shared recordings; the reference
 figures are those of shared/data/README.md (gaitmap 2.6 RtsKalman with defaults, each foot alone,
@@ -29,6 +29,9 @@ SHOWN = ("ate_2d", "ate_3d", "loop_closure_2d", "loop_closure_2d_percent", "loop
          "reference_path_length", "stances", "stance_f1", "steps_missed", "steps_false")
 #: Development sets of issue 13, summarised in their own section (one row per trial is too many).
 DEV_SETS = ("ipol_", "gaitdriven_")
+#: A footnav stride matches a motion-capture stride when both its ends are this close (s): a third
+#: of a stride, so a neighbouring stride never matches.
+STRIDE_MATCH_S = 0.4
 #: Detectors compared across gaits: the default and the walking-tuned one it replaced.
 GAIT_DETECTORS = ("adaptive", "threshold")
 
@@ -49,6 +52,42 @@ SIM_WALKS = [("straight", {"distance_m": 100.0}, "straight 100 m"),
              ("rectangle", {"width_m": 105.0, "height_m": 68.0, "direction": "cw"}, "rectangle 105 x 68 m CW"),
              ("rectangle", {"width_m": 105.0, "height_m": 68.0, "direction": "ccw"}, "rectangle 105 x 68 m CCW")]
 DRIFTY_GYRO = {"gyr_bias_walk_radps2_sqrthz": 1e-4}
+
+#: gaitmap 2.6.0's own stride lengths (m) on the gaitmap example's mocap strides (its
+#: ``stride_events_sample.csv``, ``min_vel`` to ``min_vel``, in file order), from the IMU data
+#: (``imu_sample.csv``) through ``StrideLevelTrajectory`` and ``SpatialParameterCalculation``:
+#: "rts" with ``trajectory_method=RtsKalman()``, "default" with gaitmap's defaults (gyro
+#: integration + forward-backward integration, Rampp/Kanzler). gaitmap is not a footnav dependency:
+#: re-measure with ``--gaitmap-python PY`` (PY = a Python with ``pip install gaitmap==2.6.0``),
+#: which runs GAITMAP_STRIDE_SCRIPT with it.
+GAITMAP_STRIDE_LENGTH_M = {
+    "left": {"rts": [1.4288, 1.3667, 1.3578, 1.4722, 1.4134, 1.4527, 1.6085, 1.4408, 1.4266, 1.3962, 1.3437, 1.4596, 1.4463, 0.2985, 1.3227, 1.3826, 1.3826, 1.5127, 1.5358, 1.5571, 1.3911, 1.3978, 1.4595, 1.4287, 1.4590, 1.4589, 1.3615, 1.1816],
+             "default": [1.4311, 1.3467, 1.3451, 1.4463, 1.4016, 1.4277, 1.3547, 1.4503, 1.4055, 1.2631, 1.2999, 1.1792, 1.1929, 0.2187, 1.2945, 1.4577, 1.3535, 1.3557, 1.3545, 1.2751, 1.3950, 1.4389, 1.2041, 1.2901, 1.2533, 1.2526, 1.3245, 1.1755]},
+    "right": {"rts": [1.4549, 1.3628, 1.2973, 1.4006, 1.4063, 1.5179, 1.4833, 1.5446, 1.4674, 1.4420, 1.2302, 1.3669, 1.4000, 1.1715, 0.6595, 1.3983, 1.3199, 1.4697, 1.4733, 1.4302, 1.3544, 1.3714, 1.3361, 1.2922, 1.3139, 1.2930, 1.4070, 1.2938, 1.3161],
+              "default": [1.4636, 1.3369, 1.2434, 1.3848, 1.3946, 1.5353, 1.4938, 1.3313, 1.4811, 1.4413, 1.1753, 1.3436, 1.2007, 1.1565, 0.6756, 1.3774, 1.2932, 1.4628, 1.4675, 1.5021, 1.3265, 1.3559, 1.3150, 1.2800, 1.3111, 1.2638, 1.4093, 1.2770, 1.3146]},
+}
+GAITMAP_STRIDE_SCRIPT = """
+import json, sys, warnings
+import pandas as pd
+from gaitmap.parameters import SpatialParameterCalculation
+from gaitmap.trajectory_reconstruction import RtsKalman, StrideLevelTrajectory
+warnings.simplefilter("ignore")
+d, fs = sys.argv[1], 204.8
+imu = pd.read_csv(f"{d}/imu_sample.csv", header=[0, 1], index_col=0)
+ev = pd.read_csv(f"{d}/stride_events_sample.csv", header=0)
+ev["sensor"] = ev["foot"] + "_sensor"
+ev = ev.set_index("sensor").drop("foot", axis=1)
+events = {k: v.reset_index(drop=True) for k, v in ev.groupby(level=0)}
+out = {}
+for name, algo in (("rts", StrideLevelTrajectory(trajectory_method=RtsKalman())), ("default", StrideLevelTrajectory())):
+    tr = algo.estimate(imu, events, sampling_rate_hz=fs)
+    par = SpatialParameterCalculation().calculate(
+        stride_event_list=events, positions=tr.position_, orientations=tr.orientation_, sampling_rate_hz=fs
+    ).parameters_
+    for s in events:
+        out.setdefault(s[: -len("_sensor")], {})[name] = par[s]["stride_length"].round(4).tolist()
+print(json.dumps(out))
+"""
 
 
 def _fmt(x: float | None) -> str:
@@ -210,13 +249,86 @@ def gait_section(root, names) -> list[str]:
     return rows + [""]
 
 
+def _gaitmap_stride_lengths(root, python: str | None) -> dict:
+    """gaitmap's own stride lengths: re-measured with ``python`` when given, else the recorded ones."""
+    if not python:
+        return GAITMAP_STRIDE_LENGTH_M
+    import json
+    import subprocess
+
+    done = subprocess.run([python, "-c", GAITMAP_STRIDE_SCRIPT, str(Path(root) / "gaitmap_example")],
+                          capture_output=True, text=True, check=True, timeout=1800)
+    return json.loads(done.stdout.strip().splitlines()[-1])
+
+
+def stride_section(root, gaitmap_python: str | None = None) -> list[str]:
+    """footnav's strides.csv on the gaitmap example against the heel marker, gaitmap's beside it."""
+    import numpy as np
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        rec = load_dataset("gaitmap", root)
+        res = footnav.make_pipeline().run(rec.left, rec.right)
+    table = res.strides()
+    theirs = _gaitmap_stride_lengths(root, gaitmap_python)
+    ours_err, rts_err, default_err, rows = [], [], [], []
+    n_ref = 0
+    for foot, imu, truth in (("left", rec.left, rec.truth_left), ("right", rec.right, rec.truth_right)):
+        borders = truth.meta["strides"]
+        t0, t1 = imu.t[borders[:, 0]], imu.t[borders[:, 1]]
+        heel = np.stack([[np.interp(tt, truth.t, truth.position[:, j]) for j in range(2)] for tt in (t0, t1)])
+        ref = np.linalg.norm(heel[1] - heel[0], axis=0)  # heel marker displacement, min_vel to min_vel
+        n_ref += len(ref)
+        est = table[table["foot"] == foot]
+        start, end = est["start_s"].to_numpy(), est["end_s"].to_numpy()
+        found = 0
+        for k, (a, b, length) in enumerate(zip(t0, t1, ref)):
+            i = int(np.argmin(np.abs(start - a) + np.abs(end - b)))
+            if abs(start[i] - a) >= STRIDE_MATCH_S or abs(end[i] - b) >= STRIDE_MATCH_S:
+                continue
+            found += 1
+            ours_err.append(est["length_m"].iloc[i] - length)
+            rts_err.append(theirs[foot]["rts"][k] - length)
+            default_err.append(theirs[foot]["default"][k] - length)
+        rows.append((foot, len(ref), found))
+
+    def cell(e) -> str:
+        e = np.asarray(e)
+        return f"{np.mean(np.abs(e)):.3f} / {np.mean(e):+.3f} / {np.max(np.abs(e)):.3f}"
+
+    return [
+        "## Stride length (gaitmap example, motion capture)", "",
+        ("`footnav run` writes `strides.csv` (`PipelineResult.strides()`, `footnav/core/strides.py`): a stride "
+         "runs from one mid-stance of a foot to its next, and its length is the horizontal displacement "
+         "between the two mid-stance positions (gaitmap's definition). Truth: the heel marker (`L_FCC` / "
+         "`R_FCC`) displacement between the borders of each motion-capture stride of "
+         "`stride_events_sample.csv` (gaitmap's `min_vel` to `min_vel`; the same numbers as gaitmap's "
+         "`position_sample.csv`). footnav's strides (default pipeline, its own stances and mid-stances) "
+         f"are matched to these when both ends lie within {STRIDE_MATCH_S:g} s; gaitmap's figures are on the "
+         "same matched strides, from the IMU data with the mocap stride borders given to it "
+         "(gaitmap 2.6.0 `StrideLevelTrajectory` + `SpatialParameterCalculation`, "
+         "`GAITMAP_STRIDE_LENGTH_M` in docs/make_accuracy.py; our measurement, not a published figure)."), "",
+        "Matched strides: " + ", ".join(f"{f} {m} of {n}" for f, n, m in rows) + ".", "",
+        "| method | MAE / mean error / max abs error (m) |", "|---|---|",
+        f"| footnav `strides.csv` (defaults) | {cell(ours_err)} |",
+        f"| gaitmap 2.6 StrideLevelTrajectory + RtsKalman | {cell(rts_err)} |",
+        f"| gaitmap 2.6 StrideLevelTrajectory, defaults (forward-backward integration) | {cell(default_err)} |",
+        "",
+    ]
+
+
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--data-dir")
     ap.add_argument("--seeds", type=int, default=5)
     ap.add_argument("--out", default=str(Path(__file__).with_name("accuracy.md")))
+    ap.add_argument("--gaitmap-python", help="a Python with gaitmap 2.6 installed: re-measure gaitmap's stride lengths")
+    ap.add_argument("--only-strides", action="store_true", help="print the stride section only (no file written)")
     args = ap.parse_args()
     root = data_dir(args.data_dir)
+    if args.only_strides:
+        print("\n".join(stride_section(root, args.gaitmap_python)))
+        return
     pipe = footnav.make_pipeline()
     lines = [
         "# Accuracy on the shared real recordings",
@@ -260,6 +372,7 @@ def main() -> None:
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # data oddities and stance checks are recorded in meta
         lines += gait_section(root, dataset_names(root))
+    lines += stride_section(root, args.gaitmap_python)
     lines += estimator_section(root, names)
     lines += fusion_section(root)
     lines += simulator_section(args.seeds)

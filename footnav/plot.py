@@ -34,6 +34,9 @@ def _save(fig, path: FilePath, dpi: int) -> None:
 def plot_trajectories(result: PipelineResult, recording: Recording | None, path: str | FilePath) -> FilePath:
     """Top view of each foot's estimate, rigidly aligned (2-D) onto its truth when there is one.
 
+    Each estimate's start is marked with a circle and its end with a square; with a truth, the
+    legend gives each foot's 2-D ATE (RMSE after the alignment) and its end error (after aligning
+    the start only, :func:`footnav.core.metrics.align_at_start`), the figures the demo prints.
     Writes a PNG to ``path`` and returns it.
     """
     fig, ax = plt.subplots(figsize=(8, 6), constrained_layout=True)
@@ -42,13 +45,21 @@ def plot_trajectories(result: PipelineResult, recording: Recording | None, path:
         if traj is None:
             continue
         truth = None if recording is None else getattr(recording, f"truth_{foot}")
-        if truth is not None and len(truth.t) > 1:
+        if truth is not None and len(truth.t) > 1 and truth.frame != "footprints":
             est, inside = trajectory_at(traj, truth.t)
-            aligned, _, _ = metrics.rigid_align(est, truth.position[inside], dims=2)
+            ref = truth.position[inside]
+            aligned, _, _ = metrics.rigid_align(est, ref, dims=2)
+            ate = metrics.ate_rmse(est, ref, dims=2)
+            end = metrics.end_to_end_error(metrics.align_at_start(est, ref).aligned, ref, dims=2).error_m
             ax.plot(truth.position[:, 0], truth.position[:, 1], color=color, lw=3, alpha=0.25, label=f"{foot} truth")
-            ax.plot(aligned[:, 0], aligned[:, 1], color=color, lw=1, label=f"{foot} estimate (aligned)")
+            shown = aligned
+            label = f"{foot} estimate (aligned): ATE {ate:.2f} m, end error {end:.2f} m"
         else:
-            ax.plot(traj.position[:, 0], traj.position[:, 1], color=color, lw=1, label=f"{foot} estimate")
+            shown = traj.position
+            label = f"{foot} estimate"
+        ax.plot(shown[:, 0], shown[:, 1], color=color, lw=1, label=label)
+        ax.plot(*shown[0, :2], "o", color=color, ms=7, mfc="white", label=f"{foot} start")
+        ax.plot(*shown[-1, :2], "s", color=color, ms=7, label=f"{foot} end")
     if result.right is not None and not (recording is not None and recording.truth_left is not None):
         # the pedestrian (the fusion's path) in the estimate's own frame
         ax.plot(result.path.position[:, 0], result.path.position[:, 1], color="0.2", lw=1, ls="--", label="pedestrian path")

@@ -32,7 +32,10 @@ def test_example_plugin_installs_lists_and_runs(tmp_path):
     listing = _run([sys.executable, "-m", "footnav.cli", "plugins"], env=env)
     line = next(l for l in listing.splitlines() if "example-gyro" in l)
     assert line.split()[:3] == ["detector", "example-gyro", "footnav-plugin-example"]
-    assert "threshold_radps=0.6 [rad/s]" in line
+    assert "Stance wherever the angular-rate norm is below a threshold" in line  # its docstring summary
+    params = _run([sys.executable, "-m", "footnav.cli", "plugins", "example-gyro"], env=env)
+    row = next(l for l in params.splitlines() if l.startswith("threshold_radps"))
+    assert row.split()[:3] == ["threshold_radps", "0.6", "rad/s"]
 
     code = (
         "import footnav;"

@@ -94,3 +94,33 @@ def test_reliability_figures_match_the_fault_suite():
     check = subprocess.run([sys.executable, str(DOCS / "make_reliability.py"), "--check", "--collect-only"],
                            cwd=ROOT, env=env, capture_output=True, text=True)
     assert check.returncode == 0, check.stdout + check.stderr
+
+
+@pytest.mark.slow
+def test_papers_page_generator_quick(tmp_path):
+    """docs/make_papers.py --quick writes one section per paper, every row of each paper's tables
+    with the paper's figure beside finite footnav figures (paper-mode and best)."""
+    out = tmp_path / "papers.md"
+    proc = subprocess.run([sys.executable, str(DOCS / "make_papers.py"), "--quick", "--out", str(out)],
+                          cwd=ROOT, capture_output=True, text=True, timeout=300, check=False)
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    text = out.read_text(encoding="utf-8")
+    sys.path.insert(0, str(DOCS))
+    try:
+        import make_papers
+    finally:
+        sys.path.remove(str(DOCS))
+    number = r"-?\d+(?:\.\d+)?"
+    for paper in make_papers.PAPERS:
+        head = f"## {paper.key}: {paper.title}"
+        assert text.count(head) == 1, head
+        body = text.split(head, 1)[1].split("\n## ", 1)[0]
+        assert "What matches, what does not, and why" in body
+        for row in paper.rows:
+            label = f"| {row.label} [`{row.paper_pipe}` / `{row.best_pipe}`] | "
+            assert body.count(label) == 1, label
+            line = next(ln for ln in body.splitlines() if ln.startswith(label))
+            paper_fig, mode, best = (c.strip() for c in line[len(label):].rstrip(" |").split(" | "))
+            assert paper_fig, label
+            for cell in (mode, best):
+                assert re.fullmatch(rf"{number}(?: ± {number})?", cell), (label, cell)

@@ -1,6 +1,6 @@
-"""Clock synchronisation of two IMUs: from message exchanges (seed 002 Sec. 5B), or from the data.
+"""Clock synchronisation of two IMUs: from message exchanges (Chistyakov et al. (2021), Sec. 5B), or from the data.
 
-Seed 002 (Chistyakov et al. 2021), Sec. 5B ("Синхронизация устройств"): a master (the phone) and
+Chistyakov et al. 2021, Sec. 5B ("Синхронизация устройств"): a master (the phone) and
 an IMU exchange time-stamped messages at the start and the end of a recording. Exchange i is
 ``[TM1_i, TI_i, TM2_i]``: master time when the request leaves, IMU time when the IMU stamps it
 (and replies), master time when the reply arrives, all in s. With the master clock affine in the
@@ -56,13 +56,13 @@ class ClockMap:
     b
         Offset, s (master time at IMU time 0).
     delay_s
-        Constant latency subtracted by :meth:`__call__`, s (seed 002: the BLE delay, ~0.03 s).
+        Constant latency subtracted by :meth:`__call__`, s (Chistyakov et al. (2021): the BLE delay, ~0.03 s).
     n
         Exchanges used (``method="exchanges"``) or correlation windows (``method="data"``).
     method
-        ``"exchanges"`` (:func:`fit_clock`, seed 002 Sec. 5B) or ``"data"`` (:func:`align_from_data`).
+        ``"exchanges"`` (:func:`fit_clock`, Chistyakov et al. (2021), Sec. 5B) or ``"data"`` (:func:`align_from_data`).
     a_bounds, b_bounds
-        ``method="exchanges"``: seed 002's intervals ``a1 <= a <= a2`` and
+        ``method="exchanges"``: Chistyakov et al. (2021)'s intervals ``a1 <= a <= a2`` and
         ``min(b1, b2) <= b <= max(b1, b2)`` from the LP1/LP2 solutions ``[a1, b1]``, ``[a2, b2]``.
         (The a interval is the whole feasible range; the b interval is the paper's, b at the two
         extreme rates. For the guaranteed range of mapped times use :meth:`interval`.)
@@ -132,7 +132,7 @@ class ClockMap:
         return (1.0 / self.a - 1.0) * 1e6
 
 
-# -- from message exchanges (seed 002 Sec. 5B) ---------------------------------------------------
+# -- from message exchanges (Chistyakov et al. (2021), Sec. 5B) ---------------------------------------------------
 
 
 def _vector(x: ArrayLike, name: str) -> NDArray[np.float64]:
@@ -168,22 +168,22 @@ def _clip(poly: NDArray[np.float64], normal: NDArray[np.float64], limit: float, 
 
 
 def fit_clock(tm1: ArrayLike, ti: ArrayLike, tm2: ArrayLike, *, delay_s: float = 0.0) -> ClockMap:
-    """Seed 002 Sec. 5B: the affine clock map ``t_master = a t_imu + b`` from message exchanges.
+    """Chistyakov et al. (2021), Sec. 5B: the affine clock map ``t_master = a t_imu + b`` from message exchanges.
 
     Parameters
     ----------
     tm1, ti, tm2
         Per exchange i, shape (N,): master time the request left, IMU time stamp, master time the
-        reply arrived, s. Exchanges spread over the recording (seed 002: several at its start
+        reply arrived, s. Exchanges spread over the recording (Chistyakov et al. (2021): several at its start
         and several at its end) pin the rate a; exchanges at one time only cannot.
     delay_s
-        Constant radio latency subtracted from mapped times, s (seed 002: ``Delta_ble`` ~ 0.03 s,
+        Constant radio latency subtracted from mapped times, s (Chistyakov et al. (2021): ``Delta_ble`` ~ 0.03 s,
         measured separately; 0 when the exchanges' delays are symmetric).
 
     Returns
     -------
     ClockMap
-        ``method="exchanges"``, with seed 002's intervals of a and b, the residuals and the
+        ``method="exchanges"``, with Chistyakov et al. (2021)'s intervals of a and b, the residuals and the
         feasible polygon.
 
     Raises
@@ -198,7 +198,7 @@ def fit_clock(tm1: ArrayLike, ti: ArrayLike, tm2: ArrayLike, *, delay_s: float =
 
     Notes
     -----
-    Every exchange bounds the map, ``TM1_i <= a TI_i + b <= TM2_i`` (seed 002 writes strict
+    Every exchange bounds the map, ``TM1_i <= a TI_i + b <= TM2_i`` (Chistyakov et al. (2021) writes strict
     inequalities; the LP solver needs closed ones), i.e. ``A x <= B`` with ``x = [a, b]``, rows
     ``[TI_i, 1]`` and ``[-TI_i, -1]`` of A and ``TM2_i``, ``-TM1_i`` of B. Then
 
@@ -244,7 +244,7 @@ def fit_clock(tm1: ArrayLike, ti: ArrayLike, tm2: ArrayLike, *, delay_s: float =
     if not np.isfinite(delay_s):
         raise InvalidParameterError(f"fit_clock: delay_s={delay_s!r}; expected a finite latency in s")
 
-    # Centre the IMU times: a (t - i0) + c = a t + (c - a i0), and rows [TI, 1], [-TI, -1] (seed 002).
+    # Centre the IMU times: a (t - i0) + c = a t + (c - a i0), and rows [TI, 1], [-TI, -1] (Chistyakov et al. (2021)).
     i0 = float(np.mean(i))
     ic = i - i0
     rows = np.column_stack([ic, np.ones_like(ic)])
@@ -384,7 +384,7 @@ def align_from_data(
 ) -> ClockMap:
     """Offset (and drift) of ``other``'s clock against ``reference``'s from the gyro energy.
 
-    A fallback for two feet recorded without clock exchanges (seed 002 Sec. 5B synchronises by
+    A fallback for two feet recorded without clock exchanges (Chistyakov et al. (2021), Sec. 5B synchronises by
     exchanges, :func:`fit_clock`). Both recordings should start and end with both feet still
     for a second or more; a recording that starts or ends mid-walk leaves the whole-stride
     choice open (a DataQualityWarning, candidates in ``alternatives_b``).
@@ -463,7 +463,7 @@ def align_from_data(
 
     So: the offset modulo a stride is as good as the gait is symmetric; the whole-stride choice
     needs a standstill at both ends and either unequal step counts or the leading foot. For
-    the millisecond alignment of seed 002 use exchanges (:func:`fit_clock`) or an event both
+    the millisecond alignment of Chistyakov et al. (2021) use exchanges (:func:`fit_clock`) or an event both
     feet record (stamping both feet together).
 
     Examples

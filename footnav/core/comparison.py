@@ -12,7 +12,7 @@ For each detector and foot, against whatever reference the recording has:
   each ``footprint`` of the gait-driven set):
   steps found / missed / false by :func:`~footnav.core.metrics.step_detection_from_events`;
 * for every gait event both the detector and the reference give (heel strike, foot flat, heel
-  off, toe off): the mean absolute timing error (seed 003 Table 1 counts, plus timing);
+  off, toe off): the mean absolute timing error (Li et al. (2018), Table 1 counts, plus timing);
 * without any reference: the gait cycles with no stance and the stances holding a swing, from the
   angular rate's swing peaks (:mod:`footnav.core.stance_check`);
 * the runtime of the detector on the recording.

@@ -1,6 +1,6 @@
-"""Band-limited dynamic time warping of two trajectories, and what seed 002 builds on it.
+"""Band-limited dynamic time warping of two trajectories, and what Chistyakov et al. (2021) builds on it.
 
-Seed 002 (Chistyakov et al., Russian Technological J. 2021, ``/work/shared/seeds/002_*.txt``):
+Chistyakov et al., Russian Technological J. 2021 (full citation in docs/references.md):
 
 * Section 3 ("trajectory similarity metric"): the DTW metric between the left- and the right-foot
   trajectory, computed by dynamic programming ([12] Mueller 2007) with "an additional limit on the
@@ -254,7 +254,7 @@ def dtw_align(
     normalize: Literal["mean", "none"] = "mean",
     return_path: bool = False,
 ) -> DtwAlignment:
-    """Band-limited DTW distance and warping path between two trajectories (seed 002 Sec. 3).
+    """Band-limited DTW distance and warping path between two trajectories (Chistyakov et al. (2021), Sec. 3).
 
     Parameters
     ----------
@@ -265,7 +265,7 @@ def dtw_align(
         Largest index difference ``|i - j|`` of matched samples; None = unbounded (full DTW).
         Must be at least ``|N - M|``.
     cost
-        Point cost: ``"euclidean"`` ``||a_i - b_j||`` (default, seed 002) or
+        Point cost: ``"euclidean"`` ``||a_i - b_j||`` (default, Chistyakov et al. (2021)) or
         ``"sqeuclidean"`` ``||a_i - b_j||^2`` (dtaidistance's convention).
     normalize
         ``"mean"`` (default): ``distance_m = total_cost / n_pairs`` (``sqrt`` of it for
@@ -288,20 +288,20 @@ def dtw_align(
 
     Notes
     -----
-    Recursion (seed 002 Sec. 3 after [12] Mueller 2007, ch. 4)::
+    Recursion (Chistyakov et al. (2021), Sec. 3 after [12] Mueller 2007, ch. 4)::
 
         D(0, 0) = c(a_0, b_0)
         D(i, j) = c(a_i, b_j) + min(D(i-1, j-1), D(i-1, j), D(i, j-1)),   |i - j| <= band
         total_cost = D(N-1, M-1)
 
-    The band is seed 002's "limit on the maximum allowed difference between the indices of
+    The band is Chistyakov et al. (2021)'s "limit on the maximum allowed difference between the indices of
     corresponding points (index = sample number in the experiment)": literally
     ``|i - j| <= band`` on raw sample indices (a Sakoe-Chiba band), not the slanted
     ``|i - j N / M|``. With unequal lengths the end cell lies in the band only if
     ``band >= |N - M|``; a narrower band is an error, never silently widened. Resample both
     trajectories to one rate first if their rates differ.
 
-    Normalisation: seed 002 does not state one, but its Table 1 lists DTW distances of
+    Normalisation: Chistyakov et al. (2021) does not state one, but its Table 1 lists DTW distances of
     0.09-16 m for 72-707 m walks sampled for 88-626 s, a per-point size, not a sum over tens
     of thousands of samples; hence the default mean per matched pair. The warping path
     minimises the total, not the mean; ties prefer the diagonal step.
@@ -338,7 +338,7 @@ def dtw_align(
 
 
 # ---------------------------------------------------------------------------------------------
-# initial heading mismatch (seed 002 Sec. 4 step 1)
+# initial heading mismatch (Chistyakov et al. (2021), Sec. 4 step 1)
 # ---------------------------------------------------------------------------------------------
 def _rotate_xy(xy: NDArray[np.float64], angle_rad: float) -> NDArray[np.float64]:
     # [x'; y'] = [cos -sin; sin cos] [x; y]: counter-clockwise about +z (z up)
@@ -389,9 +389,9 @@ def heading_mismatch(
     translation: Literal["none", "start"] = "none",
     grid: int = DEFAULT_HEADING_GRID,
 ) -> HeadingMismatch:
-    """Rotation of ``b`` about the vertical minimising its DTW distance to ``a`` (seed 002 Sec. 4).
+    """Rotation of ``b`` about the vertical minimising its DTW distance to ``a`` (Chistyakov et al. (2021), Sec. 4).
 
-    Seed 002, Sec. 4 step 1: "determine the initial mismatch of the IMUs' orientations: the
+    Chistyakov et al. (2021), Sec. 4 step 1: "determine the initial mismatch of the IMUs' orientations: the
     value of the DTW metric is minimised by choosing the initial angles". A foot trajectory from
     a strapdown INS turns rigidly about its start when its initial yaw changes, so ``b`` is
     rotated about its first point. The search is over one angle: ``grid`` equally spaced angles
@@ -406,7 +406,7 @@ def heading_mismatch(
     band
         Largest index difference of matched samples (:func:`dtw_align`); None = unbounded.
     translation
-        ``"none"`` (default): rotation only, the positions as given (seed 002 searches angles
+        ``"none"`` (default): rotation only, the positions as given (Chistyakov et al. (2021) searches angles
         only). ``"start"``: also move ``b``'s first point onto ``a``'s, for trajectories that
         each start at their own origin.
     grid
@@ -468,7 +468,7 @@ def heading_mismatch(
 
 
 # ---------------------------------------------------------------------------------------------
-# averaged pedestrian path (seed 002 Sec. 3, Sec. 4 step 5)
+# averaged pedestrian path (Chistyakov et al. (2021), Sec. 3, Sec. 4 step 5)
 # ---------------------------------------------------------------------------------------------
 @dataclass(frozen=True, eq=False)
 class AveragedPath:
@@ -504,12 +504,12 @@ def timeless_average(
     t_a: ArrayLike | None = None,
     t_b: ArrayLike | None = None,
 ) -> AveragedPath:
-    """Midpoints of the DTW-matched point pairs of two trajectories ("DTW pairing", seed 002 Sec. 3).
+    """Midpoints of the DTW-matched point pairs of two trajectories ("DTW pairing", Chistyakov et al. (2021), Sec. 3).
 
     "If for every such pair of points [matched by the modified DTW algorithm] one takes the
     middle of the segment joining them, one obtains an averaged curve ([13] Vaughan and Gabrys
     2016) ... averaging this way loses the measurement times, since matched points may come
-    from different moments" (seed 002 Sec. 3). Point k of the result is
+    from different moments" (Chistyakov et al. (2021), Sec. 3). Point k of the result is
     ``(a[i_k] + b[j_k]) / 2`` for the k-th pair (i_k, j_k) of the banded DTW path.
 
     Parameters
@@ -519,7 +519,7 @@ def timeless_average(
     band
         Largest index difference of matched samples (:func:`dtw_align`); None = unbounded.
     dims
-        Number of leading columns the matching uses (2: horizontal, as in seed 002 Fig. 2);
+        Number of leading columns the matching uses (2: horizontal, as in Chistyakov et al. (2021), Fig. 2);
         default all. All D columns are averaged.
     t_a, t_b
         Optional sample times (N,), (M,) in s; if both are given, ``t`` of the result is the mean
@@ -564,12 +564,12 @@ def timed_average(
     *,
     t: ArrayLike | None = None,
 ) -> AveragedPath:
-    """Midpoints of two trajectories interpolated to one time grid (seed 002 Sec. 3).
+    """Midpoints of two trajectories interpolated to one time grid (Chistyakov et al. (2021), Sec. 3).
 
     "If time matters (e.g. to compare with a high-accuracy reference), it suffices to
     interpolate the points of one of them to bring both feet to one time grid. The middle of
     the segment joining the feet at one moment then approximately corresponds to the
-    pedestrian's centre of mass" (seed 002 Sec. 3). Point k is
+    pedestrian's centre of mass" (Chistyakov et al. (2021), Sec. 3). Point k is
     ``(a(t_k) + b(t_k)) / 2`` with both trajectories linearly interpolated in time.
 
     Parameters

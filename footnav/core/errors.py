@@ -105,5 +105,5 @@ class PluginWarning(FootnavWarning):
 
 
 class GaitModelError(InvalidInputError):
-    """An unsupervised gait model (the HMM of seed 003) could not learn the gait cycle from the data:
+    """An unsupervised gait model (the HMM of Li et al. (2018)) could not learn the gait cycle from the data:
     after learning, its stance state is not the stillest state (the mask would be inverted)."""

@@ -4,7 +4,7 @@ With the foot still, the accelerometer measures f^b = C_b^n' [0, 0, g]; for C_b^
 Ry(pitch) Rx(roll) that gives roll = atan2(f_y, f_z) and pitch = atan2(-f_x, sqrt(f_y^2 + f_z^2))
 (Groves, *Principles of GNSS, Inertial, and Multisensor Integrated Navigation*, 2nd ed., eq. 5.101).
 Heading is unobservable without a magnetometer and is set to zero. The mean angular rate of the
-standstill is the gyro bias (seed 001 section II-A, "initial calibration").
+standstill is the gyro bias (Zhao et al. (2019), section II-A, "initial calibration").
 
 A detected stance is not always a true standstill: a foot about to lift, or shifting weight,
 already turns at a few hundredths of a rad/s, and averaging those samples puts motion into the

@@ -1,7 +1,7 @@
 """A step-able error-state ZUPT-aided INS for one foot or two feet in one joint filter.
 
 Per foot, the error state is ``dx = [dphi, dv, dp]`` (9 states: attitude, velocity, position in
-the nav frame; seed 001 eq. 1-3) or ``[dphi, dv, dp, dba, dbg]`` (15 states, adding the
+the nav frame; Zhao et al. (2019), eq. 1-3) or ``[dphi, dv, dp, dba, dbg]`` (15 states, adding the
 accelerometer and gyroscope bias errors). With C^ = (I - [dphi x]) C, dv = v^ - v, dp = p^ - p and
 db = b^ - b, the continuous error model is::
 
@@ -11,10 +11,10 @@ discretised per sample as F = I + A dt with Q = diag(sigma_g^2, sigma_a^2, 0, si
 sigma_bg^2) dt from noise *densities*, so the filter behaves the same at any sampling rate.
 Measurements (a ZUPT ``v^ = 0`` in stance, an optional zero angular rate ``w^ = 0``, and any
 position measurement a fusion makes) update ``dx``, which is fed back into the nominal state and
-reset to zero (closed loop, seed 002 Alg. 1).
+reset to zero (closed loop, Chistyakov et al. (2021), Alg. 1).
 
 Two feet share one covariance: each foot's samples are processed in time order, and a
-measurement that links the feet (seed 001 eq. 7) updates both. :class:`InsFilter` runs the
+measurement that links the feet (Zhao et al. (2019), eq. 7) updates both. :class:`InsFilter` runs the
 compiled per-sample loop between the points where a caller wants to act (:meth:`run_until`) and
 keeps checkpoints (state and covariance) every ``MAX_SEGMENT_EVENTS`` samples and where the
 caller updates, so that :mod:`footnav.core.smoothing` can smooth the run afterwards in memory that

@@ -1,7 +1,7 @@
-"""Strapdown inertial mechanization for a foot-mounted IMU (seed 001 eq. 1).
+"""Strapdown inertial mechanization for a foot-mounted IMU (Zhao et al. (2019), eq. 1).
 
 Simplified navigation equations, valid for the low speeds and short ranges of walking: Earth
-rotation, curvature, Coriolis and centrifugal terms are neglected (seed 001 section II-A)::
+rotation, curvature, Coriolis and centrifugal terms are neglected (Zhao et al. (2019), section II-A)::
 
     dC_b^n/dt = C_b^n [w_b x],   dv^n/dt = C_b^n f^b + g^n,   dp^n/dt = v^n
 

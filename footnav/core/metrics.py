@@ -4,16 +4,16 @@ Plain functions on numpy arrays, SI units (positions in m, times in s, event pos
 samples). Positions are ``(N, 2)`` or ``(N, 3)`` arrays in one frame, samples on axis 0; the
 ``dims`` keyword selects the horizontal plane (``dims=2``: x, y) or full 3-D (``dims=3``).
 
-Seed papers (``/work/shared/seeds``):
+References (full citations in docs/references.md):
 
-* [001] Zhao et al., IEEE Sensors J. 2019 -- final foot separation E_s and final position error
+* [Zhao2019] Zhao et al., IEEE Sensors J. 2019 -- final foot separation E_s and final position error
   E_p, eq. (8), Table I.
-* [002] Chistyakov et al., Russian Technological J. 2021 -- DTW distance between the left and the
+* [Chistyakov2021] Chistyakov et al., Russian Technological J. 2021 -- DTW distance between the left and the
   right foot with a limit on the index difference (section 3, Table 1); maximum deviation from the
   RTK reference and its maximum ratio to the distance travelled (Table 2).
-* [003] Li, Derrode et al., TAIMA 2018 -- steps found / missing / false (Table 1); end-to-end
+* [Li2018] Li, Derrode et al., TAIMA 2018 -- steps found / missing / false (Table 1); end-to-end
   error, travelled distance and its relative error, DTW distance (Table 2).
-* [004] Lee, Cho, Park, JPNT 2022 -- position error at surveyed waypoints (Table 3).
+* [Lee2022] Lee, Cho, Park, JPNT 2022 -- position error at surveyed waypoints (Table 3).
 
 Dataset papers whose truth some metrics are shaped for:
 
@@ -80,7 +80,7 @@ __all__ = [
 ]
 
 #: Minimum reference distance travelled (m) before the deviation / distance ratio of
-#: :func:`max_deviation` is evaluated. [002] does not say how it treats the first metres, where
+#: :func:`max_deviation` is evaluated. [Chistyakov2021] does not say how it treats the first metres, where
 #: the ratio is ill-conditioned (a few cm of deviation over a few cm of walking); 5 m is about
 #: three strides, past the initial standstill and first steps.
 DEFAULT_RATIO_MIN_DISTANCE_M = 5.0
@@ -318,7 +318,7 @@ def align_at_start(estimate: ArrayLike, reference: ArrayLike, *, distance_m: flo
     """The estimate moved to the reference's start and turned about z to its initial heading.
 
     The papers' end, return and deviation errors compare trajectories that share a known start
-    and initial heading ([001] Sec. V, [002] Sec. 6, [003] Table 2), not a best fit over the
+    and initial heading ([Zhao2019] Sec. V, [Chistyakov2021] Sec. 6, [Li2018] Table 2), not a best fit over the
     whole walk (which :func:`rigid_align` gives, and which hides drift). Here the start points
     coincide (3-D) and the heading is the rotation about the start that best maps the estimate's
     first ``distance_m`` of reference walking onto the reference (least squares, closed form).
@@ -380,7 +380,7 @@ class WaypointErrors:
 def waypoint_errors(
     estimate: ArrayLike, reference: ArrayLike, waypoints: ArrayLike, *, radius_m: float = 1.0, dims: int = 2
 ) -> WaypointErrors:
-    """Position error where the walk passes surveyed waypoints ([004] Table 3).
+    """Position error where the walk passes surveyed waypoints ([Lee2022] Table 3).
 
     Each time the reference comes within ``radius_m`` of a waypoint (horizontally) is one pass;
     its sample is the closest approach, and the error there is ``|| e_k - r_k ||``. A walk of
@@ -395,7 +395,7 @@ def waypoint_errors(
     radius_m
         How close a pass comes, m (the feet pass a centre-line mark at half the step width).
     dims
-        2 (horizontal, default, as [004]) or 3.
+        2 (horizontal, default, as [Lee2022]) or 3.
     """
     dims = _check_dims(dims)
     est = _points(estimate, "estimate", dims)[:, :dims]
@@ -453,10 +453,10 @@ def ate_rmse(estimate: ArrayLike, reference: ArrayLike, *, dims: int = 2, with_s
 # end-point metrics
 # ---------------------------------------------------------------------------------------------
 def final_separation(left_pos: ArrayLike, right_pos: ArrayLike, *, dims: int = 3) -> float:
-    """Final foot separation E_s of [001] eq. (8), in m.
+    """Final foot separation E_s of [Zhao2019] eq. (8), in m.
 
     ``E_s = || P_hat_1,end^n - P_hat_2,end^n ||``, the 2-norm of the difference of the two feet's
-    estimated end positions in the navigation frame. [001] defines P^n as the (3-D) n-frame
+    estimated end positions in the navigation frame. [Zhao2019] defines P^n as the (3-D) n-frame
     position state p^n, so the default is the 3-D norm; ``dims=2`` gives the horizontal one.
 
     Parameters
@@ -464,7 +464,7 @@ def final_separation(left_pos: ArrayLike, right_pos: ArrayLike, *, dims: int = 3
     left_pos, right_pos
         Either foot's trajectory (N, 2|3) in m (its last row is used) or its end position (D,).
     dims
-        3 (as [001]) or 2 (x, y only).
+        3 (as [Zhao2019]) or 2 (x, y only).
 
     Returns
     -------
@@ -478,11 +478,11 @@ def final_separation(left_pos: ArrayLike, right_pos: ArrayLike, *, dims: int = 3
 
 
 def final_position_error(pos: ArrayLike, reference_final: ArrayLike, *, dims: int = 3) -> float:
-    """Final position error E_p of [001] eq. (8), in m.
+    """Final position error E_p of [Zhao2019] eq. (8), in m.
 
     ``E_p = || P_hat_i,end^n - P_i,end^n ||``, the 2-norm of the difference between one foot's
-    estimated and true end position (n-frame, 3-D by default as in [001]); [001] Table I reports it
-    per foot. For [001]'s closed-loop walks the true end position is the start position.
+    estimated and true end position (n-frame, 3-D by default as in [Zhao2019]); [Zhao2019] Table I reports it
+    per foot. For [Zhao2019]'s closed-loop walks the true end position is the start position.
 
     Parameters
     ----------
@@ -491,7 +491,7 @@ def final_position_error(pos: ArrayLike, reference_final: ArrayLike, *, dims: in
     reference_final
         True end position (D,) in m, or a reference trajectory whose last row is used.
     dims
-        3 (as [001]) or 2 (x, y only).
+        3 (as [Zhao2019]) or 2 (x, y only).
 
     Returns
     -------
@@ -525,7 +525,7 @@ class EndpointError:
 
 @dataclass(frozen=True)
 class DistanceError:
-    """Travelled-distance error of [003] Table 2.
+    """Travelled-distance error of [Li2018] Table 2.
 
     Attributes
     ----------
@@ -536,7 +536,7 @@ class DistanceError:
     error_m
         Signed ``distance_m - reference_distance_m``, m.
     error_percent
-        Signed ``100 * error_m / reference_distance_m`` ([003] reports the magnitude).
+        Signed ``100 * error_m / reference_distance_m`` ([Li2018] reports the magnitude).
     """
 
     distance_m: float
@@ -546,7 +546,7 @@ class DistanceError:
 
 
 def travelled_distance(pos: ArrayLike, *, dims: int = 2) -> float:
-    """Distance travelled along a polyline, in m: ``sum_k || p_{k+1} - p_k ||`` ([003] Table 2).
+    """Distance travelled along a polyline, in m: ``sum_k || p_{k+1} - p_k ||`` ([Li2018] Table 2).
 
     Sample-rate positions add the stance-phase jitter and the swing arc of the foot (3-D); pass
     footprints (one point per stance, :attr:`FootTrajectory.footprints`) for the step-level
@@ -565,9 +565,9 @@ def travelled_distance(pos: ArrayLike, *, dims: int = 2) -> float:
 
 
 def travelled_distance_error(pos: ArrayLike, reference: ArrayLike | float, *, dims: int = 2) -> DistanceError:
-    """Travelled-distance error of [003] Table 2 ("Relative Error of Travel Distance (%)").
+    """Travelled-distance error of [Li2018] Table 2 ("Relative Error of Travel Distance (%)").
 
-    ``error_percent = 100 (d_est - d_ref) / d_ref``. [003]'s numbers follow this with d_ref the
+    ``error_percent = 100 (d_est - d_ref) / d_ref``. [Li2018]'s numbers follow this with d_ref the
     ground-truth length: (1077.69 - 1075) / 1075 = 0.250 % and (1131.19 - 1075) / 1075 = 5.227 %
     (reported 0.25 and 5.22).
 
@@ -606,10 +606,10 @@ def end_to_end_error(
     dims: int = 2,
     reference_distance_m: float | None = None,
 ) -> EndpointError:
-    """End-to-end error of [003] Table 2 ("End-to-End Error (m)" and "Positioning Accuracy (%)").
+    """End-to-end error of [Li2018] Table 2 ("End-to-End Error (m)" and "Positioning Accuracy (%)").
 
     * ``reference`` given: ``|| p_end - p_ref,end ||``, percent of the *reference* distance
-      travelled. [003]'s Table 2 percentages follow this: 23.31 / 1075 = 2.168 %, 24.76 / 1075 =
+      travelled. [Li2018]'s Table 2 percentages follow this: 23.31 / 1075 = 2.168 %, 24.76 / 1075 =
       2.303 %, 16.11 / 1075 = 1.499 % (reported, truncated, 2.16, 2.30, 1.49); dividing by the
       estimate's own distance would give 2.19 % instead of 2.30 % for the second column.
     * ``reference`` None (closed loop, the walk ends where it started): ``|| p_end - p_start ||``,
@@ -628,7 +628,7 @@ def end_to_end_error(
         2 (horizontal, default) or 3.
     reference_distance_m
         Denominator for the percentage instead of the travelled distance (e.g. the surveyed
-        course length, 1075 m in [003]).
+        course length, 1075 m in [Li2018]).
     """
     dims = _check_dims(dims)
     p = _points(pos, "pos", dims)[:, :dims]
@@ -648,8 +648,8 @@ def loop_closure_error(pos: ArrayLike, *, dims: int = 2) -> EndpointError:
     """Loop-closure error of a walk that returns to its start, in m and % of the distance travelled.
 
     ``|| p_end - p_start ||`` and ``100 ||p_end - p_start|| / sum_k ||p_{k+1} - p_k||`` -- the
-    closed-loop form of [003]'s end-to-end error and of [001]'s E_p for closed-loop trials ("the
-    feet were expected to return to their start positions", [001] section V-B).
+    closed-loop form of [Li2018]'s end-to-end error and of [Zhao2019]'s E_p for closed-loop trials ("the
+    feet were expected to return to their start positions", [Zhao2019] section V-B).
 
     Parameters
     ----------
@@ -684,10 +684,10 @@ def dtw_distance(
 
     ``D(i, j) = c(a_i, b_j) + min(D(i-1, j-1), D(i-1, j), D(i, j-1))``, ``D(0, 0) = c(a_0, b_0)``,
     over cells with ``|i - j| <= band``; ``total_cost = D(N-1, M-1)``. The point cost is the
-    Euclidean distance ``c = ||a_i - b_j||`` over the first ``dims`` coordinates ([002] section 3,
-    [003] Table 2) or its square (``cost="sqeuclidean"``, the convention of dtaidistance).
+    Euclidean distance ``c = ||a_i - b_j||`` over the first ``dims`` coordinates ([Chistyakov2021] section 3,
+    [Li2018] Table 2) or its square (``cost="sqeuclidean"``, the convention of dtaidistance).
 
-    The band is [002]'s "additional limit on the maximum allowed difference between the indices of
+    The band is [Chistyakov2021]'s "additional limit on the maximum allowed difference between the indices of
     corresponding points (index = sample number in the experiment)": literally ``|i - j| <= band``
     on raw sample indices. With unequal lengths the end cell (N-1, M-1) lies in the band only if
     ``band >= |N - M|``; a narrower band is an error (it is *not* silently widened, which would
@@ -696,11 +696,11 @@ def dtw_distance(
     Normalisation (``distance_m``):
 
     * ``"mean"`` (default): mean cost per matched pair, ``total_cost / n_pairs`` in m (for
-      ``"sqeuclidean"``: ``sqrt(total_cost / n_pairs)``, an RMS). [002] Table 1 reports DTW
+      ``"sqeuclidean"``: ``sqrt(total_cost / n_pairs)``, an RMS). [Chistyakov2021] Table 1 reports DTW
       distances in m of 0.09-16 m for 72-707 m walks, i.e. a per-point figure, not a sum over
       thousands of samples.
     * ``"none"``: the raw total (``sqrt(total_cost)`` for ``"sqeuclidean"``, equal to
-      ``dtaidistance.dtw_ndim.distance``). [003] Table 2 reports such unnormalised totals
+      ``dtaidistance.dtw_ndim.distance``). [Li2018] Table 2 reports such unnormalised totals
       (8784 for a 1075 m walk, no unit given).
 
     The warping path minimises the total, not the mean; ties prefer the diagonal step.
@@ -772,7 +772,7 @@ def interpolate_positions(t: ArrayLike, position: ArrayLike, t_new: ArrayLike) -
 
 @dataclass(frozen=True)
 class MaxDeviation:
-    """Maximum deviation from a reference, [002] Table 2.
+    """Maximum deviation from a reference, [Chistyakov2021] Table 2.
 
     Attributes
     ----------
@@ -789,7 +789,7 @@ class MaxDeviation:
         Total reference distance travelled, m.
     max_deviation_percent
         ``100 max_deviation_m / distance_m``, the "no more than 2 % of the full length" figure of
-        [002] section 6.
+        [Chistyakov2021] section 6.
     """
 
     max_deviation_m: float
@@ -807,9 +807,9 @@ def max_deviation(
     dims: int = 2,
     min_distance_m: float = DEFAULT_RATIO_MIN_DISTANCE_M,
 ) -> MaxDeviation:
-    """Maximum deviation from the reference and its maximum ratio to the distance travelled ([002] Table 2).
+    """Maximum deviation from the reference and its maximum ratio to the distance travelled ([Chistyakov2021] Table 2).
 
-    [002] section 6: "deviation is understood as the Euclidean distance between points of the
+    [Chistyakov2021] section 6: "deviation is understood as the Euclidean distance between points of the
     trajectories at a fixed moment of time" -- time-matched, not nearest-point: row k of the
     estimate is compared with row k of the reference. Table 2 also gives "the maximum ratio of the
     deviation to the length of the path travelled". Its values (0.03-0.11) are far above
@@ -822,9 +822,9 @@ def max_deviation(
     ----------
     estimate, reference
         Time-matched positions (N, 2|3) in m, same N (see :func:`interpolate_positions`), same
-        frame (align first if needed; [002] uses a known common start).
+        frame (align first if needed; [Chistyakov2021] uses a known common start).
     dims
-        2 (horizontal, default: [002] compares with horizontal RTK fixes on level walks) or 3.
+        2 (horizontal, default: [Chistyakov2021] compares with horizontal RTK fixes on level walks) or 3.
     min_distance_m
         Minimum reference distance travelled before the ratio is evaluated, m.
     """
@@ -884,7 +884,7 @@ def stride_length_errors(est_footprints: ArrayLike, ref_footprints: ArrayLike, *
 
     A stride is the displacement between consecutive footprints of one foot,
     ``L_k = || f_{k+1} - f_k ||`` (horizontal by default, the "step length ... travelled distance
-    in the forward ... direction" of [001] section III-B, here per foot). Stride k of the estimate
+    in the forward ... direction" of [Zhao2019] section III-B, here per foot). Stride k of the estimate
     is compared with stride k of the reference, for the first ``min(K_est, K_ref) - 1`` strides.
 
     Parameters
@@ -1112,7 +1112,7 @@ def match_events(detected: ArrayLike, reference: ArrayLike, *, tolerance: float)
 
 @dataclass(frozen=True, eq=False)
 class StepDetection:
-    """Steps found / missed / false, [003] Table 1.
+    """Steps found / missed / false, [Li2018] Table 1.
 
     Attributes
     ----------
@@ -1129,7 +1129,7 @@ class StepDetection:
     missed_percent
         ``100 n_missed / n_reference`` (nan if no reference stance).
     false_percent
-        ``100 n_false / n_reference``, [003]'s "(rate in %)": 6 / 729 = 0.823 %.
+        ``100 n_false / n_reference``, [Li2018]'s "(rate in %)": 6 / 729 = 0.823 %.
     matches
         The :class:`EventMatches` of the stance anchors (samples).
     """
@@ -1210,13 +1210,13 @@ def step_detection(
     tolerance_samples: float,
     anchor: Literal["center", "onset"] = "center",
 ) -> StepDetection:
-    """Steps found / missed / false by matching stance phases ([003] Table 1).
+    """Steps found / missed / false by matching stance phases ([Li2018] Table 1).
 
     Each run of True in a mask is one stance phase (one step of that foot). A stance is represented
     by its ``anchor``: ``"center"`` (default, midpoint of its first and last sample -- robust to
     detectors that start or end stances early or late, which move one edge only) or ``"onset"``
     (first sample). Detected and reference anchors are matched one to one with
-    :func:`match_events` within ``tolerance_samples``. [003] Table 1 reports "Steps Number",
+    :func:`match_events` within ``tolerance_samples``. [Li2018] Table 1 reports "Steps Number",
     "Missing Number" and "False Negative (rate in %)"; its numbers (735 detected for 729 true
     steps, 0 missing, 6 = 0.823 % of 729) show the last column counts *extra* detections relative
     to the reference count, which is ``n_false`` / ``false_percent`` here.
@@ -1245,7 +1245,7 @@ def step_detection_from_events(
     *,
     tolerance_samples: float = 0.0,
 ) -> StepDetection:
-    """Steps found / missed / false against one reference event per stance ([003] Table 1).
+    """Steps found / missed / false against one reference event per stance ([Li2018] Table 1).
 
     For references that mark each stance by one instant (mocap-derived mid-stance or foot-flat
     events) instead of a stance mask. A reference event is found when it lies inside a detected
@@ -1336,7 +1336,7 @@ def step_detection_from_swings(
     tolerance_samples: float,
     anchor: Literal["center", "onset"] = "center",
 ) -> StepDetection:
-    """Steps found / missed / false against labelled swings inside trial boundaries ([IPOL], [003]).
+    """Steps found / missed / false against labelled swings inside trial boundaries ([IPOL], [Li2018]).
 
     For references that label each SWING of a foot (toe-off, heel strike) and only inside the
     trial's boundaries, as [IPOL] does (hand-checked; steps after the trial's end and the
@@ -1501,7 +1501,7 @@ def event_timing_error(detected: ArrayLike, reference: ArrayLike, *, tolerance: 
 
     Events are matched one to one within ``tolerance`` samples (:func:`match_events`); for the K
     matched pairs ``e_k = (d_k - r_k) / rate_hz`` and the result gives mean, std and max of
-    ``|e_k|`` and the mean of ``e_k``. Complements the counts of [003] Table 1 (which gives no
+    ``|e_k|`` and the mean of ``e_k``. Complements the counts of [Li2018] Table 1 (which gives no
     timing figure) for detectors that report gait events (heel strike, toe off, ...).
 
     Parameters

@@ -91,7 +91,7 @@ _COMMON_DEFAULTS: dict[str, Any] = {
     "mounting_rpy_deg": (0.0, 0.0, 0.0),
     "noise": True,
     # The right sensor's own clock against true time (the left's is true time), and the
-    # message exchanges a master would log for seed 002's clock synchronisation.
+    # message exchanges a master would log for Chistyakov et al. (2021)'s clock synchronisation.
     "clock_offset_s": 0.0,
     "clock_drift_ppm": 0.0,
     "clock_exchanges": 0,
@@ -750,7 +750,7 @@ def simulate(scenario: str = "straight", *, seed: int = 0, rate_hz: float = 100.
         to heel strike) and foot-flat (foot rotates flat about the heel). The rest of the stride
         is flat-foot stance. Needs ``swing_s + max(heel_off_s, foot_flat_s) <= stride_period_s/2``.
         With the defaults ``heel_off_s + swing_s = stride_period_s / 2``: the rear foot's heel
-        rises as the front foot's heel strikes (seed 001 Sec. III-A), swing is 41 % of the
+        rises as the front foot's heel strikes (Zhao et al. (2019), Sec. III-A), swing is 41 % of the
         stride and each double support 0.1 s (9 %), as in normal walking.
     toe_off_pitch_deg : float, default 30.0
         Toe-down pitch of the foot at toe-off in deg.
@@ -777,11 +777,11 @@ def simulate(scenario: str = "straight", *, seed: int = 0, rate_hz: float = 100.
         sensor's own.
     clock_drift_ppm : float, default 0.0
         Rate error of the right sensor's clock in ppm, in (-1e5, 1e5); positive: it runs fast.
-        Here it is constant; seed 002 Sec. 5B notes that a cheap IMU's clock rate changes
+        Here it is constant; Chistyakov et al. (2021), Sec. 5B notes that a cheap IMU's clock rate changes
         during a recording, which is why it synchronises at both ends rather than once.
     clock_exchanges : int, default 0
         Number of message exchanges between a master on true time and the right sensor, as
-        seed 002 Sec. 5B logs them (0: none, else >= 2): half evenly spread over the first
+        Chistyakov et al. (2021), Sec. 5B logs them (0: none, else >= 2): half evenly spread over the first
         10 s and half over the last 10 s of the walk (thirds of shorter walks). Each is
         ``[TM1, TI, TM2]``: request sent at TM1 (master), stamped at TI (sensor clock) after the
         up delay, reply received at TM2 after the down delay; in ``meta["clock_exchanges"]`` as
@@ -789,7 +789,7 @@ def simulate(scenario: str = "straight", *, seed: int = 0, rate_hz: float = 100.
         ``seed``, so the sensor data are the same with and without exchanges.
     exchange_delay_s : float, default 0.02
         Fixed part of each one-way delay of the exchanges, s (the same up and down: the
-        symmetric latency the midpoint of seed 002's LPs cancels).
+        symmetric latency the midpoint of Chistyakov et al. (2021)'s LPs cancels).
     exchange_jitter_s : float, default 0.02
         Mean of the exponential random part added to each one-way delay, s (0: none).
         Exchanges pin the clock map through their shortest delays: with the defaults, 200

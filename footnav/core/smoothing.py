@@ -1,6 +1,6 @@
 """Rauch-Tung-Striebel smoothing of an :class:`~footnav.core.ins_filter.InsFilter` run.
 
-Seed 002 Alg. 1 (Chistyakov et al. 2021) smooths the closed-loop error-state filter backwards
+Chistyakov et al. (2021), Alg. 1 (Chistyakov et al. 2021) smooths the closed-loop error-state filter backwards
 over the whole recording; OpenShoe's smoothed variant does it step by step. Both are computed
 here in the Bryson-Frazier form of the RTS smoother (Bierman 1977; Simon 2006 sec. 9.4), which
 needs no n x n inversion. With the adjoint ``mu`` (mu = 0 after the last sample) and
@@ -181,7 +181,7 @@ def smooth(filt: InsFilter, mode: Literal["whole", "step"] = "whole") -> tuple[N
     filt
         The filter after its last :meth:`~InsFilter.run_until`.
     mode
-        ``"whole"``: one RTS pass over the whole run (seed 002 Alg. 1), so a measurement at the
+        ``"whole"``: one RTS pass over the whole run (Chistyakov et al. (2021), Alg. 1), so a measurement at the
         end (the closed-loop constraint) corrects everything before it. ``"step"``: each step,
         from one step end to the next, is smoothed by its own zero-velocity updates given its
         start state; taken from the filter's :class:`StepSmoother` when it ran with one, else

@@ -1,7 +1,7 @@
-"""Dual-gait stance detection: both feet analysed together (seed 001 Sec. III-A, Zhao et al. 2019).
+"""Dual-gait stance detection: both feet analysed together (Zhao et al. 2019, Sec. III-A).
 
-Seed 001 (Zhao, Wang, Qiu et al., "Heading drift reduction for foot-mounted inertial navigation
-system via multi-sensor fusion and dual-gait analysis", IEEE Sensors J. 19(19), 2019), Sec. III-A,
+Zhao, Wang, Qiu et al., "Heading drift reduction for foot-mounted inertial navigation
+system via multi-sensor fusion and dual-gait analysis", IEEE Sensors J. 19(19, 2019), Sec. III-A,
 builds the gait phases of each foot from *both* feet:
 
 * Heel strike by peak detection: "The measurements exhibit sudden spikes when the HS events occur,
@@ -119,7 +119,7 @@ def _run_sums(x: NDArray[np.bool_], runs: NDArray[np.int64]) -> NDArray[np.int64
 def support_intervals(
     t: NDArray[np.float64], heel_strike: NDArray[np.int64], t_contra_heel_strike: NDArray[np.float64]
 ) -> NDArray[np.int64]:
-    """Support intervals of one foot, seed 001 Sec. III-A: each heel strike to the contralateral one.
+    """Support intervals of one foot, Zhao et al. (2019), Sec. III-A: each heel strike to the contralateral one.
 
     "a stance phase starts with the HS event of supporting foot, but ends with the HS event of
     contralateral foot". Interval k is ``[heel_strike[k], stop_k)`` with ``stop_k`` the first
@@ -155,7 +155,7 @@ def support_intervals(
 class DualGaitDetector(StanceDetector):
     """Heel-strike peaks and flat zones of both feet; a stance ends at the other foot's heel strike.
 
-    Seed 001 Sec. III-A (Zhao et al. 2019): the heel strike (HS) of each foot is a peak of the
+    Zhao et al. (2019), Sec. III-A (Zhao et al. 2019): the heel strike (HS) of each foot is a peak of the
     specific-force norm, the zero-velocity period a flat zone (angular rate near zero, specific
     force near g), and "a stance phase starts with the HS event of supporting foot, but ends with
     the HS event of contralateral foot". The ZUPT mask is the flat zone inside that stance phase;
@@ -263,11 +263,11 @@ class DualGaitDetector(StanceDetector):
         """Not available: the dual-gait rule needs the other foot. Raises CompositionError."""
         raise CompositionError(
             f"detector {self.name!r} needs both feet: a stance ends at the other foot's heel strike "
-            "(seed 001 Sec. III-A); call detect_pair(left, right), or run a pipeline with right=..."
+            "(Zhao et al. (2019), Sec. III-A); call detect_pair(left, right), or run a pipeline with right=..."
         )
 
     def detect_pair(self, left: ImuData, right: ImuData | None) -> tuple[StanceResult, StanceResult]:
-        """Stance of both feet by dual-gait analysis (seed 001 Sec. III-A).
+        """Stance of both feet by dual-gait analysis (Zhao et al. (2019), Sec. III-A).
 
         Parameters
         ----------

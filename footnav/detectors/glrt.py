@@ -1,6 +1,6 @@
 """GLRT (SHOE) stance detector: Skog, Händel, Nilsson and Rantakokko, "Zero-velocity detection --
 an algorithm evaluation", IEEE Trans. Biomed. Eng. 57(11), 2010 (Sec. III, the stance hypothesis
-optimal detector); seed 002 (Chistyakov et al. 2021) eq. (4): the foot is at rest when
+optimal detector); Chistyakov et al. 2021 eq. (4): the foot is at rest when
 
     T({f_l, w_l}_{W_n}) < gamma,
 
@@ -45,7 +45,7 @@ def glrt_statistic(
     sigma_acc_mps2: float,
     sigma_gyr_radps: float,
 ) -> NDArray[np.float64]:
-    """SHOE statistic T (seed 002 eq. 4) of every full window, by start index, (N-W+1,).
+    """SHOE statistic T (Chistyakov et al. (2021), eq. 4) of every full window, by start index, (N-W+1,).
 
     Window k covers samples k .. k+W-1; its gravity direction is its own mean specific force.
 
@@ -67,7 +67,7 @@ def glrt_statistic(
 
 
 class GlrtDetector(WindowedStanceDetector):
-    """Generalised likelihood-ratio (SHOE) stance detector, seed 002 eq. 4 / Skog et al. 2010.
+    """Generalised likelihood-ratio (SHOE) stance detector, Chistyakov et al. (2021), eq. 4 / Skog et al. 2010.
 
     Stance where ``T < gamma``, T the per-sample mean over a window of the squared specific force
     off gravity (gravity along the window's own mean) over sigma_a^2 plus the squared angular rate

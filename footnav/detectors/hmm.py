@@ -1,7 +1,7 @@
-"""Unsupervised cyclic left-to-right HMM stance detector: seed 003 (Li, Derrode, Benyoussef and
-Pieczynski, "Unsupervised pedestrian trajectory reconstruction from IMU sensors", TAIMA 2018), Sec. 2.
+"""Unsupervised cyclic left-to-right HMM stance detector: Li, Derrode, Benyoussef and
+Pieczynski, "Unsupervised pedestrian trajectory reconstruction from IMU sensors", TAIMA 2018, Sec. 2.
 
-A step is a cycle of four hidden states (seed 003 Sec. 1-2, after Mannini and Sabatini 2011)::
+A step is a cycle of four hidden states (Li et al. (2018), Sec. 1-2, after Mannini and Sabatini 2011)::
 
     0 stance -> 1 push-up -> 2 swing -> 3 step-down -> 0 stance -> ...
 
@@ -10,7 +10,7 @@ step-down returns to stance, every other entry is a structural zero -- and Gauss
 the 3-axis angular rate ``y_n = [w_x, w_y, w_z]`` (rad/s, sensor frame), eq. (2):
 ``p(y_n | x_n = k) = N(mu_k, Sigma_k)`` with full 3x3 covariances. Theta = {pi_k, Delta_k, mu_k,
 Sigma_k} is learned without labels by Baum-Welch (hmmlearn's ``GaussianHMM``), from an initial
-guess made by K-means and re-ordered into the cyclic order (:func:`cyclic_order`, seed 003 Fig. 2),
+guess made by K-means and re-ordered into the cyclic order (:func:`cyclic_order`, Li et al. (2018), Fig. 2),
 because "Kmeans is not able to provide [the transition order] since it does not take into account
 past observations" (Sec. 2). The stance state is the paper's zero-velocity state ("Stance phase is
 also called zero-velocity state, as the foot is not moving", Sec. 1): the detector's mask is the
@@ -83,7 +83,7 @@ __all__ = [
     "STRUCTURE",
 ]
 
-#: The four hidden states of seed 003 (Omega = {1, ..., 4}, Sec. 2), 0-based, in cyclic order.
+#: The four hidden states of Li et al. (2018) (Omega = {1, ..., 4}, Sec. 2), 0-based, in cyclic order.
 PHASE_NAMES = ("stance", "push_up", "swing", "step_down")
 STANCE, PUSH_UP, SWING, STEP_DOWN = range(len(PHASE_NAMES))
 N_STATES = len(PHASE_NAMES)
@@ -169,7 +169,7 @@ def lowpass(x: ArrayLike, cutoff_hz: float, rate_hz: float) -> NDArray[np.float6
 
 
 def significant_axis(gyr: ArrayLike, rate_hz: float, cutoff_hz: float) -> tuple[NDArray[np.float64], int]:
-    """Low-pass filtered angular rate of its most significant axis (seed 003 Sec. 2, first step).
+    """Low-pass filtered angular rate of its most significant axis (Li et al. (2018), Sec. 2, first step).
 
     "we filter the angular rate by using a low-pass Butterworth filter, and select the most
     significant axis, i.e. the axis whose signal has the largest magnitude": the axis with the
@@ -195,7 +195,7 @@ def significant_axis(gyr: ArrayLike, rate_hz: float, cutoff_hz: float) -> tuple[
 
 
 # ---------------------------------------------------------------------------------------------
-# re-ordering of K-means labels into the cyclic order (seed 003 Sec. 2, Fig. 2)
+# re-ordering of K-means labels into the cyclic order (Li et al. (2018), Sec. 2, Fig. 2)
 # ---------------------------------------------------------------------------------------------
 @dataclass(frozen=True)
 class CyclicOrder:
@@ -246,7 +246,7 @@ def cyclic_order_votes(
 ) -> CyclicOrder:
     """Re-order K-means labels into the cyclic order of the gait phases, with the vote details.
 
-    Seed 003 Sec. 2 (diagram of Fig. 2), as implemented here:
+    Li et al. (2018), Sec. 2 (diagram of Fig. 2), as implemented here:
 
     1. The stance label is the stillest cluster (given as ``stance_label``, else the label whose
        samples have the smallest mean ``|signal|``).
@@ -356,7 +356,7 @@ def cyclic_order(
     n_states: int = N_STATES,
     lengths: Sequence[int] | None = None,
 ) -> NDArray[np.int64]:
-    """Permutation putting K-means labels into the cyclic order of seed 003 (Sec. 2, Fig. 2).
+    """Permutation putting K-means labels into the cyclic order of Li et al. (2018) (Sec. 2, Fig. 2).
 
     ``permutation[k]`` is the K-means label of cyclic state k (0 stance, 1 push-up, 2 swing,
     3 step-down); the re-labelled sequence is ``argsort(permutation)[labels]``. See
@@ -502,7 +502,7 @@ class _ModelGrid:
 
 
 class HmmDetector(StanceDetector):
-    """Cyclic left-to-right 4-state HMM of the gait phases, learned without labels (seed 003 Sec. 2).
+    """Cyclic left-to-right 4-state HMM of the gait phases, learned without labels (Li et al. (2018), Sec. 2).
 
     States stance, push-up, swing, step-down; transitions of eq. (1) (stay or go to the next state,
     step-down -> stance); full-covariance Gaussian emissions of the 3-axis angular rate, eq. (2);
@@ -720,7 +720,7 @@ class HmmDetector(StanceDetector):
             )
         gyr_norm = np.linalg.norm(x[:, :3], axis=1)
 
-        # K-means guess (seed 003 Sec. 2: "Commonly, the initialization is performed using Kmeans")
+        # K-means guess (Li et al. (2018), Sec. 2: "Commonly, the initialization is performed using Kmeans")
         km = KMeans(n_clusters=N_STATES, n_init=KMEANS_N_INIT, random_state=self.seed).fit(x)
         labels = km.labels_.astype(np.int64)
         counts = np.bincount(labels, minlength=N_STATES)

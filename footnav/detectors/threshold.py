@@ -411,7 +411,7 @@ class ThresholdDetector(WindowedStanceDetector):
     """Stance where the windowed angular rate is low and |specific force| is close to g (ARE + MAG).
 
     The classic two-condition test of foot-mounted INS (Skog et al. 2010, Sec. III, ARE and MAG
-    combined; seed 001 Sec. III-A's flat zone): a window is still when
+    combined; Zhao et al. (2019), Sec. III-A's flat zone): a window is still when
 
         sqrt((1/W) sum ||w_l||^2) < gyr_threshold_radps   and
         sqrt((1/W) sum (||f_l|| - g)^2) < acc_tolerance_mps2.

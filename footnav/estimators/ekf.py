@@ -1,12 +1,12 @@
 """Error-state ZUPT-aided INS estimator: closed-loop 9- or 15-state EKF with RTS smoothing.
 
-Seed 001 eq. 1-3 (Zhao et al. 2019) and seed 002 Alg. 1 (Chistyakov et al. 2021): the filter of
+Zhao et al. (2019), eq. 1-3, and Chistyakov et al. (2021), Alg. 1: the filter of
 :mod:`footnav.core.ins_filter` (error state [attitude, velocity, position] and optionally the
 accelerometer and gyro biases; ZUPT in stance, optional zero angular rate; closed-loop feedback),
 initial roll, pitch and gyro bias from the first standstill, and the smoother of
 :mod:`footnav.core.smoothing` (step-wise or over the whole walk). When the walk returns to its
 start (``closed_loop=True``), the final standstill gets the start position as a measurement and
-the whole-walk smoother spreads that correction back over the trajectory (seed 002).
+the whole-walk smoother spreads that correction back over the trajectory (Chistyakov et al. (2021)).
 """
 
 from __future__ import annotations
@@ -42,7 +42,7 @@ __all__ = ["EkfEstimator"]
 class EkfEstimator(FootEstimator):
     """Closed-loop error-state ZUPT EKF, 9 or 15 states, with RTS smoothing.
 
-    Seed 001 eq. 1-3 (Zhao et al. 2019) and seed 002 Alg. 1 (Chistyakov et al. 2021). Initial
+    Zhao et al. (2019), eq. 1-3, and Chistyakov et al. (2021), Alg. 1. Initial
     roll, pitch and gyro bias come from the first stance phase; heading starts at zero. Noise
     parameters are densities, so results do not depend on the sampling rate.
 
@@ -80,7 +80,7 @@ class EkfEstimator(FootEstimator):
         Standard deviation of the zero-angular-rate update in stance, rad/s; 0 turns it off
         (15 states only: it observes the gyro bias).
     smoother : {"whole", "step", "none"}
-        RTS smoothing over the whole walk (seed 002 Alg. 1), within each step during the forward
+        RTS smoothing over the whole walk (Chistyakov et al. (2021), Alg. 1), within each step during the forward
         pass (memory independent of the recording's length), or none.
     smoother_cache_mb : float
         Memory the whole-walk smoother may keep of the forward run's record, MB: segments beyond
@@ -89,7 +89,7 @@ class EkfEstimator(FootEstimator):
         Hz; 0 keeps nothing (least memory, every segment re-run).
     closed_loop : bool
         The walk ends where it started: the final standstill gets the start position as a
-        measurement (seed 002); needs ``smoother="whole"`` to correct the whole trajectory.
+        measurement (Chistyakov et al. (2021)); needs ``smoother="whole"`` to correct the whole trajectory.
     closed_loop_std_m : float
         Standard deviation of that start-equals-end measurement, m.
     heading_drift_in_std : bool

@@ -1,6 +1,6 @@
-"""Madgwick orientation + 9-state error Kalman filter on [position, velocity, acceleration] (seed 003).
+"""Madgwick orientation + 9-state error Kalman filter on [position, velocity, acceleration] (Li et al. (2018)).
 
-Seed 003 (Derrode, Li et al. 2018), Sec. 3: the orientation comes from Madgwick's gradient-descent
+Li, Derrode et al. (2018), Sec. 3: the orientation comes from Madgwick's gradient-descent
 filter (Madgwick et al. 2011, its ref. [6]), independently of the Kalman filter, which then only
 tracks the errors of the integration::
 
@@ -262,9 +262,9 @@ def _magnetic_start(imu: ImuData, align: Alignment, still_gyr_max_radps: float) 
 
 
 class MadgwickEstimator(FootEstimator):
-    """Madgwick gradient-descent attitude + 9-state error KF [position, velocity, acceleration] (seed 003).
+    """Madgwick gradient-descent attitude + 9-state error KF [position, velocity, acceleration] (Li et al. (2018)).
 
-    Seed 003 Sec. 3, eq. 3-6 (Derrode, Li et al. 2018) with Madgwick et al. (2011) for the
+    Li et al. (2018), Sec. 3, eq. 3-6 (Derrode, Li et al. 2018) with Madgwick et al. (2011) for the
     attitude. Initial roll, pitch and gyro bias come from the first stance phase, and with a
     magnetometer the heading too (x magnetic north); without one, heading starts at zero. Noise
     parameters are densities, so results do not depend on the sampling rate.

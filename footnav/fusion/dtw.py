@@ -1,6 +1,6 @@
-"""DTW fusion: two feet aligned by dynamic time warping and tied at mid-swing (seed 002, Alg. 2).
+"""DTW fusion: two feet aligned by dynamic time warping and tied at mid-swing (Chistyakov et al. (2021), Alg. 2).
 
-Seed 002 (Chistyakov et al. 2021), Sec. 4, for two IMUs:
+Chistyakov et al. 2021, Sec. 4, for two IMUs:
 
 1. Each foot alone (Alg. 1), and the initial heading mismatch of the two IMUs "by choosing the
    initial angles that minimise the DTW metric" between the two trajectories. The DTW is
@@ -54,7 +54,7 @@ def heading_mismatch(
 ) -> tuple[float, float]:
     """Rotation of ``b`` about its start (rad) minimising the banded DTW distance to ``a``.
 
-    Seed 002 Sec. 4 step 1, as :func:`footnav.core.dtw.heading_mismatch` with
+    Chistyakov et al. (2021), Sec. 4 step 1, as :func:`footnav.core.dtw.heading_mismatch` with
     ``translation="start"``: each single-foot solution starts at its own origin, so both tracks
     are compared from their first points.
 
@@ -82,7 +82,7 @@ def heading_mismatch(
 
 
 def timeless_average(left: FootTrajectory, right: FootTrajectory, band_s: float, rate_hz: float) -> Path:
-    """Midpoints of the point pairs of the banded DTW between the feet (seed 002 Sec. 4 step 4).
+    """Midpoints of the point pairs of the banded DTW between the feet (Chistyakov et al. (2021), Sec. 4 step 4).
 
     Both feet are resampled to ``rate_hz`` over their common time span (the pairing then costs
     O(N x band) at that rate, and feet sampled at different rates pair correctly), then paired
@@ -122,7 +122,7 @@ def timeless_average(left: FootTrajectory, right: FootTrajectory, band_s: float,
 
 
 class DtwFusion(Fusion):
-    """Two feet tied at every mid-swing, aligned and averaged by DTW (seed 002, Alg. 2).
+    """Two feet tied at every mid-swing, aligned and averaged by DTW (Chistyakov et al. (2021), Alg. 2).
 
     Parameters
     ----------

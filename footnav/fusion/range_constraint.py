@@ -1,6 +1,6 @@
-"""Range constraint: the feet cannot be further apart than a bound (the baseline seed 004 compares with).
+"""Range constraint: the feet cannot be further apart than a bound (the baseline Lee et al. (2022) compares with).
 
-Prateek et al. (2013, seed 004's reference) and the methods seed 001 reviews ([14]-[16]) limit the
+Prateek et al. (2013, Lee et al. (2022)'s reference) and the methods Zhao et al. (2019) reviews ([14]-[16]) limit the
 distance between the feet to a sphere of radius ``max_separation_m`` (1 m in [15], [16]). Here the
 constraint is checked every ``check_interval_s`` and at every landing; when the feet are further
 apart than the bound, the estimate is projected onto it and the projection applied as a position
@@ -32,7 +32,7 @@ class RangeConstraintFusion(Fusion):
     Parameters
     ----------
     max_separation_m : float
-        Largest distance between the two feet's sensors, m (1 m in seed 001's refs. [15], [16]).
+        Largest distance between the two feet's sensors, m (1 m in Zhao et al. (2019)'s refs. [15], [16]).
     projection : {"moving", "symmetric"}
         Move the moving foot onto the sphere around the standing one, or both feet about their
         centroid.

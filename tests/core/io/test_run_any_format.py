@@ -17,12 +17,14 @@ def _ran(out, n_feet):
     return doc
 
 
-def test_gaitmap_folder_runs_both_feet(shared_file, tmp_path, capsys):
-    folder = shared_file("gaitmap_example", "imu_sample.csv").parent
-    assert main(["run", "--left", str(folder), "--out", str(tmp_path / "o")]) == 0
+@pytest.mark.parametrize("as_file", [False, True])
+def test_gaitmap_example_runs_both_feet(shared_file, tmp_path, capsys, as_file):
+    imu_csv = shared_file("gaitmap_example", "imu_sample.csv")
+    assert main(["run", "--left", str(imu_csv if as_file else imu_csv.parent), "--out", str(tmp_path / "o")]) == 0
     assert "holds both feet" in capsys.readouterr().err
     doc = _ran(tmp_path / "o", 2)
     assert doc["provenance"]["input"]["left"]["format"] == "gaitmap"
+    assert (tmp_path / "o" / "strides.csv").read_text().startswith("foot,start_s,end_s,length_m,duration_s")
 
 
 def test_xio_csv_with_its_duplicate_rows_runs(shared_file, tmp_path):

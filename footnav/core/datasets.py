@@ -92,8 +92,14 @@ def dataset_names(root: FilePath | None = None) -> list[str]:
 
     ``pyshoe_<trial>`` per pyshoe VICON trial (Wagstaff et al. 2020), ``ipol_<subject>-<trial>``
     per IPOL gait trial (Voisard et al., IPOL 2023; e.g. ``ipol_1-1``) and ``gaitdriven_<NN>``
-    per gait-driven trial (Cetin & Koroglu 2026; e.g. ``gaitdriven_31``).
+    per gait-driven trial (Cetin & Koroglu 2026; e.g. ``gaitdriven_31``). ``root`` None looks in
+    :func:`data_dir` (the trial sets are then listed when the shared data are there).
     """
+    if root is None:
+        try:
+            root = data_dir()
+        except DataNotFoundError:
+            root = None
     names = list(_fixed())
     if root is not None and (root / "pyshoe_vicon").is_dir():
         names += [f"pyshoe_{p.stem}" for p in sorted((root / "pyshoe_vicon").glob("*.mat"))]

@@ -105,6 +105,8 @@ _COMMON_DEFAULTS: dict[str, Any] = {
     "acc_bias_std_mps2": 2.0e-2,
     "gyr_bias_walk_radps2_sqrthz": 1.0e-5,
     "acc_bias_walk_mps3_sqrthz": 1.0e-4,
+    # The left/right mirror-symmetric heading drift of Lee, Cho & Park (2022), Sec. 2.1 (off).
+    "mirrored_yaw_rate_radps": 0.0,
 }
 
 _NOISE_KEYS = (
@@ -215,6 +217,9 @@ def _resolve_options(scenario: Any, rate_hz: Any, options: Mapping[str, Any]) ->
     opts["step_width_m"] = _non_negative(opts, "step_width_m", 10.0)
     opts["standstill_s"] = _non_negative(opts, "standstill_s", 3600.0)
     opts["heel_strike_impact_mps2"] = _non_negative(opts, "heel_strike_impact_mps2", 1e3)
+    opts["mirrored_yaw_rate_radps"] = _number(opts, "mirrored_yaw_rate_radps")
+    if not abs(opts["mirrored_yaw_rate_radps"]) <= 1.0:
+        raise _fail("mirrored_yaw_rate_radps", opts["mirrored_yaw_rate_radps"], "a rate in [-1, 1] rad/s")
     for name in _NOISE_KEYS:
         opts[name] = _non_negative(opts, name, _MAX_NOISE)
     for name in ("toe_off_pitch_deg", "heel_strike_pitch_deg"):
@@ -661,6 +666,13 @@ def _horizontal_point(xy: NDArray, heading: NDArray, point_b: NDArray) -> NDArra
     )
 
 
+def _mirrored_yaw_rate(motion: _FootMotion, rate_radps: float) -> NDArray[np.float64]:
+    """Foot-frame rate (N, 3) of ``rate_radps`` about the nav vertical, ``C^T e_z``, while the foot
+    is off the ground (zero in stance): the mirrored drift of ``mirrored_yaw_rate_radps``."""
+    up_foot = quat.as_matrix(motion.quaternion)[:, 2, :]  # row 2 of C (foot -> nav) = C^T e_z
+    return np.where((motion.phase != _STANCE)[:, None], rate_radps * up_foot, 0.0)
+
+
 def _nearest_index(times: NDArray, rate_hz: float, n: int) -> NDArray[np.int64]:
     return np.clip(np.rint(times * rate_hz), 0, n - 1).astype(np.int64)
 
@@ -812,6 +824,36 @@ def simulate(scenario: str = "straight", *, seed: int = 0, rate_hz: float = 100.
         Gyroscope bias random walk in rad/s^2/sqrt(Hz) (rad/s per sqrt(s)).
     acc_bias_walk_mps3_sqrthz : float, default 1.0e-4
         Accelerometer bias random walk in m/s^3/sqrt(Hz) (m/s^2 per sqrt(s)).
+    mirrored_yaw_rate_radps : float, default 0.0
+        The systematic, mirror-symmetric heading drift of the two feet (Lee, Cho & Park (2022),
+        Sec. 2.1; Nilsson et al. 2012's "systematic drift"), in rad/s, within [-1, 1]: while a
+        foot is off the ground (any sample outside flat-foot stance) its gyroscope reads an extra
+        rate ``+b`` (left foot) or ``-b`` (right foot) about the nav vertical, ``b`` this value,
+        expressed in the sensor frame (``b C^T e_z``, through the mounting); stance samples read
+        exactly as without it. Integrated, each foot's attitude is the truth turned about the
+        vertical by ``+-b`` times the time it has spent moving, so its heading (and with it the
+        direction of every stride) drifts at ``b (1 - stance fraction)`` on average, the left
+        foot's one way and the right's the other: positive ``b`` turns the left foot's track left
+        and the right foot's right (the tracks diverge), negative ``b`` the reverse (they cross);
+        the midpoint's heading does not drift. Typical: 2e-4 to 1e-3 rad/s; 4.4e-4 gives about
+        0.5 m of lateral error per foot after 70 m straight, the paper's standalone figure
+        (Table 2).
+
+        Why this form. Sec. 2.1 finds that both shoes' position errors "drift symmetrically in
+        the lateral direction", the left shoe to -Y and the right to +Y of the walking
+        direction (Fig. 1), after the gyro bias was estimated and removed at a standstill. It
+        attributes the cause, after Lee, Cho & Park (2020), to the IMU's sampling frequency
+        during the motion: "yaw and lateral velocity errors occur due to low sampling
+        frequency, and this has a symmetrical characteristic" (the swing's rotations, not
+        commuting, are integrated at 100 Hz; the two feet's swings are mirror images, so are
+        their errors). A yaw-rate error that exists only while the foot moves is that error in
+        its simplest form: a standstill's bias estimate does not see it (footnav's estimators,
+        like the paper, take the gyro bias from the first standstill), ZUPTs do not observe
+        it, and it is mirrored between the feet. The paper does not say which side Y is on, so
+        the sign is left to the caller. It is deterministic (the same in every stride); the
+        spread around it (Fig. 2) comes from the sensor noise options. The exact IMU signals
+        without it are ``truth.meta["gyr_true_radps"]``; the added rate is
+        ``truth.meta["gyr_mirrored_yaw_radps"]``.
 
     Returns
     -------
@@ -874,6 +916,9 @@ def simulate(scenario: str = "straight", *, seed: int = 0, rate_hz: float = 100.
         gyr_true = motion.gyr @ mount_t.T
         acc_true = (motion.acc + impact_foot) @ mount_t.T
         gyr = gyr_true + errors["gyr_radps"] + errors["gyr_white"]
+        mirrored = _mirrored_yaw_rate(motion, opts["mirrored_yaw_rate_radps"] * (1.0 if foot == "left" else -1.0)) @ mount_t.T
+        if opts["mirrored_yaw_rate_radps"] != 0.0:  # off: the signals stay bit-identical
+            gyr = gyr + mirrored
         acc = acc_true + errors["acc_mps2"] + errors["acc_white"]
         biases = {k: errors[k] for k in ("gyr_turn_on_radps", "acc_turn_on_mps2", "gyr_radps", "acc_mps2")}
         biases_all[foot] = {k: biases[k] for k in ("gyr_turn_on_radps", "acc_turn_on_mps2")}
@@ -916,6 +961,7 @@ def simulate(scenario: str = "straight", *, seed: int = 0, rate_hz: float = 100.
                 "gyr_true_radps": gyr_true,
                 "acc_true_mps2": acc_true,
                 "acc_impact_mps2": impact,
+                "gyr_mirrored_yaw_radps": mirrored,
                 **plan_info,
                 **line_info,
             },

@@ -489,3 +489,63 @@ def test_exchanges_without_jitter_have_exactly_the_fixed_delay():
     assert clock["a"] == 1.0 and clock["b"] == 0.0  # exchanges alone: the sensor clock is true time
     np.testing.assert_allclose(ex["ti"] - ex["tm1"], 0.03, rtol=0, atol=1e-12)
     np.testing.assert_allclose(ex["tm2"] - ex["ti"], 0.03, rtol=0, atol=1e-12)
+
+
+# -- the mirrored yaw drift (Lee, Cho & Park 2022, Sec. 2.1) ---------------------------------------
+
+
+def _attitude(imu: ImuData, q0: np.ndarray) -> tuple[float, float, float, float]:
+    """Final attitude of the independent integrator of :func:`_strapdown` (rotation vectors of
+    the mean rate), plain floats."""
+    t, w = imu.t.tolist(), imu.gyr.tolist()
+    q = tuple(float(c) for c in q0)
+    for k in range(len(t) - 1):
+        dt = t[k + 1] - t[k]
+        r = [0.5 * (w[k][i] + w[k + 1][i]) * dt for i in range(3)]
+        angle = math.sqrt(r[0] ** 2 + r[1] ** 2 + r[2] ** 2)
+        s = math.sin(0.5 * angle) / angle if angle > 0 else 0.5
+        q = _qmul(q, (math.cos(0.5 * angle), s * r[0], s * r[1], s * r[2]))
+    return q
+
+
+def test_mirrored_yaw_rate_off_is_bit_identical_to_the_default():
+    for scenario, opts in (("straight", SHORT), ("path", {**TURNING, "mounting_rpy_deg": (5.0, -10.0, 20.0)})):
+        a = simulate(scenario, seed=3, **opts)
+        b = simulate(scenario, seed=3, mirrored_yaw_rate_radps=0.0, **opts)
+        for x, y in ((a.left, b.left), (a.right, b.right)):
+            np.testing.assert_array_equal(x.gyr, y.gyr)
+            np.testing.assert_array_equal(x.acc, y.acc)
+        np.testing.assert_array_equal(a.truth_right.quaternion, b.truth_right.quaternion)
+        assert not a.truth_left.meta["gyr_mirrored_yaw_radps"].any()
+
+
+def test_mirrored_yaw_rate_turns_each_foot_by_b_times_its_moving_time():
+    # Hand computation: the drift acts while the foot is off flat stance, heel_off_s + swing_s
+    # + foot_flat_s = 0.65 s per swing, so after the walk the integrated attitude is the truth
+    # turned about the vertical by +b (left) / -b (right) times 0.65 s x the number of swings.
+    b = 5e-3
+    opts = {**SHORT, "mounting_rpy_deg": (10.0, -25.0, 40.0)}
+    rec = simulate("straight", rate_hz=500.0, noise=False, mirrored_yaw_rate_radps=b, **opts)
+    plain = simulate("straight", rate_hz=500.0, noise=False, **opts)
+    for sign, (foot, imu, truth) in zip((1.0, -1.0), _feet(rec)):
+        n_swings = len(truth.events["heel_off"])
+        expected = sign * b * (0.1 + 0.45 + 0.1) * n_swings
+        w, x, y, z = _attitude(imu, truth.quaternion[0])
+        tw, tx, ty, tz = truth.quaternion[-1]
+        d = _qmul((w, x, y, z), (tw, -tx, -ty, -tz))  # q_int q_true^-1: the error in nav axes
+        assert math.hypot(d[1], d[2]) < 1e-5  # no tilt error: about the vertical only
+        # the rate is a step sampled at 500 Hz: the trapezoid gives each swing's two edges half
+        # a sample each, so one sample (2 ms) of b per swing is lost
+        expected -= sign * b * n_swings / 500.0
+        assert 2 * math.atan2(d[3], d[0]) == pytest.approx(expected, abs=1e-6), foot
+        # stance samples read exactly what they read without the drift
+        other = plain.left if foot == "left" else plain.right
+        np.testing.assert_array_equal(imu.gyr[truth.stance], other.gyr[truth.stance])
+        assert np.linalg.norm(imu.gyr - other.gyr, axis=1).max() == pytest.approx(b, rel=1e-9)
+
+
+def test_mirrored_yaw_rate_out_of_range_is_refused():
+    with pytest.raises(InvalidParameterError, match="mirrored_yaw_rate_radps"):
+        simulate("straight", mirrored_yaw_rate_radps=2.0, **SHORT)
+    with pytest.raises(InvalidParameterError, match="mirrored_yaw_rate_radps"):
+        simulate("straight", mirrored_yaw_rate_radps=float("nan"), **SHORT)

@@ -3,6 +3,7 @@
 Run:  python benchmarks/bench_particle.py [--minutes 10] [--repeat 5]
       python benchmarks/bench_particle.py --accuracy [--seeds 5]     # accuracy instead of time
       python benchmarks/bench_particle.py --square [--seeds 5]       # paper vs footnav mode, cross-track
+      python benchmarks/bench_particle.py --square --mirrored-yaw-rate 0 2e-4 5e-4 1e-3  # the paper's drift
 
 The issue's target: the particle filter with 1000 particles adds < 20 % to the pipeline runtime.
 Prints the machine, then the warm best-of-``repeat`` runtime of the whole pipeline (threshold
@@ -22,6 +23,12 @@ With ``--accuracy``: the final foot separation E_s (horizontal; the true one is 
 final position error E_p of each foot against independent feet on the walks of the acceptance
 test (seeds 0 .. ``--seeds``-1, gyro bias walk 5e-5 rad/s^2/sqrt(Hz)), and the 2-D ATE per foot
 and E_s on the shared real two-foot recordings.
+
+With ``--square``: the square of Lee, Cho & Park (2022), Sec. 4 (93 m round, ``--laps`` laps,
+``--turn`` ccw/cw), the paper's MTw noise; per fusion the RMS and final cross-track error per foot,
+E_s and E_p, mean +- std over seeds, for each ``--mirrored-yaw-rate`` (the simulator's
+``mirrored_yaw_rate_radps``, the paper's symmetric drift of Sec. 2.1; negative values as
+``--mirrored-yaw-rate=-1e-3``). The figures are in :mod:`footnav.fusion.particle`'s docstring.
 """
 
 from __future__ import annotations
@@ -102,9 +109,12 @@ def accuracy(n_seeds: int) -> None:
             print(f"  {name:10s} {label:12s} ATE {ate[0]:.3f} / {ate[1]:.3f}  E_s {es:.3f} (truth {truth_es:.3f})")
 
 
-def square(n_seeds: int, laps: int = 3) -> None:
+def square(n_seeds: int, laps: int = 3, mirrored: tuple[float, ...] = (0.0,), turn: str = "ccw") -> None:
     """Cross-track error on the square of Lee, Cho & Park (2022), Sec. 4: paper mode, footnav mode,
-    independent feet (smoothed and forward-only)."""
+    independent feet (smoothed and forward-only), the range constraint and the step vector, for
+    each value of the simulator's ``mirrored_yaw_rate_radps`` (the paper's symmetric drift,
+    Sec. 2.1): RMS and final cross-track error per foot, final separation E_s and position error
+    E_p (Zhao et al. 2019), mean +- std over seeds."""
     import sys
 
     sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "tests", "fusion"))
@@ -116,21 +126,39 @@ def square(n_seeds: int, laps: int = 3) -> None:
     det = footnav.make_detector("threshold")
     runs = {"independent": (IndependentFusion(), EkfEstimator()),
             "independent, forward only": (IndependentFusion(), EkfEstimator(smoother="none")),
+            "range": (footnav.make_fusion("range"), EkfEstimator()),
+            "step-vector": (footnav.make_fusion("step-vector"), EkfEstimator()),
             "particle, mode=paper": (ParticleFusion(mode="paper"), EkfEstimator()),
             "particle, mode=footnav": (ParticleFusion(mode="footnav"), EkfEstimator())}
-    rows: dict[str, list] = {name: [] for name in runs}
-    for seed in range(n_seeds):
-        rec = square_walk(seed, laps=laps)
-        sl, sr = det.detect(rec.left), det.detect(rec.right)
-        for name, (fusion, est) in runs.items():
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore")
-                res = fusion.fuse(est, rec.left, sl, rec.right, sr)
-            rows[name].append(np.mean([cross_track(res.left, rec.truth_left), cross_track(res.right, rec.truth_right)], axis=0))
-    print(f"square 93 m round x {laps} laps, MTw noise, seeds 0..{n_seeds - 1}: cross-track error per foot, mean +- std over seeds (m)")
-    for name, v in rows.items():
-        v = np.array(v)
-        print(f"  {name:26s} RMS {v[:, 0].mean():.3f} +- {v[:, 0].std():.3f}   final {v[:, 1].mean():.3f} +- {v[:, 1].std():.3f}")
+    sign = 1.0 if turn == "ccw" else -1.0
+    print(f"square 93 m round x {laps} laps ({turn}), MTw noise, seeds 0..{n_seeds - 1}: per foot, mean +- std "
+          "over seeds (m); E_s the final foot separation (truth 0.2), E_p the final position error")
+    for b in mirrored:
+        rows: dict[str, list] = {name: [] for name in runs}
+        for seed in range(n_seeds):
+            rec = square_walk(seed, laps=laps, mirrored_yaw_rate_radps=b, turn_sign=sign)
+            sl, sr = det.detect(rec.left), det.detect(rec.right)
+            for name, (fusion, est) in runs.items():
+                with warnings.catch_warnings():
+                    warnings.simplefilter("ignore")
+                    res = fusion.fuse(est, rec.left, sl, rec.right, sr)
+                ct = np.mean([cross_track(res.left, rec.truth_left), cross_track(res.right, rec.truth_right)], axis=0)
+                es = np.linalg.norm(res.left.position[-1, :2] - res.right.position[-1, :2])
+                ep = np.mean([final_error(res.left, rec.truth_left), final_error(res.right, rec.truth_right)])
+                rows[name].append([*ct, es, ep])
+        print(f"mirrored_yaw_rate_radps = {b:g}")
+        for name, v in rows.items():
+            v = np.array(v)
+            print(f"  {name:26s} RMS {v[:, 0].mean():.3f} +- {v[:, 0].std():.3f}   final {v[:, 1].mean():.3f} +- "
+                  f"{v[:, 1].std():.3f}   E_s {v[:, 2].mean():.3f}   E_p {v[:, 3].mean():.3f} +- {v[:, 3].std():.3f}")
+
+
+def final_error(traj, truth) -> float:
+    """Horizontal error of the foot's last sample, both walks moved to start at the foot's first
+    footprint (as :func:`cross_track`), m."""
+    k0 = (traj.steps[0, 0] + traj.steps[0, 1]) // 2
+    e = (traj.position[-1, :2] - traj.position[k0, :2]) - (truth.position[-1, :2] - truth.position[k0, :2])
+    return float(np.linalg.norm(e))
 
 
 def main() -> None:
@@ -140,9 +168,14 @@ def main() -> None:
     ap.add_argument("--accuracy", action="store_true", help="E_s and E_p instead of the runtime")
     ap.add_argument("--seeds", type=int, default=5, help="simulator seeds for --accuracy")
     ap.add_argument("--square", action="store_true", help="cross-track error on the paper's square (--seeds)")
+    ap.add_argument("--mirrored-yaw-rate", type=float, nargs="+", default=[0.0], metavar="RADPS",
+                    help="--square: the simulator's mirrored_yaw_rate_radps values to run (the paper's "
+                         "symmetric drift, Lee, Cho & Park 2022, Sec. 2.1), e.g. 0 2e-4 5e-4 1e-3")
+    ap.add_argument("--laps", type=int, default=3, help="--square: laps of the square")
+    ap.add_argument("--turn", choices=("ccw", "cw"), default="ccw", help="--square: left (ccw) or right turns")
     args = ap.parse_args()
     if args.square:
-        square(args.seeds)
+        square(args.seeds, args.laps, tuple(args.mirrored_yaw_rate), args.turn)
         return
     if args.accuracy:
         accuracy(args.seeds)

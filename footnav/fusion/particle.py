@@ -36,10 +36,36 @@ detector; seeds 0-4; ``benchmarks/bench_particle.py --square``), RMS cross-track
 over its footprints, mean +- std over seeds: independent 0.335 +- 0.093 m (forward-only
 0.339), ``"paper"`` 0.385 +- 0.080 m, ``"footnav"`` 0.239 +- 0.105 m. The paper reports (Table
 3, position error on the square) 0.50 / 1.28 m standalone and 0.32 / 0.31 m proposed (left /
-right). On the simulator the feet's heading errors are independent random walks, not the
-symmetric drift the paper models, and paper mode pulls both feet toward their midpoint (eq. 15
-takes each foot's position for the pedestrian's), which costs about half the step width across
-the walk: its final cross-track error drops (0.212 -> 0.161 m) but not its RMS.
+right). With the simulator's default errors the feet's heading errors are independent random
+walks, not the symmetric drift the paper models, and paper mode pulls both feet toward their
+midpoint (eq. 15 takes each foot's position for the pedestrian's), which costs about half the
+step width across the walk: its final cross-track error drops (0.212 -> 0.161 m) but not its RMS.
+
+*With the paper's drift* (``simulate(mirrored_yaw_rate_radps=b)``: a yaw-rate error ``+b`` on
+the left foot and ``-b`` on the right while the foot moves, Sec. 2.1; ``bench_particle.py
+--square --mirrored-yaw-rate 0 2e-4 5e-4 1e-3 2e-3``), same square, RMS cross-track per foot,
+independent / paper / footnav / range / step-vector, m:
+
+* b = 2e-4: 0.334 / 0.362 / 0.249 / 0.326 / 0.328;
+* b = 5e-4: 0.396 / 0.399 / 0.238 / 0.365 / 0.329;
+* b = 1e-3: 0.596 / 0.569 / 0.237 / 0.402 / 0.331 (E_s 3.33 / 3.10 / 0.21 / 0.41 / 0.23 m);
+* b = 2e-3: 1.145 / 1.086 / 0.232 / 0.529 / 0.338 (E_s 6.96 / 6.97 / 0.24 / 0.43 / 0.24 m);
+* b = -1e-3 (tracks crossing): 0.655 / 0.709 / 0.258 / 0.363 / 0.327; right turns (cw),
+  b = 1e-3: 0.584 / 0.539 / 0.371 / 0.220 / 0.217.
+
+So on the square paper mode stays within 5-10 % of independent feet however large the drift:
+the paper's 65 % (Table 3) does not appear. Its update weighs the particles by the Gaussian
+sum's covariance, which contains the spread between the two feet's clouds
+(``(mu_i - mu)(mu_i - mu)'``): once the feet have drifted apart the likelihood is as wide as
+their separation and barely moves the cloud (E_s as independent). Reading eq. 15's
+``Sigma^i`` as the foot's own cloud covariance instead (tried) pulls harder but also along
+the walk toward a midpoint half a stride away: worse, 0.450 / 0.418 / 0.634 m RMS at b = 0 /
+5e-4 / 1e-3, 0.27 against 0.12 m on one lap. On the paper's *straight* walk (70 m, 10 seeds,
+b = 4.4e-4, which gives the paper's ~0.5 m standalone, Table 2) paper mode does reduce the
+final lateral error: left / right 0.41 / 0.54 m against 0.66 / 0.82 m independent (range
+constraint 0.48 / 0.57, footnav 0.49 / 0.48; the paper: 0.48 / 0.55 against 0.52 / 0.97).
+footnav mode, which estimates heading in its EKF and corrects it through the cloud, is flat in
+``b`` on the square (0.23-0.26 m with left turns, 0.37 m with right).
 
 footnav's reading (``mode="footnav"``), where the paper leaves room:
 

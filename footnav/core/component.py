@@ -209,6 +209,22 @@ class StanceDetector(Component):
 
     kind: ClassVar[str] = "detector"
 
+    @property
+    def latency_s(self) -> float | None:
+        """How long after a sample arrives its stance decision is final, s; None: unbounded
+        (the detector needs the whole recording and cannot run online, :mod:`footnav.core.online`).
+
+        The default covers a windowed detector: the window ahead of the sample (half a centred
+        window, ``window_s`` for ``combine="any"`` / ``"all"``), then ``min_stance_s`` to know a
+        stance run is kept and ``min_swing_s`` to know a gap is not bridged. A detector without
+        ``window_s`` declares None unless it overrides this.
+        """
+        window = getattr(self, "window_s", None)
+        if window is None:
+            return None
+        ahead = window / 2 if getattr(self, "combine", "center") == "center" else window
+        return float(ahead + getattr(self, "min_stance_s", 0.0) + getattr(self, "min_swing_s", 0.0))
+
     def detect(self, imu):  # pragma: no cover - abstract
         raise NotImplementedError
 

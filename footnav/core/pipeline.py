@@ -11,7 +11,7 @@ import sys
 import time
 from contextlib import contextmanager
 from pathlib import Path as FilePath
-from typing import Any, Mapping
+from typing import TYPE_CHECKING, Any, Mapping
 
 import numpy as np
 
@@ -28,6 +28,9 @@ from footnav.core.errors import (
 from footnav.core.stance_check import check_stances
 from footnav.core.types import FusionResult, ImuData, PipelineResult, Recording, StanceResult
 from footnav.core.warning_log import recording, warn
+
+if TYPE_CHECKING:
+    from footnav.core.online import OnlineStream
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -283,6 +286,23 @@ class Pipeline:
             stance_right=stance_right,
             meta=meta,
         )
+
+    def online(self, feet: int = 2, **options: Any) -> "OnlineStream":
+        """The pipeline on a live stream: push chunks of samples as they arrive, get what became
+        final (:class:`footnav.core.online.OnlineStream`; options ``max_wait_s``,
+        ``clock_offset_s``, ``keep``). Refused (CompositionError) for components that need the
+        whole walk.
+
+        Examples
+        --------
+        >>> pipe = make_pipeline("threshold", "ekf", estimator_params={"smoother": "step"})
+        >>> stream = pipe.online(feet=2)
+        >>> update = stream.push(left=chunk_left, right=chunk_right)  # doctest: +SKIP
+        >>> result = stream.close()  # doctest: +SKIP
+        """
+        from footnav.core.online import OnlineStream
+
+        return OnlineStream(self, feet=feet, **options)
 
 
 def _toml_value(value: Any) -> str:

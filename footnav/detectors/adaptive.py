@@ -121,6 +121,9 @@ class AdaptiveDetector(StanceDetector):
     """
 
     name = "adaptive"
+    #: No bounded latency: a cycle's bound needs the swing peak after it, and which peaks count
+    #: depends on the recording's typical stride (``stride_fraction``), known only at its end.
+    latency_s = None
 
     def __init__(
         self,

@@ -215,6 +215,8 @@ class DualGaitDetector(StanceDetector):
     """
 
     name = "dual-gait"
+    #: No bounded latency online: it detects both feet together from their whole recordings.
+    latency_s = None
     needs_two_feet: ClassVar[bool] = True
 
     def __init__(

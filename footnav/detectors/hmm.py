@@ -599,6 +599,9 @@ class HmmDetector(StanceDetector):
     """
 
     name: ClassVar[str] = "hmm"
+    #: No bounded latency: the stance is the Viterbi path of the whole recording (a forward-
+    #: filtering decoder with a fitted model would be online; not implemented).
+    latency_s = None
 
     def __init__(
         self,

@@ -1,0 +1,211 @@
+"""Online mode (footnav.core.online): a recording pushed in chunks gives the offline causal run."""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+import numpy as np
+import pytest
+
+import footnav
+import footnav.core.online as online
+from footnav.core.errors import CompositionError, InvalidInputError
+
+#: Step-wise smoothing: the offline run the online one must reproduce.
+STEP = {"smoother": "step"}
+
+
+def _chunks(imu, size):
+    for a in range(0, imu.n_samples, size):
+        yield imu.t[a : a + size], imu.acc[a : a + size], imu.gyr[a : a + size]
+
+
+def _replay(pipe, left, right, size_left, size_right=None, **options):
+    """Push the recording in chunks, each foot's next chunk when it is the earlier one (on the
+    common clock); returns the positions returned per foot, the steps, the close() result and
+    the stream."""
+    stream = pipe.online(feet=1 if right is None else 2, **options)
+    offsets = options.get("clock_offset_s", {})
+    got = {"left": [], "right": []}
+    steps = []
+    queues = {"left": _chunks(left, size_left)}
+    if right is not None:
+        queues["right"] = _chunks(right, size_right or size_left)
+    heads = {foot: next(q, None) for foot, q in queues.items()}
+    while any(h is not None for h in heads.values()):
+        foot = min((f for f, h in heads.items() if h is not None), key=lambda f: heads[f][0][0] + offsets.get(f, 0.0))
+        update = stream.push(**{foot: heads[foot]})
+        heads[foot] = next(queues[foot], None)
+        for name in got:
+            fu = getattr(update, name)
+            if fu is not None:
+                got[name].append(fu.position)
+        steps += update.steps
+    result = stream.close()
+    for name in got:
+        fu = getattr(stream.last_update, name)
+        if fu is not None:
+            got[name].append(fu.position)
+    steps += stream.last_update.steps
+    return {k: np.concatenate(v) for k, v in got.items() if v}, steps, result, stream
+
+
+def _check_equal(off, got, result, feet=("left", "right")):
+    for foot in feet:
+        ref = getattr(off, foot)
+        pos = got[foot]
+        assert pos.shape == ref.position.shape
+        # every step end (last stance sample) and every sample, to 1e-9 m
+        ends = ref.steps[:, 1] - 1
+        np.testing.assert_allclose(pos[ends], ref.position[ends], atol=1e-9, rtol=0)
+        np.testing.assert_allclose(pos, ref.position, atol=1e-9, rtol=0)
+        np.testing.assert_allclose(getattr(result, foot).position, ref.position, atol=1e-9, rtol=0)
+        np.testing.assert_allclose(getattr(result, foot).position_std, ref.position_std, atol=1e-9, rtol=0)
+        np.testing.assert_array_equal(getattr(result, f"stance_{foot}").mask, getattr(off, f"stance_{foot}").mask)
+
+
+@pytest.fixture(scope="module")
+def walk():
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return footnav.simulate("rectangle", seed=3, width_m=12, height_m=6)
+
+
+@pytest.mark.parametrize("size, detector", [(1, "threshold"), (7, "threshold"), (1000, "threshold"), (7, "glrt"), (1000, "glrt")])
+def test_chunks_give_the_offline_causal_run(walk, size, detector):
+    pipe = footnav.make_pipeline(detector, "ekf", "independent", estimator_params=STEP)
+    off = pipe.run(walk.left, walk.right)
+    # chunks of 1000 samples: a foot's next chunk comes 10 s after the other's
+    got, steps, result, _ = _replay(pipe, walk.left, walk.right, size, max_wait_s=15.0)
+    _check_equal(off, got, result)
+    # one closed step per stance of each foot, in time order, at the stance's last sample
+    for foot in ("left", "right"):
+        ref = getattr(off, foot)
+        mine = [s for s in steps if s.foot == foot]
+        assert len(mine) == len(ref.steps)
+        np.testing.assert_allclose([s.t for s in mine], ref.t[ref.steps[:, 1] - 1])
+        np.testing.assert_allclose([s.position for s in mine], ref.footprints, atol=1e-9)
+    # in time order across the feet; none waited for the other foot beyond max_wait_s
+    assert [s.t for s in steps] == sorted(s.t for s in steps)
+    assert not any(s.late for s in steps)
+
+
+def test_bias_states_and_restarted_segments(monkeypatch):
+    """Small filter segments (restarts from step-end checkpoints), a standstill longer than
+    the step smoother's buffer (4096 samples: cut there), the 15-state filter."""
+    monkeypatch.setattr(online, "SEGMENT_SAMPLES", 300)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        rec = footnav.simulate("straight", seed=5, distance_m=8, standstill_s=45.0)
+    pipe = footnav.make_pipeline("glrt", "ekf", "independent", estimator_params={**STEP, "bias_states": True})
+    off = pipe.run(rec.left, rec.right)
+    for size in (7, 333):
+        got, _, result, _ = _replay(pipe, rec.left, rec.right, size)
+        _check_equal(off, got, result)
+
+
+def test_clock_skewed_feet_in_chunks_of_different_sizes(walk):
+    """The right foot on its own clock (123.4 s ahead), both arriving in other chunk sizes."""
+    pipe = footnav.make_pipeline("threshold", "ekf", "independent", estimator_params=STEP)
+    off = pipe.run(walk.left, walk.right)
+    right = footnav.ImuData(t=walk.right.t + 123.4, acc=walk.right.acc, gyr=walk.right.gyr)
+    got, steps, result, _ = _replay(pipe, walk.left, right, 13, 211, clock_offset_s={"right": -123.4}, max_wait_s=5.0)
+    _check_equal(off, got, result)
+    timely = [s.t for s in steps if not s.late]
+    assert timely == sorted(timely)
+    assert not any(s.late for s in steps)
+
+
+def test_a_silent_foot_holds_steps_at_most_max_wait(walk):
+    pipe = footnav.make_pipeline("threshold", "ekf", "independent", estimator_params=STEP)
+    stream = pipe.online(feet=2, max_wait_s=1.0)
+    steps = []
+    for chunk in _chunks(walk.left, 50):
+        steps += stream.push(left=chunk).steps
+    assert steps and all(s.late and s.foot == "left" for s in steps)
+    assert walk.left.t[-1] - steps[-1].t < 1.0 + footnav.make_detector("threshold").latency_s + 3.0
+
+
+def test_shared_recordings(shared_data):
+    from footnav.core.datasets import load_dataset
+
+    pipe = footnav.make_pipeline("glrt", "ekf", "independent", estimator_params=STEP)
+    for name in ("azure_fgo", "gaitmap", "ipol_1-1", "pyshoe_2017-11-22-11-22-03"):
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                rec = load_dataset(name, shared_data)
+        except footnav.DataNotFoundError:
+            continue
+        off = pipe.run(rec.left, rec.right)
+        for size in (7, 1000):
+            got, _, result, _ = _replay(pipe, rec.left, rec.right, size, rate_hz=rec.left.rate_hz)
+            _check_equal(off, got, result, feet=("left",) if rec.right is None else ("left", "right"))
+
+
+def test_latency_one_step_plus_the_detectors(walk):
+    """A step's samples are final once the next stance's end is detected: at most the detector's
+    latency (plus 3 samples of the stream's own margin) after that stance's last sample arrives."""
+    pipe = footnav.make_pipeline("threshold", "ekf", "independent", estimator_params=STEP)
+    _, _, _, stream = _replay(pipe, walk.left, None, 1)
+    foot = stream.feet[0]
+    latency = np.array([newest - end for end, newest in foot.step_final_at])
+    bound = math.ceil(pipe.detector.latency_s * walk.left.rate_hz) + 3
+    assert len(latency) > 10 and latency.max() <= bound
+
+
+def test_memory_is_bounded_without_keep():
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        rec = footnav.simulate("rectangle", seed=4, width_m=40, height_m=20)
+    pipe = footnav.make_pipeline("threshold", "ekf", "independent", estimator_params=STEP)
+    stream = pipe.online(feet=2, keep=False)
+    n = 0
+    for chunk_l, chunk_r in zip(_chunks(rec.left, 100), _chunks(rec.right, 100)):
+        update = stream.push(left=chunk_l, right=chunk_r)
+        n += update.left.n_samples
+        for foot in stream.feet:
+            assert foot.input.n < 500 and foot.out.n < 500
+    assert stream.close() is None
+    assert n + stream.last_update.left.n_samples == rec.left.n_samples
+
+
+def test_forward_estimate_and_inputs(walk):
+    pipe = footnav.make_pipeline("threshold", "ekf", "independent", estimator_params=STEP)
+    stream = pipe.online(feet=1)
+    pd = pytest.importorskip("pandas")
+    frame = pd.DataFrame({"t": walk.left.t[:400], **{f"acc_{a}": walk.left.acc[:400, i] for i, a in enumerate("xyz")},
+                          **{f"gyr_{a}": walk.left.gyr[:400, i] for i, a in enumerate("xyz")}})
+    stream.push(left=frame)
+    update = stream.push(left={"t": walk.left.t[400], "acc": walk.left.acc[400], "gyr": walk.left.gyr[400]})
+    fwd = update.left.forward
+    assert fwd is not None and fwd.position_cov.shape == (3, 3) and fwd.t <= walk.left.t[400]
+    with pytest.raises(InvalidInputError, match="increase strictly"):
+        stream.push(left=(walk.left.t[10:12], walk.left.acc[10:12], walk.left.gyr[10:12]))
+    with pytest.raises(InvalidInputError, match="one-foot stream"):
+        stream.push(right=(walk.left.t[401:402], walk.left.acc[401:402], walk.left.gyr[401:402]))
+
+
+def test_declared_latencies():
+    assert footnav.make_detector("threshold").latency_s == pytest.approx(0.04 / 2 + 0.05 + 0.2)
+    glrt_any = footnav.make_detector("glrt", combine="any")
+    assert glrt_any.latency_s == pytest.approx(glrt_any.window_s + glrt_any.min_stance_s + glrt_any.min_swing_s)
+    for name in ("adaptive", "hmm", "dual-gait"):
+        assert footnav.make_detector(name).latency_s is None
+
+
+@pytest.mark.parametrize(
+    "kwargs, match",
+    [
+        ({"detector": "adaptive", "estimator_params": STEP}, "latency_s = None"),
+        ({"detector": "threshold"}, "smoother='whole' is offline only"),
+        ({"detector": "threshold", "estimator_params": STEP, "fusion": "dtw"}, "offline only: it averages"),
+        ({"detector": "threshold", "estimator_params": STEP, "fusion": "range"}, "common time span"),
+        ({"detector": "threshold", "estimator": "madgwick"}, "step-able filter"),
+    ],
+)
+def test_offline_only_components_are_refused(kwargs, match):
+    pipe = footnav.make_pipeline(**kwargs)
+    with pytest.raises(CompositionError, match=match):
+        pipe.online(feet=2)

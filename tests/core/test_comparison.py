@@ -37,7 +37,8 @@ def test_event_reference_and_timing(walk):
     rep = compare_detectors(rec, ["threshold"]).report
     assert rep.value("steps_reference") == len(mid)
     assert rep.value("steps_found") == len(mid) and rep.value("steps_false") == 0
-    assert 0 <= rep.value("heel_off_error") < 150.0  # ms
+    # the threshold detector ends the stance 2 samples after the true heel off: measured 20 ms
+    assert rep.value("heel_off_error") <= 50.0  # ms
 
 
 def test_cli_compare_detectors_writes_table_and_figure(tmp_path, capsys):

@@ -40,7 +40,10 @@ def test_many_pipelines_side_by_side(loop):
     report = evaluate_many(pipes, [loop])
     text = report.to_text().splitlines()
     assert text[0].split()[-2:] == ["loose", "tight"]
-    assert report.value("ate_2d", pipeline="loose") != report.value("ate_2d", pipeline="tight")
+    # each pipeline's column is its own: a ZUPT of 0.5 m/s hardly constrains the velocity, so the
+    # tight one is better on both feet (measured 5.9 -> 4.2 mm left, 23.6 -> 4.8 mm right)
+    for foot in ("left", "right"):
+        assert report.value("ate_2d", foot, pipeline="tight") < report.value("ate_2d", foot, pipeline="loose")
     csv_lines = report.to_csv().splitlines()
     assert csv_lines[0] == "recording,pipeline,foot,name,value,unit"
     assert len(csv_lines) == 1 + len(report.metrics)

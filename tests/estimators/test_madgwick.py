@@ -165,7 +165,9 @@ def test_marg_trajectory_matches_truth_when_north_is_not_the_sensor_heading(walk
         ate, final, dist = _errors(traj, truth)
         # measured 0.04 % (IMU only: 0.03 %); started at the sensor's heading instead: 3-4 %
         assert ate < 0.001 * dist
-        assert ate < 2 * _errors(imu_only, truth)[0] + 0.005
+        # no worse than without the magnetometer beyond the start's heading (measured 1.7-2.2x
+        # the IMU-only 6.9 mm)
+        assert ate < 3 * _errors(imu_only, truth)[0]
         # heading="sensor": nav x is magnetic north, so the truth turned by -north, no alignment
         sensor = MadgwickEstimator(heading="sensor").estimate(imu, stance)
         expected = quat.rotate(quat.from_yaw(-north), truth.position - truth.position[0])

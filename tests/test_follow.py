@@ -1,0 +1,117 @@
+"""``footnav follow`` on a CSV file another process appends to."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import footnav
+
+#: Appends the rows of SOURCE to TARGET in bursts of 40 rows every 0.15 s (0.4 s of walk: 2.7x real
+#: time), flushing each burst, as a logger writes a sensor's samples.
+WRITER = """
+import sys, time
+source, target = sys.argv[1], sys.argv[2]
+lines = open(source).read().splitlines(keepends=True)
+with open(target, "w") as out:
+    out.writelines(lines[:2])  # units line and header
+    out.flush()
+    for a in range(2, len(lines), 40):
+        out.writelines(lines[a : a + 40])
+        out.flush()
+        time.sleep(0.15)
+"""
+
+
+def _footnav(*args: str, **kwargs) -> subprocess.Popen:
+    return subprocess.Popen([sys.executable, "-m", "footnav.cli", *args], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            text=True, **kwargs)
+
+
+@pytest.fixture(scope="module")
+def walk_csv(tmp_path_factory) -> Path:
+    folder = tmp_path_factory.mktemp("walk")
+    subprocess.run([sys.executable, "-m", "footnav.cli", "simulate", "straight", "--set", "distance_m=8", "--out",
+                    str(folder / "sim")], check=True, capture_output=True)
+    return folder / "sim"
+
+
+def _step_lines(text: str) -> list[list[str]]:
+    return [line.split() for line in text.splitlines() if line.strip() and line.split()[1:2] in (["left"], ["right"])]
+
+
+def test_follow_prints_steps_as_they_happen_and_writes_the_result_folder(walk_csv, tmp_path):
+    left, right = tmp_path / "left.csv", tmp_path / "right.csv"
+    # follow starts first and waits for the files to appear; the writers start once it is up
+    follow = _footnav("follow", "--left", str(left), "--right", str(right), "--idle-s", "3", "--out", str(tmp_path / "out"))
+    lines = [follow.stdout.readline()]
+    assert "stride_m" in lines[0]
+    writers = [subprocess.Popen([sys.executable, "-c", WRITER, str(walk_csv / f"{foot}.csv"), str(path)])
+               for foot, path in (("left", left), ("right", right))]
+    first_step_at = None
+    for line in iter(follow.stdout.readline, ""):
+        lines.append(line)
+        if first_step_at is None and _step_lines(line):
+            first_step_at = time.monotonic()
+            writing = any(w.poll() is None for w in writers)
+    rc = follow.wait(timeout=60)
+    for w in writers:
+        w.wait(timeout=10)
+    assert rc == 0, follow.stderr.read()
+    text = "".join(lines)
+    assert first_step_at is not None and writing, "a step is printed while the file is still being written"
+    steps = _step_lines(text)
+    # the result folder is footnav run's, and equal to the offline causal run
+    run = subprocess.run([sys.executable, "-m", "footnav.cli", "run", "--left", str(walk_csv / "left.csv"), "--right",
+                          str(walk_csv / "right.csv"), "--detector", "threshold", "--out",
+                          str(tmp_path / "offline")], capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr
+    assert sorted(os.listdir(tmp_path / "out")) == sorted(os.listdir(tmp_path / "offline"))
+    pipe = footnav.make_pipeline("threshold", "ekf", estimator_params={"smoother": "step"})
+    off = pipe.run(footnav.load(str(walk_csv / "left.csv")).left, footnav.load(str(walk_csv / "right.csv")).left)
+    got = np.load(tmp_path / "out" / "trajectories.npz")
+    for foot in ("left", "right"):
+        np.testing.assert_allclose(got[f"{foot}_position"], getattr(off, foot).position, atol=1e-9, rtol=0)
+        assert sum(s[1] == foot for s in steps) == len(getattr(off, foot).steps)
+
+
+def test_ctrl_c_saves_everything_so_far(walk_csv, tmp_path):
+    left = tmp_path / "left.csv"
+    writer = subprocess.Popen([sys.executable, "-c", WRITER, str(walk_csv / "left.csv"), str(left)])
+    follow = _footnav("follow", "--left", str(left), "--idle-s", "60", "--out", str(tmp_path / "out"))
+    for line in iter(follow.stdout.readline, ""):
+        if len(_step_lines(line)) and float(line.split()[0]) > 3.0:
+            break
+    follow.send_signal(signal.SIGINT)
+    out, err = follow.communicate(timeout=60)
+    writer.wait(timeout=30)
+    assert follow.returncode == 0, err
+    assert "interrupted: results written to" in out
+    saved = np.load(tmp_path / "out" / "trajectories.npz")
+    assert len(saved["left_t"]) > 300 and "right_t" not in saved
+
+
+def test_standard_input_with_a_foot_column(walk_csv, tmp_path):
+    rows = ["foot,t,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z"]
+    for foot in ("left", "right"):
+        rows += [f"{foot},{line}" for line in (walk_csv / f"{foot}.csv").read_text().splitlines()[2:]]
+    done = subprocess.run([sys.executable, "-m", "footnav.cli", "follow", "--left", "-", "--feet", "2", "--out",
+                           str(tmp_path / "out")], input="\n".join(rows) + "\n", capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    steps = _step_lines(done.stdout)
+    assert {s[1] for s in steps} == {"left", "right"}
+    assert (tmp_path / "out" / "right.csv").is_file()
+
+
+def test_offline_only_pipeline_is_refused(walk_csv, tmp_path):
+    done = subprocess.run([sys.executable, "-m", "footnav.cli", "follow", "--left", str(walk_csv / "left.csv"),
+                           "--detector", "adaptive", "--out", str(tmp_path / "out")], capture_output=True, text=True)
+    assert done.returncode == 2
+    assert "cannot run online" in done.stderr

@@ -9,6 +9,13 @@ with g^n = [0, 0, -GRAVITY_MPS2] (nav z up). Sample k holds the instantaneous ra
 step from k-1 to k integrates attitude with the mean angular rate (rotation vector
 (w_{k-1} + w_k) dt / 2), velocity by Simpson's rule with the mid-interval attitude, and position
 with the trapezoidal rule.
+
+What no rule on the samples can recover: over one motion between rests, the local errors of any
+of them (trapezoid, this Simpson step, cubic interpolation) telescope to -dt^2 / 12 times the sum
+of the jumps of the nav-frame jerk (Euler-Maclaurin). That is zero for a jerk-continuous gait;
+the simulator's quintic gait jumps by +2700 m/s^3 vertically per swing, so its noise-free walks
+end about 2.3 mm per step low at 100 Hz and 0.14 mm at 400 Hz
+(``tests/estimators/test_vertical.py``).
 """
 
 from __future__ import annotations

@@ -397,7 +397,7 @@ def _follow_sources(args: argparse.Namespace) -> list:
             if state["handle"] is None:
                 if not os.path.exists(path):
                     return []
-                state["handle"] = open(path, encoding="utf-8", newline="")
+                state["handle"] = open(path, encoding="utf-8", newline="")  # noqa: SIM115 - read as it grows, closed at exit
             text = state["partial"] + state["handle"].read()
             lines = text.split("\n")
             state["partial"] = lines.pop()

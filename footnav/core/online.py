@@ -44,8 +44,10 @@ from __future__ import annotations
 import math
 import time
 import warnings
+from collections import deque
+from collections.abc import Mapping
 from dataclasses import dataclass, field
-from typing import Any, Mapping
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -58,7 +60,7 @@ from footnav.core.smoothing import StepSmoother
 from footnav.core.types import FootTrajectory, ImuData, PipelineResult, StanceResult, stance_intervals
 from footnav.core.warning_log import recording
 
-__all__ = ["OnlineStream", "OnlineUpdate", "FootUpdate", "ForwardEstimate", "ClosedStep", "ONLINE_FUSIONS", "OFFLINE_ONLY_FUSIONS"]
+__all__ = ["OFFLINE_ONLY_FUSIONS", "ONLINE_FUSIONS", "ClosedStep", "FootUpdate", "ForwardEstimate", "OnlineStream", "OnlineUpdate"]
 
 #: Fusions whose output at a step end needs no later sample: they run online.
 ONLINE_FUSIONS = ("independent",)
@@ -237,7 +239,7 @@ class _FootStream:
     local index ``k`` is global ``seg0 + k``.
     """
 
-    def __init__(self, stream: "OnlineStream", foot: str, offset_s: float) -> None:
+    def __init__(self, stream: OnlineStream, foot: str, offset_s: float) -> None:
         self.stream = stream
         self.foot = foot
         self.offset_s = float(offset_s)
@@ -270,8 +272,9 @@ class _FootStream:
         self.n_steps = 0
         self.psi: float | None = None
         self.pending_steps: list[ClosedStep] = []
-        #: (global index of the step end, newest received sample's global index when it became final)
-        self.step_final_at: list[tuple[int, int]] = []
+        #: (global index of the step end, newest received sample's global index when it became
+        #: final) of the latest steps: the latency, measured
+        self.step_final_at: deque[tuple[int, int]] = deque(maxlen=4096)
         self.finished = False
 
     def closed_until(self) -> float:
@@ -324,7 +327,7 @@ class _FootStream:
                 return
             else:
                 self.rate_hz = float(1.0 / np.median(np.diff(tt)))
-            self.lag = int(math.ceil(self.stream.latency_s * self.rate_hz)) + 2
+            self.lag = math.ceil(self.stream.latency_s * self.rate_hz) + 2
             self.margin = 3 * self.lag + 8
         frontier = n_in if final else n_in - self.lag
         if frontier <= self.n_final:
@@ -332,8 +335,9 @@ class _FootStream:
         a = max(self.n_final - self.margin, inp.start)
         t, acc, gyr, mask = inp.rows(a, n_in)
         # the detector's rate is the median interval's: the stream's rate, not each window's own
-        # (jittered sampling gives windows of other lengths), by scaling the window's time stamps
-        t = t[0] + (t - t[0]) / (self.rate_hz * float(np.median(np.diff(t)))) if len(t) > 1 else t.copy()
+        # (jittered sampling gives windows of other lengths), so it sees the samples on a grid
+        # at that rate (a windowed detector counts samples; the time stamps give it the rate)
+        t = t[0] + np.arange(len(t)) / self.rate_hz
         with warnings.catch_warnings(), recording():  # a window's gaps were warned about with the recording
             warnings.simplefilter("ignore")
             stance = self.stream.pipeline.detector.detect(ImuData(t=t, acc=acc.copy(), gyr=gyr.copy()))

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import footnav
-import footnav.core.online as online
+from footnav.core import online
 from footnav.core.errors import CompositionError, InvalidInputError
 
 #: Step-wise smoothing: the offline run the online one must reproduce.
@@ -37,16 +37,16 @@ def _replay(pipe, left, right, size_left, size_right=None, **options):
         foot = min((f for f, h in heads.items() if h is not None), key=lambda f: heads[f][0][0] + offsets.get(f, 0.0))
         update = stream.push(**{foot: heads[foot]})
         heads[foot] = next(queues[foot], None)
-        for name in got:
+        for name, positions in got.items():
             fu = getattr(update, name)
             if fu is not None:
-                got[name].append(fu.position)
+                positions.append(fu.position)
         steps += update.steps
     result = stream.close()
-    for name in got:
+    for name, positions in got.items():
         fu = getattr(stream.last_update, name)
         if fu is not None:
-            got[name].append(fu.position)
+            positions.append(fu.position)
     steps += stream.last_update.steps
     return {k: np.concatenate(v) for k, v in got.items() if v}, steps, result, stream
 

@@ -1,0 +1,118 @@
+"""Online mode: throughput, memory and latency of a 1-hour two-foot replay.
+
+Run:  python benchmarks/bench_online.py [--minutes 60] [--chunk-s 1.0]
+
+A simulated 5.6-minute walk (a 60 x 25 m loop, standstills at both ends) is repeated to fill
+``--minutes`` at 100 Hz and pushed through ``pipeline.online(feet=2, keep=False)`` (threshold
+detector, EKF smoothing each step at its end, independent feet) in chunks of ``--chunk-s`` per
+foot, both feet in each push. Reported:
+
+* throughput: the walk's duration over the wall time of all pushes (one core, no tracing);
+* memory: tracemalloc's peak over the first 10 minutes and over the whole replay (a second run:
+  tracing slows Python-level code), which must stay within 10 %;
+* latency: for every closed step, the samples between the step's end (its stance's last sample)
+  and the newest sample pushed when it became final, against the detector's declared
+  ``latency_s`` (chunks of one sample, on the first minutes: a longer chunk only adds its length);
+* the offline causal run of the first loop against the online one (largest position difference).
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import os
+import platform
+import sys
+import time
+import tracemalloc
+import warnings
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from _common import cpu_name
+
+import footnav
+
+RATE_HZ = 100.0
+
+
+def tiled_walk(minutes: float) -> tuple[footnav.ImuData, footnav.ImuData, footnav.Recording]:
+    """One loop repeated to fill ``minutes``: it starts and ends standing still, so the copies
+    join without a jump."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        loop = footnav.simulate("rectangle", seed=7, rate_hz=RATE_HZ, width_m=60, height_m=25)
+    copies = max(1, math.ceil(minutes * 60 / (loop.left.duration_s + 1 / RATE_HZ)))
+    feet = []
+    for imu in (loop.left, loop.right):
+        n = imu.n_samples
+        t = np.arange(n * copies) / RATE_HZ
+        feet.append(footnav.ImuData(t=t, acc=np.tile(imu.acc, (copies, 1)), gyr=np.tile(imu.gyr, (copies, 1))))
+    return feet[0], feet[1], loop
+
+
+def replay(pipe, left, right, chunk: int, trace_at_s: float | None = None):
+    """Push both feet in chunks; returns (wall time in push, the stream, peak bytes at
+    ``trace_at_s`` of walk, peak bytes at the end)."""
+    stream = pipe.online(feet=2, keep=False)
+    n = left.n_samples
+    spent, peak_early = 0.0, None
+    for a in range(0, n, chunk):
+        b = min(a + chunk, n)
+        lc = (left.t[a:b], left.acc[a:b], left.gyr[a:b])
+        rc = (right.t[a:b], right.acc[a:b], right.gyr[a:b])
+        t0 = time.perf_counter()
+        stream.push(left=lc, right=rc)
+        spent += time.perf_counter() - t0
+        if trace_at_s is not None and peak_early is None and left.t[b - 1] >= trace_at_s:
+            peak_early = tracemalloc.get_traced_memory()[1]
+    t0 = time.perf_counter()
+    stream.close()
+    spent += time.perf_counter() - t0
+    peak_end = tracemalloc.get_traced_memory()[1] if trace_at_s is not None else None
+    return spent, stream, peak_early, peak_end
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--minutes", type=float, default=60.0)
+    ap.add_argument("--chunk-s", type=float, default=1.0, help="chunk length per foot and push, s")
+    args = ap.parse_args()
+    pipe = footnav.make_pipeline("threshold", "ekf", "independent", estimator_params={"smoother": "step"})
+    left, right, loop = tiled_walk(args.minutes)
+    chunk = max(1, round(args.chunk_s * RATE_HZ))
+    print(f"machine: {cpu_name()}, {platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()}")
+    print(f"walk: {left.duration_s / 60:.1f} min at {RATE_HZ:g} Hz, two feet, {left.n_samples} samples per foot; "
+          f"chunks of {chunk} samples per foot")
+
+    replay(pipe, loop.left.slice(0, 2000), loop.right.slice(0, 2000), chunk)  # compile and warm up
+    spent, _, _, _ = replay(pipe, left, right, chunk)
+    print(f"throughput: {left.duration_s / spent:,.0f}x real time ({spent:.2f} s for {left.duration_s / 60:.1f} min, "
+          f"{spent / (2 * left.n_samples) * 1e6:.2f} us per sample)")
+
+    tracemalloc.start()
+    _, _, early, end = replay(pipe, left, right, chunk, trace_at_s=min(600.0, left.duration_s / 2))
+    tracemalloc.stop()
+    print(f"memory (tracemalloc peak): {early / 1e6:.2f} MB after 10 min, {end / 1e6:.2f} MB after "
+          f"{left.duration_s / 60:.0f} min ({100 * (end / early - 1):+.1f} %)")
+
+    # latency, chunks of one sample, on the first loop
+    first = loop.left
+    one = pipe.online(feet=1)
+    for a in range(first.n_samples):
+        one.push(left=(first.t[a : a + 1], first.acc[a : a + 1], first.gyr[a : a + 1]))
+    result = one.close()
+    lag = np.array([newest - end for end, newest in one.feet[0].step_final_at])
+    declared = pipe.detector.latency_s
+    print(f"latency: a step is final {lag.min()}-{lag.max()} samples ({lag.max() / RATE_HZ * 1e3:.0f} ms at most) "
+          f"after its stance's last sample arrives; declared latency_s = {declared:.3f} s "
+          f"({math.ceil(declared * RATE_HZ)} samples) + 3 samples of the stream's margin")
+    off = pipe.run(first, None)
+    print(f"offline causal run vs online (chunks of 1): largest position difference "
+          f"{np.abs(off.left.position - result.left.position).max():.1e} m")
+
+
+if __name__ == "__main__":
+    main()

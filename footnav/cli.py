@@ -417,6 +417,7 @@ def _step_line(step) -> str:
 
 
 def cmd_follow(args: argparse.Namespace) -> int:
+    import signal
     import time
 
     from footnav.core.output import claim_output
@@ -442,10 +443,18 @@ def cmd_follow(args: argparse.Namespace) -> int:
         sources = [(foot, name, read, _FollowedCsv(name, units)) for foot, name, read in _follow_sources(args)]
         print(f"{'t_s':>10}  {'foot':<5}  {'x_m':>9} {'y_m':>9} {'z_m':>7}  {'stride_m':>8}  {'heading_deg':>8}", flush=True)
         last_data = time.monotonic()
-        interrupted = False
+        stop = {"interrupted": False}
+
+        def on_sigint(signum, frame) -> None:  # Ctrl-C: end after the current push, never inside it
+            stop["interrupted"] = True
+
+        try:
+            previous = signal.signal(signal.SIGINT, on_sigint)
+        except ValueError:  # not the main thread: Ctrl-C raises KeyboardInterrupt as usual
+            previous = None
         try:
             ended = set()
-            while len(ended) < len(sources):
+            while len(ended) < len(sources) and not stop["interrupted"]:
                 chunks: dict = {}
                 for i, (foot, name, read, parser) in enumerate(sources):
                     if i in ended:
@@ -466,7 +475,11 @@ def cmd_follow(args: argparse.Namespace) -> int:
                 else:
                     time.sleep(args.poll_s)
         except KeyboardInterrupt:
-            interrupted = True
+            stop["interrupted"] = True
+        finally:
+            if previous is not None:
+                signal.signal(signal.SIGINT, previous)
+        interrupted = stop["interrupted"]
         result = stream.close()
         for step in stream.last_update.steps:
             print(_step_line(step), flush=True)

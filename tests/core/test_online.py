@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import footnav
-from footnav.core import online
+from footnav.core import online_foot
 from footnav.core.errors import CompositionError, InvalidInputError
 
 #: Step-wise smoothing: the offline run the online one must reproduce.
@@ -94,7 +94,7 @@ def test_chunks_give_the_offline_causal_run(walk, size, detector):
 def test_bias_states_and_restarted_segments(monkeypatch):
     """Small filter segments (restarts from step-end checkpoints), a standstill longer than
     the step smoother's buffer (4096 samples: cut there), the 15-state filter."""
-    monkeypatch.setattr(online, "SEGMENT_SAMPLES", 300)
+    monkeypatch.setattr(online_foot, "SEGMENT_SAMPLES", 300)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         rec = footnav.simulate("straight", seed=5, distance_m=8, standstill_s=45.0)

@@ -1,11 +1,23 @@
-"""Shared fixtures. Installed third-party plugins are kept out of the suite (autoload off)."""
+"""Shared fixtures. Installed third-party plugins are kept out of the suite (autoload off).
+
+numba caches compiled kernels in a folder keyed by the contents of footnav's sources
+(``tests/numba_cache_key.py``), so a changed helper in one module can never leave a stale
+caller cached in another. Set ``NUMBA_CACHE_DIR`` yourself to choose the folder instead.
+"""
 
 from __future__ import annotations
 
 import os
 from pathlib import Path
 
-import pytest
+# Before anything imports numba (footnav does): numba reads NUMBA_CACHE_DIR once, at its import.
+# Subprocesses the tests start (the CLI, follow) inherit it.
+if not os.environ.get("NUMBA_CACHE_DIR"):
+    from numba_cache_key import numba_cache_dir
+
+    os.environ["NUMBA_CACHE_DIR"] = numba_cache_dir()
+
+import pytest  # noqa: E402
 
 os.environ["FOOTNAV_DISABLE_PLUGIN_AUTOLOAD"] = "1"
 

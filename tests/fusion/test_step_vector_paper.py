@@ -229,11 +229,11 @@ def test_cli_run_step_vector_writes_results(tmp_path, params):
 def _measure(n_seeds: int = 5) -> None:  # pragma: no cover - run by hand
     modes = {
         "independent": None,
-        "paper (defaults)": {},
-        "heading": {"relative_frame": "heading"},
-        "fitted": {"step_length": "fitted"},
-        "fitted + heading": {"step_length": "fitted", "relative_frame": "heading"},
-        "paper + calibration": {"calibration": "standstill"},
+        "paper": {"step_length": "pendulum", "relative_frame": "attitude"},
+        "pendulum + heading": {"step_length": "pendulum", "relative_frame": "heading"},
+        "fitted + attitude": {"step_length": "fitted", "relative_frame": "attitude"},
+        "fitted + heading (defaults)": {"step_length": "fitted", "relative_frame": "heading"},
+        "paper + calibration": {"step_length": "pendulum", "relative_frame": "attitude", "calibration": "standstill"},
     }
     walks = {
         "straight 100 m": ("straight", {"distance_m": 100.0}, 1.0),

@@ -1,0 +1,511 @@
+"""Mutation run over footnav's numerical modules: apply realistic bugs one at a time, run the tests.
+
+Usage::
+
+    python tools/mutate.py                 # every mutant, 2 at a time (about 30-40 minutes)
+    python tools/mutate.py --list          # the mutants, one line each
+    python tools/mutate.py --check         # every snippet is found exactly where it should be
+    python tools/mutate.py --only ins-zupt-sign range-mirror -j 1
+    python tools/mutate.py --overlay tests/core/test_new.py   # add an uncommitted file to each copy
+
+Each mutant is a small edit of one file (an exact snippet and its replacement; a few mutants
+change several snippets that must change together, such as every place one constant is
+written). The kinds are those a refactor or a speed-up lets slip: a flipped sign, an index or a
+window one off, a wrong constant, a dropped ``dt``, a transposed matrix, swapped arguments, ``<``
+for ``<=`` at a boundary, a missing term.
+
+A mutant is applied to a private copy of the repository (``git archive HEAD``, plus the
+``--overlay`` paths from the working tree), never to the checkout itself, and that copy's tests
+run with their own numba cache (``NUMBA_CACHE_DIR`` inside the copy, so nothing compiled from a
+mutant is ever loaded elsewhere). The tests are the subset that covers the module
+(``pytest -x -q -p no:cacheprovider <paths>``); the mutant is *killed* when they fail, *timeout*
+when they run longer than ``--timeout`` (also a detection: the code hangs), and *survived* when
+they pass. Before the mutants, the unmutated copy must pass every subset (the baseline).
+
+The score is (killed + timeout) / mutants. ``--json`` writes every outcome.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+from concurrent.futures import ThreadPoolExecutor, as_completed
+from dataclasses import dataclass, field
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+
+# -- test subsets, per module ---------------------------------------------------------------------
+
+QUAT = ["tests/core/test_quaternion.py", "tests/core/test_ins_filter.py", "tests/estimators/test_ekf.py"]
+FILTER = [
+    "tests/core/test_ins_filter.py",
+    "tests/core/test_mutants_filter.py",
+    "tests/estimators",
+    "tests/core/test_constants.py",
+]
+SMOOTH = FILTER + ["tests/fusion/test_fusion_geometry.py"]
+ALIGN = ["tests/core/test_initial_alignment.py", "tests/estimators/test_ekf.py", "tests/core/test_mutants_core.py"]
+WINDOWS = ["tests/detectors", "tests/core/test_stance_check.py", "tests/core/test_mutants_core.py"]
+GAIT = ["tests/core/test_stance_check.py", "tests/detectors/test_adaptive.py", "tests/core/test_mutants_core.py"]
+STRIDES = ["tests/core/test_strides.py", "tests/core/test_mutants_core.py"]
+HEADING_DRIFT = ["tests/estimators", "tests/core/test_mutants_core.py"]
+METRICS = [
+    "tests/core/test_metrics.py",
+    "tests/core/test_paper_metrics.py",
+    "tests/core/test_evaluation.py",
+    "tests/core/test_mutants_core.py",
+]
+DTW = ["tests/core/test_dtw_core.py", "tests/fusion/test_dtw.py", "tests/core/test_mutants_core.py"]
+DETECT = ["tests/detectors", "tests/core/test_mutants_core.py"]
+MADGWICK = ["tests/estimators/test_madgwick.py", "tests/estimators/test_vertical.py", "tests/core/test_constants.py"]
+EKF = ["tests/estimators", "tests/test_testing.py"]
+FUSION = ["tests/fusion", "tests/fusion/test_mutants_fusion.py"]
+
+
+@dataclass(frozen=True)
+class Mutant:
+    """One realistic bug: ``edits`` are (snippet, replacement) or (snippet, replacement, n) with n
+    the occurrence (0-based) when the snippet is not unique in ``path``."""
+
+    name: str
+    path: str
+    edits: tuple
+    tests: list[str] = field(hash=False)
+    kind: str = ""
+
+
+def M(name, path, edits, tests, kind=""):
+    if isinstance(edits[0], str):
+        edits = (edits,)
+    return Mutant(name, path, tuple(edits), tests, kind)
+
+
+Q, MECH, INS, SM = "footnav/core/quaternion.py", "footnav/core/mechanization.py", "footnav/core/ins_filter.py", "footnav/core/smoothing.py"
+AL, WIN, HD = "footnav/core/initial_alignment.py", "footnav/core/windows.py", "footnav/core/heading_drift.py"
+SC, GC, ST = "footnav/core/stance_check.py", "footnav/core/gait_cycles.py", "footnav/core/strides.py"
+MET, DT = "footnav/core/metrics.py", "footnav/core/dtw.py"
+GLRT, THR, ADA = "footnav/detectors/glrt.py", "footnav/detectors/threshold.py", "footnav/detectors/adaptive.py"
+DG, HMM = "footnav/detectors/dual_gait.py", "footnav/detectors/hmm.py"
+MW, EKFP = "footnav/estimators/madgwick.py", "footnav/estimators/ekf.py"
+RC, SV, FD = "footnav/fusion/range_constraint.py", "footnav/fusion/step_vector.py", "footnav/fusion/dtw.py"
+PF, PE, JN = "footnav/fusion/particle.py", "footnav/fusion/particle_ekf.py", "footnav/fusion/joint.py"
+
+MUTANTS: list[Mutant] = [
+    # -- core/quaternion.py ------------------------------------------------------------------
+    M("quat-mul-nb-term", Q, ("out[1] = p[0] * q[1] + p[1] * q[0] + p[2] * q[3] - p[3] * q[2]",
+                              "out[1] = p[0] * q[1] + p[1] * q[0] - p[2] * q[3] + p[3] * q[2]"), QUAT, "sign"),
+    M("quat-rotvec-series-const", Q, ("k = 0.5 - a2 * (1.0 / 48.0", "k = 0.5 - a2 * (1.0 / 24.0"), QUAT, "constant"),
+    M("quat-rotvec-large-half", Q, ("out[0] = np.cos(0.5 * angle)", "out[0] = np.cos(angle)"), QUAT, "constant"),
+    M("quat-matrix-nb-transposed", Q, ("out[1, 2] = 2 * (y * z - w * x)", "out[1, 2] = 2 * (y * z + w * x)"), QUAT, "transpose"),
+    M("quat-matrix-np-transposed", Q, ("np.stack([2 * (x * y + w * z), 1 - 2 * (x * x + z * z)",
+                                       "np.stack([2 * (x * y - w * z), 1 - 2 * (x * x + z * z)"), QUAT, "transpose"),
+    M("quat-from-matrix-w-branch", Q, ("(mi[0, 2] - mi[2, 0]) / s, (mi[1, 0] - mi[0, 1]) / s]",
+                                       "(mi[0, 2] - mi[2, 0]) / s, (mi[0, 1] - mi[1, 0]) / s]"), QUAT, "transpose"),
+    M("quat-from-matrix-x-branch", Q, ("out[i] = [(mi[2, 1] - mi[1, 2]) / s, 0.25 * s",
+                                       "out[i] = [(mi[1, 2] - mi[2, 1]) / s, 0.25 * s"), QUAT, "sign"),
+    M("quat-as-rotvec-limit", Q, ("angle / np.where(s > 0, s, 1.0), 2.0)", "angle / np.where(s > 0, s, 1.0), 1.0)"), QUAT, "constant"),
+    M("quat-from-euler-term", Q, ("sr * cp * cy - cr * sp * sy,", "sr * cp * cy + cr * sp * sy,"), QUAT, "sign"),
+    M("quat-as-euler-pitch", Q, ("2 * (w * y - x * z)", "2 * (w * y + x * z)"), QUAT, "sign"),
+    M("quat-normalize-nb", Q, ("q[i] /= n", "q[i] *= n"), QUAT, "operator"),
+    M("quat-conjugate-index", Q, ("q[..., 1:] *= -1.0", "q[..., 2:] *= -1.0"), QUAT, "off-by-one"),
+    M("quat-from-yaw-sign", Q, ("[np.cos(a), z, z, np.sin(a)]", "[np.cos(a), z, z, -np.sin(a)]"), QUAT, "sign"),
+    # -- core/mechanization.py ---------------------------------------------------------------
+    M("mech-half-rotation", MECH, ("h = 0.25 * dt", "h = 0.5 * dt"), FILTER, "constant"),
+    M("mech-gravity-no-dt", MECH, ("dv -= GRAVITY_MPS2 * dt", "dv -= GRAVITY_MPS2"), FILTER, "dropped dt"),
+    M("mech-position-rectangle", MECH, ("p[f, i] += 0.5 * (v[f, i] + v_new) * dt", "p[f, i] += v[f, i] * dt"), FILTER, "missing term"),
+    M("mech-simpson-weight", MECH, ("a_prev + 2.0 * f_mid[i] + fi", "a_prev + 4.0 * f_mid[i] + fi"), FILTER, "constant"),
+    M("mech-gravity-axis", MECH, ("if i == 2:", "if i == 1:"), FILTER, "off-by-one"),
+    M("mech-nav-side-increment", MECH, ("q_tmp[1] = w * dq[1] + x * dq[0] + y * dq[3] - z * dq[2]",
+                                        "q_tmp[1] = w * dq[1] + x * dq[0] - y * dq[3] + z * dq[2]", 0), FILTER, "transpose"),
+    M("mech-loop-swapped-samples", MECH, ("acc[k - 1], gyr[k - 1], acc[k], gyr[k]", "acc[k], gyr[k - 1], acc[k - 1], gyr[k]"),
+      FILTER, "swapped arguments"),
+    M("mech-bias-sign", MECH, ("imu.gyr - np.asarray(gyro_bias_radps", "imu.gyr + np.asarray(gyro_bias_radps"), FILTER, "sign"),
+    # -- core/ins_filter.py ------------------------------------------------------------------
+    M("ins-zupt-sign", INS, ("y[0], y[1], y[2] = v[f, 0], v[f, 1], v[f, 2]", "y[0], y[1], y[2] = -v[f, 0], -v[f, 1], -v[f, 2]"),
+      FILTER, "sign"),
+    M("ins-q-no-dt", INS, ("cov[o + a, o + a] += q_diag[a] * dt", "cov[o + a, o + a] += q_diag[a]"), FILTER, "dropped dt"),
+    M("ins-f-rows-skew", INS, ("cov[o + 4, j] = v1 + z * a0 - x * a2", "cov[o + 4, j] = v1 - z * a0 + x * a2"), FILTER, "transpose"),
+    M("ins-f-cols-index", INS, ("cov[i, o + 8] += dt * v2", "cov[i, o + 8] += dt * v1"), FILTER, "off-by-one"),
+    M("ins-f-rows-acc-bias-sign", INS, ("cov[o + 3 + i, j] -= dt * (c[i, 0] * b0", "cov[o + 3 + i, j] += dt * (c[i, 0] * b0"), FILTER, "sign"),
+    M("ins-f-cols-gyr-bias-transposed", INS, ("cov[i, o + r] += dt * (c[r, 0] * g0 + c[r, 1] * g1 + c[r, 2] * g2)",
+                                              "cov[i, o + r] += dt * (c[0, r] * g0 + c[1, r] * g1 + c[2, r] * g2)"), FILTER, "transpose"),
+    M("ins-update-missing-r", INS, ("cov[o + 1, o + 2], cov[o + 2, o + 2] + r", "cov[o + 1, o + 2], cov[o + 2, o + 2]"), FILTER, "missing term"),
+    M("ins-zaru-gate", INS, ("ZARU_GATE = 16.27", "ZARU_GATE = 1.627"), FILTER, "constant"),
+    M("ins-sym3-inverse", INS, ("i02 = b * e - c * d", "i02 = c * d - b * e"), FILTER, "sign"),
+    M("ins-feedback-position-sign", INS, ("p[f, i] -= dx[o + 6 + i]", "p[f, i] += dx[o + 6 + i]"), FILTER, "sign"),
+    M("ins-feedback-body-side", INS, ("q_tmp[1] = dq[0] * x + dq[1] * w + dq[2] * z - dq[3] * y",
+                                      "q_tmp[1] = dq[0] * x + dq[1] * w - dq[2] * z + dq[3] * y"), FILTER, "transpose"),
+    M("ins-feedback-gyr-bias-index", INS, ("bg[f, i] -= dx[o + 12 + i]", "bg[f, i] -= dx[o + 9 + i]"), FILTER, "off-by-one"),
+    M("ins-ft-index", INS, ("mu[o + 3] = v0 + dt * mu[o + 6]", "mu[o + 3] = v0 + dt * mu[o + 7]"), SMOOTH, "off-by-one"),
+    M("ins-ft-skew-sign", INS, ("mu[o] = a0 + z * v1 - y * v2", "mu[o] = a0 - z * v1 + y * v2"), SMOOTH, "transpose"),
+    M("ins-finv-sign", INS, ("d[o + 6] -= dt * d[o + 3]", "d[o + 6] += dt * d[o + 3]"), SMOOTH, "sign"),
+    M("ins-smooth-q-no-dt", INS, ("d[o + i] -= q_diag[i] * dt * mu[o + i]", "d[o + i] -= q_diag[i] * mu[o + i]"), SMOOTH, "dropped dt"),
+    M("ins-smooth-position-sign", INS, ("sm_p[k, i] = out_p[k, i] - d[o + 6 + i]", "sm_p[k, i] = out_p[k, i] + d[o + 6 + i]"), SMOOTH, "sign"),
+    M("ins-step-chain-no-correction", INS, ("offset[f, i] = d[f * n + 6 + i] + sm_p[k0, i] - out_p[k0, i]",
+                                            "offset[f, i] = sm_p[k0, i] - out_p[k0, i]"), SMOOTH, "missing term"),
+    M("ins-step-chain-start-index", INS, ("k0 = ev_k[e] - 1", "k0 = ev_k[e]"), SMOOTH, "off-by-one"),
+    M("ins-next-foot-boundary", INS, ("if tn <= t_stop and tn < best:", "if tn < t_stop and tn < best:"), SMOOTH, "boundary"),
+    M("ins-step-end-test", INS, ("and not stance[kn + 1]:", "and not stance[kn]:"), SMOOTH, "off-by-one"),
+    M("ins-zaru-innovation-sign", INS, ("y[3 + i] = bg[f, i] - gyr[kn, i]", "y[3 + i] = gyr[kn, i] - bg[f, i]"), FILTER, "sign"),
+    M("ins-pcov-index", INS, ("out_pcov[kn, 1] = cov[o + POS, o + POS + 1]", "out_pcov[kn, 1] = cov[o + POS, o + POS + 2]"),
+      FILTER, "off-by-one"),
+    M("ins-q-acc-not-squared", INS, ("q[VEL : VEL + 3] = self.acc_mps2_sqrthz**2", "q[VEL : VEL + 3] = self.acc_mps2_sqrthz"),
+      FILTER, "missing term"),
+    M("ins-f-end-of-interval", INS, ("_predict_cov(cov, o, n, f_prev, c, dt, q_diag)", "_predict_cov(cov, o, n, f_n[f], c, dt, q_diag)"),
+      FILTER, "off-by-one"),
+    M("ins-update-r-as-std", INS, ("s = hm @ ph + np.diag(r)", "s = hm @ ph + np.diag(np.sqrt(r))"), SMOOTH + ["tests/fusion"], "wrong unit"),
+    M("ins-update-dx-sign", INS, ("dx = gain @ y", "dx = -(gain @ y)"), SMOOTH + ["tests/fusion"], "sign"),
+    # -- core/smoothing.py -------------------------------------------------------------------
+    M("smooth-caller-adjoint-sign", SM, ("mu += h.T @ (sy - gain.T @ mu)", "mu += h.T @ (sy + gain.T @ mu)"),
+      SMOOTH + ["tests/fusion"], "sign"),
+    M("smooth-initial-position-sign", SM, ("filt._out_p[a : k + 1] - d[6:9]", "filt._out_p[a : k + 1] + d[6:9]"), SMOOTH, "sign"),
+    M("smooth-initial-velocity-dropped", SM, ("sm_v[a : k + 1] = filt._out_v[a : k + 1] - d[3:6]", "sm_v[a : k + 1] = filt._out_v[a : k + 1]"),
+      SMOOTH, "missing term"),
+    M("smooth-caller-updates-order", SM, ("in reversed(cps[b].updates):", "in cps[b].updates:"), SMOOTH + ["tests/fusion"], "order"),
+    M("smooth-step-h-sign", SM, ("self.record[7][e, :, m : 2 * m] = h.T", "self.record[7][e, :, m : 2 * m] = -h.T"),
+      SMOOTH + ["tests/fusion"], "sign"),
+    M("smooth-initial-q-swapped", SM, ("quat.multiply(dq, filt._out_q[a : k + 1])", "quat.multiply(filt._out_q[a : k + 1], dq)"),
+      SMOOTH, "swapped arguments"),
+    M("smooth-keep-threshold", SM, ("or 2 * used < self.capacity:", "or used < self.capacity:"), SMOOTH, "constant"),
+    # -- core/initial_alignment.py -----------------------------------------------------------
+    M("align-roll-sign", AL, ("roll = np.arctan2(f[1], f[2])", "roll = np.arctan2(-f[1], f[2])"), ALIGN, "sign"),
+    M("align-pitch-sign", AL, ("pitch = np.arctan2(-f[0], np.hypot(f[1], f[2]))", "pitch = np.arctan2(f[0], np.hypot(f[1], f[2]))"),
+      ALIGN, "sign"),
+    M("align-min-still-boundary", AL, ("if still.sum() < MIN_STILL_SAMPLES:", "if still.sum() > MIN_STILL_SAMPLES:"), ALIGN, "boundary"),
+    M("align-bias-all-samples", AL, ("gyro_bias_radps=np.mean(gyr[start:stop][still], axis=0)", "gyro_bias_radps=np.mean(gyr[start:stop], axis=0)"),
+      ALIGN, "missing term"),
+    M("align-start-boundary", AL, ("if s0 > 0:", "if s0 > 1:"), ALIGN, "boundary"),
+    # -- core/windows.py ---------------------------------------------------------------------
+    M("win-length-round", WIN, ("2 * int(np.floor(window_s * rate_hz / 2.0", "2 * int(np.round(window_s * rate_hz / 2.0"), WINDOWS, "rounding"),
+    M("win-centred-shift", WIN, ("np.arange(n_samples) - win // 2, 0, n_samples - win)", "np.arange(n_samples) - win // 2 + 1, 0, n_samples - win)"),
+      WINDOWS, "off-by-one"),
+    M("win-rms-denominator", WIN, ("np.maximum(sum_of_squares, 0.0) / win)", "np.maximum(sum_of_squares, 0.0) / (win - 1))"), WINDOWS, "off-by-one"),
+    M("win-variance-sign", WIN, ("mean_sq_c - np.einsum", "mean_sq_c + np.einsum"), WINDOWS, "sign"),
+    M("win-gravity-literal", WIN, ("np.linalg.norm(acc, axis=1) - GRAVITY_MPS2) ** 2", "np.linalg.norm(acc, axis=1) - 9.81) ** 2"),
+      WINDOWS, "constant"),
+    # -- core/heading_drift.py ---------------------------------------------------------------
+    M("drift-lever-sign", HD, ("ax, ay = -vel[k - 1, 1] * dt, vel[k - 1, 0] * dt", "ax, ay = vel[k - 1, 1] * dt, vel[k - 1, 0] * dt"),
+      HEADING_DRIFT, "sign"),
+    M("drift-cross-term", HD, ("npp = ppp + 2.0 * dt * ppb", "npp = ppp + dt * ppb"), HEADING_DRIFT, "constant"),
+    M("drift-walk-no-dt", HD, ("pbb += q2 * dt", "pbb += q2"), HEADING_DRIFT, "dropped dt"),
+    M("drift-sem-no-n", HD, ("np.sqrt(np.mean(np.var(used, axis=0, ddof=1)) / len(used))", "np.sqrt(np.mean(np.var(used, axis=0, ddof=1)))"),
+      HEADING_DRIFT, "missing term"),
+    # -- core/stance_check.py, core/gait_cycles.py -------------------------------------------
+    M("check-swinging-flip", SC, ("swinging = acc_dev[idx] >= SWING_ACC_MPS2", "swinging = acc_dev[idx] <= SWING_ACC_MPS2"), GAIT, "operator"),
+    M("check-over-swing-unfiltered", SC, ("over_swing_s = t[idx[swinging & mask[idx]]]", "over_swing_s = t[idx[mask[idx]]]"), GAIT, "missing term"),
+    M("check-suspicious-boundary", SC, ("return bad >= max(_MIN_WARN", "return bad > max(_MIN_WARN"), GAIT, "boundary"),
+    M("check-missed-time", SC, ("missed_s = 0.5 * (t[a[missed]] + t[b[missed]])", "missed_s = t[a[missed]]"), GAIT, "missing term"),
+    M("gait-stride-mean", GC, ("stride_s = float(np.median(intervals)) / rate_hz", "stride_s = float(np.mean(intervals)) / rate_hz"), GAIT, "statistic"),
+    M("gait-no-max-stride", GC, ("intervals = intervals[intervals < max_stride_s * rate_hz]", "intervals = intervals"), GAIT, "missing term"),
+    M("gait-distance-min", GC, ("distance = max(int(min_stride_s * rate_hz)", "distance = min(int(min_stride_s * rate_hz)"), GAIT, "operator"),
+    M("gait-swing-acc-const", GC, ("SWING_ACC_MPS2 = 2.0", "SWING_ACC_MPS2 = 20.0"), GAIT, "constant"),
+    # -- core/strides.py ---------------------------------------------------------------------
+    M("strides-mid-stance", ST, ("(iv[:, 0] + iv[:, 1] - 1) // 2", "(iv[:, 0] + iv[:, 1]) // 2"), STRIDES, "off-by-one"),
+    M("strides-cadence", ST, ("STEPS_PER_STRIDE * SECONDS_PER_MINUTE / out", "SECONDS_PER_MINUTE / out"), STRIDES, "missing term"),
+    M("strides-turn-wrap", ST, ("return -((-angle + np.pi) % (2.0 * np.pi) - np.pi)", "return (angle + np.pi) % (2.0 * np.pi) - np.pi"),
+      STRIDES, "boundary"),
+    M("strides-turn-swapped", ST, ("quat.multiply(q_end, quat.conjugate(q_start))", "quat.multiply(q_start, quat.conjugate(q_end))"),
+      STRIDES, "swapped arguments"),
+    M("strides-swing-mask", ST, ("swing_dt = np.where(mask, 0.0, dt)", "swing_dt = np.where(mask, dt, 0.0)"), STRIDES, "swapped arguments"),
+    M("strides-clearance-chord", ST, ("np.max(z - (z[0] + frac * (z[-1] - z[0])))", "np.max(z - z[0])"), STRIDES, "missing term"),
+    M("strides-dt-prepend", ST, ("dt = np.diff(t, append=t[-1])", "dt = np.diff(t, prepend=t[0])"), STRIDES, "off-by-one"),
+    # -- core/metrics.py ---------------------------------------------------------------------
+    M("metrics-umeyama-reflection", MET, ("sign[-1] = -1.0", "sign[-1] = 1.0"), METRICS, "missing term"),
+    M("metrics-umeyama-scale-trans", MET, ("trans = mu_d - scale * rot @ mu_s", "trans = mu_d - rot @ mu_s"), METRICS, "missing term"),
+    M("metrics-umeyama-transposed", MET, ("cov = xd.T @ xs / n", "cov = xs.T @ xd / n"), METRICS, "transpose"),
+    M("metrics-start-yaw-sign", MET, ("np.sum(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0])", "np.sum(a[:, 1] * b[:, 0] - a[:, 0] * b[:, 1])"),
+      METRICS, "sign"),
+    M("metrics-rmse-mean", MET, ("return float(np.sqrt(np.mean(np.sum(diff**2, axis=1))))", "return float(np.mean(np.sqrt(np.sum(diff**2, axis=1))))"),
+      METRICS, "statistic"),
+    M("metrics-waypoint-radius", MET, ("near = d <= radius_m", "near = d < radius_m"), METRICS, "boundary"),
+    M("metrics-deviation-min-distance", MET, ("ok = (s >= min_distance_m) & (s > 0)", "ok = (s > min_distance_m) & (s > 0)"), METRICS, "boundary"),
+    M("metrics-step-length-sign", MET, ("err = le - lr", "err = lr - le"), METRICS, "sign"),
+    M("metrics-match-tolerance", MET, ("float(ref_s[ri[0]])) <= tol:", "float(ref_s[ri[0]])) < tol:"), METRICS, "boundary"),
+    M("metrics-percent", MET, ("float(_PERCENT * num / den)", "float(num / den)"), METRICS, "constant"),
+    M("metrics-interp-duplicates", MET, ("if len(tt) < 2 or (np.diff(tt) <= 0).any():", "if len(tt) < 2 or (np.diff(tt) < 0).any():"),
+      METRICS, "boundary"),
+    M("metrics-distance-3d", MET, ("np.cumsum(np.linalg.norm(np.diff(ref[:, :2], axis=0), axis=1))))\n    k",
+                                   "np.cumsum(np.linalg.norm(np.diff(ref, axis=0), axis=1))))\n    k"), METRICS, "index"),
+    # -- core/dtw.py -------------------------------------------------------------------------
+    M("dtw-tie-break", DT, ("v = cur[k - 1]\n                if v < best:", "v = cur[k - 1]\n                if v <= best:"), DTW, "boundary"),
+    M("dtw-end-cell", DT, ("kend = (m - 1) - max(0, n - 1 - band)", "kend = (m - 1) - max(0, n - band)"), DTW, "off-by-one"),
+    M("dtw-backtrack-offset", DT, ("s = steps[i, j - max(0, i - band)]", "s = steps[i, j - max(0, i - band - 1)]"), DTW, "off-by-one"),
+    M("dtw-mean-denominator", DT, ("per = total / n_pairs if", "per = total / n if"), DTW, "wrong variable"),
+    M("dtw-rotation-transposed", DT, ("xy @ np.array([[c, s], [-s, c]])", "xy @ np.array([[c, -s], [s, c]])"), DTW, "transpose"),
+    M("dtw-average-index", DT, ("position = 0.5 * (pa[i] + pb[j])", "position = 0.5 * (pa[i] + pb[i])"), DTW, "wrong index"),
+    M("dtw-heading-bracket", DT, ("step = 2.0 * np.pi / grid", "step = np.pi / grid"), DTW, "constant"),
+    M("dtw-shift-sign", DT, ("shift = pa[0] - pb[0] if", "shift = pb[0] - pa[0] if"), DTW, "sign"),
+    M("dtw-band-check", DT, ("if band_i < abs(n - m):", "if band_i < abs(n - m) - 1:"), DTW, "off-by-one"),
+    # -- detectors ----------------------------------------------------------------------------
+    M("glrt-no-one-over-w", GLRT, ("return acc_term / sigma_acc_mps2**2 + gyr_term / sigma_gyr_radps**2",
+                                   "return win * (acc_term / sigma_acc_mps2**2 + gyr_term / sigma_gyr_radps**2)"), DETECT, "missing term"),
+    M("glrt-sigma-not-squared", GLRT, ("acc_term / sigma_acc_mps2**2", "acc_term / sigma_acc_mps2"), DETECT, "missing term"),
+    M("glrt-sigma-gyr-degrees", GLRT, ("OPENSHOE_SIGMA_GYR_RADPS = 0.1 * np.pi / 180.0", "OPENSHOE_SIGMA_GYR_RADPS = 0.1"), DETECT, "wrong unit"),
+    M("thr-combine-center-shift", THR, ("np.arange(n_samples) - win // 2, 0, k_last)", "np.arange(n_samples) - win // 2 + 1, 0, k_last)"),
+      DETECT, "off-by-one"),
+    M("thr-min-stance-boundary", THR, ("if stop - start < min_len:", "if stop - start <= min_len:"), DETECT, "boundary"),
+    M("thr-min-swing-boundary", THR, ("if next_start - stop < min_gap:", "if next_start - stop <= min_gap:"), DETECT, "boundary"),
+    M("thr-heel-off-index", THR, ('"heel_off": runs[:, 1] - 1}', '"heel_off": runs[:, 1]}'), DETECT, "off-by-one"),
+    M("thr-combine-slice", THR, ("filtered[win // 2 : win // 2 + n_samples]", "filtered[win // 2 + 1 : win // 2 + 1 + n_samples]"),
+      DETECT, "off-by-one"),
+    M("thr-neutral-pad", THR, ('neutral = combine == "all"', 'neutral = combine == "any"'), DETECT, "swapped arguments"),
+    M("adaptive-ceiling-max", ADA, ("np.minimum(height[:-1], height[1:])", "np.maximum(height[:-1], height[1:])"), DETECT, "operator"),
+    M("adaptive-pivot-acc-not-squared", ADA, ("(acc_dev2 < self.pivot_acc_mps2**2)", "(acc_dev2 < self.pivot_acc_mps2)"), DETECT, "missing term"),
+    M("dual-gait-first-peak", DG, ("found = (j >= 0) & (imu.t[starts]", "found = (j > 0) & (imu.t[starts]"), DETECT, "boundary"),
+    M("dual-gait-opening-flat", DG, ("starts = starts[starts > 0]", "starts = starts[starts >= 0]"), DETECT, "boundary"),
+    M("hmm-model-samples", HMM, ("int(math.floor(imu.duration_s * model_rate_hz + 1e-9)) + 1", "int(math.floor(imu.duration_s * model_rate_hz + 1e-9))"),
+      DETECT, "off-by-one"),
+    M("hmm-position-centre", HMM, ("rel = (np.arange(stop - start) + 0.5) / (stop - start)", "rel = np.arange(stop - start) / (stop - start)"),
+      DETECT, "missing term"),
+    # -- estimators ---------------------------------------------------------------------------
+    M("madgwick-gradient-reversed", MW, (("d0 -= beta * s0 / sn", "d0 += beta * s0 / sn"), ("d1 -= beta * s1 / sn", "d1 += beta * s1 / sn"),
+                                         ("d2 -= beta * s2 / sn", "d2 += beta * s2 / sn"), ("d3 -= beta * s3 / sn", "d3 += beta * s3 / sn")),
+      MADGWICK, "sign"),
+    M("madgwick-gravity-9.81", MW, (("a_prev[2] -= GRAVITY_MPS2", "a_prev[2] -= 9.81"),
+                                    ("(GRAVITY_MPS2 if i == 2 else 0.0)", "(9.81 if i == 2 else 0.0)")), MADGWICK, "constant"),
+    M("madgwick-qdot-term", MW, ("0.5 * (q0 * gx + q2 * gz - q3 * gy),", "0.5 * (q0 * gx - q2 * gz + q3 * gy),"), MADGWICK, "sign"),
+    M("madgwick-velocity-rectangle", MW, ("v_new = v[i] + 0.5 * (a_prev[i] + a_new) * dt", "v_new = v[i] + a_new * dt"), MADGWICK, "missing term"),
+    M("madgwick-innovation-sign", MW, ("innov[i] = v[i] - de[3 + i]", "innov[i] = v[i] + de[3 + i]"), MADGWICK, "sign"),
+    M("madgwick-q-no-dt", MW, ("p[3 + i, 3 + i] += var_acc * dt", "p[3 + i, 3 + i] += var_acc"), MADGWICK, "dropped dt"),
+    M("madgwick-output-sign", MW, ("r_out[k, i] = r[i] - de[i]", "r_out[k, i] = r[i] + de[i]"), MADGWICK, "sign"),
+    M("madgwick-magnetic-heading-sign", MW, ("psi = -float(np.arctan2(h[1], h[0]))", "psi = float(np.arctan2(h[1], h[0]))"), MADGWICK, "sign"),
+    M("madgwick-imu-gradient-term", MW, ("s1 = 2.0 * q3 * f0 + 2.0 * q0 * f1 - 4.0 * q1 * f2\n", "s1 = 2.0 * q3 * f0 + 2.0 * q0 * f1 + 4.0 * q1 * f2\n"),
+      MADGWICK, "sign"),
+    M("madgwick-f-transposed", MW, ("m[3 + i, j] = p[3 + i, j] + dt * (c[i, 0] * p[6, j] + c[i, 1] * p[7, j] + c[i, 2] * p[8, j])",
+                                    "m[3 + i, j] = p[3 + i, j] + dt * (c[0, i] * p[6, j] + c[1, i] * p[7, j] + c[2, i] * p[8, j])"),
+      MADGWICK, "transpose"),
+    M("gravity-constant", "footnav/core/types.py", ("GRAVITY_MPS2 = 9.80665", "GRAVITY_MPS2 = 9.81"), MADGWICK + ["tests/estimators/test_ekf.py"],
+      "constant"),
+    # -- fusion ------------------------------------------------------------------------------
+    M("range-mirror", RC, ("z = p[anchor] + sign * bound * u", "z = p[anchor] - sign * bound * u"), FUSION, "sign"),
+    M("range-symmetric-sign", RC, ("centre + 0.5 * bound * u", "centre - 0.5 * bound * u"), FUSION, "sign"),
+    M("range-anchor-swapped", RC, ("anchor = LEFT if standing[LEFT] else RIGHT", "anchor = RIGHT if standing[LEFT] else LEFT"), FUSION,
+      "swapped arguments"),
+    M("range-landing-index", RC, ("imu.t[stance.intervals[1:, 0]]", "imu.t[stance.intervals[1:, 0] - 1]"), FUSION, "off-by-one"),
+    M("step-vector-width-side", SV, ("side = 1.0 if front == LEFT else -1.0", "side = -1.0 if front == LEFT else 1.0"), FUSION, "sign"),
+    M("step-vector-theta-half", SV, ("theta = 2.0 * np.arccos(", "theta = np.arccos("), FUSION, "constant"),
+    M("step-vector-pendulum-factor", SV, ("return 2.0 * leg_length_m * np.sin(0.5 * theta)", "return leg_length_m * np.sin(0.5 * theta)"),
+      FUSION, "constant"),
+    M("step-vector-fit-half", SV, ("ratios.append(0.5 * stride / s1)", "ratios.append(stride / s1)"), FUSION, "constant"),
+    M("step-vector-innovation-sign", SV, ("y = (filt.position(front) - filt.position(rear)) - dp_n", "y = (filt.position(rear) - filt.position(front)) - dp_n"),
+      FUSION, "sign"),
+    M("step-vector-rot-transposed", SV, ("rot = np.array([[c, -sn, 0.0], [sn, c, 0.0]", "rot = np.array([[c, sn, 0.0], [-sn, c, 0.0]"), FUSION, "transpose"),
+    M("step-vector-frame-dropped", SV, ("filt.update(rot.T @ h, rot.T @ y, r)", "filt.update(h, y, r)"), FUSION, "missing term"),
+    M("step-vector-heel-strike-boundary", SV, ("earlier = hs[(hs <= start)", "earlier = hs[(hs < start)"), FUSION, "boundary"),
+    M("dtw-fusion-band-wider", FD, ("band = max(1, int(round(band_s * rate_hz)))", "band = max(1, int(round(band_s * rate_hz)) + 1)"), FUSION, "off-by-one"),
+    M("dtw-fusion-heading-band-wider", FD, ("band = max(int(round(self.band_s * self.dtw_rate_hz)),", "band = max(int(round(self.band_s * self.dtw_rate_hz)) + 1,"),
+      FUSION, "off-by-one"),
+    M("dtw-fusion-heading-sign", FD, ("yaws[RIGHT] += angle", "yaws[RIGHT] -= angle"), FUSION, "sign"),
+    M("dtw-fusion-start-sides", FD, ("[np.array([0.0, half, 0.0]), np.array([0.0, -half, 0.0])]", "[np.array([0.0, -half, 0.0]), np.array([0.0, half, 0.0])]"),
+      FUSION, "swapped arguments"),
+    M("dtw-fusion-offset-side", FD, ("side = 1.0 if moving == LEFT else -1.0", "side = -1.0 if moving == LEFT else 1.0"), FUSION, "sign"),
+    M("particle-update-late", PF, ("(float(imu.t[stop - 1]), foot)", "(float(imu.t[stop]), foot)", 1), FUSION, "off-by-one"),
+    M("particle-paper-update-late", PF, ("(float(imu.t[stop - 1]), foot)", "(float(imu.t[stop]), foot)", 0), FUSION, "off-by-one"),
+    M("particle-weights-unnormalised", PF, (("cum = logw[0] / total", "cum = logw[0]"), ("cum += logw[j] / total", "cum += logw[j]")),
+      FUSION, "missing term"),
+    M("particle-systematic-unnormalised", PF, ("cum = np.cumsum(w / w.sum())", "cum = np.cumsum(w)"), FUSION, "missing term"),
+    M("particle-systematic-points", PF, ("points = (rng.random() + np.arange(n)) / n", "points = (rng.random() + np.arange(n)) / (n + 1)"),
+      FUSION, "off-by-one"),
+    M("particle-rayleigh-mean", PF, ("sigma_m * np.sqrt(np.pi / 2)", "sigma_m * np.sqrt(np.pi)"), FUSION, "constant"),
+    M("particle-mixture-spread", PF, ('+ np.einsum("i,ij,ik->jk", a, d, d)', ""), FUSION, "missing term"),
+    M("particle-eig-radius", PF, ("rad = np.sqrt(0.25 * (p - s) ** 2 + q * q)", "rad = np.sqrt(0.5 * (p - s) ** 2 + q * q)"), FUSION, "constant"),
+    M("particle-foot-offset-sign", PF, ("z_foot = z + side * half_width * lateral", "z_foot = z - side * half_width * lateral"), FUSION, "sign"),
+    M("particle-drift-sign", PF, ("drift = -side * offset_rayleigh", "drift = side * offset_rayleigh"), FUSION, "sign"),
+    M("particle-other-growth", PF, ("cov_o = summary[other][1] + sqrt_t.T @ sqrt_t", "cov_o = summary[other][1]"), FUSION, "missing term"),
+    M("particle-gaussian-half", PF, ('logw = -0.5 * np.einsum("ni,ij,nj->n"', 'logw = -np.einsum("ni,ij,nj->n"'), FUSION, "constant"),
+    M("particle-ekf-scale-sqrt", PE, ("s = sigma_m / math.sqrt(b - a)", "s = sigma_m / (b - a)"), FUSION, "missing term"),
+    M("particle-ekf-q-no-dt", PE, ("cov[VEL + i, VEL + i] += noise[0] * dt", "cov[VEL + i, VEL + i] += noise[0]"), FUSION, "dropped dt"),
+    M("particle-ekf-lateral-transposed", PE, ("lat_x, lat_y = side * c[0, 1], side * c[1, 1]", "lat_x, lat_y = side * c[1, 0], side * c[1, 1]"),
+      FUSION, "transpose"),
+    M("joint-half-width", JN, ("half = 0.5 * float(step_width_m)", "half = float(step_width_m)"), FUSION, "constant"),
+    M("joint-alone-std", JN, ("np.sqrt(fused.position_std[k] ** 2 + grow)", "np.sqrt(grow)"), FUSION, "missing term"),
+    M("joint-alone-rotation-transposed", JN, ("- alone.position[anchor]) @ rot.T + fused.position[k]", "- alone.position[anchor]) @ rot + fused.position[k]"),
+      FUSION, "transpose"),
+]
+
+#: Mutants that cannot change any result, with the reason (reported, not counted as survivors to kill).
+EQUIVALENT: dict[str, str] = {}
+
+
+# -- running ----------------------------------------------------------------------------------------
+
+
+def apply(mutant: Mutant, root: Path) -> None:
+    """Edit ``mutant.path`` under ``root``; ValueError when a snippet is missing or ambiguous."""
+    path = root / mutant.path
+    text = path.read_text(encoding="utf-8")
+    for edit in mutant.edits:
+        old, new = edit[0], edit[1]
+        count = text.count(old)
+        if len(edit) == 3:
+            nth = edit[2]
+            if count <= nth:
+                raise ValueError(f"{mutant.name}: occurrence {nth} of {old!r} not in {mutant.path} ({count} found)")
+            at = -1
+            for _ in range(nth + 1):
+                at = text.index(old, at + 1)
+        else:
+            if count != 1:
+                raise ValueError(f"{mutant.name}: {old!r} occurs {count} times in {mutant.path}, expected once")
+            at = text.index(old)
+        text = text[:at] + new + text[at + len(old) :]
+    path.write_text(text, encoding="utf-8")
+
+
+def export(repo: Path, dest: Path, overlay: list[str]) -> None:
+    """``git archive HEAD`` of ``repo`` into ``dest``, then the ``overlay`` paths from the working tree."""
+    archive = subprocess.run(["git", "-C", str(repo), "archive", "HEAD"], check=True, capture_output=True).stdout
+    subprocess.run(["tar", "-x", "-C", str(dest)], input=archive, check=True)
+    for rel in overlay:
+        src = repo / rel
+        if src.is_dir():
+            shutil.copytree(src, dest / rel, dirs_exist_ok=True, ignore=shutil.ignore_patterns("__pycache__"))
+        else:
+            (dest / rel).parent.mkdir(parents=True, exist_ok=True)
+            shutil.copy2(src, dest / rel)
+
+
+def _env(copy: Path) -> dict[str, str]:
+    """The copy's footnav first on the path (before an editable install of the checkout), its own
+    numba cache."""
+    env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH",)}
+    env["NUMBA_CACHE_DIR"] = str(copy / ".numba-cache")
+    env["PYTHONPATH"] = str(copy)
+    env["PYTHONDONTWRITEBYTECODE"] = "1"
+    return env
+
+
+def imports_the_copy(copy: Path) -> bool:
+    """True when ``import footnav`` in the copy's environment loads the copy, not the checkout."""
+    code = "import footnav, sys; print(footnav.__file__)"
+    out = subprocess.run([sys.executable, "-c", code], cwd=copy, env=_env(copy), capture_output=True, text=True, check=True)
+    return Path(out.stdout.strip()).resolve().is_relative_to(copy.resolve())
+
+
+def run_tests(copy: Path, tests: list[str], timeout_s: float) -> tuple[str, float, str]:
+    """Run ``tests`` in ``copy`` with its own numba cache: (outcome, seconds, last output)."""
+    env = _env(copy)
+    paths = sorted({p for p in tests if (copy / p).exists()}, key=tests.index)
+    cmd = [sys.executable, "-m", "pytest", "-x", "-q", "-p", "no:cacheprovider", *paths]
+    start = time.monotonic()
+    proc = subprocess.Popen(cmd, cwd=copy, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, start_new_session=True)
+    try:
+        out, _ = proc.communicate(timeout=timeout_s)
+    except subprocess.TimeoutExpired:
+        os.killpg(proc.pid, signal.SIGKILL)
+        out, _ = proc.communicate()
+        return "timeout", time.monotonic() - start, out[-2000:]
+    seconds = time.monotonic() - start
+    if proc.returncode == 0:
+        return "survived", seconds, out[-2000:]
+    if proc.returncode == 1:
+        return "killed", seconds, out[-2000:]
+    return "killed", seconds, f"pytest exit {proc.returncode}\n" + out[-2000:]  # errors at collection count too
+
+
+def run_one(mutant: Mutant | None, base: Path, workdir: Path, timeout_s: float, tests: list[str] | None = None) -> dict:
+    copy = Path(tempfile.mkdtemp(prefix="mutant-", dir=workdir))
+    try:
+        shutil.copytree(base, copy, dirs_exist_ok=True)
+        if mutant is not None:
+            apply(mutant, copy)
+        outcome, seconds, tail = run_tests(copy, tests or mutant.tests, timeout_s)
+    finally:
+        shutil.rmtree(copy, ignore_errors=True)
+    name = mutant.name if mutant else "baseline"
+    return {"name": name, "path": mutant.path if mutant else "", "kind": mutant.kind if mutant else "",
+            "outcome": outcome, "seconds": round(seconds, 1), "tail": tail}
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--list", action="store_true", help="list the mutants and exit")
+    parser.add_argument("--check", action="store_true", help="check that every mutant applies to HEAD, run nothing")
+    parser.add_argument("--only", nargs="+", metavar="NAME", help="run these mutants only")
+    parser.add_argument("-j", "--jobs", type=int, default=2, help="mutants run at once (default 2; each compiles numba kernels)")
+    parser.add_argument("--timeout", type=float, default=600.0, help="seconds per mutant before it counts as a timeout")
+    parser.add_argument("--overlay", nargs="*", default=[], metavar="PATH", help="working-tree paths copied over HEAD in each copy")
+    parser.add_argument("--no-baseline", action="store_true", help="skip the unmutated run")
+    parser.add_argument("--json", type=Path, help="write every outcome here")
+    args = parser.parse_args(argv)
+
+    mutants = MUTANTS
+    names = [m.name for m in MUTANTS]
+    if len(set(names)) != len(names):
+        raise SystemExit("duplicate mutant names")
+    if args.only:
+        unknown = set(args.only) - set(names)
+        if unknown:
+            raise SystemExit(f"unknown mutants: {', '.join(sorted(unknown))}")
+        mutants = [m for m in MUTANTS if m.name in args.only]
+    if args.list:
+        for m in mutants:
+            print(f"{m.name:40s} {m.path:38s} {m.kind}")
+        print(f"{len(mutants)} mutants in {len({m.path for m in mutants})} files")
+        return 0
+
+    workdir = Path(tempfile.mkdtemp(prefix="footnav-mutate-"))
+    try:
+        base = workdir / "base"
+        base.mkdir()
+        export(ROOT, base, args.overlay)
+        if args.check:
+            bad = 0
+            for m in mutants:
+                scratch = workdir / "check"
+                shutil.rmtree(scratch, ignore_errors=True)
+                (scratch / m.path).parent.mkdir(parents=True)
+                shutil.copy2(base / m.path, scratch / m.path)
+                try:
+                    apply(m, scratch)
+                except ValueError as exc:
+                    print(exc)
+                    bad += 1
+            print(f"{len(mutants) - bad} of {len(mutants)} mutants apply")
+            return 1 if bad else 0
+        t0 = time.monotonic()
+        if not imports_the_copy(base):
+            raise SystemExit("import footnav in the copy loads another footnav: the mutants would not be tested")
+        if not args.no_baseline:
+            every = sorted({p for m in mutants for p in m.tests})
+            base_run = run_one(None, base, workdir, 4 * args.timeout, every)
+            print(f"baseline: {base_run['outcome']} in {base_run['seconds']} s", flush=True)
+            if base_run["outcome"] != "survived":
+                print(base_run["tail"])
+                print("the unmutated copy fails its tests: fix that first")
+                return 2
+        results = []
+        with ThreadPoolExecutor(max_workers=max(1, args.jobs)) as pool:
+            futures = [pool.submit(run_one, m, base, workdir, args.timeout) for m in mutants]
+            for fut in as_completed(futures):
+                r = fut.result()
+                results.append(r)
+                print(f"[{len(results):3d}/{len(mutants)}] {r['outcome']:8s} {r['seconds']:6.1f} s  {r['name']}", flush=True)
+    finally:
+        shutil.rmtree(workdir, ignore_errors=True)
+    order = {n: i for i, n in enumerate(names)}
+    results.sort(key=lambda r: order[r["name"]])
+    detected = [r for r in results if r["outcome"] in ("killed", "timeout")]
+    survivors = [r for r in results if r["outcome"] == "survived"]
+    score = 100.0 * len(detected) / len(results) if results else float("nan")
+    print()
+    print(f"{len(results)} mutants, {len(detected)} killed ({sum(r['outcome'] == 'timeout' for r in results)} by timeout), "
+          f"{len(survivors)} survived: score {score:.1f} % in {(time.monotonic() - t0) / 60:.1f} min")
+    for r in survivors:
+        why = EQUIVALENT.get(r["name"], "")
+        print(f"  survived: {r['name']} ({r['path']}){'  equivalent: ' + why if why else ''}")
+    if args.json:
+        args.json.write_text(json.dumps({"score_percent": score, "results": results}, indent=1), encoding="utf-8")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

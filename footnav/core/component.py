@@ -17,7 +17,7 @@ from dataclasses import dataclass
 from numbers import Integral, Real
 from typing import Any, ClassVar, Mapping
 
-from footnav.core.errors import InvalidParameterError
+from footnav.core.errors import CompositionError, InvalidParameterError
 
 __all__ = [
     "Component",
@@ -240,6 +240,50 @@ class FootEstimator(Component):
 
     def estimate(self, imu, stance):  # pragma: no cover - abstract
         raise NotImplementedError
+
+
+#: What a coupled fusion needs of the estimator it drives step by step (footnav.fusion.joint):
+#: these methods, and these constructor parameters (the fusion clones the estimator into a
+#: forward filter with ``clone(smoother="none", heading="first-step")``).
+STEPABLE_METHODS = ("start", "trajectory", "estimate", "clone")
+STEPABLE_PARAMS = ("smoother", "heading")
+
+
+def stepable_gaps(estimator: Component) -> list[str]:
+    """What ``estimator`` lacks of the step-able filter contract coupled fusions drive.
+
+    The contract (written out; footnav's ``ekf`` is its reference implementation):
+
+    * ``start(imus, stances, *, initial_yaw_rad=None, initial_position_m=None)`` returns a
+      :class:`footnav.core.ins_filter.InsFilter` over all the feet, aligned at their first stances;
+    * ``trajectory(filt, foot, stance, smoothed)`` turns a finished run into a FootTrajectory;
+    * ``estimate(imu, stance)`` (every estimator), ``clone(**overrides)`` (every component);
+    * parameters ``smoother`` (``"none"``, ``"step"``, ``"whole"``) and ``heading``
+      (``"first-step"`` among its values); optionally ``closed_loop`` and ``closed_loop_std_m``
+      for the closed loop of Chistyakov et al. (2021), Alg. 1.
+
+    Returns
+    -------
+    list of str
+        The missing methods and parameters, e.g. ``["method trajectory", "parameter smoother"]``;
+        empty when the estimator can be driven.
+    """
+    missing = [f"method {m}" for m in STEPABLE_METHODS if not callable(getattr(estimator, m, None))]
+    params = estimator.get_params() if callable(getattr(estimator, "get_params", None)) else {}
+    missing += [f"parameter {p}" for p in STEPABLE_PARAMS if p not in params]
+    return missing
+
+
+def require_stepable(fusion: Component, estimator: Component) -> None:
+    """Raise CompositionError unless ``estimator`` meets the step-able filter contract
+    (:func:`stepable_gaps`), naming what it lacks."""
+    gaps = stepable_gaps(estimator)
+    if gaps:
+        raise CompositionError(
+            f"fusion {fusion.name!r} drives the per-foot filters step by step and needs an estimator with a "
+            f"step-able filter, such as 'ekf' (footnav.core.component.stepable_gaps gives the contract); "
+            f"{estimator.name!r} lacks {', '.join(gaps)}"
+        )
 
 
 class Fusion(Component):

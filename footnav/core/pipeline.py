@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING, Any, Mapping
 
 import numpy as np
 
-from footnav.core.component import Component, FootEstimator, Fusion, StanceDetector
+from footnav.core.component import Component, FootEstimator, Fusion, StanceDetector, require_stepable
 from footnav.core.errors import (
     CompositionError,
     DataNotFoundError,
@@ -141,11 +141,8 @@ class Pipeline:
                 )
             if c.needs_magnetometer and not magnetometer:
                 raise CompositionError(f"{c.kind} {c.name!r} needs a magnetometer, but the data have none")
-        if getattr(self.fusion, "needs_stepable_estimator", False) and not callable(getattr(self.estimator, "start", None)):
-            raise CompositionError(
-                f"fusion {self.fusion.name!r} drives the per-foot filters step by step and needs an estimator with a "
-                f"step-able filter (start(imus, stances)), such as 'ekf'; {self.estimator.name!r} has none"
-            )
+        if getattr(self.fusion, "needs_stepable_estimator", False):
+            require_stepable(self.fusion, self.estimator)
 
     @staticmethod
     def _origin(comp: Component) -> str:

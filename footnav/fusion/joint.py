@@ -24,6 +24,7 @@ from typing import Any
 import numpy as np
 
 from footnav.core import quaternion as quat
+from footnav.core.component import require_stepable
 from footnav.core.errors import CompositionError, DataQualityWarning, InvalidInputError
 from footnav.core.final_rest import final_rest
 from footnav.core.ins_filter import InsFilter
@@ -48,15 +49,6 @@ def check_two_feet(fusion: Any, estimator: Any, right: Any, stance_right: Any) -
     if right is None or stance_right is None:
         raise CompositionError(f"fusion {fusion.name!r} needs both feet")
     require_stepable(fusion, estimator)
-
-
-def require_stepable(fusion: Any, estimator: Any) -> None:
-    """Raise CompositionError unless ``estimator`` exposes a step-able filter (``start``)."""
-    if not callable(getattr(estimator, "start", None)):
-        raise CompositionError(
-            f"fusion {fusion.name!r} drives the per-foot filters step by step and needs an estimator "
-            f"with a step-able filter (start(imus, stances)), such as 'ekf'; {estimator.name!r} has none"
-        )
 
 
 def forward_only(estimator: Any) -> Any:

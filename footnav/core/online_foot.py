@@ -16,7 +16,6 @@ segment is an :class:`~footnav.core.ins_filter.InsFilter` over empty arrays that
 from __future__ import annotations
 
 import math
-import warnings
 from collections import deque
 from collections.abc import Mapping
 from dataclasses import dataclass
@@ -291,8 +290,7 @@ class FootStream:
         # (jittered sampling gives windows of other lengths), so it sees the samples on a grid
         # at that rate (a windowed detector counts samples; the time stamps give it the rate)
         t = t[0] + np.arange(len(t)) / self.rate_hz
-        with warnings.catch_warnings(), recording():  # a window's gaps were warned about with the recording
-            warnings.simplefilter("ignore")
+        with recording(quiet=True):  # a window's gaps were warned about with the recording
             stance = self.stream.pipeline.detector.detect(ImuData(t=t, acc=acc.copy(), gyr=gyr.copy()))
         new = np.asarray(stance.mask, dtype=bool)[self.n_final - a : frontier - a]
         mask[self.n_final - a : frontier - a] = new

@@ -36,6 +36,8 @@ class RecordedWarning:
 
 
 _LOG: contextvars.ContextVar[list[RecordedWarning] | None] = contextvars.ContextVar("footnav_warning_log", default=None)
+#: True inside ``recording(quiet=True)``: warnings are recorded, not shown.
+_QUIET: contextvars.ContextVar[bool] = contextvars.ContextVar("footnav_warning_quiet", default=False)
 
 
 def warn(message: str, category: type[Warning] = DataQualityWarning, stacklevel: int = 1) -> None:
@@ -54,22 +56,29 @@ def warn(message: str, category: type[Warning] = DataQualityWarning, stacklevel:
     log = _LOG.get()
     if log is not None:
         log.append(RecordedWarning(category, str(message)))
-    warnings.warn(message, category, stacklevel=stacklevel + 1)
+    if not _QUIET.get():
+        warnings.warn(message, category, stacklevel=stacklevel + 1)
 
 
 @contextlib.contextmanager
-def recording() -> Iterator[list[RecordedWarning]]:
+def recording(*, quiet: bool = False) -> Iterator[list[RecordedWarning]]:
     """Collect the warnings :func:`warn` issues in this context until the block ends.
 
     Nested blocks each see their own warnings; the outer block sees the inner's too, since a
-    warning inside a nested run is also a warning of the enclosing one.
+    warning inside a nested run is also a warning of the enclosing one. With ``quiet`` the
+    block's warnings are only collected, neither shown nor passed to the outer block (for work
+    repeated on overlapping windows, such as online detection, whose warnings were already said
+    once). Unlike ``warnings.catch_warnings`` it changes no process-wide state.
     """
     outer = _LOG.get()
     log: list[RecordedWarning] = []
     token = _LOG.set(log)
+    quiet_token = _QUIET.set(True) if quiet else None
     try:
         yield log
     finally:
         _LOG.reset(token)
-        if outer is not None:
+        if quiet_token is not None:
+            _QUIET.reset(quiet_token)
+        elif outer is not None:
             outer.extend(log)

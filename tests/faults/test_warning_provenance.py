@@ -102,3 +102,15 @@ def test_nested_recordings_each_see_their_own_and_the_outer_sees_all():
 def test_warn_outside_a_run_is_an_ordinary_warning():
     with pytest.warns(footnav.DataQualityWarning, match="plain"):
         footnav.warn("plain")
+
+
+def test_a_quiet_recording_collects_without_showing_or_passing_up():
+    with warnings.catch_warnings(record=True) as shown:
+        warnings.simplefilter("always")
+        with recording() as outer:
+            with recording(quiet=True) as inner:
+                footnav.warn("hidden")
+            footnav.warn("said")
+    assert [w.message for w in inner] == ["hidden"]
+    assert [w.message for w in outer] == ["said"]
+    assert [str(w.message) for w in shown] == ["said"]

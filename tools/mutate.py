@@ -44,9 +44,15 @@ ROOT = Path(__file__).resolve().parents[1]
 
 # -- test subsets, per module ---------------------------------------------------------------------
 
-QUAT = ["tests/core/test_quaternion.py", "tests/core/test_ins_filter.py", "tests/estimators/test_ekf.py"]
+QUAT = [
+    "tests/core/test_quaternion.py",
+    "tests/core/test_mutants_core.py",
+    "tests/core/test_ins_filter.py",
+    "tests/estimators/test_ekf.py",
+]
 FILTER = [
     "tests/core/test_ins_filter.py",
+    "tests/core/test_mutants_core.py",
     "tests/core/test_mutants_filter.py",
     "tests/estimators",
     "tests/core/test_constants.py",
@@ -65,9 +71,13 @@ METRICS = [
 ]
 DTW = ["tests/core/test_dtw_core.py", "tests/fusion/test_dtw.py", "tests/core/test_mutants_core.py"]
 DETECT = ["tests/detectors", "tests/core/test_mutants_core.py"]
-MADGWICK = ["tests/estimators/test_madgwick.py", "tests/estimators/test_vertical.py", "tests/core/test_constants.py"]
-EKF = ["tests/estimators", "tests/test_testing.py"]
-FUSION = ["tests/fusion", "tests/fusion/test_mutants_fusion.py"]
+MADGWICK = [
+    "tests/estimators/test_madgwick.py",
+    "tests/estimators/test_mutants_estimators.py",
+    "tests/estimators/test_vertical.py",
+    "tests/core/test_constants.py",
+]
+FUSION = ["tests/fusion"]
 
 
 @dataclass(frozen=True)
@@ -434,6 +444,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--timeout", type=float, default=600.0, help="seconds per mutant before it counts as a timeout")
     parser.add_argument("--overlay", nargs="*", default=[], metavar="PATH", help="working-tree paths copied over HEAD in each copy")
     parser.add_argument("--no-baseline", action="store_true", help="skip the unmutated run")
+    parser.add_argument("--tests", nargs="+", metavar="PATH", help="run these tests for every mutant instead of its subset")
     parser.add_argument("--json", type=Path, help="write every outcome here")
     args = parser.parse_args(argv)
 
@@ -475,7 +486,7 @@ def main(argv: list[str] | None = None) -> int:
         if not imports_the_copy(base):
             raise SystemExit("import footnav in the copy loads another footnav: the mutants would not be tested")
         if not args.no_baseline:
-            every = sorted({p for m in mutants for p in m.tests})
+            every = args.tests or sorted({p for m in mutants for p in m.tests})
             base_run = run_one(None, base, workdir, 4 * args.timeout, every)
             print(f"baseline: {base_run['outcome']} in {base_run['seconds']} s", flush=True)
             if base_run["outcome"] != "survived":
@@ -484,7 +495,7 @@ def main(argv: list[str] | None = None) -> int:
                 return 2
         results = []
         with ThreadPoolExecutor(max_workers=max(1, args.jobs)) as pool:
-            futures = [pool.submit(run_one, m, base, workdir, args.timeout) for m in mutants]
+            futures = [pool.submit(run_one, m, base, workdir, args.timeout, args.tests) for m in mutants]
             for fut in as_completed(futures):
                 r = fut.result()
                 results.append(r)

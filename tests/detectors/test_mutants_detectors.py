@@ -1,0 +1,50 @@
+"""Detector tests that kill mutants of ``tools/mutate.py`` the rest of the suite let through.
+
+Expected values are counted by hand from the rules in the docstrings.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from footnav.core.types import stance_intervals
+from footnav.detectors.threshold import stance_result
+
+
+def _runs(mask):
+    return stance_intervals(np.asarray(mask)).tolist()
+
+
+# thr-min-stance-boundary: a stance of exactly min_stance_s (5 samples at 100 Hz) is kept, one of
+# 4 samples is dropped
+def test_a_stance_of_exactly_the_minimum_is_kept():
+    mask = np.zeros(100, bool)
+    mask[10:15] = True  # 5 samples
+    mask[60:64] = True  # 4 samples
+    out = stance_result(mask, 100.0, 0.05, 0.0, np.zeros(100), {})
+    assert _runs(out.mask) == [[10, 15]]
+
+
+# thr-min-swing-boundary: a gap of exactly min_swing_s (20 samples at 100 Hz) is a swing, one of
+# 19 samples is bridged
+def test_a_swing_of_exactly_the_minimum_is_kept():
+    mask = np.zeros(200, bool)
+    mask[0:30] = True
+    mask[50:80] = True  # gap 30..50: 20 samples
+    mask[99:130] = True  # gap 80..99: 19 samples
+    out = stance_result(mask, 100.0, 0.0, 0.2, np.zeros(200), {})
+    assert _runs(out.mask) == [[0, 30], [50, 130]]
+
+
+# dual-gait-first-peak: the first landing (after the walk's first swing peak) has its heel strike
+# too: every heel strike of the simulator's truth is found, within 2 samples
+def test_dual_gait_finds_every_heel_strike_including_the_first():
+    import footnav
+    from footnav.detectors.dual_gait import DualGaitDetector
+
+    rec = footnav.simulate("straight", seed=1, distance_m=8.0)
+    left, right = DualGaitDetector().detect_pair(rec.left, rec.right)
+    for found, truth in ((left, rec.truth_left), (right, rec.truth_right)):
+        hs, ref = found.events["heel_strike"], truth.events["heel_strike"]
+        assert len(hs) == len(ref)
+        np.testing.assert_allclose(hs, ref, atol=2)

@@ -342,7 +342,18 @@ MUTANTS: list[Mutant] = [
 ]
 
 #: Mutants that cannot change any result, with the reason (reported, not counted as survivors to kill).
-EQUIVALENT: dict[str, str] = {}
+EQUIVALENT: dict[str, str] = {
+    "smooth-initial-position-sign": "P0 has zero position rows in every footnav start (the start position defines the "
+    "frame), so d = P0 mu has d[6:9] = 0 and its sign cannot matter",
+    "smooth-keep-threshold": "which segments the whole-walk smoother keeps in memory is a memory policy: kept and "
+    "replayed segments smooth exactly alike (tests/core/test_ins_filter.py)",
+    "dual-gait-opening-flat": "a flat zone at sample 0 has no swing peak at or before it (find_peaks never reports "
+    "the first sample), so j = -1 and it is dropped either way",
+    "dual-gait-first-peak": "in practice: the pitch rate has a toe-off and a mid-swing peak, so the first landing's "
+    "last peak has j >= 1; j = 0 needs a recording that starts inside the first swing",
+    "hmm-position-centre": "in practice: +0.5 moves every state's mean position within a segment by the same "
+    "0.5 / L; only their order is used, and it changes only for states closer than that",
+}
 
 
 # -- running ----------------------------------------------------------------------------------------
@@ -463,6 +474,7 @@ def main(argv: list[str] | None = None) -> int:
         print(f"{len(mutants)} mutants in {len({m.path for m in mutants})} files")
         return 0
 
+    signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))  # so the copies are removed (finally below)
     workdir = Path(tempfile.mkdtemp(prefix="footnav-mutate-"))
     try:
         base = workdir / "base"

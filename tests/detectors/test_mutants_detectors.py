@@ -36,8 +36,8 @@ def test_a_swing_of_exactly_the_minimum_is_kept():
     assert _runs(out.mask) == [[0, 30], [50, 130]]
 
 
-# dual-gait-first-peak: the first landing (after the walk's first swing peak) has its heel strike
-# too: every heel strike of the simulator's truth is found, within 2 samples
+# dual-gait-first-peak (written for it; it does not kill it, see docs/reliability.md): every heel
+# strike of the simulator's truth is found, the first landing's too, within 2 samples
 def test_dual_gait_finds_every_heel_strike_including_the_first():
     import footnav
     from footnav.detectors.dual_gait import DualGaitDetector

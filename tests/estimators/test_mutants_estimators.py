@@ -39,10 +39,25 @@ def test_madgwick_velocity_integrates_a_linear_force_exactly(push_and_stop):
     np.testing.assert_allclose(traj.position[k, 0], jerk / 6, atol=1e-3)
 
 
-# madgwick-innovation-sign, madgwick-output-sign: the ZUPTs take the left-over velocity out and
-# the position stops moving
+# the ZUPTs take the left-over velocity out and the position stops moving
 def test_madgwick_zupts_stop_the_foot(push_and_stop):
     t, jerk, traj = push_and_stop
     assert np.abs(traj.velocity[-1]).max() < 0.01
     late = t > 2.5
     assert np.ptp(traj.position[late, 0]) < 0.01
+
+
+# madgwick-output-sign (madgwick-innovation-sign survives it, see docs/reliability.md):
+# a vertical accelerometer bias (0.05 m/s^2) is learnt during a 3 s stance as the acceleration error state; in a 1 s "swing" of the still foot
+# the corrected output then stays put, where the raw integral drifts b T^2 / 2 = 25 mm
+def test_madgwick_learns_an_accelerometer_bias_at_standstill():
+    rate, bias = 100.0, 0.05
+    t = np.arange(401) / rate
+    acc = np.tile([0.0, 0.0, G + bias], (len(t), 1))
+    stance = t <= 3.0
+    imu = ImuData(t=t, acc=acc, gyr=np.zeros((len(t), 3)))
+    est = MadgwickEstimator(beta_radps=1e-9, heading="sensor", gyro_bias="none", use_magnetometer=False)
+    traj = est.estimate(imu, StanceResult(stance))
+    # measured 7.4 mm (the bias is partly learnt in 3 s): at most half the raw drift
+    assert abs(traj.position[-1, 2]) < 0.0125
+    assert abs(traj.velocity[-1, 2]) < 0.025  # raw: b T = 50 mm/s

@@ -56,6 +56,14 @@ def _qrot(q, v):
     )
 
 
+def _mean_rate_turn(q, w_a, w_b, dt):
+    """``q`` turned by the rotation vector of the mean of the rates ``w_a``, ``w_b`` over ``dt``."""
+    r = [0.5 * (w_a[i] + w_b[i]) * dt for i in range(3)]
+    angle = math.sqrt(r[0] ** 2 + r[1] ** 2 + r[2] ** 2)
+    s = math.sin(0.5 * angle) / angle if angle > 0 else 0.5
+    return _qmul(q, (math.cos(0.5 * angle), s * r[0], s * r[1], s * r[2]))
+
+
 def _strapdown(imu: ImuData, q0: np.ndarray, p0: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Independent strapdown from rest at ``p0`` with attitude ``q0``: position, velocity (N, 3).
 
@@ -72,10 +80,7 @@ def _strapdown(imu: ImuData, q0: np.ndarray, p0: np.ndarray) -> tuple[np.ndarray
     pos, vel = [list(p)], [list(v)]
     for k in range(len(t) - 1):
         dt = t[k + 1] - t[k]
-        r = [0.5 * (w[k][i] + w[k + 1][i]) * dt for i in range(3)]
-        angle = math.sqrt(r[0] ** 2 + r[1] ** 2 + r[2] ** 2)
-        s = math.sin(0.5 * angle) / angle if angle > 0 else 0.5
-        q = _qmul(q, (math.cos(0.5 * angle), s * r[0], s * r[1], s * r[2]))
+        q = _mean_rate_turn(q, w[k], w[k + 1], dt)
         norm = math.sqrt(sum(c * c for c in q))
         q = tuple(c / norm for c in q)
         fa = _qrot(q, f[k + 1])
@@ -500,11 +505,7 @@ def _attitude(imu: ImuData, q0: np.ndarray) -> tuple[float, float, float, float]
     t, w = imu.t.tolist(), imu.gyr.tolist()
     q = tuple(float(c) for c in q0)
     for k in range(len(t) - 1):
-        dt = t[k + 1] - t[k]
-        r = [0.5 * (w[k][i] + w[k + 1][i]) * dt for i in range(3)]
-        angle = math.sqrt(r[0] ** 2 + r[1] ** 2 + r[2] ** 2)
-        s = math.sin(0.5 * angle) / angle if angle > 0 else 0.5
-        q = _qmul(q, (math.cos(0.5 * angle), s * r[0], s * r[1], s * r[2]))
+        q = _mean_rate_turn(q, w[k], w[k + 1], t[k + 1] - t[k])
     return q
 
 

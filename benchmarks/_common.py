@@ -1,4 +1,4 @@
-"""What the benchmark scripts share: the machine's name and best-of-N timing."""
+"""What the benchmark scripts share: the machine's name, best-of-N timing and the simulated walk."""
 
 from __future__ import annotations
 
@@ -28,3 +28,14 @@ def best_of(fn: Callable[[], Any], repeat: int) -> tuple[float, Any]:
         out = fn()
         times.append(time.perf_counter() - t0)
     return min(times), out
+
+
+#: The simulator's default walking speed: stride length 1.4 m over a stride period of 1.1 s, m/s.
+WALK_SPEED_MPS = 1.4 / 1.1
+
+
+def straight_walk(minutes: float, rate_hz: float, seed: int = 0):
+    """A simulated two-foot straight walk lasting about ``minutes`` at ``rate_hz``."""
+    import footnav
+
+    return footnav.simulate("straight", seed=seed, rate_hz=rate_hz, distance_m=minutes * 60 * WALK_SPEED_MPS)

@@ -15,7 +15,7 @@ from __future__ import annotations
 import argparse
 import platform
 
-from _common import best_of, cpu_name  # benchmarks/_common.py (scripts run from benchmarks/)
+from _common import best_of, cpu_name, straight_walk  # benchmarks/_common.py (scripts run from benchmarks/)
 
 #: Issue 13's budget for the default detector, us/sample.
 DETECTOR_BUDGET_US = 0.2
@@ -33,8 +33,7 @@ def main() -> None:
     import footnav
     from footnav.core.stance_check import check_stances
 
-    speed_mps = 1.4 / 1.1  # default stride length / stride period of the simulator
-    rec = footnav.simulate("straight", seed=0, rate_hz=args.rate_hz, distance_m=args.minutes * 60 * speed_mps)
+    rec = straight_walk(args.minutes, args.rate_hz)
     imu = rec.left
     n = imu.n_samples
 

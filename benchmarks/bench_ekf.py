@@ -20,7 +20,7 @@ import time
 import tracemalloc
 
 import numpy as np
-from _common import best_of  # benchmarks/_common.py (scripts run from benchmarks/)
+from _common import best_of, straight_walk  # benchmarks/_common.py (scripts run from benchmarks/)
 
 
 def main() -> None:
@@ -36,8 +36,7 @@ def main() -> None:
     from footnav.estimators.ekf import EkfEstimator
 
     import_s = time.perf_counter() - t0
-    speed_mps = 1.4 / 1.1  # default stride length / stride period of the simulator
-    rec = footnav.simulate("straight", seed=0, rate_hz=args.rate_hz, distance_m=args.minutes * 60 * speed_mps)
+    rec = straight_walk(args.minutes, args.rate_hz)
     n = rec.left.n_samples
     stance = StanceResult(rec.truth_left.stance)
 

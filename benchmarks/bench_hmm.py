@@ -15,7 +15,7 @@ import os
 import platform
 
 import numpy as np
-from _common import best_of, cpu_name  # benchmarks/_common.py (scripts run from benchmarks/)
+from _common import best_of, cpu_name, straight_walk  # benchmarks/_common.py (scripts run from benchmarks/)
 
 #: The brief's budget for fitting 10 minutes of 100 Hz data, s.
 FIT_BUDGET_S = 5.0
@@ -31,11 +31,9 @@ def main() -> None:
     import hmmlearn
     import sklearn
 
-    import footnav
     from footnav.detectors.hmm import HmmDetector
 
-    speed_mps = 1.4 / 1.1  # default stride length / stride period of the simulator
-    rec = footnav.simulate("straight", seed=0, rate_hz=args.rate_hz, distance_m=args.minutes * 60 * speed_mps)
+    rec = straight_walk(args.minutes, args.rate_hz)
     imu = rec.left
 
     def best(fn) -> tuple[float, object]:

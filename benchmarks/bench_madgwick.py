@@ -22,6 +22,7 @@ import time
 import tracemalloc
 
 import numpy as np
+from _common import WALK_SPEED_MPS  # benchmarks/_common.py (scripts run from benchmarks/)
 
 #: Run in a fresh interpreter: import time, then the first IMU and MARG calls on a short walk.
 _FIRST_CALLS = """
@@ -76,7 +77,7 @@ def main() -> None:
     from footnav.estimators.madgwick import MadgwickEstimator
 
     est = MadgwickEstimator()
-    speed_mps = 1.4 / 1.1  # default stride length / stride period of the simulator
+    speed_mps = WALK_SPEED_MPS
     print("| recording | samples | filter | us/sample | peak MB |")
     print("|---|---|---|---|---|")
     for minutes in args.minutes:

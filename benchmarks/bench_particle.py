@@ -40,6 +40,7 @@ import time
 import warnings
 
 import numpy as np
+from _common import WALK_SPEED_MPS  # benchmarks/_common.py (scripts run from benchmarks/)
 
 import footnav
 from footnav.core.component import Fusion
@@ -180,7 +181,7 @@ def main() -> None:
     if args.accuracy:
         accuracy(args.seeds)
         return
-    speed_mps = 1.4 / 1.1  # default stride length / stride period of the simulator
+    speed_mps = WALK_SPEED_MPS
     side_m = args.minutes * 60 * speed_mps / 8  # two laps of a square
     rec = footnav.simulate("path", seed=11, segments=[(side_m, 90.0)] * 8, gyr_bias_walk_radps2_sqrthz=5e-5)
     runs = {

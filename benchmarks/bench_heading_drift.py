@@ -1,0 +1,42 @@
+"""Cost of the heading-drift term in position_std (issue 14): the EKF with and without it.
+
+    python benchmarks/bench_heading_drift.py [--minutes 60] [--repeat 3]
+
+Both variants run in this one process on the same simulated walk and stance mask (threshold
+detector), whole-walk smoother; the figure is the ratio of their best-of-N times.
+"""
+
+from __future__ import annotations
+
+import argparse
+import warnings
+
+from _common import best_of, cpu_name, straight_walk  # benchmarks/_common.py (scripts run from benchmarks/)
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--minutes", type=float, default=60.0)
+    ap.add_argument("--rate-hz", type=float, default=100.0)
+    ap.add_argument("--repeat", type=int, default=3)
+    args = ap.parse_args()
+    warnings.simplefilter("ignore")
+
+    import footnav
+
+    imu = straight_walk(args.minutes, args.rate_hz).left
+    stance = footnav.make_detector("threshold").detect(imu)
+    n = imu.n_samples
+    times = {}
+    for on in (False, True):
+        est = footnav.make_estimator("ekf", heading_drift_in_std=on)
+        est.estimate(imu, stance)  # compile / warm
+        times[on], _ = best_of(lambda est=est: est.estimate(imu, stance), args.repeat)
+    print(f"machine: {cpu_name()}; {n} samples ({args.minutes:g} min at {args.rate_hz:g} Hz)")
+    print(f"ekf whole-walk, heading drift in std off: {times[False] / n * 1e6:.3f} us/sample")
+    print(f"ekf whole-walk, heading drift in std on:  {times[True] / n * 1e6:.3f} us/sample")
+    print(f"ratio on / off: {times[True] / times[False]:.3f}")
+
+
+if __name__ == "__main__":
+    main()

@@ -206,11 +206,17 @@ def cmd_plugins(args: argparse.Namespace) -> int:
 def _pipeline_from_args(args: argparse.Namespace):
     from footnav.core.pipeline import load_pipeline, make_pipeline
 
+    sync = getattr(args, "sync", None)
     if args.pipeline:
         if any(getattr(args, k) for k in ("detector", "estimator", "fusion")):
             raise FootnavError("give either --pipeline or --detector/--estimator/--fusion, not both")
-        return load_pipeline(args.pipeline)
-    return make_pipeline(args.detector or "adaptive", args.estimator or "ekf", args.fusion or "independent")
+        pipeline = load_pipeline(args.pipeline)
+        if sync is not None:
+            if pipeline.sync is not None:
+                raise FootnavError(f"{args.pipeline} has a [sync] table already; give it or --sync, not both")
+            return make_pipeline(pipeline.detector, pipeline.estimator, pipeline.fusion, sync=sync)
+        return pipeline
+    return make_pipeline(args.detector or "adaptive", args.estimator or "ekf", args.fusion or "independent", sync=sync)
 
 
 #: CLI flag -> reader option (footnav.core.io.load.reader_options says which reader takes which).
@@ -699,7 +705,10 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--rate-hz", type=_positive, help="sampling rate, Hz, for files without time stamps (e.g. headerless 6-column)")
     p.add_argument("--drop-duplicates", action="store_true",
                    help="also drop rows that repeat a time stamp with different values (exact copies are always dropped; recorded)")
-    p.add_argument("--pipeline", help="pipeline TOML file ([detector], [estimator], [fusion] tables)")
+    p.add_argument("--pipeline", help="pipeline TOML file ([detector], [estimator], [fusion] tables, optional [sync])")
+    p.add_argument("--sync", choices=["data"],
+                   help="put the right foot on the left foot's clock first, found from the data (two feet recorded "
+                        "on unsynchronised clocks; both should start and end standing). More options: a [sync] table")
     p.add_argument("--detector", help="detector name (see footnav plugins)")
     p.add_argument("--estimator", help="estimator name")
     p.add_argument("--fusion", help="fusion name")

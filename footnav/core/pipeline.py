@@ -311,7 +311,7 @@ class Pipeline:
     def online(self, feet: int = 2, **options: Any) -> "OnlineStream":
         """The pipeline on a live stream: push chunks of samples as they arrive, get what became
         final (:class:`footnav.core.online.OnlineStream`; options ``max_wait_s``,
-        ``clock_offset_s``, ``keep``). Refused (CompositionError) for components that need the
+        ``clock_offset_s``, ``clocks``, ``keep``). Refused (CompositionError) for components that need the
         whole walk.
 
         Examples
@@ -325,8 +325,8 @@ class Pipeline:
 
         if self.sync is not None:
             raise CompositionError(
-                f"clock sync {self.sync.method!r} needs the whole recording; online, give the feet's clock "
-                "offset with clock_offset_s="
+                f"clock sync {self.sync.method!r} needs the whole recording; online, give each foot's clock as "
+                "clocks={'right': ClockMap} (e.g. fit_clock on the exchanges logged before the walk) or clock_offset_s="
             )
         return OnlineStream(self, feet=feet, **options)
 

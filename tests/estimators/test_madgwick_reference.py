@@ -24,11 +24,17 @@ from footnav.estimators.madgwick import MadgwickEstimator
 
 G = 9.80665  # m/s^2, footnav's nav-frame gravity, written out
 STILL_GYR = 0.05  # rad/s, the estimator's still_gyr_max_radps (passed explicitly below)
-PARAMS = dict(beta_radps=0.04, acc_noise_mps2_sqrthz=0.05, acc_error_walk_mps3_sqrthz=1e-3,
-              init_acc_error_std_mps2=0.05, zupt_std_mps=0.01)
+PARAMS = {
+    "beta_radps": 0.04,
+    "acc_noise_mps2_sqrthz": 0.05,
+    "acc_error_walk_mps3_sqrthz": 1e-3,
+    "init_acc_error_std_mps2": 0.05,
+    "zupt_std_mps": 0.01,
+}
 
 
 # -- reference ---------------------------------------------------------------------------------
+
 
 def _qmul(a, b):
     """Hamilton product a (x) b, [w, x, y, z]."""
@@ -54,9 +60,9 @@ def _madgwick_imu(q, w, a, beta, dt):
     if an > 0:
         f = _dcm(q).T @ np.array([0.0, 0.0, 1.0]) - a / an  # gravity seen in the sensor frame
         q0, q1, q2, q3 = q
-        jac = np.array([[-2 * q2, 2 * q3, -2 * q0, 2 * q1],
-                        [2 * q1, 2 * q0, 2 * q3, 2 * q2],
-                        [0.0, -4 * q1, -4 * q2, 0.0]])
+        jac = np.array(
+            [[-2 * q2, 2 * q3, -2 * q0, 2 * q1], [2 * q1, 2 * q0, 2 * q3, 2 * q2], [0.0, -4 * q1, -4 * q2, 0.0]]
+        )
         grad = jac.T @ f
         gn = np.linalg.norm(grad)
         if gn > 0:
@@ -65,8 +71,18 @@ def _madgwick_imu(q, w, a, beta, dt):
     return q / np.linalg.norm(q)
 
 
-def reference(t, acc, gyr, mask, *, beta_radps, acc_noise_mps2_sqrthz, acc_error_walk_mps3_sqrthz,
-              init_acc_error_std_mps2, zupt_std_mps):
+def reference(
+    t,
+    acc,
+    gyr,
+    mask,
+    *,
+    beta_radps,
+    acc_noise_mps2_sqrthz,
+    acc_error_walk_mps3_sqrthz,
+    init_acc_error_std_mps2,
+    zupt_std_mps,
+):
     """Plain numpy Madgwick + Li et al. eq. 3-6 error KF; returns r, v, q, P per sample."""
     n = len(t)
     s0 = int(np.argmax(mask))
@@ -111,14 +127,21 @@ def reference(t, acc, gyr, mask, *, beta_radps, acc_noise_mps2_sqrthz, acc_error
 
 # -- the comparison ----------------------------------------------------------------------------
 
+
 @pytest.fixture(scope="module")
 def walk():
     """A short noisy walk with a left turn (attitude, gyro and accelerometer biases all non-trivial),
     one foot, the simulator's stance mask."""
     rec = footnav.simulate("path", seed=3, segments=[(2.8, 90.0), (1.4, 0.0)], standstill_s=1.0)
     imu, mask = rec.left, np.asarray(rec.truth_left.stance, dtype=bool)
-    est = MadgwickEstimator(**PARAMS, use_magnetometer=False, heading="sensor", gyro_bias="initial-standstill",
-                            still_gyr_max_radps=STILL_GYR, heading_drift_in_std=False)
+    est = MadgwickEstimator(
+        **PARAMS,
+        use_magnetometer=False,
+        heading="sensor",
+        gyro_bias="initial-standstill",
+        still_gyr_max_radps=STILL_GYR,
+        heading_drift_in_std=False,
+    )
     traj = est.estimate(imu, StanceResult(mask))
     ref = reference(imu.t, imu.acc, imu.gyr, mask, **PARAMS)
     return imu, mask, traj, ref
@@ -128,7 +151,7 @@ def test_the_walk_exercises_the_filter(walk):
     """The KF must have something to do: several ZUPT phases after swings, the acceleration error
     learnt to well above the tolerances, and velocity errors at touch-down that the sign of the
     innovation acts on."""
-    imu, mask, traj, (r, v, q, p) = walk
+    imu, mask, traj, (r, _, _, _) = walk
     assert np.count_nonzero(np.diff(mask.astype(int)) == 1) >= 4
     assert r.shape == traj.position.shape and len(imu.t) > 500
 
@@ -137,7 +160,7 @@ def test_the_walk_exercises_the_filter(walk):
 # Measured max |footnav - reference|: position 2.7e-15 m, velocity 2.9e-15 m/s (seed 3, 761 samples); the mutants
 # move them by mm (innovation sign) and um (F transposed); the tolerance is 1e-9.
 def test_positions_and_velocities_match_the_reference(walk):
-    imu, mask, traj, (r, v, q, p) = walk
+    _, _, traj, (r, v, _, _) = walk
     np.testing.assert_allclose(traj.position, r, rtol=0, atol=1e-9)
     np.testing.assert_allclose(traj.velocity, v, rtol=0, atol=1e-9)
 
@@ -145,7 +168,7 @@ def test_positions_and_velocities_match_the_reference(walk):
 # the attitude (independent of the KF): Madgwick's gradient step, the gyro bias, the levelling
 # measured max quaternion difference 5.6e-16; position_std 1.0e-17 m (of up to 23 mm)
 def test_attitude_matches_the_reference(walk):
-    imu, mask, traj, (r, v, q, p) = walk
+    _, _, traj, (_, _, q, _) = walk
     sign = np.sign(np.sum(traj.quaternion * q, axis=1))[:, None]  # q and -q are one attitude
     np.testing.assert_allclose(traj.quaternion * sign, q, rtol=0, atol=1e-10)
 
@@ -153,6 +176,6 @@ def test_attitude_matches_the_reference(walk):
 # madgwick-f-transposed changes the covariance first (P's velocity rows take C'): position_std
 # with heading="sensor" and no heading-drift term is sqrt(P_rr) of the KF.
 def test_position_std_matches_the_reference_covariance(walk):
-    imu, mask, traj, (r, v, q, p) = walk
+    _, _, traj, (_, _, _, p) = walk
     std = np.sqrt(np.stack([p[:, 0, 0], p[:, 1, 1], p[:, 2, 2]], axis=1))
     np.testing.assert_allclose(traj.position_std, std, rtol=1e-9, atol=1e-12)

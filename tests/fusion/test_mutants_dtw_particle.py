@@ -47,6 +47,7 @@ def _run(rec, **fusion_params):
 
 # -- DTW fusion ----------------------------------------------------------------------------------
 
+
 @pytest.fixture(scope="module")
 def turning_start():
     """Standing, then straight into a 90 deg left turn (radius 1.5 m), then 5 m straight: the left
@@ -62,9 +63,11 @@ def turning_start():
 def test_dtw_right_foot_starts_with_the_true_relative_heading(turning_start):
     rec, res = turning_start
     truth = _first_stride_heading(rec.truth_right.position, rec.truth_right.stance) - _first_stride_heading(
-        rec.truth_left.position, rec.truth_left.stance)
+        rec.truth_left.position, rec.truth_left.stance
+    )
     est = _first_stride_heading(res.right.position, rec.truth_right.stance) - _first_stride_heading(
-        res.left.position, rec.truth_left.stance)
+        res.left.position, rec.truth_left.stance
+    )
     assert abs(truth) > 0.2  # the case the default walks never make
     assert abs(est - truth) < 0.09  # measured 0.043; the mutant 0.179
 
@@ -102,6 +105,7 @@ def test_dtw_lateral_offset_keeps_each_foot_on_its_side(seed):
 
 # -- particle fusion, paper mode: the weights of eq. 15 --------------------------------------------
 
+
 # particle-gaussian-half: the weight of particle x_n is N(z | x_n, Sigma) (eq. 15), up to a common
 # factor; checked against scipy's density, ratios to the largest weight.
 def test_gaussian_weights_are_the_normal_density():
@@ -131,6 +135,7 @@ def test_weighted_and_resampled_cloud_has_the_product_spread():
 
 # -- particle fusion, paper mode: the lateral drift of eq. 12 ----------------------------------------
 
+
 def _drift_only_foot(yaw, side, sigma, offset, n_particles, seed):
     """A PaperFoot that stands still (exact gravity, no rotation) with its sensor turned ``yaw``
     about the vertical, while its mask says it moves for 50 samples: no EKF noise, so the cloud
@@ -148,8 +153,22 @@ def _drift_only_foot(yaw, side, sigma, offset, n_particles, seed):
     off[~mask] = s * math.sqrt(math.pi / 2) - (sigma * math.sqrt(math.pi / 2) - offset) / m
     q0 = np.array([math.cos(yaw / 2), 0.0, 0.0, math.sin(yaw / 2)])
     p0 = np.zeros(3)
-    foot = PaperFoot(t, acc, gyr, mask, 19, q0, p0, np.zeros(3), np.zeros(N_STATES), np.array([0.0, 0.0, 0.0, 1e-4]),
-                     np.zeros((n_particles, 2)), side, scale, off)
+    foot = PaperFoot(
+        t,
+        acc,
+        gyr,
+        mask,
+        19,
+        q0,
+        p0,
+        np.zeros(3),
+        np.zeros(N_STATES),
+        np.array([0.0, 0.0, 0.0, 1e-4]),
+        np.zeros((n_particles, 2)),
+        side,
+        scale,
+        off,
+    )
     foot.run_until(n - 1, np.random.default_rng(seed))
     return foot.cloud
 

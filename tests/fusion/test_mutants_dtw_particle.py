@@ -9,11 +9,9 @@ offset is the simulated step width; both are checked against the simulator's tru
 Particles: the mutants change the spread of a cloud, not its mean; the spread is checked
 against what the paper's equations give for it (Rayleigh moments, the Gaussian product).
 
-``particle-other-growth`` is equivalent (not tested; the proof): in ``_fuse_footnav`` the other
-foot's covariance ``cov_o`` enters only ``gaussian_sum(...)``, whose covariance output is discarded
-(``z, _ = gaussian_sum(...)``); its mean ``sum_i a_i mu_i`` does not read the covariances. The
-likelihood's variance is ``lateral' cov_f lateral`` (the standing foot's own cloud), so nothing
-downstream depends on ``cov_o``: the mutant's output is bit-identical.
+``particle-other-growth`` mutated the other foot's cloud covariance, which nothing downstream
+read (the Gaussian sum's mean does not depend on the covariances): that dead code is gone from
+``_fuse_footnav``, and the mutant with it.
 """
 
 from __future__ import annotations

@@ -63,6 +63,12 @@ def _quat_yaw_pitch(yaw: float, pitch: float) -> np.ndarray:
     return np.array([cz * cy, -sz * sy, cz * sy, sz * cy])
 
 
+def _hamilton(p: np.ndarray, q: np.ndarray) -> np.ndarray:
+    """p (x) q, [w, x, y, z]."""
+    pw, pv, qw, qv = p[0], p[1:], q[0], q[1:]
+    return np.concatenate([[pw * qw - pv @ qv], pw * qv + qw * pv + np.cross(pv, qv)])
+
+
 def _stance(runs, heel_strikes):
     mask = np.zeros(N, dtype=bool)
     for a, b in runs:
@@ -81,6 +87,7 @@ class _HandFilter(InsFilter):
             cov0_diag, FilterNoise(acc_mps2_sqrthz=0.1, gyr_radps_sqrthz=0.01, zupt_std_mps=0.01), N_STATES,
         )
         self.q_out = q_out
+        self.t_hand = t
         self.stops: list[float] = []
         self.updates: list[dict] = []
 
@@ -127,7 +134,7 @@ class _HandEstimator:
         return self.filt
 
     def trajectory(self, filt, foot, stance, smoothed=None, **kw):
-        return self.estimate(ImuData(filt._t[:N], np.zeros((N, 3)), np.zeros((N, 3))), stance)
+        return self.estimate(ImuData(filt.t_hand, np.zeros((N, 3)), np.zeros((N, 3))), stance)
 
 
 def _run_hand_step():
@@ -152,6 +159,9 @@ def _hand_measurement():
     # eq. 5: q1 (x) q2* between the rear foot's heel strike (pitch 0) and the front foot's heel
     # strike (sample 250, pitch 0.52 rad), both at yaw psi: a pure pitch of -0.52 rad, theta = 0.52
     theta = (HS_LEFT - HS_RIGHT) * 0.004
+    q1, q2 = _quat_yaw_pitch(PSI_REAR, _pitch_rear(HS_RIGHT)), _quat_yaw_pitch(PSI_REAR, _pitch_rear(HS_LEFT))
+    q = _hamilton(q1, q2 * [1.0, -1.0, -1.0, -1.0])
+    assert 2.0 * np.arccos(q[0]) == pytest.approx(theta, abs=1e-12)  # eq. 5 as printed (q[1] is the scalar)
     s = 2.0 * LEG_M * np.sin(theta / 2)  # eq. 6
     yaw_r = PSI_REAR - YAW0_RIGHT  # footprint heading relative to the sensor's first-step yaw: 90 deg
     c = np.array([[np.cos(yaw_r), -np.sin(yaw_r), 0.0], [np.sin(yaw_r), np.cos(yaw_r), 0.0], [0.0, 0.0, 1.0]])

@@ -115,6 +115,8 @@ _COMMON_DEFAULTS: dict[str, Any] = {
     "acc_bias_walk_mps3_sqrthz": 1.0e-4,
     # The left/right mirror-symmetric heading drift of Lee, Cho & Park (2022), Sec. 2.1 (off).
     "mirrored_yaw_rate_radps": 0.0,
+    # Per-swing factors on the pitch angles and the lift, cycled over each foot's swings (off).
+    "swing_scale": None,
 }
 
 _NOISE_KEYS = (
@@ -244,6 +246,17 @@ def _resolve_options(scenario: Any, rate_hz: Any, options: Mapping[str, Any]) ->
     if not isinstance(opts["noise"], (bool, np.bool_)):
         raise _fail("noise", opts["noise"], "True or False")
     opts["noise"] = bool(opts["noise"])
+    if opts["swing_scale"] is not None:
+        try:
+            factors = () if isinstance(opts["swing_scale"], str) else tuple(float(f) for f in opts["swing_scale"])
+        except (TypeError, ValueError):
+            factors = ()
+        # 0.05-3: a swing that still pitches and lifts, up to pitch angles below 90 deg
+        if not factors or len(factors) > 10_000 or not all(0.05 <= f <= 3.0 for f in factors):
+            raise _fail("swing_scale", opts["swing_scale"], "None or a non-empty sequence of factors in [0.05, 3]")
+        if max(factors) * max(opts["toe_off_pitch_deg"], opts["heel_strike_pitch_deg"]) >= 90:
+            raise _fail("swing_scale", opts["swing_scale"], "factors that keep the pitch angles below 90 deg")
+        opts["swing_scale"] = factors
     try:
         rpy = tuple(float(a) for a in opts["mounting_rpy_deg"])
     except (TypeError, ValueError):
@@ -459,6 +472,8 @@ class _Swings:
     # heights (m) of the footprints left and reached: zero but on stairs
     z_from: NDArray[np.float64]
     z_to: NDArray[np.float64]
+    # each swing's factor on its pitch angles and lift (``swing_scale``); None: all 1
+    scale: NDArray[np.float64] | None = None
 
 
 def _plan(
@@ -500,8 +515,12 @@ def _plan(
         sel = j % 2 == first
         xy_from, h_from = _footprint(line, s_from[sel], side * opts["step_width_m"] / 2)
         xy_to, h_to = _footprint(line, s_to[sel], side * opts["step_width_m"] / 2)
+        scale = None
+        if opts["swing_scale"] is not None:  # the foot's own swings in order: 1st, 2nd, ...
+            factors = np.asarray(opts["swing_scale"])
+            scale = factors[np.arange(int(sel.sum())) % len(factors)]
         swings[foot] = _Swings(
-            t_ho[sel], t_to[sel], t_hs[sel], t_ff[sel], xy_from, h_from, xy_to, h_to, z_from[sel], z_to[sel]
+            t_ho[sel], t_to[sel], t_hs[sel], t_ff[sel], xy_from, h_from, xy_to, h_to, z_from[sel], z_to[sel], scale
         )
     duration = float(t_ff[-1] + opts["standstill_s"])
     info = {
@@ -680,6 +699,11 @@ def _moving_motion(
         ]
     )
     th, th_d, th_dd = _polyval(pitch_coef[phase], u, dur)
+    if sw.scale is not None:
+        # the quintics are linear in their end values and rates: a swing's factor scales its
+        # whole pitch profile (heel-off, swing, foot-flat), still at rest at both ends
+        f = sw.scale[k]
+        th, th_d, th_dd = f * th, f * th_d, f * th_dd
 
     # Blend g from the old footprint to the new one: 0 through heel-off, min-jerk while
     # airborne, 1 through foot-flat. Heading, contact point and its position all follow it.
@@ -689,7 +713,7 @@ def _moving_motion(
     g_d = np.where(swing, g_d_s, 0.0)
     g_dd = np.where(swing, g_dd_s, 0.0)
     b_s, b_d_s, b_dd_s = _bump(u, opts["swing_s"])
-    lift = opts["foot_lift_m"]
+    lift = opts["foot_lift_m"] if sw.scale is None else opts["foot_lift_m"] * sw.scale[k]
 
     h_from, h_to = sw.heading_from[k], sw.heading_to[k]
     dpsi = h_to - h_from
@@ -881,6 +905,12 @@ def simulate(scenario: str = "straight", *, seed: int = 0, rate_hz: float = 100.
         With the defaults ``heel_off_s + swing_s = stride_period_s / 2``: the rear foot's heel
         rises as the front foot's heel strikes (Zhao et al. (2019), Sec. III-A), swing is 41 % of the
         stride and each double support 0.1 s (9 %), as in normal walking.
+    swing_scale : sequence of float or None, default None
+        Per-swing variability (None: off, every swing alike): factors in [0.05, 3], cycled over
+        each foot's swings in order (the foot's 1st swing takes the 1st factor, ...), each
+        scaling that swing's whole pitch profile (heel-off, swing and foot-flat, so its angular
+        rate) and its ``foot_lift_m``; footprints and timing do not change. ``(1.0, 0.2)``
+        gives each foot a normal swing, then a flat shuffle, and so on.
     toe_off_pitch_deg : float, default 30.0
         Toe-down pitch of the foot at toe-off in deg.
     heel_strike_pitch_deg : float, default 20.0

@@ -94,12 +94,16 @@ def test_bad_stairs_are_refused(segment):
         simulate("path", segments=[(1.0, 0.0), segment])
 
 
-def test_cli_segments_read_stairs():
-    from footnav.cli import _segments
+def test_cli_segments_read_stairs(tmp_path):
+    from footnav.cli import _segments, main
 
     assert _segments("1.4:0,stairs:12:0.17,stairs:3:-0.17:0.35,2:90") == [
         (1.4, 0.0), ("stairs", 12, 0.17), ("stairs", 3, -0.17, 0.35), (2.0, 90.0)
     ]
+    out = tmp_path / "sim"
+    assert main(["simulate", "path", "--segments", "1.4:0,stairs:4:0.17,1:0", "--out", str(out)]) == 0
+    last = (out / "left_truth.csv").read_text().strip().splitlines()[-1].split(",")
+    assert float(last[3]) == pytest.approx(4 * 0.17, abs=1e-12)  # t, x, y, z, ...: the truth's z
 
 
 # -- per-swing variability (swing_scale) ----------------------------------------------------------

@@ -107,12 +107,19 @@ def _compile_notice():
 
 
 def _segments(text: str) -> list[tuple[float, float]]:
-    """argparse type: ``10:90,5:-90`` -> [(10.0, 90.0), (5.0, -90.0)] (m, deg)."""
+    """argparse type: ``10:90,5:-90`` -> [(10.0, 90.0), (5.0, -90.0)] (m, deg);
+    ``stairs:12:0.17[:0.3]`` -> ("stairs", 12, 0.17[, 0.3]) (count, rise m, tread m)."""
     try:
-        pairs = [tuple(float(x) for x in item.split(":")) for item in text.split(",") if item.strip()]
-    except ValueError:
+        pairs = [
+            ("stairs", int(item.split(":")[1]), *(float(x) for x in item.split(":")[2:]))
+            if item.strip().startswith("stairs:")
+            else tuple(float(x) for x in item.split(":"))
+            for item in text.split(",")
+            if item.strip()
+        ]
+    except (ValueError, IndexError):
         raise argparse.ArgumentTypeError(f"{text!r}: expected DIST:DEG pairs separated by commas, e.g. 10:90,5:-90") from None
-    if not pairs or any(len(p) != 2 for p in pairs):
+    if not pairs or any(len(p) != 2 and p[0] != "stairs" for p in pairs):
         raise argparse.ArgumentTypeError(f"{text!r}: expected DIST:DEG pairs separated by commas, e.g. 10:90,5:-90")
     return pairs  # type: ignore[return-value]
 
@@ -757,7 +764,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument("scenario", nargs="?", default="straight", choices=["straight", "rectangle", "path"],
                    help="straight, rectangle or path (default straight)")
-    p.add_argument("--segments", type=_segments, help="path: walk DIST m then turn DEG, ...: 10:90,5:-90,3:0")
+    p.add_argument("--segments", type=_segments, help="path: walk DIST m then turn DEG, ...: 10:90,5:-90,3:0; stairs:N:RISE_M[:TREAD_M] a flight")
     p.add_argument("--set", type=_option, action="append", metavar="NAME=VALUE",
                    help="any simulator option, e.g. --set distance_m=50 --set noise=false (footnav.simulate's docs)")
     p.add_argument("--seed", type=_seed, default=0, help="simulator seed (an integer >= 0)")

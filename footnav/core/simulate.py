@@ -71,6 +71,14 @@ _IMPACT_CUT = 6.0
 # A closed walk ends within this distance of its start (m); the geometry is exact up to rounding.
 _CLOSED_LOOP_TOL_M = 1e-6
 
+# Stairs: a tread deep enough for the whole foot (heel 0.10 m behind the sensor, toe 0.12 m ahead
+# of it) with the footprint in the middle of the tread, up to 10 m (a landing); risers up to
+# 0.5 m, above any building code's 0.15-0.22 m but still one step.
+_TREAD_DEFAULT_M = 0.3
+_TREAD_RANGE_M = (0.25, 10.0)
+_MAX_RISE_M = 0.5
+_MAX_STAIRS = 10_000
+
 _COMMON_DEFAULTS: dict[str, Any] = {
     "stride_length_m": 1.4,
     "stride_period_s": 1.1,
@@ -107,6 +115,8 @@ _COMMON_DEFAULTS: dict[str, Any] = {
     "acc_bias_walk_mps3_sqrthz": 1.0e-4,
     # The left/right mirror-symmetric heading drift of Lee, Cho & Park (2022), Sec. 2.1 (off).
     "mirrored_yaw_rate_radps": 0.0,
+    # Per-swing factors on the pitch angles and the lift, cycled over each foot's swings (off).
+    "swing_scale": None,
 }
 
 _NOISE_KEYS = (
@@ -173,7 +183,13 @@ def _walk_length_m(scenario: str, opts: Mapping[str, Any]) -> float:
         return opts["distance_m"]
     if scenario == "rectangle":
         return 2 * (opts["width_m"] + opts["height_m"])
-    return sum(d + math.radians(abs(a)) * opts["turn_radius_m"] for d, a in opts["segments"])
+    total = 0.0
+    for seg in opts["segments"]:
+        if seg[0] == "stairs":
+            total += seg[1] * seg[3]
+        else:
+            total += seg[0] + math.radians(abs(seg[1])) * opts["turn_radius_m"]
+    return total
 
 
 def _resolve_options(scenario: Any, rate_hz: Any, options: Mapping[str, Any]) -> dict[str, Any]:
@@ -230,6 +246,17 @@ def _resolve_options(scenario: Any, rate_hz: Any, options: Mapping[str, Any]) ->
     if not isinstance(opts["noise"], (bool, np.bool_)):
         raise _fail("noise", opts["noise"], "True or False")
     opts["noise"] = bool(opts["noise"])
+    if opts["swing_scale"] is not None:
+        try:
+            factors = () if isinstance(opts["swing_scale"], str) else tuple(float(f) for f in opts["swing_scale"])
+        except (TypeError, ValueError):
+            factors = ()
+        # 0.05-3: a swing that still pitches and lifts, up to pitch angles below 90 deg
+        if not factors or len(factors) > 10_000 or not all(0.05 <= f <= 3.0 for f in factors):
+            raise _fail("swing_scale", opts["swing_scale"], "None or a non-empty sequence of factors in [0.05, 3]")
+        if max(factors) * max(opts["toe_off_pitch_deg"], opts["heel_strike_pitch_deg"]) >= 90:
+            raise _fail("swing_scale", opts["swing_scale"], "factors that keep the pitch angles below 90 deg")
+        opts["swing_scale"] = factors
     try:
         rpy = tuple(float(a) for a in opts["mounting_rpy_deg"])
     except (TypeError, ValueError):
@@ -283,20 +310,39 @@ def _resolve_options(scenario: Any, rate_hz: Any, options: Mapping[str, Any]) ->
     return opts
 
 
-def _check_segments(segments: Any) -> list[tuple[float, float]]:
-    expected = "a non-empty sequence of (distance_m in [0, 1e6], turn_deg in [-36000, 36000]) pairs with some walking"
+def _check_segments(segments: Any) -> list[tuple[Any, ...]]:
+    """``(distance_m, turn_deg)`` pairs as floats and ``("stairs", n_steps, rise_m, tread_m)``."""
+    expected = (
+        "a non-empty sequence of (distance_m in [0, 1e6], turn_deg in [-36000, 36000]) pairs with some walking, "
+        f"or ('stairs', n_steps in [1, {_MAX_STAIRS}], rise_m in [-{_MAX_RISE_M:g}, {_MAX_RISE_M:g}] and not 0"
+        f"[, tread_m in [{_TREAD_RANGE_M[0]:g}, {_TREAD_RANGE_M[1]:g}]])"
+    )
     if segments is None:
         raise InvalidParameterError(
             "simulate(): scenario 'path' needs option segments=[(distance_m, turn_deg), ...]"
         )
+    out: list[tuple[Any, ...]] = []
     try:
-        out = [(float(d), float(a)) for d, a in segments]
+        for seg in segments:
+            if isinstance(seg, (tuple, list)) and len(seg) in (3, 4) and isinstance(seg[0], str) and seg[0] == "stairs":
+                n_steps = seg[1]
+                if isinstance(n_steps, bool) or not isinstance(n_steps, (int, np.integer)) or not 1 <= n_steps <= _MAX_STAIRS:
+                    raise ValueError
+                rise = float(seg[2])
+                tread = float(seg[3]) if len(seg) == 4 else _TREAD_DEFAULT_M
+                if not (0 < abs(rise) <= _MAX_RISE_M and _TREAD_RANGE_M[0] <= tread <= _TREAD_RANGE_M[1]):
+                    raise ValueError
+                out.append(("stairs", int(n_steps), rise, tread))
+            else:
+                d, a = seg
+                out.append((float(d), float(a)))
     except (TypeError, ValueError):
         raise _fail("segments", segments, expected) from None
+    walks = [seg for seg in out if seg[0] != "stairs"]
     # bounded so that the walk's length stays finite for the sample budget
-    if not out or any(not (0 <= d <= _MAX_LENGTH_M and abs(a) <= 36_000) for d, a in out):
+    if not out or any(not (0 <= d <= _MAX_LENGTH_M and abs(a) <= 36_000) for d, a in walks):
         raise _fail("segments", segments, expected)
-    if all(d == 0 and a == 0 for d, a in out):
+    if len(walks) == len(out) and all(d == 0 and a == 0 for d, a in walks):
         raise _fail("segments", segments, expected)
     return out
 
@@ -369,11 +415,29 @@ def _centre_line(scenario: str, opts: dict[str, Any]) -> tuple[_CentreLine, dict
         corners = np.array([[-w / 2, y0], [w / 2, y0], [w / 2, y1], [-w / 2, y1]])
         return _CentreLine.build(pieces), {"rectangle_corners_m": corners, "waypoints_m": _waypoints(pieces)}
     pieces = []
-    for distance, turn_deg in opts["segments"]:
+    # flights of stairs: (arc length where the flight starts, n_steps, rise_m, tread_m)
+    flights: list[tuple[float, int, float, float]] = []
+    s = 0.0
+    for seg in opts["segments"]:
+        if seg[0] == "stairs":
+            _, n_steps, rise, tread = seg
+            flights.append((s, n_steps, rise, tread))
+            pieces.append((n_steps * tread, 0.0))
+            s += n_steps * tread
+            continue
+        distance, turn_deg = seg
         pieces.append((distance, 0.0))
+        s += distance
         if turn_deg != 0:
             pieces.append((abs(math.radians(turn_deg)) * r, math.copysign(1.0 / r, turn_deg)))
-    return _CentreLine.build(pieces), {"waypoints_m": _waypoints(pieces)}
+            s += pieces[-1][0]
+    info: dict[str, Any] = {"waypoints_m": _waypoints(pieces)}
+    if flights:  # only then: a walk without stairs keeps its meta as it was
+        info["stairs"] = [
+            {"start_m": s0, "n_steps": n_steps, "rise_m": rise, "tread_m": tread, "height_m": n_steps * rise}
+            for s0, n_steps, rise, tread in flights
+        ]
+    return _CentreLine.build(pieces), info
 
 
 def _waypoints(pieces: list[tuple[float, float]]) -> NDArray[np.float64]:
@@ -405,9 +469,16 @@ class _Swings:
     heading_from: NDArray[np.float64]
     xy_to: NDArray[np.float64]
     heading_to: NDArray[np.float64]
+    # heights (m) of the footprints left and reached: zero but on stairs
+    z_from: NDArray[np.float64]
+    z_to: NDArray[np.float64]
+    # each swing's factor on its pitch angles and lift (``swing_scale``); None: all 1
+    scale: NDArray[np.float64] | None = None
 
 
-def _plan(line: _CentreLine, opts: dict[str, Any]) -> tuple[dict[str, _Swings], dict[str, Any]]:
+def _plan(
+    line: _CentreLine, opts: dict[str, Any], flights: Sequence[Mapping[str, Any]] = ()
+) -> tuple[dict[str, _Swings], dict[str, Any]]:
     """Footprints and swing timing of both feet along ``line``.
 
     The walk starts with the feet side by side. With ``n`` steps of length ``l = length / n``
@@ -415,12 +486,26 @@ def _plan(line: _CentreLine, opts: dict[str, Any]) -> tuple[dict[str, _Swings], 
     right, left, ...; swing ``j`` (j = 0..n) takes its foot from arc length ``(j-1) l`` (0 for the
     first two) to ``min(j+1, n) l``, so the first and the last swing are half strides and the feet
     end side by side. Swing ``j`` starts (heel-off) ``j`` half stride periods after the standstill.
+
+    With ``flights`` of stairs (``_centre_line``'s ``"stairs"``) the level stretches between them
+    are stepped as above, each on its own, and a flight of ``N`` stairs takes ``N`` footfalls, one
+    per tread (step over step: each swing climbs two risers), at ``tread_m`` apart and ``rise_m``
+    higher each; swing ``j`` still goes from footfall ``j-1`` to footfall ``j+1``.
     """
-    n = max(1, int(round(line.length_m / (opts["stride_length_m"] / 2))))
-    step = line.length_m / n
-    j = np.arange(n + 1)
-    s_from = np.maximum(j - 1, 0) * step
-    s_to = np.minimum(j + 1, n) * step
+    if flights:
+        s_fall, z_fall = _footfalls(line, opts, flights)
+        n = len(s_fall) - 1
+        j = np.arange(n + 1)
+        s_from, s_to = s_fall[np.maximum(j - 1, 0)], s_fall[np.minimum(j + 1, n)]
+        z_from, z_to = z_fall[np.maximum(j - 1, 0)], z_fall[np.minimum(j + 1, n)]
+        step = line.length_m / n  # the mean step, for the meta
+    else:
+        n = max(1, int(round(line.length_m / (opts["stride_length_m"] / 2))))
+        step = line.length_m / n
+        j = np.arange(n + 1)
+        s_from = np.maximum(j - 1, 0) * step
+        s_to = np.minimum(j + 1, n) * step
+        z_from = z_to = np.zeros(n + 1)
     t_ho = opts["standstill_s"] + j * opts["stride_period_s"] / 2
     t_to = t_ho + opts["heel_off_s"]
     t_hs = t_to + opts["swing_s"]
@@ -430,7 +515,13 @@ def _plan(line: _CentreLine, opts: dict[str, Any]) -> tuple[dict[str, _Swings], 
         sel = j % 2 == first
         xy_from, h_from = _footprint(line, s_from[sel], side * opts["step_width_m"] / 2)
         xy_to, h_to = _footprint(line, s_to[sel], side * opts["step_width_m"] / 2)
-        swings[foot] = _Swings(t_ho[sel], t_to[sel], t_hs[sel], t_ff[sel], xy_from, h_from, xy_to, h_to)
+        scale = None
+        if opts["swing_scale"] is not None:  # the foot's own swings in order: 1st, 2nd, ...
+            factors = np.asarray(opts["swing_scale"])
+            scale = factors[np.arange(int(sel.sum())) % len(factors)]
+        swings[foot] = _Swings(
+            t_ho[sel], t_to[sel], t_hs[sel], t_ff[sel], xy_from, h_from, xy_to, h_to, z_from[sel], z_to[sel], scale
+        )
     duration = float(t_ff[-1] + opts["standstill_s"])
     info = {
         "path_length_m": line.length_m,
@@ -440,7 +531,37 @@ def _plan(line: _CentreLine, opts: dict[str, Any]) -> tuple[dict[str, _Swings], 
         "duration_s": duration,
         "first_foot": "right",
     }
+    if flights:
+        info["height_change_m"] = float(z_to[-1])
     return swings, info
+
+
+def _footfalls(
+    line: _CentreLine, opts: dict[str, Any], flights: Sequence[Mapping[str, Any]]
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Arc lengths (m) and heights (m) of footfalls 0..n of a walk with stairs, (n+1,) each.
+
+    Footfall 0 is the start. A level stretch of length ``L`` takes ``max(1, round(L / (stride / 2)))``
+    equal steps; a flight of ``N`` stairs ``N`` footfalls ``tread_m`` apart, the i-th ``i rise_m``
+    above the flight's foot, so after it the height has changed by exactly ``N rise_m``.
+    """
+    s_fall, z_fall = [0.0], [0.0]
+    s, z = 0.0, 0.0
+    for flight in [*flights, None]:
+        s_next = line.length_m if flight is None else flight["start_m"]
+        level = s_next - s
+        if level > 0:
+            n = max(1, int(round(level / (opts["stride_length_m"] / 2))))
+            step = level / n
+            s_fall += [s + i * step for i in range(1, n)] + [s_next]
+            z_fall += [z] * n
+        if flight is None:
+            break
+        n_steps, rise, tread = flight["n_steps"], flight["rise_m"], flight["tread_m"]
+        s_fall += [s_next + i * tread for i in range(1, n_steps + 1)]
+        z_fall += [z + i * rise for i in range(1, n_steps + 1)]
+        s, z = s_next + n_steps * tread, z + n_steps * rise
+    return np.asarray(s_fall), np.asarray(z_fall)
 
 
 def _footprint(line: _CentreLine, s: NDArray, offset_left_m: float) -> tuple[NDArray, NDArray]:
@@ -535,6 +656,7 @@ def _foot_motion(t: NDArray[np.float64], sw: _Swings, opts: dict[str, Any]) -> _
     acc = np.zeros((n, 3))
     q = np.empty((n, 4))
     pos[still, :2] = stand_xy
+    pos[still, 2] = np.where(ks >= 0, sw.z_to[np.maximum(ks, 0)], sw.z_from[0])
     q[still] = quat.from_yaw(stand_h)
     acc[still, 2] = GRAVITY_MPS2
 
@@ -577,6 +699,11 @@ def _moving_motion(
         ]
     )
     th, th_d, th_dd = _polyval(pitch_coef[phase], u, dur)
+    if sw.scale is not None:
+        # the quintics are linear in their end values and rates: a swing's factor scales its
+        # whole pitch profile (heel-off, swing, foot-flat), still at rest at both ends
+        f = sw.scale[k]
+        th, th_d, th_dd = f * th, f * th_d, f * th_dd
 
     # Blend g from the old footprint to the new one: 0 through heel-off, min-jerk while
     # airborne, 1 through foot-flat. Heading, contact point and its position all follow it.
@@ -586,7 +713,7 @@ def _moving_motion(
     g_d = np.where(swing, g_d_s, 0.0)
     g_dd = np.where(swing, g_dd_s, 0.0)
     b_s, b_d_s, b_dd_s = _bump(u, opts["swing_s"])
-    lift = opts["foot_lift_m"]
+    lift = opts["foot_lift_m"] if sw.scale is None else opts["foot_lift_m"] * sw.scale[k]
 
     h_from, h_to = sw.heading_from[k], sw.heading_to[k]
     dpsi = h_to - h_from
@@ -597,6 +724,10 @@ def _moving_motion(
     # Contact point X (nav): the toe where the foot leaves the ground, the heel where it lands.
     toe_from = _horizontal_point(sw.xy_from[k], h_from, _TOE_B)
     heel_to = _horizontal_point(sw.xy_to[k], h_to, _HEEL_B)
+    # On stairs the footprints' heights differ and the contact point climbs with the same
+    # blend (adding the level walk's zeros leaves its values as they were).
+    toe_from[:, 2] += sw.z_from[k]
+    heel_to[:, 2] += sw.z_to[k]
     dx = heel_to - toe_from
     x_pos = toe_from + dx * g[:, None]
     x_vel = dx * g_d[:, None]
@@ -737,9 +868,19 @@ def simulate(scenario: str = "straight", *, seed: int = 0, rate_hz: float = 100.
     direction : {"ccw", "cw"}, default "ccw"
         ``"rectangle"``: counter-clockwise (left turns, rectangle at y >= 0) or clockwise (right
         turns, rectangle at y <= 0).
-    segments : sequence of (float, float)
+    segments : sequence of (float, float) or ("stairs", int, float[, float])
         ``"path"`` (required): ``(distance_m, turn_deg)`` pairs: walk ``distance_m`` m straight,
         then turn by ``turn_deg`` deg (positive = left/CCW) along an arc of ``turn_radius_m``.
+        ``("stairs", n_steps, rise_m)`` or ``("stairs", n_steps, rise_m, tread_m)``: a straight
+        flight of ``n_steps`` stairs (1-10000), each ``rise_m`` higher (negative: down; at most
+        0.5 m) and ``tread_m`` deep (default 0.3 m, 0.25-10 m: the whole foot fits, the
+        footprint in the middle of the tread). Both feet climb step over step, one tread per
+        footfall, so each swing between treads climbs two risers; the swing is the level
+        swing's profile with the contact point's height blended from tread to tread (not a
+        model of stair gait). The truth's z follows: after the flight the height has changed by
+        exactly ``n_steps * rise_m`` (``meta["height_change_m"]``, the flights in
+        ``meta["stairs"]``); level walking between flights is stepped as without stairs. A walk
+        with stairs is closed only if it ends at its start height.
     stride_length_m : float, default 1.4
         Nominal distance between successive footprints of one foot in m (twice the step
         length). Adjusted slightly so a whole number of steps covers the path (the value used
@@ -764,6 +905,12 @@ def simulate(scenario: str = "straight", *, seed: int = 0, rate_hz: float = 100.
         With the defaults ``heel_off_s + swing_s = stride_period_s / 2``: the rear foot's heel
         rises as the front foot's heel strikes (Zhao et al. (2019), Sec. III-A), swing is 41 % of the
         stride and each double support 0.1 s (9 %), as in normal walking.
+    swing_scale : sequence of float or None, default None
+        Per-swing variability (None: off, every swing alike): factors in [0.05, 3], cycled over
+        each foot's swings in order (the foot's 1st swing takes the 1st factor, ...), each
+        scaling that swing's whole pitch profile (heel-off, swing and foot-flat, so its angular
+        rate) and its ``foot_lift_m``; footprints and timing do not change. ``(1.0, 0.2)``
+        gives each foot a normal swing, then a flat shuffle, and so on.
     toe_off_pitch_deg : float, default 30.0
         Toe-down pitch of the foot at toe-off in deg.
     heel_strike_pitch_deg : float, default 20.0
@@ -887,13 +1034,15 @@ def simulate(scenario: str = "straight", *, seed: int = 0, rate_hz: float = 100.
     opts = _resolve_options(scenario, rate_hz, options)
     rate_hz = float(rate_hz)
     line, line_info = _centre_line(scenario, opts)
-    swings, plan_info = _plan(line, opts)
+    swings, plan_info = _plan(line, opts, line_info.get("stairs", ()))
     # the last sample at or before the end; 1e-9 keeps 8.7 s x 400 Hz = 3479.9999... from losing it
     n = int(math.floor(plan_info["duration_s"] * rate_hz + 1e-9)) + 1
     t = np.arange(n) / rate_hz
 
     end_xy, _ = line(np.array([line.length_m]))
-    closed = scenario == "rectangle" or bool(np.linalg.norm(end_xy[0]) < _CLOSED_LOOP_TOL_M)
+    closed = scenario == "rectangle" or bool(
+        np.linalg.norm(end_xy[0]) < _CLOSED_LOOP_TOL_M and abs(plan_info.get("height_change_m", 0.0)) < _CLOSED_LOOP_TOL_M
+    )
     mount_q = quat.from_euler(*np.radians(opts["mounting_rpy_deg"]))
     mount_t = quat.as_matrix(mount_q).T  # foot -> sensor
     noise_params = {k: opts[k] for k in _NOISE_KEYS} | {"noise": opts["noise"]}

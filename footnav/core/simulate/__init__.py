@@ -38,7 +38,7 @@ from footnav.core.simulate.options import _COMMON_DEFAULTS as _COMMON_DEFAULTS  
 from footnav.core.simulate.options import _NOISE_KEYS, SCENARIOS, _fail, _resolve_options
 from footnav.core.simulate.options import _SCENARIO_DEFAULTS as _SCENARIO_DEFAULTS  # read by tests/faults
 from footnav.core.simulate.path import _centre_line
-from footnav.core.simulate.sensor import _mirrored_yaw_rate, _sensor_errors
+from footnav.core.simulate.sensor import _mirrored_yaw_rate, _sensor_clock, _sensor_errors
 from footnav.core.types import FootTruth, ImuData, Recording
 
 __all__ = ["simulate", "SCENARIOS", "PHASE_NAMES"]
@@ -328,38 +328,15 @@ def simulate(scenario: str = "straight", *, seed: int = 0, rate_hz: float = 100.
                 **line_info,
             },
         )
-    clock_meta = {}
-    if opts["clock_offset_s"] or opts["clock_drift_ppm"] or opts["clock_exchanges"]:
-        rate = 1.0 + opts["clock_drift_ppm"] * 1e-6
-        offset = opts["clock_offset_s"]
-        # t_imu = (t - b) / a with a = 1 / rate, b = -offset / rate: the sensor's own clock
+    t_right, clock_meta = _sensor_clock(t, seed, opts)
+    if t_right is not None:
         imus["right"] = ImuData(
-            t=rate * t + offset,
+            t=t_right,
             acc=imus["right"].acc,
             gyr=imus["right"].gyr,
             meta={**imus["right"].meta, "time_base": "sensor clock (offset and drift: the recording's meta['clock'])"},
         )
-        clock_meta["clock"] = {
-            "foot": "right",
-            "offset_s": offset,
-            "drift_ppm": opts["clock_drift_ppm"],
-            "a": 1.0 / rate,
-            "b": -offset / rate,
-        }
         truths["right"] = replace(truths["right"], meta={**truths["right"].meta, "clock": clock_meta["clock"]})
-        n_ex = opts["clock_exchanges"]
-        if n_ex:
-            # a third child of the seed: the feet's two streams are the same with or without it
-            rng_ex = np.random.default_rng(seed).spawn(3)[2]
-            half = n_ex // 2
-            duration = float(t[-1])
-            tm1 = np.concatenate([np.linspace(0.0, min(10.0, duration / 3), half),
-                                  np.linspace(max(duration - 10.0, 2 * duration / 3), duration, n_ex - half)])
-            delay, jitter = opts["exchange_delay_s"], opts["exchange_jitter_s"]
-            d_up = delay + rng_ex.exponential(jitter, n_ex)
-            d_down = delay + rng_ex.exponential(jitter, n_ex)
-            # stamped on the sensor at true time tm1 + d_up, received at tm1 + d_up + d_down
-            clock_meta["clock_exchanges"] = {"tm1": tm1, "ti": rate * (tm1 + d_up) + offset, "tm2": tm1 + d_up + d_down}
     return Recording(
         left=imus["left"],
         right=imus["right"],

@@ -102,7 +102,10 @@ def M(name, path, edits, tests, kind=""):
 Q, MECH, INS, SM = "footnav/core/quaternion.py", "footnav/core/mechanization.py", "footnav/core/ins_filter.py", "footnav/core/smoothing.py"
 AL, WIN, HD = "footnav/core/initial_alignment.py", "footnav/core/windows.py", "footnav/core/heading_drift.py"
 SC, GC, ST = "footnav/core/stance_check.py", "footnav/core/gait_cycles.py", "footnav/core/strides.py"
-MET, DT = "footnav/core/metrics.py", "footnav/core/dtw.py"
+MET_AL, MET_TR = "footnav/core/metrics/_alignment.py", "footnav/core/metrics/_trajectory.py"
+MET_DEV, MET_ST = "footnav/core/metrics/_deviation.py", "footnav/core/metrics/_strides.py"
+MET_MA, MET_CH = "footnav/core/metrics/_matching.py", "footnav/core/metrics/_checks.py"
+DT = "footnav/core/dtw.py"
 GLRT, THR, ADA = "footnav/detectors/glrt.py", "footnav/detectors/threshold.py", "footnav/detectors/adaptive.py"
 DG, HMM = "footnav/detectors/dual_gait.py", "footnav/detectors/hmm.py"
 MW, EKFP = "footnav/estimators/madgwick.py", "footnav/estimators/ekf.py"
@@ -228,22 +231,22 @@ MUTANTS: list[Mutant] = [
     M("strides-swing-mask", ST, ("swing_dt = np.where(mask, 0.0, dt)", "swing_dt = np.where(mask, dt, 0.0)"), STRIDES, "swapped arguments"),
     M("strides-clearance-chord", ST, ("np.max(z - (z[0] + frac * (z[-1] - z[0])))", "np.max(z - z[0])"), STRIDES, "missing term"),
     M("strides-dt-prepend", ST, ("dt = np.diff(t, append=t[-1])", "dt = np.diff(t, prepend=t[0])"), STRIDES, "off-by-one"),
-    # -- core/metrics.py ---------------------------------------------------------------------
-    M("metrics-umeyama-reflection", MET, ("sign[-1] = -1.0", "sign[-1] = 1.0"), METRICS, "missing term"),
-    M("metrics-umeyama-scale-trans", MET, ("trans = mu_d - scale * rot @ mu_s", "trans = mu_d - rot @ mu_s"), METRICS, "missing term"),
-    M("metrics-umeyama-transposed", MET, ("cov = xd.T @ xs / n", "cov = xs.T @ xd / n"), METRICS, "transpose"),
-    M("metrics-start-yaw-sign", MET, ("np.sum(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0])", "np.sum(a[:, 1] * b[:, 0] - a[:, 0] * b[:, 1])"),
+    # -- core/metrics/ -----------------------------------------------------------------------
+    M("metrics-umeyama-reflection", MET_AL, ("sign[-1] = -1.0", "sign[-1] = 1.0"), METRICS, "missing term"),
+    M("metrics-umeyama-scale-trans", MET_AL, ("trans = mu_d - scale * rot @ mu_s", "trans = mu_d - rot @ mu_s"), METRICS, "missing term"),
+    M("metrics-umeyama-transposed", MET_AL, ("cov = xd.T @ xs / n", "cov = xs.T @ xd / n"), METRICS, "transpose"),
+    M("metrics-start-yaw-sign", MET_AL, ("np.sum(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0])", "np.sum(a[:, 1] * b[:, 0] - a[:, 0] * b[:, 1])"),
       METRICS, "sign"),
-    M("metrics-rmse-mean", MET, ("return float(np.sqrt(np.mean(np.sum(diff**2, axis=1))))", "return float(np.mean(np.sqrt(np.sum(diff**2, axis=1))))"),
+    M("metrics-rmse-mean", MET_TR, ("return float(np.sqrt(np.mean(np.sum(diff**2, axis=1))))", "return float(np.mean(np.sqrt(np.sum(diff**2, axis=1))))"),
       METRICS, "statistic"),
-    M("metrics-waypoint-radius", MET, ("near = d <= radius_m", "near = d < radius_m"), METRICS, "boundary"),
-    M("metrics-deviation-min-distance", MET, ("ok = (s >= min_distance_m) & (s > 0)", "ok = (s > min_distance_m) & (s > 0)"), METRICS, "boundary"),
-    M("metrics-step-length-sign", MET, ("err = le - lr", "err = lr - le"), METRICS, "sign"),
-    M("metrics-match-tolerance", MET, ("float(ref_s[ri[0]])) <= tol:", "float(ref_s[ri[0]])) < tol:"), METRICS, "boundary"),
-    M("metrics-percent", MET, ("float(_PERCENT * num / den)", "float(num / den)"), METRICS, "constant"),
-    M("metrics-interp-duplicates", MET, ("if len(tt) < 2 or (np.diff(tt) <= 0).any():", "if len(tt) < 2 or (np.diff(tt) < 0).any():"),
+    M("metrics-waypoint-radius", MET_TR, ("near = d <= radius_m", "near = d < radius_m"), METRICS, "boundary"),
+    M("metrics-deviation-min-distance", MET_DEV, ("ok = (s >= min_distance_m) & (s > 0)", "ok = (s > min_distance_m) & (s > 0)"), METRICS, "boundary"),
+    M("metrics-step-length-sign", MET_ST, ("err = le - lr", "err = lr - le"), METRICS, "sign"),
+    M("metrics-match-tolerance", MET_MA, ("float(ref_s[ri[0]])) <= tol:", "float(ref_s[ri[0]])) < tol:"), METRICS, "boundary"),
+    M("metrics-percent", MET_CH, ("float(_PERCENT * num / den)", "float(num / den)"), METRICS, "constant"),
+    M("metrics-interp-duplicates", MET_DEV, ("if len(tt) < 2 or (np.diff(tt) <= 0).any():", "if len(tt) < 2 or (np.diff(tt) < 0).any():"),
       METRICS, "boundary"),
-    M("metrics-distance-3d", MET, ("np.cumsum(np.linalg.norm(np.diff(ref[:, :2], axis=0), axis=1))))\n    k",
+    M("metrics-distance-3d", MET_AL, ("np.cumsum(np.linalg.norm(np.diff(ref[:, :2], axis=0), axis=1))))\n    k",
                                    "np.cumsum(np.linalg.norm(np.diff(ref, axis=0), axis=1))))\n    k"), METRICS, "index"),
     # -- core/dtw.py -------------------------------------------------------------------------
     M("dtw-tie-break", DT, ("v = cur[k - 1]\n                if v < best:", "v = cur[k - 1]\n                if v <= best:"), DTW, "boundary"),

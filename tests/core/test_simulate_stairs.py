@@ -95,7 +95,8 @@ def test_bad_stairs_are_refused(segment):
 
 
 def test_cli_segments_read_stairs(tmp_path):
-    from footnav.cli import _segments, main
+    from footnav.cli import main
+    from footnav.cli._parser import _segments
 
     assert _segments("1.4:0,stairs:12:0.17,stairs:3:-0.17:0.35,2:90") == [
         (1.4, 0.0), ("stairs", 12, 0.17), ("stairs", 3, -0.17, 0.35), (2.0, 90.0)

@@ -292,7 +292,7 @@ MUTANTS: list[Mutant] = [
     M("madgwick-f-transposed", MW, ("m[3 + i, j] = p[3 + i, j] + dt * (c[i, 0] * p[6, j] + c[i, 1] * p[7, j] + c[i, 2] * p[8, j])",
                                     "m[3 + i, j] = p[3 + i, j] + dt * (c[0, i] * p[6, j] + c[1, i] * p[7, j] + c[2, i] * p[8, j])"),
       MADGWICK, "transpose"),
-    M("gravity-constant", "footnav/core/types.py", ("GRAVITY_MPS2 = 9.80665", "GRAVITY_MPS2 = 9.81"), MADGWICK + ["tests/estimators/test_ekf.py"],
+    M("gravity-constant", "footnav/core/types/units.py", ("GRAVITY_MPS2 = 9.80665", "GRAVITY_MPS2 = 9.81"), MADGWICK + ["tests/estimators/test_ekf.py"],
       "constant"),
     # -- fusion ------------------------------------------------------------------------------
     M("range-mirror", RC, ("z = p[anchor] + sign * bound * u", "z = p[anchor] - sign * bound * u"), FUSION, "sign"),

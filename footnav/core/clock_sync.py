@@ -52,7 +52,8 @@ class ClockMap:
     n
         Exchanges used (``method="exchanges"``) or correlation windows (``method="data"``).
     method
-        ``"exchanges"`` (:func:`fit_clock`, Chistyakov et al. (2021), Sec. 5B) or ``"data"`` (:func:`align_from_data`).
+        ``"exchanges"`` (:func:`fit_clock`, Chistyakov et al. (2021), Sec. 5B) or ``"data"``
+        (:func:`footnav.core.clock_from_data.align_from_data`).
     a_bounds, b_bounds
         ``method="exchanges"``: Chistyakov et al. (2021)'s intervals ``a1 <= a <= a2`` and
         ``min(b1, b2) <= b <= max(b1, b2)`` from the LP1/LP2 solutions ``[a1, b1]``, ``[a2, b2]``.

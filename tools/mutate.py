@@ -106,6 +106,7 @@ MET_AL, MET_TR = "footnav/core/metrics/_alignment.py", "footnav/core/metrics/_tr
 MET_DEV, MET_ST = "footnav/core/metrics/_deviation.py", "footnav/core/metrics/_strides.py"
 MET_MA, MET_CH = "footnav/core/metrics/_matching.py", "footnav/core/metrics/_checks.py"
 DT = "footnav/core/dtw.py"
+DTH, DTA = "footnav/core/dtw_heading.py", "footnav/core/dtw_average.py"
 GLRT, THR, ADA = "footnav/detectors/glrt.py", "footnav/detectors/threshold.py", "footnav/detectors/adaptive.py"
 DG, HMM = "footnav/detectors/dual_gait.py", "footnav/detectors/hmm.py"
 MW, EKFP = "footnav/estimators/madgwick.py", "footnav/estimators/ekf.py"
@@ -248,15 +249,15 @@ MUTANTS: list[Mutant] = [
       METRICS, "boundary"),
     M("metrics-distance-3d", MET_AL, ("np.cumsum(np.linalg.norm(np.diff(ref[:, :2], axis=0), axis=1))))\n    k",
                                    "np.cumsum(np.linalg.norm(np.diff(ref, axis=0), axis=1))))\n    k"), METRICS, "index"),
-    # -- core/dtw.py -------------------------------------------------------------------------
+    # -- core/dtw.py, dtw_heading.py, dtw_average.py -----------------------------------------
     M("dtw-tie-break", DT, ("v = cur[k - 1]\n                if v < best:", "v = cur[k - 1]\n                if v <= best:"), DTW, "boundary"),
     M("dtw-end-cell", DT, ("kend = (m - 1) - max(0, n - 1 - band)", "kend = (m - 1) - max(0, n - band)"), DTW, "off-by-one"),
     M("dtw-backtrack-offset", DT, ("s = steps[i, j - max(0, i - band)]", "s = steps[i, j - max(0, i - band - 1)]"), DTW, "off-by-one"),
     M("dtw-mean-denominator", DT, ("per = total / n_pairs if", "per = total / n if"), DTW, "wrong variable"),
-    M("dtw-rotation-transposed", DT, ("xy @ np.array([[c, s], [-s, c]])", "xy @ np.array([[c, -s], [s, c]])"), DTW, "transpose"),
-    M("dtw-average-index", DT, ("position = 0.5 * (pa[i] + pb[j])", "position = 0.5 * (pa[i] + pb[i])"), DTW, "wrong index"),
-    M("dtw-heading-bracket", DT, ("step = 2.0 * np.pi / grid", "step = np.pi / grid"), DTW, "constant"),
-    M("dtw-shift-sign", DT, ("shift = pa[0] - pb[0] if", "shift = pb[0] - pa[0] if"), DTW, "sign"),
+    M("dtw-rotation-transposed", DTH, ("xy @ np.array([[c, s], [-s, c]])", "xy @ np.array([[c, -s], [s, c]])"), DTW, "transpose"),
+    M("dtw-average-index", DTA, ("position = 0.5 * (pa[i] + pb[j])", "position = 0.5 * (pa[i] + pb[i])"), DTW, "wrong index"),
+    M("dtw-heading-bracket", DTH, ("step = 2.0 * np.pi / grid", "step = np.pi / grid"), DTW, "constant"),
+    M("dtw-shift-sign", DTH, ("shift = pa[0] - pb[0] if", "shift = pb[0] - pa[0] if"), DTW, "sign"),
     M("dtw-band-check", DT, ("if band_i < abs(n - m):", "if band_i < abs(n - m) - 1:"), DTW, "off-by-one"),
     # -- detectors ----------------------------------------------------------------------------
     M("glrt-no-one-over-w", GLRT, ("return acc_term / sigma_acc_mps2**2 + gyr_term / sigma_gyr_radps**2",
@@ -296,7 +297,7 @@ MUTANTS: list[Mutant] = [
     M("madgwick-f-transposed", MW, ("m[3 + i, j] = p[3 + i, j] + dt * (c[i, 0] * p[6, j] + c[i, 1] * p[7, j] + c[i, 2] * p[8, j])",
                                     "m[3 + i, j] = p[3 + i, j] + dt * (c[0, i] * p[6, j] + c[1, i] * p[7, j] + c[2, i] * p[8, j])"),
       MADGWICK, "transpose"),
-    M("gravity-constant", "footnav/core/types.py", ("GRAVITY_MPS2 = 9.80665", "GRAVITY_MPS2 = 9.81"), MADGWICK + ["tests/estimators/test_ekf.py"],
+    M("gravity-constant", "footnav/core/types/units.py", ("GRAVITY_MPS2 = 9.80665", "GRAVITY_MPS2 = 9.81"), MADGWICK + ["tests/estimators/test_ekf.py"],
       "constant"),
     # -- fusion ------------------------------------------------------------------------------
     M("range-mirror", RC, ("z = p[anchor] + sign * bound * u", "z = p[anchor] - sign * bound * u"), FUSION, "sign"),

@@ -3,7 +3,7 @@
 DESIGN.md's data flow is ``recording -> [sync + calibrate] -> detector -> estimator -> fusion``;
 this module is the sync step. It applies :mod:`footnav.core.clock_sync`: the message-exchange
 map of Chistyakov et al. (2021), Sec. 5B (:func:`~footnav.core.clock_sync.fit_clock`), or the
-data-driven offset between the feet (:func:`~footnav.core.clock_sync.align_from_data`). The
+data-driven offset between the feet (:func:`~footnav.core.clock_from_data.align_from_data`). The
 pipeline runs it when given one (``make_pipeline(..., sync="data")``, a ``[sync]`` table in a
 pipeline file, ``footnav run --sync data``); :func:`synchronise` runs it on a Recording alone.
 """
@@ -13,7 +13,8 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 from typing import Any, ClassVar, Literal, Mapping
 
-from footnav.core.clock_sync import ClockMap, align_from_data, apply_clock, fit_clock
+from footnav.core.clock_from_data import align_from_data
+from footnav.core.clock_sync import ClockMap, apply_clock, fit_clock
 from footnav.core.component import (
     MAX_DURATION_S,
     Component,
@@ -78,7 +79,7 @@ class ClockSync(Component):
     ----------
     method
         ``"data"``: the right foot's clock is mapped onto the left's from the gyro energy
-        (:func:`~footnav.core.clock_sync.align_from_data`; needs both feet, still at both ends).
+        (:func:`~footnav.core.clock_from_data.align_from_data`; needs both feet, still at both ends).
         ``"exchanges"``: each foot's clock is mapped onto the master's from its message exchanges
         (arrays ``tm1``, ``ti``, ``tm2`` in s; Chistyakov et al. (2021), Sec. 5B,
         :func:`~footnav.core.clock_sync.fit_clock`), found in ``imu.meta["clock_exchanges"]`` or

@@ -123,13 +123,6 @@ def feet_timeless_average(left: FootTrajectory, right: FootTrajectory, band_s: f
     )
 
 
-# The names these adapters had until issue 18, when they shared them with footnav.core.dtw's array
-# functions of other signatures. Kept only until the tests that import them are switched; remove
-# then. A spy must patch the new names: DtwFusion calls those.
-heading_mismatch = feet_heading_mismatch
-timeless_average = feet_timeless_average
-
-
 class DtwFusion(Fusion):
     """Two feet tied at every mid-swing, aligned and averaged by DTW (Chistyakov et al. (2021), Alg. 2).
 

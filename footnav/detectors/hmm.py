@@ -60,9 +60,9 @@ from scipy.signal import butter, find_peaks, sosfiltfilt
 from footnav.core.component import MAX_DURATION_S, StanceDetector, require, require_in_range, require_positive
 from footnav.core.errors import (
     DataQualityWarning,
-    FootnavError,
     FootnavWarning,
     GaitModelError,
+    HmmNotFittedError,
     InvalidInputError,
     InvalidParameterError,
 )
@@ -144,10 +144,6 @@ SAVE_FORMAT = "footnav-hmm-detector"
 SAVE_VERSION = 1
 
 _LOG = logging.getLogger("hmmlearn")
-
-
-class HmmNotFittedError(FootnavError, AttributeError):
-    """The detector has no learned model (``fit`` was not called) and one is needed (``save``)."""
 
 
 # ---------------------------------------------------------------------------------------------

@@ -32,7 +32,10 @@ What footnav adds to the paper, and why:
   other phase.
 * **Covariance regularisation**: ``min_std**2`` is added to each emission variance after every
   M-step (scikit-learn's ``reg_covar``; hmmlearn's ``min_covar`` only acts at initialisation for
-  full covariances), so a noise-free stance cannot make a covariance singular.
+  full covariances, its ``covars_prior`` is divided by each state's occupancy), so a noise-free
+  stance cannot make a covariance singular. Baum-Welch therefore runs one hmmlearn ``fit``
+  iteration at a time (:func:`~footnav.detectors.hmm.learning.baum_welch`): hmmlearn's public API
+  only, no private method overridden.
 
 Events come from the Viterbi path's transitions, each at the first sample of the new phase:
 stance -> push-up is ``heel_off``, push-up -> swing ``toe_off``, swing -> step-down
@@ -43,18 +46,17 @@ crossing early in the swing), ``heel_strike`` where the toe-up rotation of the s
 
 The sub-package, one concept per module, each importing only modules above it in this list:
 
-===================== =========================================================================
-module                what
-===================== =========================================================================
-``_hmmlearn_private`` the two overrides of hmmlearn's private API, why, and their check
-``model``             the states, eq. (1)'s structure and events, the hmmlearn model
-``features``          observations on the model-rate grid, low-pass, significant axis
-``reorder``           the re-ordering of K-means labels into the cyclic order (Fig. 2)
-``initialise``        the K-means guess, the data it refuses, the initial transitions
-``learning``          Baum-Welch, the check after decoding, the one refit
-``decoding``          Viterbi + forward-backward; phases, stance probability, events
-``detector``          :class:`HmmDetector`, the registered ``hmm`` component
-===================== =========================================================================
+============== ==============================================================================
+module         what
+============== ==============================================================================
+``model``      the states, eq. (1)'s structure and events, the hmmlearn model
+``features``   observations on the model-rate grid, low-pass, significant axis
+``reorder``    the re-ordering of K-means labels into the cyclic order (Fig. 2)
+``initialise`` the K-means guess, the data it refuses, the initial transitions
+``learning``   Baum-Welch (hmmlearn's public API), the check after decoding, the one refit
+``decoding``   Viterbi + forward-backward; phases, stance probability, events
+``detector``   :class:`HmmDetector`, the registered ``hmm`` component
+============== ==============================================================================
 """
 
 from __future__ import annotations

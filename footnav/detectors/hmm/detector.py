@@ -122,10 +122,10 @@ class HmmDetector(StanceDetector):
     state k) / (samples of state k), the exit probability of a geometric duration with that mean.
     Baum-Welch starts from these values (hmmlearn ``init_params=""``, ``params="tmc"``).
 
-    Convergence: hmmlearn's messages (log-likelihood decreasing, degenerate fits) are collected
-    during the fit into ``fit_info_["messages"]`` / ``meta["fit"]["messages"]`` instead of the
-    log. A small decrease near convergence is expected: the regularisation added after each M-step
-    makes EM not exactly monotone, and hmmlearn then stops (the gain is below ``tol``). EM that
+    Convergence: messages of the fit (log-likelihood decreasing, hmmlearn's degenerate-fit
+    warnings) are collected into ``fit_info_["messages"]`` / ``meta["fit"]["messages"]`` instead
+    of the log. A small decrease near convergence is expected: the regularisation added after each
+    M-step makes EM not exactly monotone, and EM then stops (the gain is below ``tol``). EM that
     stops at ``max_iter`` without meeting ``tol`` is recorded as ``converged=False`` and warned
     about (FootnavWarning).
 
@@ -270,7 +270,7 @@ class HmmDetector(StanceDetector):
         learned = self._learn([imu]) if fitted_here else self._fitted_model()
         grid = model_grid(imu, learned["features_"], learned["model_rate_hz_"])
         model = build_hmm(learned["startprob_"], learned["transmat_"], learned["means_"], learned["covars_"],
-                          min_covar=float(self.min_std) ** 2, seed=self.seed)
+                          seed=self.seed)
         decoded = decode_offline(model, grid.features)
         phases, score = on_samples(decoded, grid, imu.t)
         mask = phases == STANCE

@@ -4,19 +4,17 @@ A step is a cycle of four hidden states, ``0 stance -> 1 push-up -> 2 swing -> 3
 each state stays or moves to the next (:data:`STRUCTURE`), every other transition is a structural
 zero; the emissions are full-covariance Gaussians of the observation vector.
 
-The zeros are held by hmmlearn's own EM: :func:`build_hmm` hands it a ``transmat_`` with the
-zeros in place, ``init_params=""`` (footnav's initialisation is kept) and ``params="tmc"`` (pi
-stays uniform), and Baum-Welch leaves a zero transition at zero (its expected count is 0, and
-``BaseHMM._do_mstep`` keeps zeros of ``transmat_``). The model class is
-:class:`~footnav.detectors.hmm._hmmlearn_private.CyclicGaussianHMM` (that module says why).
+The zeros are held by hmmlearn's own EM, through its public API: :func:`build_hmm` hands
+``GaussianHMM`` a ``transmat_`` with the zeros in place, ``init_params=""`` (footnav's
+initialisation is kept) and ``params="tmc"`` (pi stays uniform), and Baum-Welch leaves a zero
+transition at zero (its expected count is 0, and hmmlearn's M-step keeps zeros of ``transmat_``;
+tests/detectors/test_hmm_hmmlearn.py checks it).
 """
 
 from __future__ import annotations
 
 import numpy as np
 from numpy.typing import NDArray
-
-from footnav.detectors.hmm._hmmlearn_private import gaussian_hmm_class
 
 __all__ = [
     "EVENTS",
@@ -67,24 +65,24 @@ def initial_emissions(
 
 
 def build_hmm(
-    startprob: NDArray, transmat: NDArray, means: NDArray, covars: NDArray, *, min_covar: float, seed: int,
-    max_iter: int = 1, tol: float = 0.0, implementation: str = "log",
+    startprob: NDArray, transmat: NDArray, means: NDArray, covars: NDArray, *, seed: int,
+    implementation: str = "log",
 ):
-    """The hmmlearn model of eq. (1)-(2) with these values; EM (``fit``) updates A, mu and Sigma only.
+    """hmmlearn's ``GaussianHMM`` of eq. (1)-(2) with these values.
 
-    ``min_covar`` is added to the covariance diagonals after every M-step; ``implementation`` is
-    hmmlearn's ("scaling" for fitting, "log" for decoding).
+    Each ``fit`` call runs one EM iteration from the current values (no initialisation) and
+    updates A, mu and Sigma only; ``implementation`` is hmmlearn's ("scaling" for fitting, "log"
+    for decoding).
     """
-    cls = gaussian_hmm_class()
-    model = cls(
+    from hmmlearn.hmm import GaussianHMM
+
+    model = GaussianHMM(
         n_components=N_STATES,
         covariance_type="full",
-        min_covar=min_covar,
         covars_prior=0.0,
         init_params="",  # keep the re-ordered K-means initialisation
         params="tmc",  # pi stays uniform (HmmDetector's Notes)
-        n_iter=max_iter,
-        tol=tol,
+        n_iter=1,  # one EM iteration per fit call (learning.baum_welch)
         random_state=seed,
         implementation=implementation,
     )

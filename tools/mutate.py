@@ -108,7 +108,8 @@ MET_MA, MET_CH = "footnav/core/metrics/_matching.py", "footnav/core/metrics/_che
 DT = "footnav/core/dtw.py"
 DTH, DTA = "footnav/core/dtw_heading.py", "footnav/core/dtw_average.py"
 GLRT, THR, ADA = "footnav/detectors/glrt.py", "footnav/detectors/threshold.py", "footnav/detectors/adaptive.py"
-DG, HMM = "footnav/detectors/dual_gait.py", "footnav/detectors/hmm.py"
+DG = "footnav/detectors/dual_gait.py"
+HMM_FEATURES, HMM_REORDER = "footnav/detectors/hmm/features.py", "footnav/detectors/hmm/reorder.py"
 MW, EKFP = "footnav/estimators/madgwick.py", "footnav/estimators/ekf.py"
 RC, SV, FD = "footnav/fusion/range_constraint.py", "footnav/fusion/step_vector.py", "footnav/fusion/dtw.py"
 PF, PE, JN = "footnav/fusion/particle.py", "footnav/fusion/particle_ekf.py", "footnav/fusion/joint.py"
@@ -276,9 +277,9 @@ MUTANTS: list[Mutant] = [
     M("adaptive-pivot-acc-not-squared", ADA, ("(acc_dev2 < self.pivot_acc_mps2**2)", "(acc_dev2 < self.pivot_acc_mps2)"), DETECT, "missing term"),
     M("dual-gait-first-peak", DG, ("found = (j >= 0) & (imu.t[starts]", "found = (j > 0) & (imu.t[starts]"), DETECT, "boundary"),
     M("dual-gait-opening-flat", DG, ("starts = starts[starts > 0]", "starts = starts[starts >= 0]"), DETECT, "boundary"),
-    M("hmm-model-samples", HMM, ("int(math.floor(imu.duration_s * model_rate_hz + 1e-9)) + 1", "int(math.floor(imu.duration_s * model_rate_hz + 1e-9))"),
+    M("hmm-model-samples", HMM_FEATURES, ("int(math.floor(imu.duration_s * model_rate_hz + 1e-9)) + 1", "int(math.floor(imu.duration_s * model_rate_hz + 1e-9))"),
       DETECT, "off-by-one"),
-    M("hmm-position-centre", HMM, ("rel = (np.arange(stop - start) + 0.5) / (stop - start)", "rel = np.arange(stop - start) / (stop - start)"),
+    M("hmm-position-centre", HMM_REORDER, ("rel = (np.arange(stop - start) + 0.5) / (stop - start)", "rel = np.arange(stop - start) / (stop - start)"),
       DETECT, "missing term"),
     # -- estimators ---------------------------------------------------------------------------
     M("madgwick-gradient-reversed", MW, (("d0 -= beta * s0 / sn", "d0 += beta * s0 / sn"), ("d1 -= beta * s1 / sn", "d1 += beta * s1 / sn"),

@@ -20,6 +20,7 @@ __all__ = [
     "DataQualityWarning",
     "PluginWarning",
     "GaitModelError",
+    "HmmNotFittedError",
 ]
 
 
@@ -107,3 +108,12 @@ class PluginWarning(FootnavWarning):
 class GaitModelError(InvalidInputError):
     """An unsupervised gait model (the HMM of Li et al. (2018)) could not learn the gait cycle from the data:
     after learning, its stance state is not the stillest state (the mask would be inverted)."""
+
+
+class HmmNotFittedError(FootnavError, AttributeError):
+    """The HMM detector has no learned model (``fit`` was not called) and one is needed (``save``).
+
+    Also an :class:`AttributeError`, as scikit-learn's ``NotFittedError`` is: the learned
+    attributes (``transmat_``, ...) do not exist yet. Importable from :mod:`footnav.detectors.hmm`
+    as before.
+    """

@@ -412,10 +412,10 @@ def test_ten_minute_walk_with_turns_no_missed_no_false_stance():
 
 
 def test_collapsed_model_is_refitted_and_recorded(monkeypatch):
-    import footnav.detectors.hmm as hmm
+    from footnav.detectors.hmm import learning
 
     calls = []
-    real = hmm._check_model
+    real = learning.check_model
 
     def first_fails(*args, **kwargs):
         out = real(*args, **kwargs)
@@ -424,7 +424,7 @@ def test_collapsed_model_is_refitted_and_recorded(monkeypatch):
             out = {**out, "ok": False, "problem": "forced"}
         return out
 
-    monkeypatch.setattr(hmm, "_check_model", first_fails)
+    monkeypatch.setattr(learning, "check_model", first_fails)
     with pytest.warns(footnav.DataQualityWarning, match="failed the check after decoding"):
         stance = HmmDetector().detect(_walk("straight", 100.0).left)
     fb = stance.meta["fit"]["fallback"]
@@ -432,11 +432,11 @@ def test_collapsed_model_is_refitted_and_recorded(monkeypatch):
 
 
 def test_inverted_model_is_a_specific_error(monkeypatch):
-    import footnav.detectors.hmm as hmm
     from footnav.core.errors import GaitModelError
+    from footnav.detectors.hmm import learning
 
-    real = hmm._check_model
-    monkeypatch.setattr(hmm, "_check_model", lambda *a, **k: {**real(*a, **k), "ok": False,
+    real = learning.check_model
+    monkeypatch.setattr(learning, "check_model", lambda *a, **k: {**real(*a, **k), "ok": False,
                                                               "stance_stillest": False, "problem": "inverted"})
     with pytest.raises(GaitModelError, match="stance state is not the stillest"):
         HmmDetector().detect(_walk("straight", 100.0).left)

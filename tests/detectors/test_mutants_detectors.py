@@ -48,3 +48,23 @@ def test_dual_gait_finds_every_heel_strike_including_the_first():
         hs, ref = found.events["heel_strike"], truth.events["heel_strike"]
         assert len(hs) == len(ref)
         np.testing.assert_allclose(hs, ref, atol=2)
+
+
+# hmm-model-samples: the HMM's model-rate grid runs from the recording's first sample to its last,
+# both included: 2.0 s at 100 Hz is 201 model samples (0, 0.01, ..., 2.0 s after the start), and
+# the recording's last sample maps to the last model sample, not to one 10 ms before it
+def test_hmm_model_grid_covers_the_whole_recording():
+    from footnav.core.types import ImuData
+    from footnav.detectors.hmm.features import model_grid
+
+    t = 0.5 + np.arange(401) / 200.0  # 200 Hz, exactly 2.0 s
+    gyr = np.column_stack([t, 2 * t, -t])  # linear: interpolation is exact
+    imu = ImuData(t=t, acc=np.tile([0.0, 0.0, 9.80665], (401, 1)), gyr=gyr)
+    grid = model_grid(imu, "gyr", 100.0)
+    assert len(grid.t_model) == 201
+    assert grid.t_model[0] == 0.5 and abs(grid.t_model[-1] - 2.5) < 1e-12
+    # sample k at 200 Hz is nearest to model sample round(k / 2)
+    assert grid.nearest[-1] == 200 and grid.nearest[-2] == 200 and grid.nearest[-3] == 199
+    # the low-pass filter (anti-alias at the model rate) leaves the linear ramp's ends slightly off;
+    # the last model sample's feature is the recording's end, within the filter's edge effect
+    assert abs(grid.features[-1, 0] - 2.5) < 0.05

@@ -17,7 +17,7 @@ from footnav.core import metrics  # noqa: E402
 from footnav.core.evaluation import trajectory_at  # noqa: E402
 from footnav.core.types import PipelineResult, Recording  # noqa: E402
 
-__all__ = ["plot_trajectories", "plot_stance_comparison", "plot_position_errors"]
+__all__ = ["plot_trajectories", "plot_stance_comparison", "plot_position_errors", "plot_steps"]
 
 
 def _save(fig, path: FilePath, dpi: int) -> None:
@@ -72,6 +72,30 @@ def plot_trajectories(result: PipelineResult, recording: Recording | None, path:
     ax.grid(True, alpha=0.3)
     path = FilePath(path)
     _save(fig, path, 120)
+    return path
+
+
+def plot_steps(steps, path: str | FilePath, *, title: str = "") -> FilePath:
+    """Top view of the footprints of closed steps (online mode's ``ClosedStep``: ``foot``,
+    ``position`` in m, nav frame), one line per foot, the newest footprint of each foot marked
+    with a square. What ``footnav follow --plot`` redraws while a walk goes on.
+    """
+    fig, ax = plt.subplots(figsize=(7, 5.5), constrained_layout=True)
+    for foot, color in (("left", "tab:blue"), ("right", "tab:red")):
+        xy = np.array([s.position[:2] for s in steps if s.foot == foot]).reshape(-1, 2)
+        if len(xy) == 0:
+            continue
+        ax.plot(xy[:, 0], xy[:, 1], ".-", color=color, lw=1, ms=5, label=f"{foot}: {len(xy)} steps")
+        ax.plot(*xy[-1], "s", color=color, ms=8)
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.set_xlabel("x (m)")
+    ax.set_ylabel("y (m)")
+    ax.set_title(title or "footnav: closed steps")
+    if steps:
+        ax.legend(loc="best", fontsize="small")
+    ax.grid(True, alpha=0.3)
+    path = FilePath(path)
+    _save(fig, path, 100)
     return path
 
 

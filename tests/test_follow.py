@@ -19,12 +19,13 @@ import footnav
 WRITER = """
 import sys, time
 source, target = sys.argv[1], sys.argv[2]
+burst = int(sys.argv[3]) if len(sys.argv) > 3 else 40
 lines = open(source).read().splitlines(keepends=True)
 with open(target, "w") as out:
     out.writelines(lines[:2])  # units line and header
     out.flush()
-    for a in range(2, len(lines), 40):
-        out.writelines(lines[a : a + 40])
+    for a in range(2, len(lines), burst):
+        out.writelines(lines[a : a + burst])
         out.flush()
         time.sleep(0.15)
 """
@@ -116,3 +117,34 @@ def test_offline_only_pipeline_is_refused(walk_csv, tmp_path):
                           check=False)
     assert done.returncode == 2
     assert "cannot run online" in done.stderr
+
+
+def test_live_plot_is_redrawn_while_the_walk_goes_on(walk_csv, tmp_path):
+    from footnav.core.output import is_footnav_figure
+
+    left, figure = tmp_path / "left.csv", tmp_path / "steps.png"
+    follow = _footnav("follow", "--left", str(left), "--idle-s", "3", "--plot", str(figure), "--plot-every-s", "0.1",
+                      "--out", str(tmp_path / "out"))
+    # slower than the other tests (1.3x real time): the first drawing imports matplotlib
+    writer = subprocess.Popen([sys.executable, "-c", WRITER, str(walk_csv / "left.csv"), str(left), "20"])
+    seen_while_writing = []
+    for line in iter(follow.stdout.readline, ""):
+        if _step_lines(line) and writer.poll() is None:
+            seen_while_writing.append(figure.is_file() and figure.stat().st_mtime_ns)
+    assert follow.wait(timeout=60) == 0, follow.stderr.read()
+    writer.wait(timeout=10)
+    # the figure exists before the walk ends and changes as steps close
+    drawn = [m for m in seen_while_writing if m]
+    assert len(set(drawn)) >= 2, seen_while_writing
+    assert is_footnav_figure(figure)
+    assert not list(tmp_path.glob(".steps.png.*"))  # no staged file left beside it
+
+
+def test_live_plot_never_replaces_a_users_file(walk_csv, tmp_path):
+    mine = tmp_path / "mine.png"
+    mine.write_bytes(b"not footnav's")
+    done = subprocess.run([sys.executable, "-m", "footnav.cli", "follow", "--left", str(walk_csv / "left.csv"), "--idle-s",
+                           "0.5", "--plot", str(mine), "--out", str(tmp_path / "out")], capture_output=True, text=True,
+                          timeout=120, check=False)
+    assert done.returncode != 0
+    assert mine.read_bytes() == b"not footnav's"

@@ -7,7 +7,7 @@ import argparse
 import sys
 from contextlib import ExitStack
 
-from footnav.cli._common import EXIT_OK, _format_table
+from footnav.cli._common import EXIT_OK, _claim_figure, _format_table
 from footnav.core.errors import FootnavError
 
 #: Columns of a followed CSV (footnav CSV: ``footnav simulate`` writes it); ``foot`` optional.
@@ -137,6 +137,38 @@ def _step_line(step) -> str:
             + ("  (late)" if step.late else ""))
 
 
+class _LivePlot:
+    """The figure of ``follow --plot``: the closed steps' footprints, redrawn at most every
+    ``every_s`` seconds (wall time) while steps arrive and once at the end. Each drawing replaces
+    the file atomically (the claim's staged write), so a viewer never reads half a PNG."""
+
+    def __init__(self, claim, every_s: float, pipeline) -> None:
+        self.claim = claim
+        self.every_s = every_s
+        self.title = "footnav follow: " + " + ".join(c.get("name", k) for k, c in pipeline.config().items())
+        self.steps: list = []
+        self.drawn = 0  # steps in the figure on disk
+        self.last = -float("inf")
+
+    def add(self, step) -> None:
+        if self.claim is not None:
+            self.steps.append(step)
+
+    def draw(self, final: bool = False) -> None:
+        import time
+
+        if self.claim is None or (len(self.steps) == self.drawn and not final):
+            return
+        now = time.monotonic()
+        if not final and now - self.last < self.every_s:
+            return
+        from footnav.plot import plot_steps
+
+        with self.claim.staged() as tmp:
+            plot_steps(self.steps, tmp, title=self.title)
+        self.drawn, self.last = len(self.steps), now
+
+
 def cmd_follow(args: argparse.Namespace) -> int:
     import signal
     import time
@@ -161,6 +193,8 @@ def cmd_follow(args: argparse.Namespace) -> int:
     units = {"t": args.t_unit, "acc": args.acc_unit, "gyr": args.gyr_unit}
     with ExitStack() as claims:
         out_claim = claims.enter_context(claim_output(args.out, force=args.force, inputs=inputs, what="output folder"))
+        plot_claim = _claim_figure(claims, args.plot, args.force, inputs)
+        live = _LivePlot(plot_claim, args.plot_every_s, pipeline)
         sources = [(foot, name, read, _FollowedCsv(name, units)) for foot, name, read in _follow_sources(args)]
         print(f"{'t_s':>10}  {'foot':<5}  {'x_m':>9} {'y_m':>9} {'z_m':>7}  {'stride_m':>8}  {'heading_deg':>8}", flush=True)
         last_data = time.monotonic()
@@ -189,6 +223,8 @@ def cmd_follow(args: argparse.Namespace) -> int:
                 if chunks:  # both feet in one push: neither waits for the other's rows read now
                     for step in stream.push(**chunks).steps:
                         print(_step_line(step), flush=True)
+                        live.add(step)
+                    live.draw()
                 if chunks:
                     last_data = time.monotonic()
                 elif time.monotonic() - last_data > args.idle_s:
@@ -204,6 +240,8 @@ def cmd_follow(args: argparse.Namespace) -> int:
         result = stream.close()
         for step in stream.last_update.steps:
             print(_step_line(step), flush=True)
+            live.add(step)
+        live.draw(final=True)
         for foot in ("left", "right"):
             path = getattr(args, foot)
             if foot in result.meta["input"] and path not in (None, "-"):

@@ -172,6 +172,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--idle-s", type=_positive, default=5.0, help="end after this long without a new row, s (files)")
     p.add_argument("--poll-s", type=_positive, default=0.05, help="how often a file is read for new rows, s")
     p.add_argument("--max-wait-s", type=_positive, default=2.0, help="longest wait for the other foot before a step is printed, s")
+    p.add_argument("--plot", help="a live figure (PNG) of the footprints so far, redrawn as steps close and at the end")
+    p.add_argument("--plot-every-s", type=_positive, default=1.0, help="redraw the --plot figure at most this often, s")
     p.add_argument("--out", required=True, help="output folder (must not exist or be empty)")
     p.add_argument("--force", action="store_true", help="replace an output folder that footnav wrote")
     p.set_defaults(func=cmd_follow)

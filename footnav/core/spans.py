@@ -52,9 +52,9 @@ MARKED_S = 2.0
 MARKED_FRACTION = 0.05
 
 _SYNC_HINT = (
-    "if both feet were recorded together their clocks differ: synchronise them "
-    "(footnav.core.clock_sync: fit_clock from message exchanges, or footnav.core.clock_from_data: "
-    "align_from_data from the data; then apply_clock) or align the time stamps before fusing"
+    "if both feet were recorded together their clocks differ: add the clock-sync stage "
+    "(make_pipeline(..., sync='data'), or sync='exchanges' from message exchanges; footnav run --sync data) "
+    "or align the time stamps before fusing"
 )
 
 

@@ -22,7 +22,7 @@ def test_right_clock_3_hours_ahead_is_refused_naming_both_spans(fusion):
     msg = str(err.value)
     assert err.value.field == "t"
     assert "left foot 0..14 s (14 s)" in msg and "right foot 10800..10814 s (14 s)" in msg and "10786 s apart" in msg
-    assert "footnav.core.clock_sync" in msg and "independent" in msg
+    assert "sync='data'" in msg and "independent" in msg
 
 
 @pytest.mark.fault
@@ -50,7 +50,7 @@ def test_independent_runs_with_a_3_hour_clock_offset_and_says_so():
         warnings.simplefilter("always")
         res = footnav.make_pipeline("adaptive", "ekf", "independent").run(rec)
     marked = [str(w.message) for w in caught if issubclass(w.category, DataQualityWarning) and "markedly" in str(w.message)]
-    assert len(marked) == 1 and "+1.08e+04 s" in marked[0] and "clock_sync" in marked[0]
+    assert len(marked) == 1 and "+1.08e+04 s" in marked[0] and "sync='data'" in marked[0]
     assert res.meta["pipeline"]["fusion"]["name"] == "independent"
     assert any("markedly" in w for w in res.meta["warnings"])
     assert len(res.path.t) == 0  # no common part: no midpoint path, and nothing invented

@@ -27,10 +27,10 @@ from numpy.typing import NDArray
 from footnav.core.errors import InvalidInputError
 from footnav.core.heading import MIN_FIRST_STEP_M, rotate_about_z, turn_to_first_step
 from footnav.core.heading_drift import heading_drift_cov
-from footnav.core.ins_filter import InsFilter
-from footnav.core.smoothing import StepSmoother
 from footnav.core.types import FootTrajectory, ImuData, StanceResult, stance_intervals
 from footnav.core.warning_log import recording
+from footnav.estimators.ekf.filter import InsFilter
+from footnav.estimators.ekf.smoother import StepSmoother
 
 __all__ = ["SEGMENT_SAMPLES", "ClosedStep", "FootStream", "FootUpdate", "ForwardEstimate", "as_chunk"]
 
@@ -352,8 +352,8 @@ class FootStream:
         self.n_checkpoints = 1
         # the aligned state (f^n too, from the first stance's sample, which the empty segment lacks)
         cp = first.checkpoints[0]
-        self._base_state = tuple(np.array(x) for x in (cp.q, cp.v, cp.p, cp.ba, cp.bg, cp.f_n, cp.cov))
-        for dst, src in zip(self.filt._state(), self._base_state):
+        self._base_state = cp.state.copy()
+        for dst, src in zip(self.filt._state, self._base_state):
             dst[...] = src
         return True
 
@@ -381,7 +381,7 @@ class FootStream:
         if cps:
             cp = cps[-1]
             shift, base = int(cp.k[0]), 0
-            state = (cp.q, cp.v, cp.p, cp.ba, cp.bg, cp.f_n, cp.cov)
+            state = cp.state
             if shift == k_now and old.step_smoother is not None and old.step_smoother.fill[0]:
                 old.close_step(old.step_smoother)  # the cut the next sample would make
             self._harvest(False, upto=shift)
@@ -391,7 +391,7 @@ class FootStream:
             state = self._base_state
             size = 2 * max(len(old._t), self.n_final - self.seg0)
         new = self._segment(size, old)
-        for dst, src in zip(new._state(), state):
+        for dst, src in zip(new._state, state):
             dst[...] = src
         new._k[0] = base
         n = self.n_fed - self.seg0 - shift

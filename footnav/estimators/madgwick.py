@@ -49,9 +49,9 @@ from footnav.core.component import (
 from footnav.core.heading import turn_to_first_step
 from footnav.core.heading_drift import TURN_ON_BIAS_STD_RADPS, heading_drift_cov, standstill_rate_std
 from footnav.core.initial_alignment import MIN_STILL_SAMPLES, Alignment, align_first_stance
-from footnav.core.ins_filter import sym3_inverse
 from footnav.core.quaternion import as_matrix_nb
 from footnav.core.types import GRAVITY_MPS2, FootTrajectory, ImuData, StanceResult
+from footnav.estimators.ekf.kernels import sym3_inverse
 
 __all__ = ["MadgwickEstimator", "madgwick_imu_step", "madgwick_marg_step"]
 

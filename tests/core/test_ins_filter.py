@@ -5,11 +5,13 @@ import pytest
 
 import footnav
 from footnav import StanceResult
-from footnav.core import ins_filter, kalman
+from footnav.core import kalman
 from footnav.core import quaternion as quat
-from footnav.core.ins_filter import FilterNoise, _predict_cov
-from footnav.core.smoothing import smooth
 from footnav.estimators.ekf import EkfEstimator
+from footnav.estimators.ekf import filter as ekf_filter
+from footnav.estimators.ekf.kernels import predict_cov
+from footnav.estimators.ekf.records import FilterNoise
+from footnav.estimators.ekf.smoother import smooth
 
 
 def _dense_f(n, f_n, c, dt):
@@ -42,7 +44,7 @@ def test_structured_predict_equals_dense_predict(n, n_feet, foot):
     dense = p0.copy()
     kalman.predict(dense, f, q, np.empty((big, big)))
     fast = p0.copy()
-    _predict_cov(fast, o, n, f_n, c, dt, q_diag)
+    predict_cov(fast, o, n, f_n, c, dt, q_diag)
     np.testing.assert_allclose(fast, dense, rtol=1e-12, atol=1e-12)
     assert np.array_equal(fast, fast.T)  # the lower triangle is the upper one, exactly
 
@@ -93,7 +95,7 @@ def _reference_forward(est, imu, stance):
                 ba, bg = ba - dx[9:12], bg - dx[12:15]
         hist.append((p_pred, cov.copy(), f, dx))
         out[k] = (q.copy(), v.copy(), p.copy())
-    return out, hist, k0, filt.checkpoints[0].cov
+    return out, hist, k0, filt.checkpoints[0].state.cov
 
 
 def _reference_rts(est, imu, stance):
@@ -145,7 +147,7 @@ def _reference_step_rts(est, imu, stance):
 @pytest.mark.parametrize("segment_events", [None, 150])
 def test_smoother_matches_dense_rts_reference(bias_states, segment_events, monkeypatch):
     if segment_events is not None:  # many segments: the smoother's buffer is reused, stale rows must not leak
-        monkeypatch.setattr(ins_filter, "MAX_SEGMENT_EVENTS", segment_events)
+        monkeypatch.setattr(ekf_filter, "MAX_SEGMENT_EVENTS", segment_events)
     rec = footnav.simulate("straight", seed=4, distance_m=6.0, standstill_s=1.0)
     imu, stance = rec.left, StanceResult(rec.truth_left.stance)
     est = EkfEstimator(bias_states=bias_states, smoother="whole", heading="sensor")
@@ -241,7 +243,7 @@ def test_in_pass_step_smoothing_equals_replayed_step_smoothing(bias_states):
 
 
 def test_in_pass_step_smoothing_with_a_tiny_buffer_still_smooths_every_sample():
-    from footnav.core.smoothing import StepSmoother
+    from footnav.estimators.ekf.smoother import StepSmoother
 
     rec = footnav.simulate("straight", seed=9, distance_m=6.0, standstill_s=1.0)
     stance = StanceResult(rec.truth_left.stance)
@@ -261,7 +263,7 @@ def test_in_pass_step_smoothing_with_a_tiny_buffer_still_smooths_every_sample():
 def _whole_with_updates(est, rec, stances, keep_mb):
     """A two-foot joint run with a caller's position update every 2 s, smoothed over the whole
     walk, the forward run keeping ``keep_mb`` MB of its record (None: nothing kept)."""
-    from footnav.core.smoothing import SegmentRecords
+    from footnav.estimators.ekf.smoother import SegmentRecords
 
     filt = est.start([rec.left, rec.right], stances)
     filt.segment_records = None if keep_mb is None else SegmentRecords(filt, keep_mb)
@@ -276,7 +278,7 @@ def _whole_with_updates(est, rec, stances, keep_mb):
 
 @pytest.mark.parametrize("bias_states", [False, True])
 def test_kept_segments_smooth_exactly_as_replayed_ones(bias_states, monkeypatch):
-    monkeypatch.setattr(ins_filter, "MAX_SEGMENT_EVENTS", 300)  # many segments besides the updates
+    monkeypatch.setattr(ekf_filter, "MAX_SEGMENT_EVENTS", 300)  # many segments besides the updates
     rec = footnav.simulate("straight", seed=10, distance_m=15.0, standstill_s=1.0)
     stances = [StanceResult(rec.truth_left.stance), StanceResult(rec.truth_right.stance)]
     est = EkfEstimator(smoother="whole", heading="sensor", bias_states=bias_states, zaru_std_radps=0.01 if bias_states else 0.0)

@@ -289,3 +289,60 @@ def test_kept_segments_smooth_exactly_as_replayed_ones(bias_states, monkeypatch)
     for a, b, c in zip(replayed, all_kept, some_kept):
         np.testing.assert_array_equal(a, b)  # the same arithmetic on the same record
         np.testing.assert_array_equal(a, c)
+
+
+@pytest.mark.parametrize("bias_states", [False, True])
+def test_samples_given_in_chunks_filter_exactly_as_given_at_once(bias_states):
+    """extend: a filter built with room for the rest, fed chunk by chunk (a stream), gives the
+    run of the filter that had every sample from the start, bit for bit."""
+    rec = footnav.simulate("straight", seed=11, distance_m=6.0, standstill_s=1.0)
+    imu, stance = rec.left, StanceResult(rec.truth_left.stance)
+    est = EkfEstimator(smoother="step", heading="sensor", bias_states=bias_states)
+    whole = est.start([imu], [stance])
+    whole.run_until()
+    ref = smooth(whole, "step")
+    k0 = whole.start_index(0)
+    n0 = k0 + 50
+    first = whole.checkpoints[0].state  # the aligned start
+    grown = type(whole)(
+        [imu.t[:n0]], [imu.acc[:n0]], [imu.gyr[:n0]], [stance.mask[:n0]], [k0], [first.q[0]], [first.p[0]], [first.bg[0]],
+        np.diag(first.cov), whole.noise, whole.n_states, capacity=[imu.n_samples],
+    )
+    grown.step_smoother = type(whole.step_smoother)(grown)
+    assert grown.capacity(0) == imu.n_samples and len(grown.samples(0).t) == n0
+    for a in range(n0, imu.n_samples, 97):
+        b = min(a + 97, imu.n_samples)
+        grown.extend(imu.t[a:b], imu.acc[a:b], imu.gyr[a:b], stance.mask[a:b])
+        grown.run_until(imu.t[b - 2])  # the newest sample's step end needs its successor
+    grown.run_until()
+    for x, y in zip(grown.outputs(0), whole.outputs(0)):
+        np.testing.assert_array_equal(x, y)
+    for x, y in zip(smooth(grown, "step"), ref):
+        np.testing.assert_array_equal(x, y)
+    with pytest.raises(footnav.InvalidInputError, match="room for"):
+        grown.extend(imu.t[:1], imu.acc[:1], imu.gyr[:1], stance.mask[:1])
+
+
+def test_a_filter_resumed_from_a_checkpoint_continues_the_run_exactly():
+    """resume: a new filter over the samples from a step-end checkpoint on, started from its
+    state, gives the rest of the run bit for bit."""
+    rec = footnav.simulate("straight", seed=12, distance_m=6.0, standstill_s=1.0)
+    imu, stance = rec.left, StanceResult(rec.truth_left.stance)
+    est = EkfEstimator(smoother="none", heading="sensor", bias_states=True)
+    whole = est.start([imu], [stance])
+    whole.step_stops = True
+    whole.run_until()
+    cp = whole.checkpoints[len(whole.checkpoints) // 2]
+    assert cp.step_end
+    s = int(cp.k[0])
+    rest = type(whole)(
+        [imu.t[s:]], [imu.acc[s:]], [imu.gyr[s:]], [stance.mask[s:]], [0], [whole.quaternion(0)], [whole.position(0)],
+        [whole.biases(0)[1]], np.ones(15), whole.noise, whole.n_states,
+    )
+    rest.resume(cp.state, [0])
+    assert rest.index(0) == 0 and len(rest.checkpoints) == 1
+    np.testing.assert_array_equal(rest.checkpoints[0].state.cov, cp.state.cov)
+    rest.run_until()
+    for x, y in zip(rest.outputs(0), whole.outputs(0)):
+        np.testing.assert_array_equal(x[1:], y[s + 1 :])
+    np.testing.assert_array_equal(rest.state().cov, whole.state().cov)

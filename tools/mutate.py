@@ -102,6 +102,7 @@ Q, MECH = "footnav/core/quaternion.py", "footnav/core/mechanization.py"
 _EKF = "footnav/estimators/ekf/"
 KER, BACK, LOOP, REC = _EKF + "kernels.py", _EKF + "backward.py", _EKF + "loop.py", _EKF + "records.py"
 FILT, SM = _EKF + "filter.py", _EKF + "smoother.py"
+KAL = "footnav/core/kalman.py"
 AL, WIN, HD = "footnav/core/initial_alignment.py", "footnav/core/windows.py", "footnav/core/heading_drift.py"
 SC, GC, ST = "footnav/core/stance_check.py", "footnav/core/gait_cycles.py", "footnav/core/strides.py"
 MET, DT = "footnav/core/metrics.py", "footnav/core/dtw.py"
@@ -150,9 +151,9 @@ MUTANTS: list[Mutant] = [
     M("ins-f-rows-acc-bias-sign", KER, ("cov[o + 3 + i, j] -= dt * (c[i, 0] * b0", "cov[o + 3 + i, j] += dt * (c[i, 0] * b0"), FILTER, "sign"),
     M("ins-f-cols-gyr-bias-transposed", KER, ("cov[i, o + r] += dt * (c[r, 0] * g0 + c[r, 1] * g1 + c[r, 2] * g2)",
                                               "cov[i, o + r] += dt * (c[0, r] * g0 + c[1, r] * g1 + c[2, r] * g2)"), FILTER, "transpose"),
-    M("ins-update-missing-r", KER, ("cov[o + 1, o + 2], cov[o + 2, o + 2] + r", "cov[o + 1, o + 2], cov[o + 2, o + 2]"), FILTER, "missing term"),
+    M("ins-update-missing-r", KAL, ("cov[o + 1, o + 2], cov[o + 2, o + 2] + r", "cov[o + 1, o + 2], cov[o + 2, o + 2]"), FILTER, "missing term"),
     M("ins-zaru-gate", LOOP, ("ZARU_GATE = 16.27", "ZARU_GATE = 1.627"), FILTER, "constant"),
-    M("ins-sym3-inverse", KER, ("i02 = b * e - c * d", "i02 = c * d - b * e"), FILTER, "sign"),
+    M("ins-sym3-inverse", KAL, ("i02 = b * e - c * d", "i02 = c * d - b * e"), FILTER, "sign"),
     M("ins-feedback-position-sign", KER, ("p[f, i] -= dx[o + 6 + i]", "p[f, i] += dx[o + 6 + i]"), FILTER, "sign"),
     M("ins-feedback-body-side", KER, ("q_tmp[1] = dq[0] * x + dq[1] * w + dq[2] * z - dq[3] * y",
                                       "q_tmp[1] = dq[0] * x + dq[1] * w - dq[2] * z + dq[3] * y"), FILTER, "transpose"),

@@ -2,10 +2,10 @@
 
 import numpy as np
 import pytest
+import reference_kalman as kalman  # tests/reference_kalman.py, the dense reference
 
 import footnav
 from footnav import StanceResult
-from footnav.core import kalman
 from footnav.core import quaternion as quat
 from footnav.estimators.ekf import EkfEstimator
 from footnav.estimators.ekf import filter as ekf_filter

@@ -3,7 +3,7 @@
 =================  ===========================================================================
 ``records``        named types: noise, filter state, checkpoint, the smoother's record, scratch
 ``buffers``        the per-sample arrays laid out against 4K aliasing
-``kernels``        compiled covariance prediction, the 3-state update and feedback
+``kernels``        compiled covariance prediction and feedback (the update: core/kalman.py)
 ``backward``       the compiled backward pass of the RTS smoother (Bryson-Frazier form)
 ``loop``           the compiled forward loop, which records and smooths as it runs
 ``filter``         :class:`InsFilter`, the step-able filter a fusion advances, with checkpoints

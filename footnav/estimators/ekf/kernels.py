@@ -1,4 +1,4 @@
-"""Compiled kernels of the error-state filter: covariance prediction, the 3-state update, feedback.
+"""Compiled kernels of the error-state filter: covariance prediction and closed-loop feedback.
 
 Per foot, the error state is ``dx = [dphi, dv, dp]`` (9 states: attitude, velocity, position in
 the nav frame; Zhao et al. (2019), eq. 1-3) or ``[dphi, dv, dp, dba, dbg]`` (15 states, adding the
@@ -20,7 +20,8 @@ position measurement a fusion makes) update ``dx``, which is fed back into the n
 reset to zero (closed loop, Chistyakov et al. (2021), Alg. 1).
 
 Every kernel works in place on one foot's block at offset ``o`` of the joint state, so that two
-feet share one covariance at the cost of one.
+feet share one covariance at the cost of one. The measurement update is footnav's one Kalman
+kernel, :func:`footnav.core.kalman.update3`, shared with ``madgwick``.
 """
 
 from __future__ import annotations
@@ -30,7 +31,7 @@ import numpy as np
 from footnav.core._numba import njit  # numba.njit that survives a read-only install
 from footnav.core.quaternion import from_rotvec_nb
 
-__all__ = ["feedback", "predict_cov", "sym3_inverse", "update3"]
+__all__ = ["feedback", "predict_cov"]
 
 
 @njit(cache=True, inline="always", error_model="numpy")
@@ -95,57 +96,6 @@ def predict_cov(cov, o, n, f_n, c, dt, q_diag):
         if i < o or i >= o + n:
             for a in range(n):
                 cov[i, o + a] = cov[o + a, i]
-
-
-@njit(cache=True, inline="always", error_model="numpy")
-def sym3_inverse(a, b, c, d, e, f):
-    """Inverse of the symmetric [[a b c] [b d e] [c e f]] by cofactors: (i00, i01, i02, i11, i12,
-    i22, det); the entries are undefined when det <= 0 (not positive definite)."""
-    i00 = d * f - e * e
-    i01 = c * e - b * f
-    i02 = b * e - c * d
-    det = a * i00 + b * i01 + c * i02
-    inv = 1.0 / det if det != 0.0 else 0.0
-    return (i00 * inv, i01 * inv, i02 * inv, (a * f - c * c) * inv, (b * c - a * e) * inv, (a * d - b * b) * inv, det)
-
-
-@njit(cache=True, error_model="numpy")
-def update3(cov, dx, o, y0, y1, y2, r, gate, gain, sy, hp):
-    """Kalman update with a measurement of the 3 states at ``o``: ``y = dx[o:o+3] + noise``,
-    noise variance ``r`` (each axis); H is a selection, so S is a 3 x 3 block of P plus r I,
-    inverted by cofactors.
-
-    K = P H' S^-1 (written to ``gain`` (N, 3)), dx = K y, S^-1 y (to ``sy`` (3,)), P <- P - K H P,
-    both triangles from one value (exactly symmetric). ``hp`` (3, N) is scratch.
-    Returns False (and changes nothing) when S is not positive definite or the normalised
-    innovation squared y' S^-1 y exceeds ``gate`` (a chi-square gate; inf: none).
-    """
-    big = cov.shape[0]
-    i00, i01, i02, i11, i12, i22, det = sym3_inverse(
-        cov[o, o] + r, cov[o, o + 1], cov[o, o + 2], cov[o + 1, o + 1] + r, cov[o + 1, o + 2], cov[o + 2, o + 2] + r
-    )
-    if not det > 0.0:
-        return False
-    s0 = i00 * y0 + i01 * y1 + i02 * y2
-    s1 = i01 * y0 + i11 * y1 + i12 * y2
-    s2 = i02 * y0 + i12 * y1 + i22 * y2
-    if y0 * s0 + y1 * s1 + y2 * s2 > gate:
-        return False
-    sy[0], sy[1], sy[2] = s0, s1, s2
-    for j in range(big):
-        h0, h1, h2 = cov[o, j], cov[o + 1, j], cov[o + 2, j]  # H P = P H' (symmetric)
-        hp[0, j], hp[1, j], hp[2, j] = h0, h1, h2
-        gain[j, 0] = h0 * i00 + h1 * i01 + h2 * i02
-        gain[j, 1] = h0 * i01 + h1 * i11 + h2 * i12
-        gain[j, 2] = h0 * i02 + h1 * i12 + h2 * i22
-        dx[j] = h0 * s0 + h1 * s1 + h2 * s2
-    for i in range(big):
-        g0, g1, g2 = gain[i, 0], gain[i, 1], gain[i, 2]
-        for j in range(i, big):
-            val = cov[i, j] - g0 * hp[0, j] - g1 * hp[1, j] - g2 * hp[2, j]
-            cov[i, j] = val
-            cov[j, i] = val
-    return True
 
 
 @njit(cache=True, error_model="numpy")

@@ -15,10 +15,11 @@ from __future__ import annotations
 import numpy as np
 
 from footnav.core._numba import njit  # numba.njit that survives a read-only install
+from footnav.core.kalman import update3
 from footnav.core.mechanization import strapdown_step
 from footnav.core.quaternion import as_matrix_nb
 from footnav.estimators.ekf.backward import smooth_back
-from footnav.estimators.ekf.kernels import feedback, predict_cov, update3
+from footnav.estimators.ekf.kernels import feedback, predict_cov
 from footnav.estimators.ekf.records import GYR_BIAS, POS, VEL
 
 __all__ = ["DONE", "FULL", "MODE_BACK", "MODE_CLOSE", "MODE_FILTER", "MODE_RECORD", "MODE_STEP", "MODE_WHOLE", "STEP_END", "ZARU_GATE", "run"]

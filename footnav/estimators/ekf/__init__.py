@@ -1,8 +1,8 @@
 """The error-state ZUPT-aided EKF (``ekf``): one concept per module, imports going one way.
 
 =================  ===========================================================================
-``records``        named types: noise, filter state, checkpoint, the smoother's record, scratch
 ``buffers``        the per-sample arrays laid out against 4K aliasing
+``records``        named types: noise, filter state, checkpoint, the smoother's record, scratch
 ``kernels``        compiled covariance prediction and feedback (the update: core/kalman.py)
 ``backward``       the compiled backward pass of the RTS smoother (Bryson-Frazier form)
 ``loop``           the compiled forward loop, which records and smooths as it runs

@@ -339,7 +339,7 @@ def main() -> None:
         f"Pipeline: `{pipe!r}` (the defaults: adaptive detector, 9-state EKF with whole-walk RTS "
         "smoothing, each foot alone).",
         "",
-        "Metrics (definitions in `footnav/core/metrics.py`): `ate_2d`/`ate_3d` = RMSE after rigid "
+        "Metrics (definitions in `footnav/core/metrics/`): `ate_2d`/`ate_3d` = RMSE after rigid "
         "alignment to the truth (m); `loop_closure_2d`/`_3d` = end-to-start distance of a walk that returns to "
         "its start (m, % of path); `final_separation` = E_s of seed 001 (m); `stance_f1`, "
         "`steps_missed`/`steps_false` against the recording's stance labels (for pyshoe these are "

@@ -516,7 +516,7 @@ far, the paragraph under each table says why as far as we can tell.
 Columns: *paper's own figure* as printed (mean ± std over the paper's walks where it gives them);
 *footnav paper-mode* and *footnav best*: mean ± std over the seeds of the simulated walk (sample
 std). The configuration of each row is named in brackets `[paper-mode / best]` and listed above its
-table. Metric names are those of `footnav.evaluate` (definitions in `footnav/core/metrics.py`).
+table. Metric names are those of `footnav.evaluate` (definitions in `footnav/core/metrics/`).
 
 """
 

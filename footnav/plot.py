@@ -67,7 +67,7 @@ def plot_trajectories(result: PipelineResult, recording: Recording | None, path:
     ax.set_xlabel("x (m)")
     ax.set_ylabel("y (m)")
     name = "" if recording is None else recording.name
-    ax.set_title(f"footnav {name}: " + " + ".join(c["name"] for c in result.meta["pipeline"].values()))
+    ax.set_title(f"footnav {name}: " + " + ".join(c.get("name", kind) for kind, c in result.meta["pipeline"].items()))
     ax.legend(loc="best", fontsize="small")
     ax.grid(True, alpha=0.3)
     path = FilePath(path)

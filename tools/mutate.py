@@ -73,6 +73,7 @@ DTW = ["tests/core/test_dtw_core.py", "tests/fusion/test_dtw.py", "tests/core/te
 DETECT = ["tests/detectors", "tests/core/test_mutants_core.py"]
 MADGWICK = [
     "tests/estimators/test_madgwick.py",
+    "tests/estimators/test_madgwick_reference.py",
     "tests/estimators/test_mutants_estimators.py",
     "tests/estimators/test_vertical.py",
     "tests/core/test_constants.py",
@@ -105,7 +106,11 @@ FILT, SM = _EKF + "filter.py", _EKF + "smoother.py"
 KAL = "footnav/core/kalman.py"
 AL, WIN, HD = "footnav/core/initial_alignment.py", "footnav/core/windows.py", "footnav/core/heading_drift.py"
 SC, GC, ST = "footnav/core/stance_check.py", "footnav/core/gait_cycles.py", "footnav/core/strides.py"
-MET, DT = "footnav/core/metrics.py", "footnav/core/dtw.py"
+MET_AL, MET_TR = "footnav/core/metrics/_alignment.py", "footnav/core/metrics/_trajectory.py"
+MET_DEV, MET_ST = "footnav/core/metrics/_deviation.py", "footnav/core/metrics/_strides.py"
+MET_MA, MET_CH = "footnav/core/metrics/_matching.py", "footnav/core/metrics/_checks.py"
+DT = "footnav/core/dtw.py"
+DTH, DTA = "footnav/core/dtw_heading.py", "footnav/core/dtw_average.py"
 GLRT, THR, ADA = "footnav/detectors/glrt.py", "footnav/detectors/threshold.py", "footnav/detectors/adaptive.py"
 DG, HMM = "footnav/detectors/dual_gait.py", "footnav/detectors/hmm.py"
 MW, EKFP = "footnav/estimators/madgwick.py", _EKF + "estimator.py"
@@ -183,7 +188,7 @@ MUTANTS: list[Mutant] = [
     M("smooth-initial-position-sign", SM, ("out.p[a : k + 1] - d[6:9]", "out.p[a : k + 1] + d[6:9]"), SMOOTH, "sign"),
     M("smooth-initial-velocity-dropped", SM, ("sm_v[a : k + 1] = out.v[a : k + 1] - d[3:6]", "sm_v[a : k + 1] = out.v[a : k + 1]"),
       SMOOTH, "missing term"),
-    M("smooth-caller-updates-order", SM, ("in reversed(cps[b].updates):", "in cps[b].updates:"), SMOOTH + ["tests/fusion"], "order"),
+    M("smooth-caller-updates-order", SM, ("in reversed(cps[b].updates):", "in cps[b].updates:"), SMOOTH + ["tests/fusion", "tests/core/test_mutants_smoother_order.py"], "order"),
     M("smooth-step-h-sign", SM, ("rec.gain[e, :, m : 2 * m] = h.T", "rec.gain[e, :, m : 2 * m] = -h.T"),
       SMOOTH + ["tests/fusion"], "sign"),
     M("smooth-initial-q-swapped", SM, ("quat.multiply(dq, out.q[a : k + 1])", "quat.multiply(out.q[a : k + 1], dq)"),
@@ -231,32 +236,32 @@ MUTANTS: list[Mutant] = [
     M("strides-swing-mask", ST, ("swing_dt = np.where(mask, 0.0, dt)", "swing_dt = np.where(mask, dt, 0.0)"), STRIDES, "swapped arguments"),
     M("strides-clearance-chord", ST, ("np.max(z - (z[0] + frac * (z[-1] - z[0])))", "np.max(z - z[0])"), STRIDES, "missing term"),
     M("strides-dt-prepend", ST, ("dt = np.diff(t, append=t[-1])", "dt = np.diff(t, prepend=t[0])"), STRIDES, "off-by-one"),
-    # -- core/metrics.py ---------------------------------------------------------------------
-    M("metrics-umeyama-reflection", MET, ("sign[-1] = -1.0", "sign[-1] = 1.0"), METRICS, "missing term"),
-    M("metrics-umeyama-scale-trans", MET, ("trans = mu_d - scale * rot @ mu_s", "trans = mu_d - rot @ mu_s"), METRICS, "missing term"),
-    M("metrics-umeyama-transposed", MET, ("cov = xd.T @ xs / n", "cov = xs.T @ xd / n"), METRICS, "transpose"),
-    M("metrics-start-yaw-sign", MET, ("np.sum(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0])", "np.sum(a[:, 1] * b[:, 0] - a[:, 0] * b[:, 1])"),
+    # -- core/metrics/ -----------------------------------------------------------------------
+    M("metrics-umeyama-reflection", MET_AL, ("sign[-1] = -1.0", "sign[-1] = 1.0"), METRICS, "missing term"),
+    M("metrics-umeyama-scale-trans", MET_AL, ("trans = mu_d - scale * rot @ mu_s", "trans = mu_d - rot @ mu_s"), METRICS, "missing term"),
+    M("metrics-umeyama-transposed", MET_AL, ("cov = xd.T @ xs / n", "cov = xs.T @ xd / n"), METRICS, "transpose"),
+    M("metrics-start-yaw-sign", MET_AL, ("np.sum(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0])", "np.sum(a[:, 1] * b[:, 0] - a[:, 0] * b[:, 1])"),
       METRICS, "sign"),
-    M("metrics-rmse-mean", MET, ("return float(np.sqrt(np.mean(np.sum(diff**2, axis=1))))", "return float(np.mean(np.sqrt(np.sum(diff**2, axis=1))))"),
+    M("metrics-rmse-mean", MET_TR, ("return float(np.sqrt(np.mean(np.sum(diff**2, axis=1))))", "return float(np.mean(np.sqrt(np.sum(diff**2, axis=1))))"),
       METRICS, "statistic"),
-    M("metrics-waypoint-radius", MET, ("near = d <= radius_m", "near = d < radius_m"), METRICS, "boundary"),
-    M("metrics-deviation-min-distance", MET, ("ok = (s >= min_distance_m) & (s > 0)", "ok = (s > min_distance_m) & (s > 0)"), METRICS, "boundary"),
-    M("metrics-step-length-sign", MET, ("err = le - lr", "err = lr - le"), METRICS, "sign"),
-    M("metrics-match-tolerance", MET, ("float(ref_s[ri[0]])) <= tol:", "float(ref_s[ri[0]])) < tol:"), METRICS, "boundary"),
-    M("metrics-percent", MET, ("float(_PERCENT * num / den)", "float(num / den)"), METRICS, "constant"),
-    M("metrics-interp-duplicates", MET, ("if len(tt) < 2 or (np.diff(tt) <= 0).any():", "if len(tt) < 2 or (np.diff(tt) < 0).any():"),
+    M("metrics-waypoint-radius", MET_TR, ("near = d <= radius_m", "near = d < radius_m"), METRICS, "boundary"),
+    M("metrics-deviation-min-distance", MET_DEV, ("ok = (s >= min_distance_m) & (s > 0)", "ok = (s > min_distance_m) & (s > 0)"), METRICS, "boundary"),
+    M("metrics-step-length-sign", MET_ST, ("err = le - lr", "err = lr - le"), METRICS, "sign"),
+    M("metrics-match-tolerance", MET_MA, ("float(ref_s[ri[0]])) <= tol:", "float(ref_s[ri[0]])) < tol:"), METRICS, "boundary"),
+    M("metrics-percent", MET_CH, ("float(_PERCENT * num / den)", "float(num / den)"), METRICS, "constant"),
+    M("metrics-interp-duplicates", MET_DEV, ("if len(tt) < 2 or (np.diff(tt) <= 0).any():", "if len(tt) < 2 or (np.diff(tt) < 0).any():"),
       METRICS, "boundary"),
-    M("metrics-distance-3d", MET, ("np.cumsum(np.linalg.norm(np.diff(ref[:, :2], axis=0), axis=1))))\n    k",
+    M("metrics-distance-3d", MET_AL, ("np.cumsum(np.linalg.norm(np.diff(ref[:, :2], axis=0), axis=1))))\n    k",
                                    "np.cumsum(np.linalg.norm(np.diff(ref, axis=0), axis=1))))\n    k"), METRICS, "index"),
-    # -- core/dtw.py -------------------------------------------------------------------------
+    # -- core/dtw.py, dtw_heading.py, dtw_average.py -----------------------------------------
     M("dtw-tie-break", DT, ("v = cur[k - 1]\n                if v < best:", "v = cur[k - 1]\n                if v <= best:"), DTW, "boundary"),
     M("dtw-end-cell", DT, ("kend = (m - 1) - max(0, n - 1 - band)", "kend = (m - 1) - max(0, n - band)"), DTW, "off-by-one"),
     M("dtw-backtrack-offset", DT, ("s = steps[i, j - max(0, i - band)]", "s = steps[i, j - max(0, i - band - 1)]"), DTW, "off-by-one"),
     M("dtw-mean-denominator", DT, ("per = total / n_pairs if", "per = total / n if"), DTW, "wrong variable"),
-    M("dtw-rotation-transposed", DT, ("xy @ np.array([[c, s], [-s, c]])", "xy @ np.array([[c, -s], [s, c]])"), DTW, "transpose"),
-    M("dtw-average-index", DT, ("position = 0.5 * (pa[i] + pb[j])", "position = 0.5 * (pa[i] + pb[i])"), DTW, "wrong index"),
-    M("dtw-heading-bracket", DT, ("step = 2.0 * np.pi / grid", "step = np.pi / grid"), DTW, "constant"),
-    M("dtw-shift-sign", DT, ("shift = pa[0] - pb[0] if", "shift = pb[0] - pa[0] if"), DTW, "sign"),
+    M("dtw-rotation-transposed", DTH, ("xy @ np.array([[c, s], [-s, c]])", "xy @ np.array([[c, -s], [s, c]])"), DTW, "transpose"),
+    M("dtw-average-index", DTA, ("position = 0.5 * (pa[i] + pb[j])", "position = 0.5 * (pa[i] + pb[i])"), DTW, "wrong index"),
+    M("dtw-heading-bracket", DTH, ("step = 2.0 * np.pi / grid", "step = np.pi / grid"), DTW, "constant"),
+    M("dtw-shift-sign", DTH, ("shift = pa[0] - pb[0] if", "shift = pb[0] - pa[0] if"), DTW, "sign"),
     M("dtw-band-check", DT, ("if band_i < abs(n - m):", "if band_i < abs(n - m) - 1:"), DTW, "off-by-one"),
     # -- detectors ----------------------------------------------------------------------------
     M("glrt-no-one-over-w", GLRT, ("return acc_term / sigma_acc_mps2**2 + gyr_term / sigma_gyr_radps**2",
@@ -296,7 +301,7 @@ MUTANTS: list[Mutant] = [
     M("madgwick-f-transposed", MW, ("m[3 + i, j] = p[3 + i, j] + dt * (c[i, 0] * p[6, j] + c[i, 1] * p[7, j] + c[i, 2] * p[8, j])",
                                     "m[3 + i, j] = p[3 + i, j] + dt * (c[0, i] * p[6, j] + c[1, i] * p[7, j] + c[2, i] * p[8, j])"),
       MADGWICK, "transpose"),
-    M("gravity-constant", "footnav/core/types.py", ("GRAVITY_MPS2 = 9.80665", "GRAVITY_MPS2 = 9.81"), MADGWICK + ["tests/estimators/test_ekf.py"],
+    M("gravity-constant", "footnav/core/types/units.py", ("GRAVITY_MPS2 = 9.80665", "GRAVITY_MPS2 = 9.81"), MADGWICK + ["tests/estimators/test_ekf.py"],
       "constant"),
     # -- fusion ------------------------------------------------------------------------------
     M("range-mirror", RC, ("z = p[anchor] + sign * bound * u", "z = p[anchor] - sign * bound * u"), FUSION, "sign"),
@@ -333,7 +338,6 @@ MUTANTS: list[Mutant] = [
     M("particle-eig-radius", PF, ("rad = np.sqrt(0.25 * (p - s) ** 2 + q * q)", "rad = np.sqrt(0.5 * (p - s) ** 2 + q * q)"), FUSION, "constant"),
     M("particle-foot-offset-sign", PF, ("z_foot = z + side * half_width * lateral", "z_foot = z - side * half_width * lateral"), FUSION, "sign"),
     M("particle-drift-sign", PF, ("drift = -side * offset_rayleigh", "drift = side * offset_rayleigh"), FUSION, "sign"),
-    M("particle-other-growth", PF, ("cov_o = summary[other][1] + sqrt_t.T @ sqrt_t", "cov_o = summary[other][1]"), FUSION, "missing term"),
     M("particle-gaussian-half", PF, ('logw = -0.5 * np.einsum("ni,ij,nj->n"', 'logw = -np.einsum("ni,ij,nj->n"'), FUSION, "constant"),
     M("particle-ekf-scale-sqrt", PE, ("s = sigma_m / math.sqrt(b - a)", "s = sigma_m / (b - a)"), FUSION, "missing term"),
     M("particle-ekf-q-no-dt", PE, ("cov[VEL + i, VEL + i] += noise[0] * dt", "cov[VEL + i, VEL + i] += noise[0]"), FUSION, "dropped dt"),

@@ -47,6 +47,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
+from footnav.core.clock_sync import ClockMap
 from footnav.core.errors import CompositionError, InvalidInputError, InvalidParameterError
 from footnav.core.online_foot import ClosedStep, FootStream, FootUpdate, ForwardEstimate, as_chunk
 from footnav.core.types import PipelineResult
@@ -94,6 +95,11 @@ class OnlineStream:
     clock_offset_s
         Per foot, added to its time stamps to put both feet on one clock, e.g.
         ``{"right": -0.012}``.
+    clocks
+        Per foot, a :class:`~footnav.core.clock_sync.ClockMap` applied to its time stamps (an
+        offset and a rate), e.g. ``{"right": fit_clock(tm1, ti, tm2)}`` from the message
+        exchanges of Chistyakov et al. (2021), Sec. 5B logged before the walk. A foot takes an
+        offset or a map, not both.
     keep
         Keep every final sample for :meth:`close`'s result; False keeps nothing of the past
         (memory independent of the walk's length) and ``close`` returns None.
@@ -111,6 +117,7 @@ class OnlineStream:
         feet: int = 2,
         max_wait_s: float = 2.0,
         clock_offset_s: Mapping[str, float] | None = None,
+        clocks: Mapping[str, ClockMap] | None = None,
         keep: bool = True,
         rate_hz: float | None = None,
     ) -> None:
@@ -122,6 +129,16 @@ class OnlineStream:
         unknown = set(offsets) - set(_FEET[:feet])
         if unknown:
             raise InvalidParameterError(f"online: clock_offset_s names {sorted(unknown)}; expected {list(_FEET[:feet])}")
+        self.clocks = dict(clocks or {})
+        for foot, clock in self.clocks.items():
+            if foot not in _FEET[:feet]:
+                raise InvalidParameterError(f"online: clocks names {foot!r}; expected one of {list(_FEET[:feet])}")
+            if not isinstance(clock, ClockMap):
+                raise InvalidParameterError(
+                    f"online: clocks[{foot!r}] is a {type(clock).__name__}; expected a footnav.core.clock_sync.ClockMap"
+                )
+            if foot in offsets:
+                raise InvalidParameterError(f"online: the {foot} foot has both a clock_offset_s and a clock map; give one")
         if rate_hz is not None and not (isinstance(rate_hz, (int, float)) and 0 < rate_hz < 1e6):
             raise InvalidParameterError(f"online: rate_hz={rate_hz!r} is invalid; expected a number in (0, 1e6) Hz or None")
         self.rate_hz = rate_hz
@@ -150,7 +167,9 @@ class OnlineStream:
         t0 = time.perf_counter()
         for foot, chunk in zip(self.feet, (left, right)):
             if chunk is not None:
-                foot.push(*as_chunk(chunk, foot.foot))
+                t, acc, gyr = as_chunk(chunk, foot.foot)
+                clock = self.clocks.get(foot.foot)
+                foot.push(t if clock is None else clock(t), acc, gyr)
         out = self._update(final=False)
         self._push_s += time.perf_counter() - t0
         self.n_pushes += 1

@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING, Any, Mapping
 
 import numpy as np
 
-from footnav.core.component import Component, FootEstimator, Fusion, StanceDetector, require_stepable
+from footnav.core.component import Component, FootEstimator, Fusion, StanceDetector, check_param_names, require_stepable
 from footnav.core.errors import (
     CompositionError,
     DataNotFoundError,
@@ -26,6 +26,7 @@ from footnav.core.errors import (
     PluginError,
 )
 from footnav.core.stance_check import check_stances
+from footnav.core.sync import ClockSync, recording_exchanges
 from footnav.core.types import FusionResult, ImuData, PipelineResult, Recording, StanceResult
 from footnav.core.warning_log import recording, warn
 
@@ -102,26 +103,36 @@ def _resolve(kind: str, spec: Any, params: Mapping[str, Any] | None) -> Componen
 
 
 class Pipeline:
-    """A composed detector -> estimator -> fusion chain. Build it with :func:`make_pipeline`.
+    """A composed [sync ->] detector -> estimator -> fusion chain. Build it with :func:`make_pipeline`.
 
     ``run`` checks that the components fit the data (two feet, magnetometer) before any work.
+    ``sync`` (:class:`footnav.core.sync.ClockSync`, optional) first puts both feet on one clock.
     """
 
-    def __init__(self, detector: StanceDetector, estimator: FootEstimator, fusion: Fusion) -> None:
+    def __init__(
+        self, detector: StanceDetector, estimator: FootEstimator, fusion: Fusion, sync: ClockSync | None = None
+    ) -> None:
         self.detector = detector
         self.estimator = estimator
         self.fusion = fusion
+        self.sync = sync
 
     def __repr__(self) -> str:
-        return f"Pipeline(detector={self.detector!r}, estimator={self.estimator!r}, fusion={self.fusion!r})"
+        shown = "" if self.sync is None else f", sync={self.sync!r}"
+        return f"Pipeline(detector={self.detector!r}, estimator={self.estimator!r}, fusion={self.fusion!r}{shown})"
 
     @property
     def components(self) -> tuple[Component, Component, Component]:
         return (self.detector, self.estimator, self.fusion)
 
     def config(self) -> dict[str, dict[str, Any]]:
-        """``{"detector": {"name": ..., **params}, ...}``: the tables of the pipeline's TOML file."""
-        return {c.kind: {"name": c.name, **c.get_params()} for c in self.components}
+        """``{"detector": {"name": ..., **params}, ...}``: the tables of the pipeline's TOML file
+        (and ``"sync"``: the clock sync's parameters, when the pipeline has one)."""
+        tables = {c.kind: {"name": c.name, **c.get_params()} for c in self.components}
+        if self.sync is not None:
+            # None (an unset leading_foot) has no TOML spelling: a missing key means it
+            tables["sync"] = {k: v for k, v in self.sync.get_params().items() if v is not None}
+        return tables
 
     def to_toml(self) -> str:
         """The pipeline as TOML text that :func:`load_pipeline` reads back."""
@@ -143,6 +154,12 @@ class Pipeline:
                 raise CompositionError(f"{c.kind} {c.name!r} needs a magnetometer, but the data have none")
         if getattr(self.fusion, "needs_stepable_estimator", False):
             require_stepable(self.fusion, self.estimator)
+        if self.sync is not None:
+            self.sync.validate_params()
+            if self.sync.needs_two_feet and n_feet < 2:
+                raise CompositionError(
+                    f"clock sync {self.sync.method!r} aligns the feet with each other; it needs both feet's data"
+                )
 
     @staticmethod
     def _origin(comp: Component) -> str:
@@ -233,9 +250,11 @@ class Pipeline:
         right
             The right foot (ImuData or DataFrame), or None for a one-foot recording.
         """
+        exchanges = {}
         if isinstance(left, Recording):
             if right is not None:
                 raise InvalidInputError("give either a Recording or left/right ImuData, not both", field="right")
+            exchanges = recording_exchanges(left)
             left, right = left.left, left.right
         left, right = (ImuData.from_dataframe(x) if hasattr(x, "columns") and hasattr(x, "iloc") else x for x in (left, right))
         for name, imu in (("left", left), ("right", right)):
@@ -254,6 +273,10 @@ class Pipeline:
             for imu in (left, right):  # inside: what the checks find is recorded with the run
                 if imu is not None:
                     imu.check_units()
+            synced = None
+            if self.sync is not None:
+                synced = self.sync.align(left, right, exchanges=exchanges)
+                left, right = synced.left, synced.right
             with self._blame(self.detector):
                 stance_left, stance_right = self.detector.detect_pair(left, right)
             self._check_stance_output(stance_left, left, "left")
@@ -272,6 +295,7 @@ class Pipeline:
             "stance_check": stance_checks,
             # what the fusion computed (update counts, fitted values, suspended turns, the span)
             "fusion": copy.deepcopy(dict(fused.meta)),
+            **({} if synced is None else {"sync": synced.record()}),
             "runtime_s": time.perf_counter() - t0,
             "input": inputs,
         }
@@ -287,7 +311,7 @@ class Pipeline:
     def online(self, feet: int = 2, **options: Any) -> "OnlineStream":
         """The pipeline on a live stream: push chunks of samples as they arrive, get what became
         final (:class:`footnav.core.online.OnlineStream`; options ``max_wait_s``,
-        ``clock_offset_s``, ``keep``). Refused (CompositionError) for components that need the
+        ``clock_offset_s``, ``clocks``, ``keep``). Refused (CompositionError) for components that need the
         whole walk.
 
         Examples
@@ -299,6 +323,11 @@ class Pipeline:
         """
         from footnav.core.online import OnlineStream
 
+        if self.sync is not None:
+            raise CompositionError(
+                f"clock sync {self.sync.method!r} needs the whole recording; online, give each foot's clock as "
+                "clocks={'right': ClockMap} (e.g. fit_clock on the exchanges logged before the walk) or clock_offset_s="
+            )
         return OnlineStream(self, feet=feet, **options)
 
 
@@ -322,19 +351,43 @@ def make_pipeline(
     detector_params: Mapping[str, Any] | None = None,
     estimator_params: Mapping[str, Any] | None = None,
     fusion_params: Mapping[str, Any] | None = None,
+    sync: str | ClockSync | Mapping[str, Any] | None = None,
 ) -> Pipeline:
     """Compose a pipeline from registered names, component instances or TOML-style tables.
+
+    ``sync`` adds the clock-synchronisation stage before stance detection: ``"data"`` or
+    ``"exchanges"`` (the method of :class:`footnav.core.sync.ClockSync`), a ClockSync, or a
+    table of its parameters (``{"method": "data", "drift": True}``); None (default) takes the
+    feet to be on one clock already.
 
     Examples
     --------
     >>> pipe = make_pipeline("threshold", "ekf", "independent", estimator_params={"zupt_std_mps": 0.02})
     >>> result = pipe.run(left=left_imu, right=right_imu)  # doctest: +SKIP
+    >>> synced = make_pipeline(sync="data")  # the right foot's clock found from the data
     """
     return Pipeline(
         detector=_resolve("detector", detector, detector_params),  # type: ignore[arg-type]
         estimator=_resolve("estimator", estimator, estimator_params),  # type: ignore[arg-type]
         fusion=_resolve("fusion", fusion, fusion_params),  # type: ignore[arg-type]
+        sync=_resolve_sync(sync),
     )
+
+
+def _resolve_sync(spec: str | ClockSync | Mapping[str, Any] | None) -> ClockSync | None:
+    if spec is None or isinstance(spec, ClockSync):
+        return spec
+    if isinstance(spec, str):
+        sync = ClockSync(spec)
+    elif isinstance(spec, Mapping):
+        table = dict(spec)
+        table.pop("name", None)  # written by Pipeline.config for symmetry with the other tables
+        check_param_names(ClockSync, table)
+        sync = ClockSync(**table)
+    else:
+        raise InvalidParameterError(f"sync must be 'data', 'exchanges', a ClockSync or a table; got {spec!r}")
+    sync.validate_params()
+    return sync
 
 
 def load_pipeline(path: str | FilePath) -> Pipeline:
@@ -347,13 +400,14 @@ def load_pipeline(path: str | FilePath) -> Pipeline:
         config = tomllib.loads(path.read_text(encoding="utf-8"))
     except tomllib.TOMLDecodeError as exc:
         raise InvalidInputError(f"not valid TOML: {exc}", path=str(path)) from None
-    unknown = set(config) - set(_BASES)
+    unknown = set(config) - set(_BASES) - {"sync"}
     if unknown:
         raise InvalidParameterError(
-            f"{path}: unknown table(s) {sorted(unknown)}; a pipeline file has [detector], [estimator], [fusion]"
+            f"{path}: unknown table(s) {sorted(unknown)}; a pipeline file has [detector], [estimator], [fusion] "
+            "and optionally [sync]"
         )
     defaults = {"detector": "adaptive", "estimator": "ekf", "fusion": "independent"}
     try:
-        return make_pipeline(**{kind: config.get(kind, defaults[kind]) for kind in _BASES})
+        return make_pipeline(**{kind: config.get(kind, defaults[kind]) for kind in _BASES}, sync=config.get("sync"))
     except InvalidParameterError as exc:
         raise InvalidParameterError(f"{path}: {exc}") from None

@@ -53,8 +53,8 @@ MARKED_FRACTION = 0.05
 
 _SYNC_HINT = (
     "if both feet were recorded together their clocks differ: synchronise them "
-    "(footnav.core.clock_sync: fit_clock from message exchanges or align_from_data from the data, "
-    "then apply_clock) or align the time stamps before fusing"
+    "(footnav.core.clock_sync: fit_clock from message exchanges, or footnav.core.clock_from_data: "
+    "align_from_data from the data; then apply_clock) or align the time stamps before fusing"
 )
 
 

@@ -18,7 +18,9 @@ footnav's reading. Both feet run in one joint filter, so the mid-swing measureme
 corrects both feet by their uncertainties instead of treating the standing foot as exact. The
 heading search turns the right foot's start about z (coarse grid, then bounded refinement) on the
 single-foot solutions decimated to ``dtw_rate_hz``. The DTW itself, the heading search and the
-pairing are :mod:`footnav.core.dtw`'s; this module only resamples the feet for them.
+pairing are :mod:`footnav.core.dtw`'s, :mod:`footnav.core.dtw_heading`'s and
+:mod:`footnav.core.dtw_average`'s; this module only resamples the feet for them
+(:func:`feet_heading_mismatch`, :func:`feet_timeless_average`).
 """
 
 from __future__ import annotations
@@ -28,13 +30,13 @@ from typing import ClassVar, Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from footnav.core import dtw
+from footnav.core import dtw_average, dtw_heading
 from footnav.core import quaternion as quat
 from footnav.core.component import MAX_LENGTH_M, Fusion, require, require_non_negative, require_positive
 from footnav.core.types import FootTrajectory, FusionResult, Path
 from footnav.fusion.joint import LEFT, RIGHT, finish_joint, forward_only, fuse_on_common_span, start_joint
 
-__all__ = ["DtwFusion", "heading_mismatch", "timeless_average"]
+__all__ = ["DtwFusion", "feet_heading_mismatch", "feet_timeless_average"]
 
 PATHS = ("timeless", "timed")
 
@@ -49,12 +51,12 @@ def _decimate(traj: FootTrajectory, rate_hz: float) -> NDArray[np.float64]:
     return _resample(traj, np.arange(traj.t[0], traj.t[-1], 1.0 / rate_hz), 2)
 
 
-def heading_mismatch(
-    a: NDArray[np.float64], b: NDArray[np.float64], band: int, grid: int = dtw.DEFAULT_HEADING_GRID
+def feet_heading_mismatch(
+    a: NDArray[np.float64], b: NDArray[np.float64], band: int, grid: int = dtw_heading.DEFAULT_HEADING_GRID
 ) -> tuple[float, float]:
     """Rotation of ``b`` about its start (rad) minimising the banded DTW distance to ``a``.
 
-    Chistyakov et al. (2021), Sec. 4 step 1, as :func:`footnav.core.dtw.heading_mismatch` with
+    Chistyakov et al. (2021), Sec. 4 step 1, as :func:`footnav.core.dtw_heading.heading_mismatch` with
     ``translation="start"``: each single-foot solution starts at its own origin, so both tracks
     are compared from their first points.
 
@@ -75,18 +77,18 @@ def heading_mismatch(
     Raises
     ------
     InvalidInputError, InvalidParameterError
-        As :func:`footnav.core.dtw.heading_mismatch` (bad tracks, ``band < |N - M|``, ``grid < 4``).
+        As :func:`footnav.core.dtw_heading.heading_mismatch` (bad tracks, ``band < |N - M|``, ``grid < 4``).
     """
-    found = dtw.heading_mismatch(a, b, band=band, translation="start", grid=grid)
+    found = dtw_heading.heading_mismatch(a, b, band=band, translation="start", grid=grid)
     return found.angle_rad, found.distance_m
 
 
-def timeless_average(left: FootTrajectory, right: FootTrajectory, band_s: float, rate_hz: float) -> Path:
+def feet_timeless_average(left: FootTrajectory, right: FootTrajectory, band_s: float, rate_hz: float) -> Path:
     """Midpoints of the point pairs of the banded DTW between the feet (Chistyakov et al. (2021), Sec. 4 step 4).
 
     Both feet are resampled to ``rate_hz`` over their common time span (the pairing then costs
     O(N x band) at that rate, and feet sampled at different rates pair correctly), then paired
-    in 3-D by :func:`footnav.core.dtw.timeless_average`. The time of each midpoint is the mean of
+    in 3-D by :func:`footnav.core.dtw_average.timeless_average`. The time of each midpoint is the mean of
     its pair's times (non-decreasing along the path): the path is "timeless" in the paper's
     sense, paired points need not be simultaneous.
 
@@ -108,12 +110,12 @@ def timeless_average(left: FootTrajectory, right: FootTrajectory, band_s: float,
     Raises
     ------
     InvalidInputError
-        As :func:`footnav.core.dtw.timeless_average`, e.g. field ``a`` empty when the feet's time
+        As :func:`footnav.core.dtw_average.timeless_average`, e.g. field ``a`` empty when the feet's time
         spans share no sample at ``rate_hz``.
     """
     t = np.arange(max(left.t[0], right.t[0]), min(left.t[-1], right.t[-1]), 1.0 / rate_hz)
     band = max(1, int(round(band_s * rate_hz)))
-    avg = dtw.timeless_average(_resample(left, t, 3), _resample(right, t, 3), band=band, t_a=t, t_b=t)
+    avg = dtw_average.timeless_average(_resample(left, t, 3), _resample(right, t, 3), band=band, t_a=t, t_b=t)
     return Path(
         t=avg.t,
         position=avg.position,
@@ -210,7 +212,7 @@ class DtwFusion(Fusion):
             singles = [tracker.estimate(imu, st) for imu, st in ((left, stance_left), (right, stance_right))]
             a, b = (_decimate(s, self.dtw_rate_hz) for s in singles)
             band = max(int(round(self.band_s * self.dtw_rate_hz)), abs(len(a) - len(b)))
-            angle, dist = heading_mismatch(a, b, band)
+            angle, dist = feet_heading_mismatch(a, b, band)
             meta["heading_mismatch_rad"], meta["initial_dtw_distance_m"] = angle, dist
             yaws = [float(s.meta.get("heading_rotation_rad", 0.0)) for s in singles]
             yaws[RIGHT] += angle
@@ -254,6 +256,6 @@ class DtwFusion(Fusion):
         meta.update(midswing_updates=applied, skipped_other_foot_moving=skipped)
         result = finish_joint(estimator, filt, stance_left, stance_right, meta, imus)
         if self.path == "timeless":
-            path = timeless_average(result.left, result.right, self.band_s, self.dtw_rate_hz)
+            path = feet_timeless_average(result.left, result.right, self.band_s, self.dtw_rate_hz)
             result = FusionResult(left=result.left, right=result.right, path=path, meta={**result.meta, "path": path.meta})
         return result

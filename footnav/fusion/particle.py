@@ -127,7 +127,8 @@ from footnav.fusion.joint import LEFT, RIGHT, closing_time, finish_joint, forwar
 from footnav.fusion.particle_ekf import N_STATES, PaperFoot, drift_scales
 
 __all__ = [
-    "ParticleFusion", "systematic_resample", "offset_rayleigh", "gaussian_sum", "equivalent_measurement", "MODES",
+    "ParticleFusion", "systematic_resample", "offset_rayleigh", "gaussian_sum", "mixture_mean", "equivalent_measurement",
+    "MODES",
 ]
 
 #: Values of ``ParticleFusion(mode=...)``.
@@ -257,10 +258,16 @@ def gaussian_sum(
     normalised to sum to 1. ``means`` (K, d), ``covs`` (K, d, d), ``weights`` (K,).
     """
     a = np.asarray(weights, float) / np.sum(weights)
-    mu = np.einsum("i,ij->j", a, means)
+    mu = mixture_mean(means, weights)
     d = means - mu
     cov = np.einsum("i,ijk->jk", a, covs) + np.einsum("i,ij,ik->jk", a, d, d)
     return mu, cov
+
+
+def mixture_mean(means: NDArray[np.float64], weights: NDArray[np.float64]) -> NDArray[np.float64]:
+    """The mean ``sum a_i mu_i`` of :func:`gaussian_sum` alone: it does not depend on the covariances."""
+    a = np.asarray(weights, float) / np.sum(weights)
+    return np.einsum("i,ij->j", a, means)
 
 
 @njit(cache=True)
@@ -531,15 +538,15 @@ class ParticleFusion(Fusion):
         # per foot: the EKF's horizontal position and its covariance at the foot's last PF update
         last_p = [filt.position(f)[:2] for f in feet]
         last_cov = [cov[o : o + 2, o : o + 2].copy() for o in pos]
-        # the clouds start where the EKF starts, spread as it is; summary: their mean, covariance
-        clouds, summary = [], []
+        # the clouds start where the EKF starts, spread as it is; means: each cloud's at its last update
+        clouds, means = [], []
         sqrt_t = np.empty((2, 2))
         for f in feet:
             _psd_sqrt_t(last_cov[f], sqrt_t)
             clouds.append(last_p[f] + rng.standard_normal((n, 2)) @ sqrt_t)
             mean, cov_c = np.empty(2), np.empty((2, 2))
             _moments(clouds[f], mean, cov_c)
-            summary.append((mean, cov_c))
+            means.append(mean)
         resampled, logw = np.empty((n, 2)), np.empty(n)
         a, y, r = np.empty((2, 2)), np.empty(2), np.empty(2)
         events = sorted(
@@ -554,7 +561,7 @@ class ParticleFusion(Fusion):
                 break
             filt.run_until(t)
             other = 1 - foot
-            o, o_other = pos[foot], pos[other]
+            o = pos[foot]
             cov = filt.covariance
             p, cov_p = filt.position(foot)[:2], cov[o : o + 2, o : o + 2]
             side = 1.0 if foot == LEFT else -1.0
@@ -571,13 +578,12 @@ class ParticleFusion(Fusion):
             mean_f, cov_f = np.empty(2), np.empty((2, 2))
             normals = rng.standard_normal((n, 2))
             _propagate(clouds[foot], p - last_p[foot], sqrt_t, normals, drift, lateral, mean_f, cov_f)
-            # the other foot's cloud enters the sum only by its moments, which move with its EKF
-            # without drawing: the mean by the displacement, the covariance by the growth
-            _psd_sqrt_t(cov[o_other : o_other + 2, o_other : o_other + 2] - last_cov[other], sqrt_t)
-            mean_o = summary[other][0] + (filt.position(other)[:2] - last_p[other])
-            cov_o = summary[other][1] + sqrt_t.T @ sqrt_t
-            # eq. 13-14: the pedestrian is the Gaussian sum of the two clouds
-            z, _ = gaussian_sum(np.array([mean_f, mean_o]), np.array([cov_f, cov_o]), _EQUAL)
+            # the other foot's cloud enters the sum only by its mean, which moves with its EKF
+            # without drawing
+            mean_o = means[other] + (filt.position(other)[:2] - last_p[other])
+            # eq. 13-14: the pedestrian is the Gaussian sum of the two clouds; eq. 15 uses its
+            # mean only, so the sum's covariance (and the other cloud's) is never formed
+            z = mixture_mean(np.array([mean_f, mean_o]), _EQUAL)
             # eq. 15-16: L = N(p_fused | x_n, Sigma_i) across the foot's heading, with the foot
             # half a step width to its side of the pedestrian; systematic resampling
             var = max(float(lateral @ cov_f @ lateral), _MIN_VAR_M2)
@@ -591,6 +597,6 @@ class ParticleFusion(Fusion):
             filt.update(a @ h_pos[foot], y, r)
             cov = filt.covariance
             last_p[foot], last_cov[foot] = filt.position(foot)[:2], cov[o : o + 2, o : o + 2].copy()
-            summary[foot] = (mean, cov_c)
+            means[foot] = mean
         meta = {"fusion": self.describe(), "pf_updates": len(events), "n_particles": n}
         return finish_joint(estimator, filt, stance_left, stance_right, meta, (left, right))

@@ -27,6 +27,11 @@ def _replay(pipe, left, right, size_left, size_right=None, **options):
     the stream."""
     stream = pipe.online(feet=1 if right is None else 2, **options)
     offsets = options.get("clock_offset_s", {})
+    clocks = options.get("clocks", {})
+
+    def common(foot, t):  # a chunk's first time on the common clock
+        return float(clocks[foot](t)) if foot in clocks else t + offsets.get(foot, 0.0)
+
     got = {"left": [], "right": []}
     steps = []
     queues = {"left": _chunks(left, size_left)}
@@ -34,7 +39,7 @@ def _replay(pipe, left, right, size_left, size_right=None, **options):
         queues["right"] = _chunks(right, size_right or size_left)
     heads = {foot: next(q, None) for foot, q in queues.items()}
     while any(h is not None for h in heads.values()):
-        foot = min((f for f, h in heads.items() if h is not None), key=lambda f: heads[f][0][0] + offsets.get(f, 0.0))
+        foot = min((f for f, h in heads.items() if h is not None), key=lambda f: common(f, heads[f][0][0]))
         update = stream.push(**{foot: heads[foot]})
         heads[foot] = next(queues[foot], None)
         for name, positions in got.items():
@@ -115,6 +120,27 @@ def test_clock_skewed_feet_in_chunks_of_different_sizes(walk):
     timely = [s.t for s in steps if not s.late]
     assert timely == sorted(timely)
     assert not any(s.late for s in steps)
+
+
+def test_a_clock_map_from_exchanges_puts_the_right_foot_on_the_master_clock():
+    """Offset and drift, mapped by the ClockMap of the simulator's message exchanges: the stream
+    gives the offline run of the same map (the sync stage), sample for sample."""
+    from footnav.core.clock_sync import fit_clock
+    from footnav.core.sync import ClockSync
+
+    rec = footnav.simulate("straight", seed=2, distance_m=15.0, clock_offset_s=40.0, clock_drift_ppm=300.0, clock_exchanges=40)
+    ex = rec.meta["clock_exchanges"]
+    clock = fit_clock(ex["tm1"], ex["ti"], ex["tm2"])
+    pipe = footnav.make_pipeline("threshold", "ekf", "independent", estimator_params=STEP)
+    synced = ClockSync("exchanges").align(rec.left, rec.right, exchanges={"right": ex})
+    off = pipe.run(synced.left, synced.right)
+    got, steps, result, _ = _replay(pipe, rec.left, rec.right, 17, 90, clocks={"right": clock}, max_wait_s=5.0)
+    _check_equal(off, got, result)
+    assert not any(s.late for s in steps)
+    with pytest.raises(footnav.InvalidParameterError, match="both a clock_offset_s and a clock map"):
+        pipe.online(clocks={"right": clock}, clock_offset_s={"right": 1.0})
+    with pytest.raises(footnav.InvalidParameterError, match="ClockMap"):
+        pipe.online(clocks={"right": 0.5})
 
 
 def test_a_silent_foot_holds_steps_at_most_max_wait(walk):

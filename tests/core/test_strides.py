@@ -171,4 +171,7 @@ def test_gaitmap_example_stride_length_against_motion_capture(shared_data):
     for foot, (err, n_ref) in errors.items():
         assert len(err) >= n_ref - 2, foot  # all but the turn's strides are found
     pooled = np.concatenate([e for e, _ in errors.values()])
+    # measured 2026-11-25: mean |error| 0.043 m (worst stride 0.109 m) against the mocap heel over
+    # 56 strides; 5 cm is 3.6 % of a 1.4 m stride. A regression bound at 1.2x today's value, not
+    # an independent figure: the gaitmap example publishes none for stride length
     assert np.mean(np.abs(pooled)) <= 0.05

@@ -68,6 +68,8 @@ def test_real_running_trials_within_30_cm(trial):
     truth = rec.truth_left
     est = np.stack([np.interp(truth.t, result.left.t, result.left.position[:, i]) for i in range(3)], axis=1)
     # 1.1-3.8 m with the threshold detector; the dataset's best detector tuned per trial: 0.06-0.14 m
+    # (its trial_error, independent of footnav). Measured 2026-11-25: 0.041, 0.102, 0.117, 0.088 m;
+    # 0.3 m is 2.6x the worst and about twice the dataset's best-tuned worst (0.14 m)
     assert metrics.ate_rmse(est, truth.position, dims=2) < 0.3
     assert result.meta["stance_check"]["left"]["suspicious"] is False
 
@@ -127,7 +129,9 @@ def test_ipol_hand_checked_steps():
                 AdaptiveDetector().detect(imu).mask, swings, truth.meta["trial_boundaries"], tolerance_samples=10
             )
             found, detected, reference = found + steps.found, detected + steps.n_detected, reference + steps.n_reference
-    # dev set (subjects 1-8): threshold scores 0.970 here, missing most of subject 4's fast steps
+    # dev set (subjects 1-8): threshold scores 0.970 here, missing most of subject 4's fast steps.
+    # Against IPOL's hand-checked footsteps (+-10 samples): measured 2026-11-25 F1 0.993 (1594
+    # found of 1600 labelled, 1611 detected); 0.98 allows 2.8x today's 0.7 % of misses and extras
     assert reference > 1500 and 2 * found / (detected + reference) >= 0.98
 
 
@@ -141,4 +145,7 @@ def test_gaitdriven_every_footprint_within_a_metre():
         # one stance per stride: the footprints are the strides' ends
         assert result.stance_left.n_stances >= len(truth.t)
         errors = metrics.footprint_errors(result.left.position, truth.position, index=truth.events["footprint"])
-        assert errors.rmse_m <= 1.0, name  # threshold: 32 m on trial 35
+        # threshold: 32 m on trial 35. The publisher's own pyshoe baseline scores 0.91 m median and
+        # 2.3 m worst on these 8 trials (data README): 1 m on every trial is about its median.
+        # Measured 2026-11-25: 0.18-0.63 m (trial 35 the worst), so 1 m is 1.6x the worst
+        assert errors.rmse_m <= 1.0, name

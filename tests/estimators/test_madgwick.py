@@ -235,5 +235,7 @@ def test_real_data_accuracy(shared_data, name, bounds):
         warnings.simplefilter("ignore", DataQualityWarning)
         rep = evaluate(footnav.make_pipeline("threshold", "madgwick"), load_dataset(name, shared_data))
     # measured 2-D ATE azure_fgo 0.167 / 0.059 m, gaitmap 0.194 / 0.184 m (ekf: 0.241 / 0.052 m,
-    # 0.198 / 0.194 m; gaitmap's RtsKalman on azure_fgo 0.36 / 0.76 m)
+    # 0.198 / 0.194 m; gaitmap's RtsKalman on azure_fgo 0.36 / 0.76 m), re-measured 2026-11-25.
+    # azure_fgo: below that independent reference (data README), 1.5x / 2.0x measured; gaitmap:
+    # regression bounds at 1.3x measured (the example publishes no trajectory error)
     assert rep.value("ate_2d", "left") < bounds[0] and rep.value("ate_2d", "right") < bounds[1]

@@ -6,7 +6,7 @@ import pytest
 import footnav
 from footnav.core.dtw import dtw_align
 from footnav.estimators.ekf import EkfEstimator
-from footnav.fusion.dtw import DtwFusion, heading_mismatch, timeless_average
+from footnav.fusion.dtw import DtwFusion, feet_heading_mismatch, feet_timeless_average
 from footnav.fusion.independent import IndependentFusion
 from footnav.fusion.joint import start_joint
 from footnav.testing import FusionContract
@@ -38,7 +38,7 @@ def test_heading_mismatch_recovers_a_known_rotation(angle):
     rec = footnav.simulate("rectangle", seed=0, width_m=20.0, height_m=10.0, noise=False)
     a = rec.truth_left.position[::10, :2]
     b = _turned(rec.truth_right.position[::10, :2] - rec.truth_right.position[0, :2], -angle)
-    found, dist = heading_mismatch(a, b, band=20)
+    found, dist = feet_heading_mismatch(a, b, band=20)
     # measured 0.014-0.016 rad off: the feet's tracks are 0.2 m apart, so rotating one about its own
     # start cannot lay it exactly onto the other
     assert abs((found - angle + np.pi) % (2 * np.pi) - np.pi) < 0.03  # rad
@@ -58,7 +58,7 @@ def test_heading_is_never_worse_than_the_best_coarse_angle():
     band = max(20, abs(len(a) - len(b)))  # band_s = 2 s
     grid = np.linspace(-np.pi, np.pi, 36, endpoint=False)
     coarse = [dtw_align(a - a[0], _turned(b - b[0], x), band=band).distance_m for x in grid]
-    angle, dist = heading_mismatch(a, b, band)
+    angle, dist = feet_heading_mismatch(a, b, band)
     assert dist <= min(coarse) + 1e-12
     assert dist == pytest.approx(dtw_align(a - a[0], _turned(b - b[0], angle), band=band).distance_m, rel=1e-9)
     fused = _fuse(DtwFusion(), rec)
@@ -71,7 +71,7 @@ def test_timeless_average_lies_on_the_centre_line():
     as_traj = [footnav.FootTrajectory(t=tr.t, position=tr.position, velocity=tr.velocity, quaternion=tr.quaternion,
                                       position_std=np.zeros_like(tr.position), steps=np.empty((0, 2)))
                for tr in (rec.truth_left, rec.truth_right)]
-    path = timeless_average(*as_traj, band_s=2.0, rate_hz=10.0)
+    path = feet_timeless_average(*as_traj, band_s=2.0, rate_hz=10.0)
     assert np.all(np.diff(path.t) >= 0)
     # the feet resampled to 10 Hz over the common span, 2 s = 20 samples of band, matched in 3-D
     t = np.arange(max(tr.t[0] for tr in as_traj), min(tr.t[-1] for tr in as_traj), 0.1)

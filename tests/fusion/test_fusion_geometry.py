@@ -239,7 +239,7 @@ def test_dtw_timeless_average_uses_exactly_band_s_against_dtaidistance():
     n = len(np.arange(t[0], t[-1], 1.0 / rate))
     ours, ref = {}, {}
     for band in range(2, 7):
-        ours[band] = dtw_fusion.timeless_average(traj(track), traj(late), band / rate, rate).meta["dtw_distance_m"]
+        ours[band] = dtw_fusion.feet_timeless_average(traj(track), traj(late), band / rate, rate).meta["dtw_distance_m"]
         # dtaidistance: window w allows |i - j| < w, so a band of b samples is window b + 1. Its
         # distance is the root of summed squared costs, footnav's a mean Euclidean cost: the two
         # differ in value, but a band one sample wider changes both or neither
@@ -253,13 +253,13 @@ def test_dtw_timeless_average_uses_exactly_band_s_against_dtaidistance():
 
 def test_dtw_heading_search_band_is_band_s_at_the_dtw_rate(monkeypatch):
     seen = []
-    real = dtw_fusion.heading_mismatch
+    real = dtw_fusion.feet_heading_mismatch
 
     def spy(a, b, band, *args, **kwargs):
         seen.append((len(a), len(b), band))
         return real(a, b, band, *args, **kwargs)
 
-    monkeypatch.setattr(dtw_fusion, "heading_mismatch", spy)
+    monkeypatch.setattr(dtw_fusion, "feet_heading_mismatch", spy)
     rec = footnav.simulate("straight", seed=0, distance_m=8.0)
     stances = [StanceResult(rec.truth_left.stance), StanceResult(rec.truth_right.stance)]
     dtw_fusion.DtwFusion(band_s=1.5, dtw_rate_hz=10.0).fuse(EkfEstimator(), rec.left, stances[0], rec.right, stances[1])

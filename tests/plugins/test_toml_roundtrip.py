@@ -39,3 +39,32 @@ def test_step_vector_options_round_trip(tmp_path):
     again = footnav.load_pipeline(path)
     assert again.config() == pipe.config()
     assert {k: again.fusion.get_params()[k] for k in params} == params
+
+
+def test_parameter_names_are_read_per_class_and_constructor():
+    """Component._param_names is cached: a subclass with its own constructor, and a class whose
+    constructor is replaced later, must still report their own parameters."""
+    from footnav.core.component import StanceDetector
+
+    class Base(StanceDetector):
+        name = "base-probe"
+
+        def __init__(self, a_s: float = 1.0) -> None:
+            self.a_s = a_s
+
+    class Child(Base):
+        name = "child-probe"
+
+        def __init__(self, a_s: float = 1.0, b_s: float = 2.0) -> None:
+            super().__init__(a_s)
+            self.b_s = b_s
+
+    assert Base().get_params() == {"a_s": 1.0}
+    assert Child().get_params() == {"a_s": 1.0, "b_s": 2.0}
+    assert Base().get_params() == {"a_s": 1.0}
+
+    def replaced(self, c_s: float = 3.0) -> None:
+        self.c_s = c_s
+
+    Base.__init__ = replaced
+    assert Base().get_params() == {"c_s": 3.0}

@@ -21,7 +21,7 @@ from __future__ import annotations
 
 from footnav.core._numba import njit  # numba.njit that survives a read-only install
 
-__all__ = ["sym3_inverse", "update3"]
+__all__ = ["sym3_inverse", "update3", "update3_inline"]
 
 
 @njit(cache=True, inline="always", error_model="numpy")
@@ -36,8 +36,7 @@ def sym3_inverse(a, b, c, d, e, f):
     return (i00 * inv, i01 * inv, i02 * inv, (a * f - c * c) * inv, (b * c - a * e) * inv, (a * d - b * b) * inv, det)
 
 
-@njit(cache=True, error_model="numpy")
-def update3(cov, dx, o, y0, y1, y2, r, gate, gain, sy, hp):
+def _update3(cov, dx, o, y0, y1, y2, r, gate, gain, sy, hp):
     """Kalman update with a measurement of the 3 states at ``o``: ``y = x[o:o+3] + noise``,
     noise variance ``r`` (each axis), in place.
 
@@ -101,3 +100,10 @@ def update3(cov, dx, o, y0, y1, y2, r, gate, gain, sy, hp):
             cov[i, j] = val
             cov[j, i] = val
     return True
+
+
+update3 = njit(cache=True, error_model="numpy")(_update3)
+#: The same kernel, inlined into its caller: madgwick's loop calls it at every stance sample,
+#: and a call passing its four arrays costs their reference counting (about 6 % of madgwick's
+#: time, measured); the ekf's loop, larger, calls :func:`update3`.
+update3_inline = njit(cache=True, inline="always", error_model="numpy")(_update3)

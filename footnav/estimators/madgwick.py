@@ -49,7 +49,7 @@ from footnav.core.component import (
 from footnav.core.heading import turn_to_first_step
 from footnav.core.heading_drift import TURN_ON_BIAS_STD_RADPS, heading_drift_cov, standstill_rate_std
 from footnav.core.initial_alignment import MIN_STILL_SAMPLES, Alignment, align_first_stance
-from footnav.core.kalman import update3
+from footnav.core.kalman import update3_inline
 from footnav.core.quaternion import as_matrix_nb
 from footnav.core.types import GRAVITY_MPS2, FootTrajectory, ImuData, StanceResult
 
@@ -212,7 +212,7 @@ def _loop(t, acc, gyr, mag, use_mag, stance, start, q0, beta, var_acc, var_da, v
             # P <- P - K H P (footnav.core.kalman, the ekf's kernel)
             for i in range(3):
                 innov[i] = v[i] - de[3 + i]
-            if update3(p, kpy, 3, innov[0], innov[1], innov[2], var_zupt, np.inf, gain, sy, hp):
+            if update3_inline(p, kpy, 3, innov[0], innov[1], innov[2], var_zupt, np.inf, gain, sy, hp):
                 # d_eta += K y: the error state holds d^s a, not zero, before the update (and
                 # (P H' S^-1) y, not the kernel's P H' (S^-1 y): the same up to rounding)
                 for i in range(9):

@@ -99,7 +99,11 @@ def M(name, path, edits, tests, kind=""):
     return Mutant(name, path, tuple(edits), tests, kind)
 
 
-Q, MECH, INS, SM = "footnav/core/quaternion.py", "footnav/core/mechanization.py", "footnav/core/ins_filter.py", "footnav/core/smoothing.py"
+Q, MECH = "footnav/core/quaternion.py", "footnav/core/mechanization.py"
+_EKF = "footnav/estimators/ekf/"
+KER, BACK, LOOP, REC = _EKF + "kernels.py", _EKF + "backward.py", _EKF + "loop.py", _EKF + "records.py"
+FILT, SM = _EKF + "filter.py", _EKF + "smoother.py"
+KAL = "footnav/core/kalman.py"
 AL, WIN, HD = "footnav/core/initial_alignment.py", "footnav/core/windows.py", "footnav/core/heading_drift.py"
 SC, GC, ST = "footnav/core/stance_check.py", "footnav/core/gait_cycles.py", "footnav/core/strides.py"
 MET_AL, MET_TR = "footnav/core/metrics/_alignment.py", "footnav/core/metrics/_trajectory.py"
@@ -110,7 +114,7 @@ DTH, DTA = "footnav/core/dtw_heading.py", "footnav/core/dtw_average.py"
 GLRT, THR, ADA = "footnav/detectors/glrt.py", "footnav/detectors/threshold.py", "footnav/detectors/adaptive.py"
 DG = "footnav/detectors/dual_gait.py"
 HMM_FEATURES, HMM_REORDER = "footnav/detectors/hmm/features.py", "footnav/detectors/hmm/reorder.py"
-MW, EKFP = "footnav/estimators/madgwick.py", "footnav/estimators/ekf.py"
+MW, EKFP = "footnav/estimators/madgwick.py", _EKF + "estimator.py"
 RC, SV, FD = "footnav/fusion/range_constraint.py", "footnav/fusion/step_vector.py", "footnav/fusion/dtw.py"
 PF, PE, JN = "footnav/fusion/particle.py", "footnav/fusion/particle_ekf.py", "footnav/fusion/joint.py"
 
@@ -144,51 +148,51 @@ MUTANTS: list[Mutant] = [
     M("mech-loop-swapped-samples", MECH, ("acc[k - 1], gyr[k - 1], acc[k], gyr[k]", "acc[k], gyr[k - 1], acc[k - 1], gyr[k]"),
       FILTER, "swapped arguments"),
     M("mech-bias-sign", MECH, ("imu.gyr - np.asarray(gyro_bias_radps", "imu.gyr + np.asarray(gyro_bias_radps"), FILTER, "sign"),
-    # -- core/ins_filter.py ------------------------------------------------------------------
-    M("ins-zupt-sign", INS, ("y[0], y[1], y[2] = v[f, 0], v[f, 1], v[f, 2]", "y[0], y[1], y[2] = -v[f, 0], -v[f, 1], -v[f, 2]"),
+    # -- estimators/ekf/ (kernels, backward, loop, records, filter) ----------------------------
+    M("ins-zupt-sign", LOOP, ("y[0], y[1], y[2] = v[f, 0], v[f, 1], v[f, 2]", "y[0], y[1], y[2] = -v[f, 0], -v[f, 1], -v[f, 2]"),
       FILTER, "sign"),
-    M("ins-q-no-dt", INS, ("cov[o + a, o + a] += q_diag[a] * dt", "cov[o + a, o + a] += q_diag[a]"), FILTER, "dropped dt"),
-    M("ins-f-rows-skew", INS, ("cov[o + 4, j] = v1 + z * a0 - x * a2", "cov[o + 4, j] = v1 - z * a0 + x * a2"), FILTER, "transpose"),
-    M("ins-f-cols-index", INS, ("cov[i, o + 8] += dt * v2", "cov[i, o + 8] += dt * v1"), FILTER, "off-by-one"),
-    M("ins-f-rows-acc-bias-sign", INS, ("cov[o + 3 + i, j] -= dt * (c[i, 0] * b0", "cov[o + 3 + i, j] += dt * (c[i, 0] * b0"), FILTER, "sign"),
-    M("ins-f-cols-gyr-bias-transposed", INS, ("cov[i, o + r] += dt * (c[r, 0] * g0 + c[r, 1] * g1 + c[r, 2] * g2)",
+    M("ins-q-no-dt", KER, ("cov[o + a, o + a] += q_diag[a] * dt", "cov[o + a, o + a] += q_diag[a]"), FILTER, "dropped dt"),
+    M("ins-f-rows-skew", KER, ("cov[o + 4, j] = v1 + z * a0 - x * a2", "cov[o + 4, j] = v1 - z * a0 + x * a2"), FILTER, "transpose"),
+    M("ins-f-cols-index", KER, ("cov[i, o + 8] += dt * v2", "cov[i, o + 8] += dt * v1"), FILTER, "off-by-one"),
+    M("ins-f-rows-acc-bias-sign", KER, ("cov[o + 3 + i, j] -= dt * (c[i, 0] * b0", "cov[o + 3 + i, j] += dt * (c[i, 0] * b0"), FILTER, "sign"),
+    M("ins-f-cols-gyr-bias-transposed", KER, ("cov[i, o + r] += dt * (c[r, 0] * g0 + c[r, 1] * g1 + c[r, 2] * g2)",
                                               "cov[i, o + r] += dt * (c[0, r] * g0 + c[1, r] * g1 + c[2, r] * g2)"), FILTER, "transpose"),
-    M("ins-update-missing-r", INS, ("cov[o + 1, o + 2], cov[o + 2, o + 2] + r", "cov[o + 1, o + 2], cov[o + 2, o + 2]"), FILTER, "missing term"),
-    M("ins-zaru-gate", INS, ("ZARU_GATE = 16.27", "ZARU_GATE = 1.627"), FILTER, "constant"),
-    M("ins-sym3-inverse", INS, ("i02 = b * e - c * d", "i02 = c * d - b * e"), FILTER, "sign"),
-    M("ins-feedback-position-sign", INS, ("p[f, i] -= dx[o + 6 + i]", "p[f, i] += dx[o + 6 + i]"), FILTER, "sign"),
-    M("ins-feedback-body-side", INS, ("q_tmp[1] = dq[0] * x + dq[1] * w + dq[2] * z - dq[3] * y",
+    M("ins-update-missing-r", KAL, ("cov[o + 1, o + 2], cov[o + 2, o + 2] + r", "cov[o + 1, o + 2], cov[o + 2, o + 2]"), FILTER, "missing term"),
+    M("ins-zaru-gate", LOOP, ("ZARU_GATE = 16.27", "ZARU_GATE = 1.627"), FILTER, "constant"),
+    M("ins-sym3-inverse", KAL, ("i02 = b * e - c * d", "i02 = c * d - b * e"), FILTER, "sign"),
+    M("ins-feedback-position-sign", KER, ("p[f, i] -= dx[o + 6 + i]", "p[f, i] += dx[o + 6 + i]"), FILTER, "sign"),
+    M("ins-feedback-body-side", KER, ("q_tmp[1] = dq[0] * x + dq[1] * w + dq[2] * z - dq[3] * y",
                                       "q_tmp[1] = dq[0] * x + dq[1] * w - dq[2] * z + dq[3] * y"), FILTER, "transpose"),
-    M("ins-feedback-gyr-bias-index", INS, ("bg[f, i] -= dx[o + 12 + i]", "bg[f, i] -= dx[o + 9 + i]"), FILTER, "off-by-one"),
-    M("ins-ft-index", INS, ("mu[o + 3] = v0 + dt * mu[o + 6]", "mu[o + 3] = v0 + dt * mu[o + 7]"), SMOOTH, "off-by-one"),
-    M("ins-ft-skew-sign", INS, ("mu[o] = a0 + z * v1 - y * v2", "mu[o] = a0 - z * v1 + y * v2"), SMOOTH, "transpose"),
-    M("ins-finv-sign", INS, ("d[o + 6] -= dt * d[o + 3]", "d[o + 6] += dt * d[o + 3]"), SMOOTH, "sign"),
-    M("ins-smooth-q-no-dt", INS, ("d[o + i] -= q_diag[i] * dt * mu[o + i]", "d[o + i] -= q_diag[i] * mu[o + i]"), SMOOTH, "dropped dt"),
-    M("ins-smooth-position-sign", INS, ("sm_p[k, i] = out_p[k, i] - d[o + 6 + i]", "sm_p[k, i] = out_p[k, i] + d[o + 6 + i]"), SMOOTH, "sign"),
-    M("ins-step-chain-no-correction", INS, ("offset[f, i] = d[f * n + 6 + i] + sm_p[k0, i] - out_p[k0, i]",
+    M("ins-feedback-gyr-bias-index", KER, ("bg[f, i] -= dx[o + 12 + i]", "bg[f, i] -= dx[o + 9 + i]"), FILTER, "off-by-one"),
+    M("ins-ft-index", BACK, ("mu[o + 3] = v0 + dt * mu[o + 6]", "mu[o + 3] = v0 + dt * mu[o + 7]"), SMOOTH, "off-by-one"),
+    M("ins-ft-skew-sign", BACK, ("mu[o] = a0 + z * v1 - y * v2", "mu[o] = a0 - z * v1 + y * v2"), SMOOTH, "transpose"),
+    M("ins-finv-sign", BACK, ("d[o + 6] -= dt * d[o + 3]", "d[o + 6] += dt * d[o + 3]"), SMOOTH, "sign"),
+    M("ins-smooth-q-no-dt", BACK, ("d[o + i] -= q_diag[i] * dt * mu[o + i]", "d[o + i] -= q_diag[i] * mu[o + i]"), SMOOTH, "dropped dt"),
+    M("ins-smooth-position-sign", BACK, ("sm_p[k, i] = out_p[k, i] - d[o + 6 + i]", "sm_p[k, i] = out_p[k, i] + d[o + 6 + i]"), SMOOTH, "sign"),
+    M("ins-step-chain-no-correction", BACK, ("offset[f, i] = d[f * n + 6 + i] + sm_p[k0, i] - out_p[k0, i]",
                                             "offset[f, i] = sm_p[k0, i] - out_p[k0, i]"), SMOOTH, "missing term"),
-    M("ins-step-chain-start-index", INS, ("k0 = ev_k[e] - 1", "k0 = ev_k[e]"), SMOOTH, "off-by-one"),
-    M("ins-next-foot-boundary", INS, ("if tn <= t_stop and tn < best:", "if tn < t_stop and tn < best:"), SMOOTH, "boundary"),
-    M("ins-step-end-test", INS, ("and not stance[kn + 1]:", "and not stance[kn]:"), SMOOTH, "off-by-one"),
-    M("ins-zaru-innovation-sign", INS, ("y[3 + i] = bg[f, i] - gyr[kn, i]", "y[3 + i] = gyr[kn, i] - bg[f, i]"), FILTER, "sign"),
-    M("ins-pcov-index", INS, ("out_pcov[kn, 1] = cov[o + POS, o + POS + 1]", "out_pcov[kn, 1] = cov[o + POS, o + POS + 2]"),
+    M("ins-step-chain-start-index", BACK, ("k0 = ev_k[e] - 1", "k0 = ev_k[e]"), SMOOTH, "off-by-one"),
+    M("ins-next-foot-boundary", LOOP, ("if tn <= t_stop and tn < best:", "if tn < t_stop and tn < best:"), SMOOTH, "boundary"),
+    M("ins-step-end-test", LOOP, ("and not stance[kn + 1]:", "and not stance[kn]:"), SMOOTH, "off-by-one"),
+    M("ins-zaru-innovation-sign", LOOP, ("y[3 + i] = bg[f, i] - gyr[kn, i]", "y[3 + i] = gyr[kn, i] - bg[f, i]"), FILTER, "sign"),
+    M("ins-pcov-index", LOOP, ("out_pcov[kn, 1] = cov[o + POS, o + POS + 1]", "out_pcov[kn, 1] = cov[o + POS, o + POS + 2]"),
       FILTER, "off-by-one"),
-    M("ins-q-acc-not-squared", INS, ("q[VEL : VEL + 3] = self.acc_mps2_sqrthz**2", "q[VEL : VEL + 3] = self.acc_mps2_sqrthz"),
+    M("ins-q-acc-not-squared", REC, ("q[VEL : VEL + 3] = self.acc_mps2_sqrthz**2", "q[VEL : VEL + 3] = self.acc_mps2_sqrthz"),
       FILTER, "missing term"),
-    M("ins-f-end-of-interval", INS, ("_predict_cov(cov, o, n, f_prev, c, dt, q_diag)", "_predict_cov(cov, o, n, f_n[f], c, dt, q_diag)"),
+    M("ins-f-end-of-interval", LOOP, ("predict_cov(cov, o, n, f_prev, c, dt, q_diag)", "predict_cov(cov, o, n, f_n[f], c, dt, q_diag)"),
       FILTER, "off-by-one"),
-    M("ins-update-r-as-std", INS, ("s = hm @ ph + np.diag(r)", "s = hm @ ph + np.diag(np.sqrt(r))"), SMOOTH + ["tests/fusion"], "wrong unit"),
-    M("ins-update-dx-sign", INS, ("dx = gain @ y", "dx = -(gain @ y)"), SMOOTH + ["tests/fusion"], "sign"),
-    # -- core/smoothing.py -------------------------------------------------------------------
+    M("ins-update-r-as-std", FILT, ("s = hm @ ph + np.diag(r)", "s = hm @ ph + np.diag(np.sqrt(r))"), SMOOTH + ["tests/fusion"], "wrong unit"),
+    M("ins-update-dx-sign", FILT, ("dx = gain @ y", "dx = -(gain @ y)"), SMOOTH + ["tests/fusion"], "sign"),
+    # -- estimators/ekf/smoother.py ---------------------------------------------------------
     M("smooth-caller-adjoint-sign", SM, ("mu += h.T @ (sy - gain.T @ mu)", "mu += h.T @ (sy + gain.T @ mu)"),
       SMOOTH + ["tests/fusion"], "sign"),
-    M("smooth-initial-position-sign", SM, ("filt._out_p[a : k + 1] - d[6:9]", "filt._out_p[a : k + 1] + d[6:9]"), SMOOTH, "sign"),
-    M("smooth-initial-velocity-dropped", SM, ("sm_v[a : k + 1] = filt._out_v[a : k + 1] - d[3:6]", "sm_v[a : k + 1] = filt._out_v[a : k + 1]"),
+    M("smooth-initial-position-sign", SM, ("out.p[a : k + 1] - d[6:9]", "out.p[a : k + 1] + d[6:9]"), SMOOTH, "sign"),
+    M("smooth-initial-velocity-dropped", SM, ("sm_v[a : k + 1] = out.v[a : k + 1] - d[3:6]", "sm_v[a : k + 1] = out.v[a : k + 1]"),
       SMOOTH, "missing term"),
     M("smooth-caller-updates-order", SM, ("in reversed(cps[b].updates):", "in cps[b].updates:"), SMOOTH + ["tests/fusion", "tests/core/test_mutants_smoother_order.py"], "order"),
-    M("smooth-step-h-sign", SM, ("self.record[7][e, :, m : 2 * m] = h.T", "self.record[7][e, :, m : 2 * m] = -h.T"),
+    M("smooth-step-h-sign", SM, ("rec.gain[e, :, m : 2 * m] = h.T", "rec.gain[e, :, m : 2 * m] = -h.T"),
       SMOOTH + ["tests/fusion"], "sign"),
-    M("smooth-initial-q-swapped", SM, ("quat.multiply(dq, filt._out_q[a : k + 1])", "quat.multiply(filt._out_q[a : k + 1], dq)"),
+    M("smooth-initial-q-swapped", SM, ("quat.multiply(dq, out.q[a : k + 1])", "quat.multiply(out.q[a : k + 1], dq)"),
       SMOOTH, "swapped arguments"),
     M("smooth-keep-threshold", SM, ("or 2 * used < self.capacity:", "or used < self.capacity:"), SMOOTH, "constant"),
     # -- core/initial_alignment.py -----------------------------------------------------------

@@ -1,269 +1,109 @@
-"""Kalman filter and Rauch-Tung-Striebel primitives, numba-compiled and allocation-free.
+"""The Kalman update of a 3-vector of states, compiled: one kernel for every footnav filter.
 
-Every function works in place on caller-owned arrays so a per-sample loop allocates nothing: get
-the scratch arrays once with :func:`workspace` and pass them on. The functions are also callable
-from plain Python. Notation as in Simon, *Optimal State Estimation* (2006), ch. 5 and 9.3:
+A zero-velocity update (``ekf``, ``madgwick``), the zero-angular-rate update (``ekf`` with bias
+states) and a 3-D position measurement all measure one 3-vector of the state directly, so H is a
+selection ``[0 I 0]`` at an offset ``o`` and R is ``r I``. Then (Simon, *Optimal State
+Estimation* (2006), ch. 5)::
 
-* predict:  P <- F P F' + Q
-* update:   K = P H' (H P H' + R)^-1,  x <- x + K (z - H x),
-            P <- (I - K H) P (I - K H)' + K R K'   (Joseph form, then symmetrised)
-* RTS:      C = P_f F' P_p^-1,  x_s = x_f + C (x_s+ - x_p),  P_s = P_f + C (P_s+ - P_p) C'
+    S = H P H' + R = P[o:o+3, o:o+3] + r I       (3 x 3, inverted by cofactors)
+    K = P H' S^-1 = P[:, o:o+3] S^-1             (N x 3)
+    dx = K y,   P <- P - K (H P) = P - K P[o:o+3, :]
+
+in O(N) and O(N^2) operations instead of the dense products' O(N^2 m) and O(N^3). The simple
+form of the covariance update (not Joseph's) keeps P symmetric when it is written from one value
+into both triangles; the dense reference the tests compare with is tests/reference_kalman.py.
+
+Callers: :mod:`footnav.estimators.ekf.loop` (its ZUPT and ZARU), :mod:`footnav.estimators.madgwick`
+(its ZUPT); :func:`sym3_inverse` also serves :mod:`footnav.fusion.particle_ekf`.
 """
 
 from __future__ import annotations
 
-import numpy as np
-from numpy.typing import NDArray
-
 from footnav.core._numba import njit  # numba.njit that survives a read-only install
 
-__all__ = ["workspace", "predict", "update", "update_block", "rts_step", "symmetrize", "spd_inverse"]
+__all__ = ["sym3_inverse", "update3", "update3_inline"]
 
 
-def workspace(n: int, m: int) -> tuple[NDArray[np.float64], ...]:
-    """Scratch arrays for :func:`predict` / :func:`update` with n states and m measurements.
-
-    Returns ``(nn1, nn2, nm1, nm2, mm1, mm2, mm3)``.
-    """
-    return (
-        np.zeros((n, n)),
-        np.zeros((n, n)),
-        np.zeros((n, m)),
-        np.zeros((n, m)),
-        np.zeros((m, m)),
-        np.zeros((m, m)),
-        np.zeros((m, m)),
-    )
+@njit(cache=True, inline="always", error_model="numpy")
+def sym3_inverse(a, b, c, d, e, f):
+    """Inverse of the symmetric [[a b c] [b d e] [c e f]] by cofactors: (i00, i01, i02, i11, i12,
+    i22, det); the entries are undefined when det <= 0 (not positive definite)."""
+    i00 = d * f - e * e
+    i01 = c * e - b * f
+    i02 = b * e - c * d
+    det = a * i00 + b * i01 + c * i02
+    inv = 1.0 / det if det != 0.0 else 0.0
+    return (i00 * inv, i01 * inv, i02 * inv, (a * f - c * c) * inv, (b * c - a * e) * inv, (a * d - b * b) * inv, det)
 
 
-@njit(cache=True)
-def _matmul(a, b, out):
-    """out = a @ b (no allocation)."""
-    n, k = a.shape
-    m = b.shape[1]
-    for i in range(n):
-        for j in range(m):
-            s = 0.0
-            for l in range(k):
-                s += a[i, l] * b[l, j]
-            out[i, j] = s
-
-
-@njit(cache=True)
-def _matmul_bt(a, b, out):
-    """out = a @ b.T (no allocation)."""
-    n, k = a.shape
-    m = b.shape[0]
-    for i in range(n):
-        for j in range(m):
-            s = 0.0
-            for l in range(k):
-                s += a[i, l] * b[j, l]
-            out[i, j] = s
-
-
-@njit(cache=True)
-def symmetrize(p):
-    """P <- (P + P') / 2 in place: rounding must not break the covariance's symmetry."""
-    n = p.shape[0]
-    for i in range(n):
-        for j in range(i + 1, n):
-            s = 0.5 * (p[i, j] + p[j, i])
-            p[i, j] = s
-            p[j, i] = s
-
-
-@njit(cache=True)
-def spd_inverse(s, out, low):
-    """out = S^-1 for symmetric positive-definite S via Cholesky S = L L' (no allocation).
-
-    Returns False (and leaves ``out`` undefined) when S is not positive definite.
-    """
-    m = s.shape[0]
-    for i in range(m):
-        for j in range(m):
-            low[i, j] = 0.0
-    for j in range(m):
-        d = s[j, j]
-        for k in range(j):
-            d -= low[j, k] * low[j, k]
-        if d <= 0.0:
-            return False
-        low[j, j] = np.sqrt(d)
-        for i in range(j + 1, m):
-            v = s[i, j]
-            for k in range(j):
-                v -= low[i, k] * low[j, k]
-            low[i, j] = v / low[j, j]
-    # invert L in place of ``out`` (lower triangular), then S^-1 = L^-T L^-1
-    for i in range(m):
-        for j in range(m):
-            out[i, j] = 0.0
-    for j in range(m):
-        out[j, j] = 1.0 / low[j, j]
-        for i in range(j + 1, m):
-            v = 0.0
-            for k in range(j, i):
-                v -= low[i, k] * out[k, j]
-            out[i, j] = v / low[i, i]
-    # out <- out' out, computed column-wise from the bottom so entries are read before overwritten
-    for i in range(m):
-        for j in range(i, m):
-            v = 0.0
-            for k in range(j, m):
-                v += out[k, i] * out[k, j]
-            low[i, j] = v
-    for i in range(m):
-        for j in range(i, m):
-            out[i, j] = low[i, j]
-            out[j, i] = low[i, j]
-    return True
-
-
-@njit(cache=True)
-def predict(p, f, q, nn1):
-    """Covariance time update in place: P <- F P F' + Q, symmetrised.
+def _update3(cov, dx, o, y0, y1, y2, r, gate, gain, sy, hp):
+    """Kalman update with a measurement of the 3 states at ``o``: ``y = x[o:o+3] + noise``,
+    noise variance ``r`` (each axis), in place.
 
     Parameters
     ----------
-    p
-        Covariance (n, n), overwritten.
-    f
-        State transition (n, n).
-    q
-        Process noise covariance (n, n) of the discrete step.
-    nn1
-        Scratch (n, n).
-    """
-    _matmul(f, p, nn1)  # F P
-    _matmul_bt(nn1, f, p)  # (F P) F'
-    n = p.shape[0]
-    for i in range(n):
-        for j in range(n):
-            p[i, j] += q[i, j]
-    symmetrize(p)
-
-
-@njit(cache=True)
-def update(x, p, h, r, innovation, nn1, nn2, nm1, nm2, mm1, mm2, mm3):
-    """Measurement update in place (Joseph form): x <- x + K y, P <- (I-KH)P(I-KH)' + K R K'.
-
-    Parameters
-    ----------
-    x
-        State (n,), overwritten (an error-state filter passes zeros and reads the correction).
-    p
-        Covariance (n, n), overwritten.
-    h
-        Measurement matrix (m, n).
+    cov
+        P (N, N), overwritten by P - K H P, both triangles from one value (exactly symmetric).
+    dx
+        (N,) written: the correction K y of an error state that is zero before the update,
+        computed as P H' (S^-1 y).
+    o
+        First of the 3 measured states.
+    y0, y1, y2
+        The innovation y (z - H x, or an error-state filter's h(x^) - z).
     r
-        Measurement noise covariance (m, m).
-    innovation
-        y = z - H x (m,).
-    nn1, nn2, nm1, nm2, mm1, mm2, mm3
-        Scratch from :func:`workspace`.
+        Measurement noise variance per axis.
+    gate
+        Chi-square gate on the normalised innovation squared y' S^-1 y (inf: none).
+    gain, sy, hp
+        (N, 3), (3,), (3, N): written with K = P H' S^-1, S^-1 y and H P (before the update).
 
     Returns
     -------
     bool
-        False when the innovation covariance is not positive definite (nothing is changed).
+        False (and nothing changed but scratch) when S is not positive definite or the gate
+        rejects the measurement.
+
+    Notes
+    -----
+    K and dx read the columns of P (P H'), the covariance update its rows (H P): a filter whose
+    prediction leaves P exactly symmetric (``ekf``) gets the same numbers either way, and one whose
+    ``Phi P Phi'`` does not (``madgwick``) gets the update written for it.
     """
-    n = p.shape[0]
-    m = h.shape[0]
-    _matmul_bt(p, h, nm1)  # P H'
-    _matmul(h, nm1, mm1)  # H P H'
-    for i in range(m):
-        for j in range(m):
-            mm1[i, j] += r[i, j]  # S = H P H' + R
-    if not spd_inverse(mm1, mm2, mm3):
+    big = cov.shape[0]
+    # S = H P H' + R
+    i00, i01, i02, i11, i12, i22, det = sym3_inverse(
+        cov[o, o] + r, cov[o, o + 1], cov[o, o + 2], cov[o + 1, o + 1] + r, cov[o + 1, o + 2], cov[o + 2, o + 2] + r
+    )
+    if not det > 0.0:
         return False
-    _matmul(nm1, mm2, nm2)  # K = P H' S^-1
-    for i in range(n):
-        v = 0.0
-        for j in range(m):
-            v += nm2[i, j] * innovation[j]
-        x[i] += v  # x + K y
-    _matmul(nm2, h, nn1)  # K H
-    for i in range(n):
-        for j in range(n):
-            nn1[i, j] = (1.0 if i == j else 0.0) - nn1[i, j]  # A = I - K H
-    _matmul(nn1, p, nn2)  # A P
-    _matmul_bt(nn2, nn1, p)  # A P A'
-    _matmul(nm2, r, nm1)  # K R
-    for i in range(n):
-        for j in range(n):
-            v = 0.0
-            for k in range(m):
-                v += nm1[i, k] * nm2[j, k]
-            p[i, j] += v  # + K R K'
-    symmetrize(p)
+    # S^-1 y
+    s0 = i00 * y0 + i01 * y1 + i02 * y2
+    s1 = i01 * y0 + i11 * y1 + i12 * y2
+    s2 = i02 * y0 + i12 * y1 + i22 * y2
+    if y0 * s0 + y1 * s1 + y2 * s2 > gate:
+        return False
+    sy[0], sy[1], sy[2] = s0, s1, s2
+    for j in range(big):
+        hp[0, j], hp[1, j], hp[2, j] = cov[o, j], cov[o + 1, j], cov[o + 2, j]  # H P
+        c0, c1, c2 = cov[j, o], cov[j, o + 1], cov[j, o + 2]  # row j of P H'
+        # K = P H' S^-1
+        gain[j, 0] = c0 * i00 + c1 * i01 + c2 * i02
+        gain[j, 1] = c0 * i01 + c1 * i11 + c2 * i12
+        gain[j, 2] = c0 * i02 + c1 * i12 + c2 * i22
+        dx[j] = c0 * s0 + c1 * s1 + c2 * s2  # dx = P H' S^-1 y
+    # P <- P - K H P
+    for i in range(big):
+        g0, g1, g2 = gain[i, 0], gain[i, 1], gain[i, 2]
+        for j in range(i, big):
+            val = cov[i, j] - g0 * hp[0, j] - g1 * hp[1, j] - g2 * hp[2, j]
+            cov[i, j] = val
+            cov[j, i] = val
     return True
 
 
-@njit(cache=True)
-def update_block(x, p, start, r, innovation, nn1, nm1, nm2, mm1, mm2, mm3):
-    """Joseph-form update for a measurement of the contiguous states ``start:start+m`` (H = [0 I 0]).
-
-    Same result as :func:`update` with that H, at a fraction of the cost: zero-velocity and
-    position updates of an INS error state are of this form. Scratch as in :func:`update`
-    (``nn2`` is not needed). Returns False when H P H' + R is not positive definite.
-    """
-    n = p.shape[0]
-    m = r.shape[0]
-    for i in range(m):
-        for j in range(m):
-            mm1[i, j] = p[start + i, start + j] + r[i, j]  # S = H P H' + R
-    if not spd_inverse(mm1, mm2, mm3):
-        return False
-    for i in range(n):
-        for j in range(m):
-            v = 0.0
-            for k in range(m):
-                v += p[i, start + k] * mm2[k, j]
-            nm2[i, j] = v  # K = P H' S^-1
-    for i in range(n):
-        v = 0.0
-        for j in range(m):
-            v += nm2[i, j] * innovation[j]
-        x[i] += v
-    # X = (I - K H) P = P - K P[start:start+m, :]
-    for i in range(n):
-        for j in range(n):
-            v = p[i, j]
-            for k in range(m):
-                v -= nm2[i, k] * p[start + k, j]
-            nn1[i, j] = v
-    # P = X (I - K H)' + K R K' = X - X[:, block] K' + K R K'
-    _matmul(nm2, r, nm1)  # K R
-    for i in range(n):
-        for j in range(n):
-            v = nn1[i, j]
-            for k in range(m):
-                v += -nn1[i, start + k] * nm2[j, k] + nm1[i, k] * nm2[j, k]
-            p[i, j] = v
-    symmetrize(p)
-    return True
-
-
-@njit(cache=True)
-def rts_step(x_f, p_f, x_p_next, p_p_next, f_next, x_s_next, p_s_next, x_out, p_out):
-    """One backward Rauch-Tung-Striebel step (Simon 2006, eq. 9.94 in information-free form).
-
-    Parameters
-    ----------
-    x_f, p_f
-        Filtered state (n,) and covariance (n, n) at step k.
-    x_p_next, p_p_next
-        Predicted state and covariance at k+1 (before its update).
-    f_next
-        Transition from k to k+1.
-    x_s_next, p_s_next
-        Smoothed state and covariance at k+1.
-    x_out, p_out
-        Smoothed state and covariance at k (written).
-    """
-    # C = P_f F' P_p^-1, solved as P_p C' = F P_f (P_p symmetric)
-    c = np.linalg.solve(p_p_next, f_next @ p_f).T
-    x_out[:] = x_f + c @ (x_s_next - x_p_next)
-    p_out[:, :] = p_f + c @ (p_s_next - p_p_next) @ c.T
-    symmetrize(p_out)
+update3 = njit(cache=True, error_model="numpy")(_update3)
+#: The same kernel, inlined into its caller: madgwick's loop calls it at every stance sample,
+#: and a call passing its four arrays costs their reference counting (about 6 % of madgwick's
+#: time, measured); the ekf's loop, larger, calls :func:`update3`.
+update3_inline = njit(cache=True, inline="always", error_model="numpy")(_update3)

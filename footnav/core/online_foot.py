@@ -6,11 +6,9 @@ Global sample indices count the foot's samples since the stream began; the filte
 local index ``k`` is global ``seg0 + k``. What the stream guarantees (the offline causal run,
 bounded memory, the latency) is explained in :mod:`footnav.core.online`.
 
-The filter has no public way yet to grow its samples or to resume from a checkpoint, so a
-segment is an :class:`~footnav.core.ins_filter.InsFilter` over empty arrays that this module fills
-(``_t``, ``_acc``, ``_gyr``, ``_stance``, ``_stop_at``) and whose state it sets (``_state()``,
-``_k``) from a checkpoint; ``InsFilter.extend(t, acc, gyr, stance)`` and
-``InsFilter.resume(checkpoint)`` would replace those uses.
+A segment is an :class:`~footnav.estimators.ekf.filter.InsFilter` built with room for the
+samples to come (``capacity``), fed the final samples with ``InsFilter.extend`` and started from
+a step-end checkpoint of the previous segment with ``InsFilter.resume``: only public methods.
 """
 
 from __future__ import annotations
@@ -27,10 +25,11 @@ from numpy.typing import NDArray
 from footnav.core.errors import InvalidInputError
 from footnav.core.heading import MIN_FIRST_STEP_M, rotate_about_z, turn_to_first_step
 from footnav.core.heading_drift import heading_drift_cov
-from footnav.core.ins_filter import InsFilter
-from footnav.core.smoothing import StepSmoother
 from footnav.core.types import FootTrajectory, ImuData, StanceResult, stance_intervals
 from footnav.core.warning_log import recording
+from footnav.estimators.ekf.filter import InsFilter
+from footnav.estimators.ekf.records import FilterState
+from footnav.estimators.ekf.smoother import StepSmoother
 
 __all__ = ["SEGMENT_SAMPLES", "ClosedStep", "FootStream", "FootUpdate", "ForwardEstimate", "as_chunk"]
 
@@ -314,12 +313,9 @@ class FootStream:
     def _filter(self, final: bool) -> None:
         if self.filt is None and not self._start(final):
             return
-        if self.n_final - self.seg0 > len(self.filt._t):
+        if self.n_final - self.seg0 > self.filt.capacity(0):
             self._restart()
-        filt = self.filt
-        t, acc, gyr, mask = self.input.rows(self.n_fed, self.n_final)
-        a, b = self.n_fed - self.seg0, self.n_final - self.seg0
-        filt._t[a:b], filt._acc[a:b], filt._gyr[a:b], filt._stance[a:b] = t, acc, gyr, mask
+        self.filt.extend(*self.input.rows(self.n_fed, self.n_final))
         self.n_fed = self.n_final
         self._run(final)
         self._harvest(final)
@@ -330,11 +326,10 @@ class FootStream:
         sample, whose step end needs the next sample's decision (as in the offline loop)."""
         filt = self.filt
         last = self.n_fed - 1 - self.seg0
-        filt._stop_at[0] = last
         if final:
             filt.run_until()
-        elif last - 1 > filt._k[0]:
-            filt.run_until(float(filt._t[last - 1]))
+        elif last - 1 > filt.index(0):
+            filt.run_until(float(filt.samples(0).t[last - 1]))
 
     def _start(self, final: bool) -> bool:
         """Align the filter once the first stance is final (``estimator.start``), in a segment."""
@@ -345,29 +340,29 @@ class FootStream:
         # with no stance at all this raises the estimator's own error, as offline
         first = est.start([ImuData(t=t, acc=acc, gyr=gyr)], [StanceResult(mask=mask)])
         self.start_index = first.start_index(0)
-        self.seg0, self.base_k, self.n_fed = 0, self.start_index, 0
-        self.filt = self._segment(max(SEGMENT_SAMPLES, 2 * self.n_final), first)
+        self.seg0, self.base_k = 0, self.start_index
+        # the aligned state (f^n too, from the first stance's sample)
+        self._base_state = first.checkpoints[0].state.copy()
+        self.filt = self._segment((t, acc, gyr, mask), max(SEGMENT_SAMPLES, 2 * self.n_final), first, self._base_state, self.base_k)
+        self.n_fed = self.n_final
         self.filt.meta = first.meta
         self.meta = dict(first.meta[0])
         self.n_checkpoints = 1
-        # the aligned state (f^n too, from the first stance's sample, which the empty segment lacks)
-        cp = first.checkpoints[0]
-        self._base_state = tuple(np.array(x) for x in (cp.q, cp.v, cp.p, cp.ba, cp.bg, cp.f_n, cp.cov))
-        for dst, src in zip(self.filt._state(), self._base_state):
-            dst[...] = src
         return True
 
-    def _segment(self, size: int, like: InsFilter) -> InsFilter:
-        """An empty filter of ``size`` samples, initialised as ``like`` (the aligned filter; its
-        state is overwritten on a restart)."""
-        z = np.zeros
+    def _segment(self, samples: tuple, size: int, like: InsFilter, state: FilterState, base: int) -> InsFilter:
+        """A filter with room for ``size`` samples over the fed ``samples`` (t, acc, gyr, stance),
+        resumed from ``state`` at its sample ``base``; ``like`` (the aligned filter, or the old
+        segment) gives the noise and the outputs up to ``base`` until the caller copies its own."""
+        t, acc, gyr, mask = samples
         filt = InsFilter(
-            [z(size)], [z((size, 3))], [z((size, 3))], [z(size, dtype=bool)], [self.base_k], [like.quaternion(0)],
-            [like.position(0)], [like.biases(0)[1]], np.diag(like.covariance), like.noise, like.n_states,
+            [t], [acc], [gyr], [mask], [base], [like.quaternion(0)], [like.position(0)], [like.biases(0)[1]],
+            np.diag(like.covariance), like.noise, like.n_states, capacity=[size],
         )
         filt.step_stops = True  # a checkpoint at every step end: where a new segment can start
         if self.stream.pipeline.estimator.smoother == "step":
             filt.step_smoother = StepSmoother(filt)
+        filt.resume(state, [base])
         return filt
 
     def _restart(self) -> None:
@@ -376,12 +371,12 @@ class FootStream:
         the smoother's chaining value there; the final samples after it are filtered again (the
         loop is deterministic: the same numbers). Without any checkpoint the segment grows."""
         old = self.filt
-        k_now = int(old._k[0])
+        k_now = old.index(0)
         cps = old.checkpoints[1:]  # the first is the segment's start
         if cps:
             cp = cps[-1]
             shift, base = int(cp.k[0]), 0
-            state = (cp.q, cp.v, cp.p, cp.ba, cp.bg, cp.f_n, cp.cov)
+            state = cp.state
             if shift == k_now and old.step_smoother is not None and old.step_smoother.fill[0]:
                 old.close_step(old.step_smoother)  # the cut the next sample would make
             self._harvest(False, upto=shift)
@@ -389,14 +384,9 @@ class FootStream:
         else:  # a stance or swing longer than the segment: a longer one, from the same start
             shift, base = 0, self.base_k
             state = self._base_state
-            size = 2 * max(len(old._t), self.n_final - self.seg0)
-        new = self._segment(size, old)
-        for dst, src in zip(new._state(), state):
-            dst[...] = src
-        new._k[0] = base
+            size = 2 * max(old.capacity(0), self.n_final - self.seg0)
         n = self.n_fed - self.seg0 - shift
-        for dst, src in ((new._t, old._t), (new._acc, old._acc), (new._gyr, old._gyr), (new._stance, old._stance)):
-            dst[:n] = src[shift : shift + n]
+        new = self._segment(tuple(x[shift : shift + n] for x in old.samples(0)), size, old, state, base)
         pairs = list(zip(old.outputs(0), new.outputs(0)))
         if new.step_smoother is not None:
             pairs += list(zip(old.step_smoother.smoothed, new.step_smoother.smoothed))
@@ -406,12 +396,11 @@ class FootStream:
         self.filt = new
         self.seg0 += shift
         self.base_k = base
-        self._base_state = tuple(np.array(x) for x in state)
+        self._base_state = state.copy()
         self.n_checkpoints = 1
         # the fed samples after the checkpoint again (the same numbers: the loop is deterministic)
         if n - 2 > base:
-            new._stop_at[0] = n - 1
-            new.run_until(float(new._t[n - 2]))
+            new.run_until(float(new.samples(0).t[n - 2]))
 
     def _harvest(self, final: bool, upto: int | None = None) -> None:
         """Move the samples up to the last closed step (all of them at the end) to the outputs.
@@ -419,7 +408,7 @@ class FootStream:
         A checkpoint at a step end closes a step; one at a full smoother buffer closes its
         samples once the next sample has cut the buffer (or ``upto``: a restart cuts it)."""
         filt = self.filt
-        k_now = int(filt._k[0])
+        k_now = filt.index(0)
         cps = filt.checkpoints
         end = None
         i = self.n_checkpoints
@@ -443,9 +432,10 @@ class FootStream:
         q, v, p, pcov = filt.outputs(0)
         if filt.step_smoother is not None:
             q, v, p = filt.step_smoother.smoothed
-        t, stance = filt._t[a:b], filt._stance[a:b]
+        fed = filt.samples(0)
+        t, stance = fed.t[a:b], fed.stance[a:b]
         self.out.append(t, q[a:b], v[a:b], p[a:b], pcov[a:b], stance)
-        next_stance = False if final else bool(filt._stance[b]) if b < self.n_fed - self.seg0 else True
+        next_stance = False if final else bool(fed.stance[b]) if b < self.n_fed - self.seg0 else True
         self._footprints(t, p[a:b], stance, next_stance)
         self.n_out = self.seg0 + b
         self.t_final = float(t[-1]) if len(t) else self.t_final

@@ -49,7 +49,7 @@ from footnav.core.component import (
 from footnav.core.heading import turn_to_first_step
 from footnav.core.heading_drift import TURN_ON_BIAS_STD_RADPS, heading_drift_cov, standstill_rate_std
 from footnav.core.initial_alignment import MIN_STILL_SAMPLES, Alignment, align_first_stance
-from footnav.core.ins_filter import sym3_inverse
+from footnav.core.kalman import update3_inline
 from footnav.core.quaternion import as_matrix_nb
 from footnav.core.types import GRAVITY_MPS2, FootTrajectory, ImuData, StanceResult
 
@@ -159,11 +159,11 @@ def _loop(t, acc, gyr, mag, use_mag, stance, start, q0, beta, var_acc, var_da, v
     c = np.zeros((3, 3))
     m = np.zeros((9, 9))
     a_prev = np.zeros(3)
-    s = np.zeros((3, 3))
-    s_inv = np.zeros((3, 3))
     innov = np.zeros(3)
     gain = np.zeros((9, 3))
     hp = np.zeros((3, 9))
+    sy = np.zeros(3)
+    kpy = np.zeros(9)  # the kernel's P H' S^-1 y, not used (see the update)
     as_matrix_nb(q, c)
     for i in range(3):
         a_prev[i] = c[i, 0] * acc[start, 0] + c[i, 1] * acc[start, 1] + c[i, 2] * acc[start, 2]
@@ -208,30 +208,15 @@ def _loop(t, acc, gyr, mag, use_mag, stance, start, q0, beta, var_acc, var_da, v
             p[3 + i, 3 + i] += var_acc * dt
             p[6 + i, 6 + i] += var_da * dt
         if stance[k]:
-            # eq. 6: z = v^ - 0, H = [0 I 0]; K = P H' (H P H' + R)^-1, 3x3 inverse written out
+            # eq. 6: z = v^ - 0, H = [0 I 0], y = z - H d_eta; K = P H' (H P H' + R)^-1,
+            # P <- P - K H P (footnav.core.kalman, the ekf's kernel)
             for i in range(3):
-                for j in range(3):
-                    s[i, j] = p[3 + i, 3 + j]
-                s[i, i] += var_zupt
-            i00, i01, i02, i11, i12, i22, det = sym3_inverse(s[0, 0], s[0, 1], s[0, 2], s[1, 1], s[1, 2], s[2, 2])
-            if det > 0.0:
-                s_inv[0, 0], s_inv[0, 1], s_inv[0, 2] = i00, i01, i02
-                s_inv[1, 0], s_inv[1, 1], s_inv[1, 2] = i01, i11, i12
-                s_inv[2, 0], s_inv[2, 1], s_inv[2, 2] = i02, i12, i22
-                for i in range(3):
-                    innov[i] = v[i] - de[3 + i]
+                innov[i] = v[i] - de[3 + i]
+            if update3_inline(p, kpy, 3, innov[0], innov[1], innov[2], var_zupt, np.inf, gain, sy, hp):
+                # d_eta += K y: the error state holds d^s a, not zero, before the update (and
+                # (P H' S^-1) y, not the kernel's P H' (S^-1 y): the same up to rounding)
                 for i in range(9):
-                    for j in range(3):
-                        gain[i, j] = p[i, 3] * s_inv[0, j] + p[i, 4] * s_inv[1, j] + p[i, 5] * s_inv[2, j]
                     de[i] += gain[i, 0] * innov[0] + gain[i, 1] * innov[1] + gain[i, 2] * innov[2]
-                for i in range(3):
-                    for j in range(9):
-                        hp[i, j] = p[3 + i, j]
-                for i in range(9):
-                    for j in range(i, 9):
-                        val = p[i, j] - gain[i, 0] * hp[0, j] - gain[i, 1] * hp[1, j] - gain[i, 2] * hp[2, j]
-                        p[i, j] = val
-                        p[j, i] = val
                 # compensation and reset of dr, dv (da stays: it is the sensor's error)
                 for i in range(3):
                     v[i] -= de[3 + i]

@@ -2,7 +2,7 @@
 
 A coupled fusion needs both feet in one nav frame. Each foot's IMU starts with its own, unknown
 heading, so :func:`start_joint` first runs each foot alone (forward filter) to find the heading
-of its first step, then starts the joint :class:`~footnav.core.ins_filter.InsFilter` with each
+of its first step, then starts the joint :class:`~footnav.estimators.ekf.filter.InsFilter` with each
 foot turned so that its first step points along +x and the feet ``step_width_m`` apart across it
 (left foot at +y). :func:`finish_joint` smooths the run as the estimator says and returns both
 feet and their midpoint path.
@@ -27,11 +27,11 @@ from footnav.core import quaternion as quat
 from footnav.core.component import require_stepable
 from footnav.core.errors import CompositionError, DataQualityWarning, InvalidInputError
 from footnav.core.final_rest import final_rest
-from footnav.core.ins_filter import InsFilter
-from footnav.core.smoothing import smooth
 from footnav.core.spans import FootCut, common_span, slice_stance
 from footnav.core.types import FootTrajectory, FusionResult, ImuData, StanceResult
 from footnav.core.warning_log import warn
+from footnav.estimators.ekf.filter import InsFilter
+from footnav.estimators.ekf.smoother import smooth
 from footnav.fusion.independent import midpoint_path
 
 __all__ = ["check_two_feet", "close_loops", "closing_time", "finish_joint", "forward_only", "fuse_on_common_span", "require_stepable", "start_joint"]

@@ -32,7 +32,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from footnav.core._numba import njit  # numba.njit that survives a read-only install
-from footnav.core.ins_filter import sym3_inverse
+from footnav.core.kalman import sym3_inverse
 from footnav.core.mechanization import strapdown_step
 from footnav.core.quaternion import as_matrix_nb, from_rotvec_nb, multiply_nb, normalize_nb
 

@@ -2,14 +2,16 @@
 
 import numpy as np
 import pytest
+import reference_kalman as kalman  # tests/reference_kalman.py, the dense reference
 
 import footnav
 from footnav import StanceResult
-from footnav.core import ins_filter, kalman
 from footnav.core import quaternion as quat
-from footnav.core.ins_filter import FilterNoise, _predict_cov
-from footnav.core.smoothing import smooth
 from footnav.estimators.ekf import EkfEstimator
+from footnav.estimators.ekf import filter as ekf_filter
+from footnav.estimators.ekf.kernels import predict_cov
+from footnav.estimators.ekf.records import FilterNoise
+from footnav.estimators.ekf.smoother import smooth
 
 
 def _dense_f(n, f_n, c, dt):
@@ -42,7 +44,7 @@ def test_structured_predict_equals_dense_predict(n, n_feet, foot):
     dense = p0.copy()
     kalman.predict(dense, f, q, np.empty((big, big)))
     fast = p0.copy()
-    _predict_cov(fast, o, n, f_n, c, dt, q_diag)
+    predict_cov(fast, o, n, f_n, c, dt, q_diag)
     np.testing.assert_allclose(fast, dense, rtol=1e-12, atol=1e-12)
     assert np.array_equal(fast, fast.T)  # the lower triangle is the upper one, exactly
 
@@ -93,7 +95,7 @@ def _reference_forward(est, imu, stance):
                 ba, bg = ba - dx[9:12], bg - dx[12:15]
         hist.append((p_pred, cov.copy(), f, dx))
         out[k] = (q.copy(), v.copy(), p.copy())
-    return out, hist, k0, filt.checkpoints[0].cov
+    return out, hist, k0, filt.checkpoints[0].state.cov
 
 
 def _reference_rts(est, imu, stance):
@@ -145,7 +147,7 @@ def _reference_step_rts(est, imu, stance):
 @pytest.mark.parametrize("segment_events", [None, 150])
 def test_smoother_matches_dense_rts_reference(bias_states, segment_events, monkeypatch):
     if segment_events is not None:  # many segments: the smoother's buffer is reused, stale rows must not leak
-        monkeypatch.setattr(ins_filter, "MAX_SEGMENT_EVENTS", segment_events)
+        monkeypatch.setattr(ekf_filter, "MAX_SEGMENT_EVENTS", segment_events)
     rec = footnav.simulate("straight", seed=4, distance_m=6.0, standstill_s=1.0)
     imu, stance = rec.left, StanceResult(rec.truth_left.stance)
     est = EkfEstimator(bias_states=bias_states, smoother="whole", heading="sensor")
@@ -241,7 +243,7 @@ def test_in_pass_step_smoothing_equals_replayed_step_smoothing(bias_states):
 
 
 def test_in_pass_step_smoothing_with_a_tiny_buffer_still_smooths_every_sample():
-    from footnav.core.smoothing import StepSmoother
+    from footnav.estimators.ekf.smoother import StepSmoother
 
     rec = footnav.simulate("straight", seed=9, distance_m=6.0, standstill_s=1.0)
     stance = StanceResult(rec.truth_left.stance)
@@ -261,7 +263,7 @@ def test_in_pass_step_smoothing_with_a_tiny_buffer_still_smooths_every_sample():
 def _whole_with_updates(est, rec, stances, keep_mb):
     """A two-foot joint run with a caller's position update every 2 s, smoothed over the whole
     walk, the forward run keeping ``keep_mb`` MB of its record (None: nothing kept)."""
-    from footnav.core.smoothing import SegmentRecords
+    from footnav.estimators.ekf.smoother import SegmentRecords
 
     filt = est.start([rec.left, rec.right], stances)
     filt.segment_records = None if keep_mb is None else SegmentRecords(filt, keep_mb)
@@ -276,7 +278,7 @@ def _whole_with_updates(est, rec, stances, keep_mb):
 
 @pytest.mark.parametrize("bias_states", [False, True])
 def test_kept_segments_smooth_exactly_as_replayed_ones(bias_states, monkeypatch):
-    monkeypatch.setattr(ins_filter, "MAX_SEGMENT_EVENTS", 300)  # many segments besides the updates
+    monkeypatch.setattr(ekf_filter, "MAX_SEGMENT_EVENTS", 300)  # many segments besides the updates
     rec = footnav.simulate("straight", seed=10, distance_m=15.0, standstill_s=1.0)
     stances = [StanceResult(rec.truth_left.stance), StanceResult(rec.truth_right.stance)]
     est = EkfEstimator(smoother="whole", heading="sensor", bias_states=bias_states, zaru_std_radps=0.01 if bias_states else 0.0)
@@ -287,3 +289,60 @@ def test_kept_segments_smooth_exactly_as_replayed_ones(bias_states, monkeypatch)
     for a, b, c in zip(replayed, all_kept, some_kept):
         np.testing.assert_array_equal(a, b)  # the same arithmetic on the same record
         np.testing.assert_array_equal(a, c)
+
+
+@pytest.mark.parametrize("bias_states", [False, True])
+def test_samples_given_in_chunks_filter_exactly_as_given_at_once(bias_states):
+    """extend: a filter built with room for the rest, fed chunk by chunk (a stream), gives the
+    run of the filter that had every sample from the start, bit for bit."""
+    rec = footnav.simulate("straight", seed=11, distance_m=6.0, standstill_s=1.0)
+    imu, stance = rec.left, StanceResult(rec.truth_left.stance)
+    est = EkfEstimator(smoother="step", heading="sensor", bias_states=bias_states)
+    whole = est.start([imu], [stance])
+    whole.run_until()
+    ref = smooth(whole, "step")
+    k0 = whole.start_index(0)
+    n0 = k0 + 50
+    first = whole.checkpoints[0].state  # the aligned start
+    grown = type(whole)(
+        [imu.t[:n0]], [imu.acc[:n0]], [imu.gyr[:n0]], [stance.mask[:n0]], [k0], [first.q[0]], [first.p[0]], [first.bg[0]],
+        np.diag(first.cov), whole.noise, whole.n_states, capacity=[imu.n_samples],
+    )
+    grown.step_smoother = type(whole.step_smoother)(grown)
+    assert grown.capacity(0) == imu.n_samples and len(grown.samples(0).t) == n0
+    for a in range(n0, imu.n_samples, 97):
+        b = min(a + 97, imu.n_samples)
+        grown.extend(imu.t[a:b], imu.acc[a:b], imu.gyr[a:b], stance.mask[a:b])
+        grown.run_until(imu.t[b - 2])  # the newest sample's step end needs its successor
+    grown.run_until()
+    for x, y in zip(grown.outputs(0), whole.outputs(0)):
+        np.testing.assert_array_equal(x, y)
+    for x, y in zip(smooth(grown, "step"), ref):
+        np.testing.assert_array_equal(x, y)
+    with pytest.raises(footnav.InvalidInputError, match="room for"):
+        grown.extend(imu.t[:1], imu.acc[:1], imu.gyr[:1], stance.mask[:1])
+
+
+def test_a_filter_resumed_from_a_checkpoint_continues_the_run_exactly():
+    """resume: a new filter over the samples from a step-end checkpoint on, started from its
+    state, gives the rest of the run bit for bit."""
+    rec = footnav.simulate("straight", seed=12, distance_m=6.0, standstill_s=1.0)
+    imu, stance = rec.left, StanceResult(rec.truth_left.stance)
+    est = EkfEstimator(smoother="none", heading="sensor", bias_states=True)
+    whole = est.start([imu], [stance])
+    whole.step_stops = True
+    whole.run_until()
+    cp = whole.checkpoints[len(whole.checkpoints) // 2]
+    assert cp.step_end
+    s = int(cp.k[0])
+    rest = type(whole)(
+        [imu.t[s:]], [imu.acc[s:]], [imu.gyr[s:]], [stance.mask[s:]], [0], [whole.quaternion(0)], [whole.position(0)],
+        [whole.biases(0)[1]], np.ones(15), whole.noise, whole.n_states,
+    )
+    rest.resume(cp.state, [0])
+    assert rest.index(0) == 0 and len(rest.checkpoints) == 1
+    np.testing.assert_array_equal(rest.checkpoints[0].state.cov, cp.state.cov)
+    rest.run_until()
+    for x, y in zip(rest.outputs(0), whole.outputs(0)):
+        np.testing.assert_array_equal(x[1:], y[s + 1 :])
+    np.testing.assert_array_equal(rest.state().cov, whole.state().cov)

@@ -1,9 +1,11 @@
-"""Kalman and RTS primitives against filterpy, an independent, well-kept implementation."""
+"""The dense Kalman and RTS reference (tests/reference_kalman.py) against filterpy, an independent,
+well-kept implementation, and footnav's Kalman kernel against the reference."""
 
 import numpy as np
 import pytest
+import reference_kalman as kalman  # tests/reference_kalman.py
 
-from footnav.core import kalman
+from footnav.core.kalman import update3
 
 filterpy_kalman = pytest.importorskip("filterpy.kalman")
 
@@ -82,19 +84,24 @@ def test_rts_step_matches_filterpy_smoother():
     np.testing.assert_allclose(p_s, p_ref, rtol=1e-9, atol=1e-10)
 
 
-@pytest.mark.parametrize("start, m", [(3, 3), (0, 2), (6, 3)])
-def test_update_block_equals_general_update(start, m):
-    rng = np.random.default_rng(start + m)
-    n = 9
-    p0, r = _random_spd(rng, n), _random_spd(rng, m) * 0.1
-    h = np.zeros((m, n))
-    h[:, start : start + m] = np.eye(m)
-    y = rng.normal(size=m)
+@pytest.mark.parametrize("start", [0, 3, 6])
+def test_footnav_selection_update_equals_the_dense_update(start):
+    """footnav's one Kalman kernel (a 3-state selection, R = r I) against the dense reference."""
+    rng = np.random.default_rng(start)
+    n, r = 9, 0.1
+    p0 = _random_spd(rng, n)
+    p0 = 0.5 * (p0 + p0.T)  # exactly symmetric, as every footnav covariance
+    h = np.zeros((3, n))
+    h[:, start : start + 3] = np.eye(3)
+    y = rng.normal(size=3)
     x1, p1 = np.zeros(n), p0.copy()
-    x2, p2 = np.zeros(n), p0.copy()
-    ws = kalman.workspace(n, m)
-    assert kalman.update(x1, p1, h, r, y, *ws)
-    nn1, _, nm1, nm2, mm1, mm2, mm3 = kalman.workspace(n, m)
-    assert kalman.update_block(x2, p2, start, r, y, nn1, nm1, nm2, mm1, mm2, mm3)
-    np.testing.assert_allclose(x2, x1, rtol=1e-12, atol=1e-14)
+    assert kalman.update(x1, p1, h, r * np.eye(3), y, *kalman.workspace(n, 3))
+    p2, dx, gain, sy, hp = p0.copy(), np.zeros(n), np.zeros((n, 3)), np.zeros(3), np.zeros((3, n))
+    assert update3(p2, dx, start, *y, r, np.inf, gain, sy, hp)
+    np.testing.assert_allclose(dx, x1, rtol=1e-12, atol=1e-14)
     np.testing.assert_allclose(p2, p1, rtol=1e-10, atol=1e-12)
+    np.testing.assert_array_equal(p2, p2.T)
+    # a gate below y' S^-1 y refuses the measurement and leaves P as it was
+    p3 = p0.copy()
+    assert not update3(p3, dx, start, *y, r, 0.5 * float(y @ sy), gain, sy, hp)
+    np.testing.assert_array_equal(p3, p0)

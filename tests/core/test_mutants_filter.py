@@ -13,7 +13,7 @@ from test_ins_filter import _reference_forward
 
 import footnav
 from footnav.core import quaternion as quat
-from footnav.core.smoothing import smooth
+from footnav.estimators.ekf.smoother import smooth
 from footnav.core.types import StanceResult, stance_intervals
 from footnav.estimators.ekf import EkfEstimator
 

@@ -35,8 +35,8 @@ import pytest
 import footnav
 from footnav import StanceResult
 from footnav.core import quaternion as quat
-from footnav.core.smoothing import smooth
 from footnav.estimators.ekf import EkfEstimator
+from footnav.estimators.ekf.smoother import smooth
 
 
 def _dense_f(f_n, dt):

@@ -207,8 +207,9 @@ def test_covariance_stays_symmetric_positive_definite_over_a_60_minute_walk():
     filt.run_until()
     worst_asym, worst_eig = 0.0, np.inf
     for cp in filt.checkpoints[1:]:  # the first holds the exactly known start position (variance 0)
-        worst_asym = max(worst_asym, float(np.abs(cp.cov - cp.cov.T).max()))
-        worst_eig = min(worst_eig, float(np.linalg.eigvalsh(cp.cov).min()))
+        cov = cp.state.cov
+        worst_asym = max(worst_asym, float(np.abs(cov - cov.T).max()))
+        worst_eig = min(worst_eig, float(np.linalg.eigvalsh(cov).min()))
     assert len(filt.checkpoints) > 2000  # a checkpoint per step: the check covers the whole walk
     assert worst_asym == 0.0  # the update writes both triangles from one value
     assert worst_eig > 0.0

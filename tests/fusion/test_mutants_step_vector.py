@@ -2,7 +2,7 @@
 
 The fusion runs through its public ``fuse`` on a stand-in for the step-able estimator
 (``footnav.core.component.stepable_gaps`` is the contract): its filter is footnav's own
-:class:`~footnav.core.ins_filter.InsFilter` (so the measurement update is footnav's), with the
+:class:`~footnav.estimators.ekf.filter.InsFilter` (so the measurement update is footnav's), with the
 propagation replaced by nothing and the per-sample attitudes set by hand. Every expected value is
 computed here in plain numpy from the paper's equations:
 
@@ -20,8 +20,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from footnav.core.ins_filter import POS, FilterNoise, InsFilter
 from footnav.core.types import FootTrajectory, ImuData, StanceResult
+from footnav.estimators.ekf.filter import InsFilter
+from footnav.estimators.ekf.records import POS, FilterNoise
 from footnav.fusion.step_vector import StepVectorFusion
 
 RATE_HZ = 100.0

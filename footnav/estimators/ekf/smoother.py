@@ -1,4 +1,4 @@
-"""Rauch-Tung-Striebel smoothing of an :class:`~footnav.core.ins_filter.InsFilter` run.
+"""Rauch-Tung-Striebel smoothing of an :class:`~footnav.estimators.ekf.filter.InsFilter` run, step-wise or over the whole walk.
 
 Chistyakov et al. (2021), Alg. 1 (Chistyakov et al. 2021) smooths the closed-loop error-state filter backwards
 over the whole recording; OpenShoe's smoothed variant does it step by step. Both are computed
@@ -26,6 +26,8 @@ error states: 64 MB hold 26 minutes at 100 Hz).
 The step-wise smoother records each step as the filter runs and smooths it at its end, inside
 the same compiled loop: two buffers' worth of memory whatever the length of the recording, and
 no sample is run twice.
+The backward pass itself is compiled in :mod:`footnav.estimators.ekf.backward` and run by the
+forward loop's smoothing modes; this module decides what is recorded, kept and replayed.
 """
 
 from __future__ import annotations
@@ -35,19 +37,14 @@ from typing import Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from footnav.core import ins_filter
 from footnav.core import quaternion as quat
-from footnav.core.buffers import staggered
-from footnav.core.ins_filter import (
-    MAX_SEGMENT_EVENTS,
-    MODE_STEP,
-    MODE_WHOLE,
-    SMOOTHED_PLACE,
-    InsFilter,
-    empty_record,
-)
+from footnav.estimators.ekf import filter as ekf_filter  # MAX_SEGMENT_EVENTS read at run time
+from footnav.estimators.ekf.buffers import staggered
+from footnav.estimators.ekf.filter import InsFilter
+from footnav.estimators.ekf.loop import MODE_STEP, MODE_WHOLE
+from footnav.estimators.ekf.records import SMOOTHED_PLACE, Record, Smoothed, empty_record
 
-__all__ = ["smooth", "StepSmoother", "SegmentRecords", "SMOOTHERS", "KEEP_RECORD_MB"]
+__all__ = ["KEEP_RECORD_MB", "SMOOTHERS", "SegmentRecords", "StepSmoother", "smooth"]
 
 #: Smoothing modes: over the whole run, within each step, or none.
 SMOOTHERS = ("whole", "step", "none")
@@ -79,12 +76,12 @@ class SegmentRecords:
         self.big = filt.n_states * filt.n_feet
         self.columns = filt.record_columns
         self.budget_bytes = int(budget_mb * 1e6)
-        self.capacity = ins_filter.MAX_SEGMENT_EVENTS  # the longest segment the filter makes
+        self.capacity = ekf_filter.MAX_SEGMENT_EVENTS  # the longest segment the filter makes
         self.record = empty_record(self.big, self.capacity, self.columns, zero=False)
         #: events recorded of the open segment
         self.fill = np.zeros(1, dtype=np.int64)
         #: checkpoint index -> (record, events, covariance after the segment's last sample, bytes)
-        self.kept: dict[int, tuple[tuple, int, NDArray[np.float64], int]] = {}
+        self.kept: dict[int, tuple[Record, int, NDArray[np.float64], int]] = {}
         self.nbytes = 0
 
     def keep(self, checkpoint: int, cov: NDArray[np.float64]) -> None:
@@ -98,14 +95,14 @@ class SegmentRecords:
         self.fill[0] = 0
         if used == 0 or self.budget_bytes <= 0 or 2 * used < self.capacity:
             return
-        rec, nbytes = tuple(a[:used] for a in self.record), _nbytes(self.record) + cov.nbytes
+        rec, nbytes = self.record.head(used), _nbytes(self.record) + cov.nbytes
         self.record = empty_record(self.big, self.capacity, self.columns, zero=False)
         self.kept[checkpoint] = (rec, used, cov.copy(), nbytes)
         self.nbytes += nbytes
         while self.nbytes > self.budget_bytes:
             self._drop(next(iter(self.kept)))  # the oldest: segments are kept in time order
 
-    def take(self, checkpoint: int) -> tuple[tuple, int, NDArray[np.float64]] | None:
+    def take(self, checkpoint: int) -> tuple[Record, int, NDArray[np.float64]] | None:
         """The kept segment ending at ``checkpoint`` (record, events, covariance), released; or None."""
         if checkpoint not in self.kept:
             return None
@@ -117,7 +114,7 @@ class SegmentRecords:
         self.nbytes -= self.kept.pop(checkpoint)[3]
 
 
-def _nbytes(record: tuple) -> int:
+def _nbytes(record: Record) -> int:
     return sum(a.nbytes for a in record)
 
 
@@ -136,12 +133,12 @@ class StepSmoother:
     filt
         The filter, before it runs (the smoothed arrays start as copies of its outputs).
     capacity
-        Samples the buffer holds.
+        Samples the buffer holds (default ``MAX_SEGMENT_EVENTS``).
     """
 
-    def __init__(self, filt: InsFilter, capacity: int = MAX_SEGMENT_EVENTS) -> None:
+    def __init__(self, filt: InsFilter, capacity: int | None = None) -> None:
         big = filt.n_states * filt.n_feet
-        self.capacity = int(capacity)
+        self.capacity = int(ekf_filter.MAX_SEGMENT_EVENTS if capacity is None else capacity)
         self.record = empty_record(big, self.capacity, filt.record_columns)
         #: events recorded of the open step (one entry: an array the compiled loop updates)
         self.fill = np.zeros(1, dtype=np.int64)
@@ -154,26 +151,27 @@ class StepSmoother:
         m = len(y)
         if self.fill[0] == self.capacity:
             filt.close_step(self)
-        if 2 * m > self.record[7].shape[2]:  # more rows than any update so far: widen the record
+        if 2 * m > self.record.gain.shape[2]:  # more rows than any update so far: widen the record
             wide = empty_record(len(self.mu), self.capacity, 2 * m)
             for old, new in zip(self.record, wide):
                 new[tuple(slice(0, s) for s in old.shape)] = old
             self.record = wide
         e = int(self.fill[0])
-        self.record[5][e] = -m
-        self.record[7][e, :, :m] = gain
-        self.record[7][e, :, m : 2 * m] = h.T
-        self.record[8][e, :m] = sy
-        self.record[9][e, :m] = y
+        rec = self.record
+        rec.nu[e] = -m
+        rec.gain[e, :, :m] = gain
+        rec.gain[e, :, m : 2 * m] = h.T
+        rec.sy[e, :m] = sy
+        rec.y[e, :m] = y
         self.fill[0] = e + 1
 
-    def result(self, filt: InsFilter) -> tuple[NDArray, NDArray, NDArray]:
+    def result(self, filt: InsFilter) -> Smoothed:
         """Smoothed attitude, velocity, position of all samples (the open step is smoothed now)."""
         filt.close_step(self)
         return self.smoothed
 
 
-def smooth(filt: InsFilter, mode: Literal["whole", "step"] = "whole") -> tuple[NDArray, NDArray, NDArray]:
+def smooth(filt: InsFilter, mode: Literal["whole", "step"] = "whole") -> Smoothed:
     """Smoothed attitude, velocity and position of every sample of a finished filter run.
 
     Parameters
@@ -189,7 +187,7 @@ def smooth(filt: InsFilter, mode: Literal["whole", "step"] = "whole") -> tuple[N
 
     Returns
     -------
-    tuple of ndarray
+    Smoothed
         Attitude (M, 4), velocity (M, 3), position (M, 3) of the concatenated samples of all
         feet (foot f's rows: :meth:`InsFilter.outputs` order); nav frame, SI units.
     """
@@ -225,23 +223,25 @@ def smooth(filt: InsFilter, mode: Literal["whole", "step"] = "whole") -> tuple[N
     return sm
 
 
-def _copy_outputs(filt: InsFilter) -> tuple[NDArray, NDArray, NDArray]:
+def _copy_outputs(filt: InsFilter) -> Smoothed:
     """Copies of the filter's attitude, velocity and position to be smoothed, at page offsets
-    after the filter's own arrays (:mod:`footnav.core.buffers`)."""
-    outputs = (filt._out_q, filt._out_v, filt._out_p)
+    after the filter's own arrays (:mod:`footnav.estimators.ekf.buffers`)."""
+    out = filt.outputs()
+    outputs = (out.q, out.v, out.p)
     copies = staggered([(x.shape, x.dtype) for x in outputs], first=SMOOTHED_PLACE)
     for dst, src in zip(copies, outputs):
         dst[...] = src
-    return tuple(copies)
+    return Smoothed(*copies)
 
 
-def _correct_initial(filt: InsFilter, d_start: NDArray[np.float64], sm: tuple) -> None:
+def _correct_initial(filt: InsFilter, d_start: NDArray[np.float64], sm: Smoothed) -> None:
     """Smooth each foot's initial state (and the samples before it) by its correction d_start[f]."""
     sm_q, sm_v, sm_p = sm
+    out = filt.outputs()
     for f in range(filt.n_feet):
         d = d_start[f]
         a, k = filt.global_index(f, 0), int(filt.checkpoints[0].k[f])
         dq = quat.from_rotvec(d[:3])
-        sm_q[a : k + 1] = quat.normalize(quat.multiply(dq, filt._out_q[a : k + 1]))
-        sm_v[a : k + 1] = filt._out_v[a : k + 1] - d[3:6]
-        sm_p[a : k + 1] = filt._out_p[a : k + 1] - d[6:9]
+        sm_q[a : k + 1] = quat.normalize(quat.multiply(dq, out.q[a : k + 1]))
+        sm_v[a : k + 1] = out.v[a : k + 1] - d[3:6]
+        sm_p[a : k + 1] = out.p[a : k + 1] - d[6:9]

@@ -1,10 +1,10 @@
 """Error-state ZUPT-aided INS estimator: closed-loop 9- or 15-state EKF with RTS smoothing.
 
 Zhao et al. (2019), eq. 1-3, and Chistyakov et al. (2021), Alg. 1: the filter of
-:mod:`footnav.core.ins_filter` (error state [attitude, velocity, position] and optionally the
+:mod:`footnav.estimators.ekf.filter` (error state [attitude, velocity, position] and optionally the
 accelerometer and gyro biases; ZUPT in stance, optional zero angular rate; closed-loop feedback),
 initial roll, pitch and gyro bias from the first standstill, and the smoother of
-:mod:`footnav.core.smoothing` (step-wise or over the whole walk). When the walk returns to its
+:mod:`footnav.estimators.ekf.smoother` (step-wise or over the whole walk). When the walk returns to its
 start (``closed_loop=True``), the final standstill gets the start position as a measurement and
 the whole-walk smoother spreads that correction back over the trajectory (Chistyakov et al. (2021)).
 """
@@ -12,7 +12,8 @@ the whole-walk smoother spreads that correction back over the trajectory (Chisty
 from __future__ import annotations
 
 import time
-from typing import Literal, Sequence
+from collections.abc import Sequence
+from typing import Literal
 
 import numpy as np
 from numpy.typing import NDArray
@@ -33,11 +34,13 @@ from footnav.core.errors import InvalidParameterError
 from footnav.core.heading import turn_to_first_step
 from footnav.core.heading_drift import heading_drift_cov, standstill_rate_std
 from footnav.core.initial_alignment import align_first_stance
-from footnav.core.ins_filter import FilterNoise, InsFilter
-from footnav.core.smoothing import KEEP_RECORD_MB, SMOOTHERS, SegmentRecords, StepSmoother, smooth
 from footnav.core.types import FootTrajectory, ImuData, StanceResult
+from footnav.estimators.ekf.filter import InsFilter
+from footnav.estimators.ekf.records import FilterNoise
+from footnav.estimators.ekf.smoother import KEEP_RECORD_MB, SMOOTHERS, SegmentRecords, StepSmoother, smooth
 
 __all__ = ["EkfEstimator"]
+
 
 class EkfEstimator(FootEstimator):
     """Closed-loop error-state ZUPT EKF, 9 or 15 states, with RTS smoothing.
@@ -279,7 +282,7 @@ class EkfEstimator(FootEstimator):
     ) -> FootTrajectory:
         """Foot ``foot``'s result of a finished filter run.
 
-        ``smoothed``: the output of :func:`footnav.core.smoothing.smooth` for the run, or None for
+        ``smoothed``: the output of :func:`footnav.estimators.ekf.smoother.smooth` for the run, or None for
         the forward filter. ``copy=False`` hands over the filter's (or smoother's) arrays, when
         the filter is not used again. ``heading``: turn the result so that its first step points
         along +x (:func:`footnav.core.heading.turn_to_first_step`; in place when not copied).
@@ -295,7 +298,7 @@ class EkfEstimator(FootEstimator):
             meta["acc_bias_mps2"], meta["gyr_bias_radps"] = ba.tolist(), bg.tolist()
             meta["acc_bias_std_mps2"] = np.sqrt(np.diag(cov)[filt.block(foot, "acc_bias")]).tolist()
             meta["gyr_bias_std_radps"] = np.sqrt(np.diag(cov)[filt.block(foot, "gyr_bias")]).tolist()
-        t = filt._t[filt.global_index(foot, 0) : filt.global_index(foot, len(q_out) - 1) + 1]
+        t = filt.samples(foot).t
         drift_in_std = self.heading_drift_in_std and self.n_states == 9
         if copy:
             pos, vel, q_out = pos.copy(), vel.copy(), q_out.copy()

@@ -1,0 +1,146 @@
+"""The compiled backward pass of the RTS smoother (Bryson-Frazier form) over a recorded run.
+
+The mathematics is in :mod:`footnav.estimators.ekf.smoother`; this module holds what runs per
+event: the adjoint's transition ``mu <- F' mu``, ``d <- F^-1 d`` and the pass itself, which the
+forward loop (:mod:`footnav.estimators.ekf.loop`) calls where a step or a segment ends, so that
+recording and smoothing need no second compiled entry point.
+"""
+
+from __future__ import annotations
+
+from footnav.core._numba import njit  # numba.njit that survives a read-only install
+from footnav.core.quaternion import from_rotvec_nb, multiply_nb, normalize_nb
+
+__all__ = ["smooth_back"]
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def _ft_apply(mu, o, n, x, y, z, c, e, dt):
+    """mu <- F' mu on one foot's block starting at ``o`` (``c[e]``: C of the transition)."""
+    a0, a1, a2 = mu[o], mu[o + 1], mu[o + 2]
+    v0, v1, v2 = mu[o + 3], mu[o + 4], mu[o + 5]
+    # F' has S' = -S in the attitude row, dt I in the velocity row
+    mu[o] = a0 + z * v1 - y * v2
+    mu[o + 1] = a1 - z * v0 + x * v2
+    mu[o + 2] = a2 + y * v0 - x * v1
+    mu[o + 3] = v0 + dt * mu[o + 6]
+    mu[o + 4] = v1 + dt * mu[o + 7]
+    mu[o + 5] = v2 + dt * mu[o + 8]
+    if n == 15:
+        for j in range(3):
+            mu[o + 9 + j] -= dt * (c[e, 0, j] * v0 + c[e, 1, j] * v1 + c[e, 2, j] * v2)
+            mu[o + 12 + j] += dt * (c[e, 0, j] * a0 + c[e, 1, j] * a1 + c[e, 2, j] * a2)
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def _finv_apply(d, o, n, x, y, z, c, e, dt):
+    """d <- F^-1 d on one foot's block starting at ``o``: F is unit block-triangular, so its
+    inverse is back-substitution (attitude, then velocity, then position; biases unchanged)."""
+    if n == 15:
+        for i in range(3):
+            d[o + i] -= dt * (c[e, i, 0] * d[o + 12] + c[e, i, 1] * d[o + 13] + c[e, i, 2] * d[o + 14])
+            d[o + 3 + i] += dt * (c[e, i, 0] * d[o + 9] + c[e, i, 1] * d[o + 10] + c[e, i, 2] * d[o + 11])
+    a0, a1, a2 = d[o], d[o + 1], d[o + 2]
+    d[o + 3] -= -z * a1 + y * a2
+    d[o + 4] -= z * a0 - x * a2
+    d[o + 5] -= -y * a0 + x * a1
+    d[o + 6] -= dt * d[o + 3]
+    d[o + 7] -= dt * d[o + 4]
+    d[o + 8] -= dt * d[o + 5]
+
+
+@njit(cache=True, error_model="numpy")
+def smooth_back(used, chain, cov, mu, d, n, n_feet, q_diag, rec, out, sm, ws):
+    """Bryson-Frazier backward pass over the recorded events ``used - 1`` down to 0.
+
+    Each event's smoothed sample is its filtered output corrected by ``-d``, where ``d = P mu``
+    is the smoothed minus the filtered error state. Going back through an update (K, y,
+    S^-1 y): ``d <- d + K y``, ``mu <- mu + H' (S^-1 y - K' mu)``; through a transition:
+    ``d <- F^-1 (d - Q mu)``, ``mu <- F' mu`` (from ``d = P mu``, P- = F P+ F' + Q and
+    P+ = P- - K H P-). So no covariance is stored per sample.
+
+    ``chain`` False (one segment of the whole-walk smoother): ``mu`` is the adjoint after the
+    last event, and ``d = cov mu`` with ``cov`` the covariance there. ``chain`` True (one step
+    of the step-wise smoother, OpenShoe's smoothed variant): mu = 0 at the step's end, and each
+    foot's positions are chained to where its previous step's smoothing left it (position is
+    an integral: the step's smoothed displacement is added to its smoothed start). On return,
+    ``mu`` and ``d`` are those before the first event.
+    """
+    ev_foot, ev_k, ev_fdt, ev_dt, ev_c, ev_nu, ev_base, ev_gain, ev_sy, ev_y = rec  # a Record
+    out_q, out_v, out_p = out.q, out.v, out.p  # the filter's Outputs
+    sm_q, sm_v, sm_p = sm  # Smoothed, written
+    big = len(mu)
+    kt, dq, q_tmp = ws.kt, ws.dq, ws.q_tmp
+    for i in range(big):
+        if chain:
+            mu[i] = 0.0
+            d[i] = 0.0
+        else:
+            acc = 0.0
+            for j in range(big):
+                acc += cov[i, j] * mu[j]
+            d[i] = acc
+    for e in range(used - 1, -1, -1):
+        nu = ev_nu[e]
+        o = ev_foot[e] * n
+        if nu >= 0:  # a sample: its smoothed output, then back through its updates and transition
+            k = ev_k[e]
+            from_rotvec_nb(d[o], d[o + 1], d[o + 2], dq)
+            multiply_nb(dq, out_q[k], q_tmp)
+            normalize_nb(q_tmp)
+            for i in range(4):
+                sm_q[k, i] = q_tmp[i]
+            for i in range(3):
+                sm_v[k, i] = out_v[k, i] - d[o + 3 + i]
+                sm_p[k, i] = out_p[k, i] - d[o + 6 + i]
+        # the updates, last first: a sample's nu 3-state selections (none when nu = 0; K in
+        # columns 3u:3u+3), or a caller's update between samples of m = -nu rows (K in columns
+        # 0:m, H' in m:2m). Rows of an event without updates hold stale values: never read.
+        m = 3 if nu >= 0 else -nu
+        for u in range((nu if nu >= 0 else 1) - 1, -1, -1):
+            col = 3 * u
+            for a in range(m):
+                acc = ev_sy[e, col + a]
+                for i in range(big):
+                    acc -= ev_gain[e, i, col + a] * mu[i]
+                kt[a] = acc
+            for i in range(big):
+                acc = 0.0
+                for a in range(m):
+                    acc += ev_gain[e, i, col + a] * ev_y[e, col + a]
+                d[i] += acc
+            if nu < 0:
+                for i in range(big):
+                    acc = 0.0
+                    for a in range(m):
+                        acc += ev_gain[e, i, m + a] * kt[a]
+                    mu[i] += acc
+            else:
+                for a in range(m):
+                    mu[ev_base[e, u] + a] += kt[a]
+        if nu < 0:
+            continue
+        dt = ev_dt[e]
+        for i in range(n):
+            d[o + i] -= q_diag[i] * dt * mu[o + i]
+        x, y, z = ev_fdt[e, 0], ev_fdt[e, 1], ev_fdt[e, 2]
+        _finv_apply(d, o, n, x, y, z, ev_c, e, dt)
+        _ft_apply(mu, o, n, x, y, z, ev_c, e, dt)
+    if chain:
+        # d is now P mu before the step; a foot's first event in it follows its start sample
+        offset, seen = ws.offset, ws.seen
+        for f in range(n_feet):
+            seen[f] = 0.0
+        for e in range(used):
+            f = ev_foot[e]
+            if ev_nu[e] >= 0 and seen[f] == 0.0:
+                seen[f] = 1.0
+                k0 = ev_k[e] - 1
+                for i in range(3):
+                    offset[f, i] = d[f * n + 6 + i] + sm_p[k0, i] - out_p[k0, i]
+        for e in range(used):
+            if ev_nu[e] >= 0:
+                f, k = ev_foot[e], ev_k[e]
+                for i in range(3):
+                    sm_p[k, i] += offset[f, i]
+

@@ -1,0 +1,191 @@
+"""The compiled forward loop of the error-state filter, one or two feet in one joint filter.
+
+Two feet share one covariance: each foot's samples are processed in time order, and a
+measurement that links the feet (Zhao et al. (2019), eq. 7) updates both. One compiled function,
+:func:`run`, does all the per-sample work: filtering, recording what the smoother needs (per
+sample f^n dt, dt and, with bias states, C; per update K, y and S^-1 y, not the covariance),
+step-wise smoothing at each step end, and the whole-walk smoother's recording, replay and
+backward pass of one segment (:func:`footnav.estimators.ekf.backward.smooth_back`). One entry
+point keeps the first call's compilation short: each compiled caller would re-optimise the loop
+it calls.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from footnav.core._numba import njit  # numba.njit that survives a read-only install
+from footnav.core.kalman import update3
+from footnav.core.mechanization import strapdown_step
+from footnav.core.quaternion import as_matrix_nb
+from footnav.estimators.ekf.backward import smooth_back
+from footnav.estimators.ekf.kernels import feedback, predict_cov
+from footnav.estimators.ekf.records import GYR_BIAS, POS, VEL
+
+__all__ = ["DONE", "FULL", "MODE_BACK", "MODE_CLOSE", "MODE_FILTER", "MODE_RECORD", "MODE_STEP", "MODE_WHOLE", "STEP_END", "ZARU_GATE", "run"]
+
+#: Chi-square gate of the zero-angular-rate update: 3 degrees of freedom, 99.9 %.
+ZARU_GATE = 16.27
+
+#: Why :func:`run` returned: nothing left before t_stop, a foot's stance ended, max_events done.
+DONE, STEP_END, FULL = 0, 1, 2
+
+
+@njit(cache=True, error_model="numpy")
+def _next_foot(t, k, stop_at, t_stop):
+    """The foot whose next sample comes first at or before ``t_stop``, or -1. A function of its
+    own: an ``f = -1`` in the loop made numba compile the kernels ``f`` reaches once more, for the
+    literal -1."""
+    f = -1
+    best = np.inf
+    for g in range(len(k)):
+        if k[g] < stop_at[g]:
+            tn = t[k[g] + 1]
+            if tn <= t_stop and tn < best:
+                best = tn
+                f = g
+    return f
+
+
+#: What a call of :func:`run` does besides filtering.
+MODE_FILTER, MODE_STEP, MODE_WHOLE, MODE_CLOSE, MODE_RECORD, MODE_BACK = 0, 1, 2, 3, 4, 5
+
+
+@njit(cache=True, error_model="numpy")
+def run(
+    samples, stop_at, k, t_stop, max_events, step_stops, state, n, q_diag, r_zupt, r_zaru, out,
+    mode, rec, sm, fill, mu, d, ws,
+):
+    """Advance the feet through their samples with t <= t_stop, in time order.
+
+    Foot f owns samples ``k[f] + 1 .. stop_at[f]`` of the concatenated :class:`Samples`
+    (``k[f]`` is its last processed sample); ``state`` (a :class:`FilterState`) is advanced in
+    place and each sample's result written to ``out`` (:class:`Outputs`). ``n`` states per foot,
+    ``q_diag`` Q / dt of one foot, ``r_zupt`` and ``r_zaru`` the update variances (0: no ZARU).
+    ``rec`` (:class:`Record`), ``sm`` (:class:`Smoothed`), ``fill`` (events recorded, one entry),
+    ``mu`` and ``d`` are the smoother's, ``ws`` the :class:`Work` scratch. ``mode``:
+
+    * ``MODE_FILTER``: filter only.
+    * ``MODE_STEP``: also record each event at ``fill[0]`` of ``rec``; where a foot's stance ends
+      (or ``rec`` is full) smooth the recorded step into ``sm`` (:func:`smooth_back`).
+    * ``MODE_WHOLE``: record from 0, then ``d = P mu`` and the backward pass over what was
+      recorded, leaving ``mu``, ``d`` of the first event's predecessor (one segment of the
+      whole-walk smoother).
+    * ``MODE_CLOSE``: no filtering; smooth the recorded open step now.
+    * ``MODE_RECORD``: record each event at ``fill[0]`` of ``rec``, nothing more (the forward
+      run keeps its segments for the whole-walk smoother; ``max_events`` keeps within ``rec``).
+    * ``MODE_BACK``: no filtering; ``d = P mu`` with the given covariance and the backward pass
+      over the ``fill[0]`` recorded events (a kept segment of the whole-walk smoother).
+
+    Returns (reason, events): reason 0 nothing left before t_stop, 1 a foot's stance just ended
+    (only with ``step_stops``), 2 ``max_events`` processed.
+    """
+    t, acc, gyr, stance = samples
+    q, v, p, ba, bg, f_n, cov = state
+    out_q, out_v, out_p, out_pcov = out
+    n_feet = len(k)
+    big = cov.shape[0]
+    ev_foot, ev_k, ev_fdt, ev_dt, ev_c, ev_nu, ev_base, ev_gain, ev_sy, ev_y = rec
+    capacity = len(ev_k)
+    c, c_next, dq, q_tmp, f_prev = ws.c, ws.c_next, ws.dq, ws.q_tmp, ws.f_prev
+    a_prev, w_prev, a_cur, w_cur = ws.a_prev, ws.w_prev, ws.a_cur, ws.w_cur
+    y, sy, sy_z, dx, gain, gain_z, hp = ws.y, ws.sy, ws.sy_z, ws.dx, ws.gain, ws.gain_z, ws.hp
+    step = mode == MODE_STEP or mode == MODE_CLOSE  # a variable, not a literal: one compiled pass
+    if mode == MODE_CLOSE or mode == MODE_BACK:
+        smooth_back(fill[0], step, cov, mu, d, n, n_feet, q_diag, rec, out, sm, ws)
+        fill[0] = 0
+        return DONE, 0
+    record = mode == MODE_STEP or mode == MODE_WHOLE or mode == MODE_RECORD
+    if mode == MODE_WHOLE:
+        fill[0] = 0
+    events = 0
+    reason = FULL
+    while events < max_events:
+        f = _next_foot(t, k, stop_at, t_stop)
+        if f < 0:
+            reason = DONE
+            break
+        o = f * n
+        kp = k[f]
+        kn = kp + 1
+        k[f] = kn
+        for i in range(3):
+            a_prev[i] = acc[kp, i] - ba[f, i]
+            w_prev[i] = gyr[kp, i] - bg[f, i]
+            a_cur[i] = acc[kn, i] - ba[f, i]
+            w_cur[i] = gyr[kn, i] - bg[f, i]
+        dt = t[kn] - t[kp]
+        # F uses the attitude (bias columns only) and specific force at the start of the interval
+        if n == 15:
+            as_matrix_nb(q[f], c)
+        fx, fy, fz = f_n[f, 0], f_n[f, 1], f_n[f, 2]
+        f_prev[0], f_prev[1], f_prev[2] = fx, fy, fz  # strapdown_step overwrites f_n[f] with f^n(k)
+        strapdown_step(q, v, p, f_n, f, a_prev, w_prev, a_cur, w_cur, dt, dq, q_tmp, c_next)
+        predict_cov(cov, o, n, f_prev, c, dt, q_diag)
+        nu = 0
+        if stance[kn]:
+            # ZUPT: z = v^ - 0 = dv + noise
+            y[0], y[1], y[2] = v[f, 0], v[f, 1], v[f, 2]
+            if update3(cov, dx, o + VEL, y[0], y[1], y[2], r_zupt, np.inf, gain, sy, hp):
+                feedback(q, v, p, ba, bg, f, dx, o, n, dq, q_tmp)
+                nu = 1
+            # zero angular rate, after the ZUPT (sequential updates with R block-diagonal equal
+            # the joint one): w^ = w - bg^, so -w^ = dbg + noise. Skipped when the rate is
+            # implausible for a still foot (chi-square gate): a detected stance is not always
+            # still, and real rotation would be taken for gyro bias
+            if r_zaru > 0.0 and n == 15 and nu == 1:
+                for i in range(3):
+                    y[3 + i] = bg[f, i] - gyr[kn, i]
+                if update3(cov, dx, o + GYR_BIAS, y[3], y[4], y[5], r_zaru, ZARU_GATE, gain_z, sy_z, hp):
+                    feedback(q, v, p, ba, bg, f, dx, o, n, dq, q_tmp)
+                    nu = 2
+        if record:
+            e = fill[0]
+            if e == capacity:  # a full buffer: the step is cut here (MODE_STEP only)
+                smooth_back(e, step, cov, mu, d, n, n_feet, q_diag, rec, out, sm, ws)
+                e = 0
+            ev_foot[e] = f
+            ev_k[e] = kn
+            ev_dt[e] = dt
+            ev_fdt[e, 0], ev_fdt[e, 1], ev_fdt[e, 2] = fx * dt, fy * dt, fz * dt
+            if n == 15:
+                for i in range(3):
+                    for j in range(3):
+                        ev_c[e, i, j] = c[i, j]
+            ev_nu[e] = nu
+            for u in range(nu):
+                ev_base[e, u] = o + (VEL if u == 0 else GYR_BIAS)
+            for a in range(3 * nu):
+                ev_y[e, a] = y[a]
+            if nu > 0:
+                for a in range(3):
+                    ev_sy[e, a] = sy[a]
+                    for i in range(big):
+                        ev_gain[e, i, a] = gain[i, a]
+            if nu > 1:
+                for a in range(3):
+                    ev_sy[e, 3 + a] = sy_z[a]
+                    for i in range(big):
+                        ev_gain[e, i, 3 + a] = gain_z[i, a]
+            fill[0] = e + 1
+        for i in range(4):
+            out_q[kn, i] = q[f, i]
+        for i in range(3):
+            out_v[kn, i] = v[f, i]
+            out_p[kn, i] = p[f, i]
+        out_pcov[kn, 0] = cov[o + POS, o + POS]
+        out_pcov[kn, 1] = cov[o + POS, o + POS + 1]
+        out_pcov[kn, 2] = cov[o + POS + 1, o + POS + 1]
+        out_pcov[kn, 3] = cov[o + POS + 2, o + POS + 2]
+        events += 1
+        if stance[kn] and kn < stop_at[f] and not stance[kn + 1]:  # the foot's stance ends: a step
+            if mode == MODE_STEP:
+                smooth_back(fill[0], step, cov, mu, d, n, n_feet, q_diag, rec, out, sm, ws)
+                fill[0] = 0
+            if step_stops:
+                reason = STEP_END
+                break
+    if mode == MODE_WHOLE:
+        smooth_back(fill[0], step, cov, mu, d, n, n_feet, q_diag, rec, out, sm, ws)
+    return reason, events
+

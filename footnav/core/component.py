@@ -263,7 +263,7 @@ def stepable_gaps(estimator: Component) -> list[str]:
     The contract (written out; footnav's ``ekf`` is its reference implementation):
 
     * ``start(imus, stances, *, initial_yaw_rad=None, initial_position_m=None)`` returns a
-      :class:`footnav.core.ins_filter.InsFilter` over all the feet, aligned at their first stances;
+      :class:`footnav.estimators.ekf.InsFilter` over all the feet, aligned at their first stances;
     * ``trajectory(filt, foot, stance, smoothed)`` turns a finished run into a FootTrajectory;
     * ``estimate(imu, stance)`` (every estimator), ``clone(**overrides)`` (every component);
     * parameters ``smoother`` (``"none"``, ``"step"``, ``"whole"``) and ``heading``

@@ -15,7 +15,7 @@ How it stays equal to the offline run, per foot (:mod:`footnav.core.online_foot`
    buffer's start has edge effects of the same reach). A detector without a bounded latency
    (``latency_s = None``: the adaptive detector's per-cycle bounds need the recording's typical
    stride, the HMM's Viterbi path the whole recording) is refused.
-2. **The forward filter** (the estimator's :class:`~footnav.core.ins_filter.InsFilter`, aligned
+2. **The forward filter** (the estimator's :class:`~footnav.estimators.ekf.InsFilter`, aligned
    by ``estimator.start`` once the first stance is final) runs on the final samples. The filter
    is built over a fixed-size *segment* of samples that the stream fills as they become final;
    when the segment is full, a new one starts from the filter's last checkpoint at a step end

@@ -12,6 +12,8 @@ The contracts check the component API (keyword-only parameters stored unchanged,
 sample-aligned and deterministic, and that it is *right* on a short simulated walk (10 m straight,
 100 Hz, against the simulator's truth): a detector's stances lie in the true stances and find each
 of them, an estimator's foot ends near its true position, a fusion keeps the left foot on the left.
+``StepableEstimatorContract`` checks an estimator the coupled fusions drive
+(:class:`footnav.core.component.StepableEstimator`) by running every one of them with it.
 The bounds are generous (5-10x what the built-ins measure) so they fail only a wrong component,
 e.g. one with a flipped ZUPT sign or the feet swapped. They need pytest.
 """
@@ -24,11 +26,22 @@ from typing import Any, ClassVar
 import numpy as np
 import pytest
 
-from footnav.core.component import FootEstimator, Fusion, StanceDetector
+from footnav.core.component import (
+    JOINT_FILTER_MEMBERS,
+    FootEstimator,
+    Fusion,
+    JointFilter,
+    StanceDetector,
+    StepableEstimator,
+    stepable_gaps,
+)
 from footnav.core.errors import InvalidParameterError
 from footnav.core.types import FootTrajectory, FusionResult, Recording, StanceResult, stance_intervals
 
-__all__ = ["ComponentContract", "DetectorContract", "EstimatorContract", "FusionContract", "contract_walk"]
+__all__ = [
+    "ComponentContract", "DetectorContract", "EstimatorContract", "FusionContract", "StepableEstimatorContract",
+    "contract_walk",
+]
 
 _WALK: dict[int, Recording] = {}
 
@@ -182,11 +195,52 @@ class FusionContract(ComponentContract):
             err = float(np.linalg.norm(traj.position[-1] - truth.position[-1]))
             assert err <= MAX_FUSION_ERROR_M, f"{foot} foot ends {err:.2f} m from its true position"
         # across the walking direction (the truth's left unit vector at each sample of double support)
-        both = rec.truth_left.stance & rec.truth_right.stance
-        true_sep = (rec.truth_left.position - rec.truth_right.position)[both, :2]
-        across = true_sep / np.linalg.norm(true_sep, axis=1, keepdims=True)
-        sep = (res.left.position - res.right.position)[both, :2]
-        signed = float(np.mean(np.sum(sep * across, axis=1)))
+        signed = _signed_separation(rec, res)
         assert signed >= MIN_SIGNED_SEPARATION_M, (
             f"the left foot is {-signed:.2f} m to the right of the right foot on average (truth: 0.2 m left)"
         )
+
+
+def _signed_separation(rec: Recording, res: FusionResult) -> float:
+    """Mean signed separation of the feet (left minus right) across the walking direction over
+    double support, m (the truth: +0.2 m)."""
+    both = rec.truth_left.stance & rec.truth_right.stance
+    true_sep = (rec.truth_left.position - rec.truth_right.position)[both, :2]
+    across = true_sep / np.linalg.norm(true_sep, axis=1, keepdims=True)
+    sep = (res.left.position - res.right.position)[both, :2]
+    return float(np.mean(np.sum(sep * across, axis=1)))
+
+
+class StepableEstimatorContract(EstimatorContract):
+    """Contract for an estimator that coupled fusions drive step by step
+    (:class:`footnav.core.component.StepableEstimator`): it has every member, its ``start`` returns
+    a :class:`~footnav.core.component.JointFilter`, and every built-in coupled fusion run with it
+    ends each foot near its truth with the left foot on the left."""
+
+    #: The coupled fusions the contract runs (built-in names).
+    fusions: ClassVar[tuple[str, ...]] = ("range", "step-vector", "particle", "dtw")
+
+    def test_has_every_member_of_the_protocol(self):
+        est = self.make()
+        assert stepable_gaps(est) == [], f"{self.component.__name__} lacks {stepable_gaps(est)}"
+        assert isinstance(est, StepableEstimator)
+
+    def test_start_returns_a_joint_filter(self):
+        rec = contract_walk()
+        stances = [StanceResult(rec.truth_left.stance), StanceResult(rec.truth_right.stance)]
+        filt = self.make().start([rec.left, rec.right], stances)
+        missing = [m for m in JOINT_FILTER_MEMBERS if not hasattr(filt, m)]
+        assert isinstance(filt, JointFilter), f"start() returned a {type(filt).__name__} lacking {missing}"
+
+    def test_every_coupled_fusion_ends_near_the_truth_left_foot_on_the_left(self):
+        from footnav.core.pipeline import make_fusion
+
+        rec = contract_walk()
+        stances = StanceResult(rec.truth_left.stance), StanceResult(rec.truth_right.stance)
+        for name in self.fusions:
+            res = make_fusion(name).fuse(self.make(), rec.left, stances[0], rec.right, stances[1])
+            for foot, traj, truth in (("left", res.left, rec.truth_left), ("right", res.right, rec.truth_right)):
+                err = float(np.linalg.norm(traj.position[-1] - truth.position[-1]))
+                assert err <= MAX_FUSION_ERROR_M, f"{name}: {foot} foot ends {err:.2f} m from its true position"
+            signed = _signed_separation(rec, res)
+            assert signed >= MIN_SIGNED_SEPARATION_M, f"{name}: the left foot is {-signed:.2f} m right of the right foot"

@@ -14,7 +14,7 @@ from footnav.core.initial_alignment import align_at_rest
 from footnav.core.types import FootTrajectory, FusionResult, StanceResult, stance_intervals
 from footnav.fusion.independent import IndependentFusion
 from footnav.fusion.step_vector import StepVectorFusion
-from footnav.testing import DetectorContract, EstimatorContract, FusionContract, contract_walk
+from footnav.testing import DetectorContract, EstimatorContract, FusionContract, StepableEstimatorContract, contract_walk
 
 G = 9.80665  # standard gravity, m/s^2 (CGPM 1901), written out: not read from the library
 
@@ -105,6 +105,30 @@ def test_fusion_contract_fails_swapped_feet():
     _check(FusionContract, IndependentFusion, {}, method)
     with pytest.raises(AssertionError):
         _check(FusionContract, SwappedFeetFusion, {}, method)
+
+
+class TestEkfIsStepable(StepableEstimatorContract):
+    """footnav's ekf, the reference implementation of the step-able Protocols."""
+
+    from footnav.estimators.ekf import EkfEstimator as component
+
+
+def test_stepable_contract_fails_an_estimator_that_swaps_the_feet_in_its_filter():
+    """A joint filter whose feet are swapped (a third party's indexing slip) ends each foot at the
+    other's place: the contract's accuracy test catches it."""
+    from footnav.estimators.ekf import EkfEstimator
+
+    class SwappedStart(EkfEstimator):
+        name = "swapped-start"
+
+        def start(self, imus, stances, **kw):
+            return super().start(imus[::-1], stances[::-1], **kw)
+
+        def finish(self, filt, stances):
+            return super().finish(filt, stances[::-1])[::-1]
+
+    with pytest.raises(AssertionError, match="left foot is|from its true position"):
+        _check(StepableEstimatorContract, SwappedStart, {}, "test_every_coupled_fusion_ends_near_the_truth_left_foot_on_the_left")
 
 
 def test_contract_walk_is_the_documented_walk():

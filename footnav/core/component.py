@@ -15,9 +15,15 @@ import math
 import re
 from dataclasses import dataclass
 from numbers import Integral, Real
-from typing import Any, ClassVar, Mapping
+from typing import TYPE_CHECKING, Any, ClassVar, Mapping, Protocol, Sequence, runtime_checkable
 
 from footnav.core.errors import CompositionError, InvalidParameterError
+
+if TYPE_CHECKING:
+    import numpy as np
+    from numpy.typing import NDArray
+
+    from footnav.core.types import FootTrajectory, ImuData, StanceResult
 
 __all__ = [
     "Component",
@@ -25,6 +31,8 @@ __all__ = [
     "StanceDetector",
     "FootEstimator",
     "Fusion",
+    "JointFilter",
+    "StepableEstimator",
     "KINDS",
     "is_number",
     "require_positive",
@@ -250,31 +258,136 @@ class FootEstimator(Component):
         raise NotImplementedError
 
 
-#: What a coupled fusion needs of the estimator it drives step by step (footnav.fusion.joint):
-#: these methods, and these constructor parameters (the fusion clones the estimator into a
-#: forward filter with ``clone(smoother="none", heading="first-step")``).
-STEPABLE_METHODS = ("start", "trajectory", "estimate", "clone")
+@runtime_checkable
+class JointFilter(Protocol):
+    """The filter a coupled fusion advances, reads and updates: the feet in one error state.
+
+    A :class:`StepableEstimator`'s ``start`` returns one. Feet are numbered in the order given to
+    ``start`` (0 left, 1 right); positions in m and velocities in m/s in the nav frame (z up),
+    quaternions [w, x, y, z] body to nav, times in s. Coupled fusions use these members and no
+    others; :class:`footnav.estimators.ekf.InsFilter` is the reference implementation.
+    """
+
+    @property
+    def covariance(self) -> NDArray[np.float64]:
+        """The joint error-state covariance now, (N, N)."""
+        ...
+
+    def block(self, foot: int, name: str) -> slice:
+        """The error-state columns of ``foot``'s block ``name`` (``"pos"``, ``"vel"``, ``"att"``)."""
+        ...
+
+    def time(self, foot: int) -> float:
+        """Time of ``foot``'s last processed sample, s."""
+        ...
+
+    def index(self, foot: int) -> int:
+        """Index of ``foot``'s last processed sample in its recording."""
+        ...
+
+    def position(self, foot: int) -> NDArray[np.float64]:
+        """``foot``'s position now, (3,) m."""
+        ...
+
+    def velocity(self, foot: int) -> NDArray[np.float64]:
+        """``foot``'s velocity now, (3,) m/s."""
+        ...
+
+    def quaternion(self, foot: int) -> NDArray[np.float64]:
+        """``foot``'s attitude now, (4,)."""
+        ...
+
+    def outputs(self, foot: int) -> Sequence[NDArray[np.float64]]:
+        """``foot``'s forward estimate per sample so far: attitude (K, 4), velocity (K, 3),
+        position (K, 3), then anything else; a sample holds the estimate before any update at
+        its instant."""
+        ...
+
+    def run_until(self, t_stop: float = ...) -> None:
+        """Process every foot's samples up to time ``t_stop`` (s; all of them by default)."""
+        ...
+
+    def selection(self, indices: NDArray[np.int64]) -> NDArray[np.float64]:
+        """H that measures the error states ``indices``, (len(indices), N)."""
+        ...
+
+    def update(
+        self, h: NDArray[np.float64], innovation: NDArray[np.float64], r: NDArray[np.float64], *, gate: float | None = None
+    ) -> NDArray[np.float64] | None:
+        """Kalman update with ``innovation = h(x^) - z = H dx + noise`` of variance ``r``; the
+        correction applied, or None when ``gate`` rejected it."""
+        ...
+
+    def update_position(
+        self, foot: int, z: NDArray[np.float64], std_m: float | NDArray[np.float64], axes: int = 3
+    ) -> NDArray[np.float64] | None:
+        """Position measurement ``z`` (m) of ``foot``'s first ``axes`` axes with std ``std_m``."""
+        ...
+
+
+@runtime_checkable
+class StepableEstimator(Protocol):
+    """An estimator coupled fusions can drive step by step (range, step-vector, particle, dtw).
+
+    Besides the estimator's ``estimate`` and the component's ``clone`` it starts one joint filter
+    over all the feet and finishes it with its own smoothing. Its constructor takes ``smoother``
+    (``"none"`` among its values: the fusions' forward tracks) and ``heading`` (``"first-step"``
+    among its values: ``estimate`` then turns the foot so that its first step points along +x
+    and records the turn in ``meta["heading_rotation_rad"]``, which ``start`` takes as the
+    initial yaw). Optionally ``closed_loop`` and ``closed_loop_std_m`` (Chistyakov et al. (2021),
+    Alg. 1). footnav's ``ekf`` is the reference implementation; ``footnav.testing``'s
+    ``StepableEstimatorContract`` runs every coupled fusion with a candidate.
+    """
+
+    smoother: str
+    heading: str
+
+    def start(
+        self,
+        imus: Sequence[ImuData],
+        stances: Sequence[StanceResult],
+        *,
+        initial_yaw_rad: Sequence[float] | None = None,
+        initial_position_m: Sequence[NDArray[np.float64]] | None = None,
+    ) -> JointFilter:
+        """A joint filter over ``imus``, each foot aligned at its first stance, its yaw (rad) and
+        position (m) set as given, ready to run."""
+        ...
+
+    def finish(self, filt: JointFilter, stances: Sequence[StanceResult]) -> list[FootTrajectory]:
+        """Run ``filt`` to the end, smooth as ``smoother`` says and return each foot's trajectory."""
+        ...
+
+    def estimate(self, imu: ImuData, stance: StanceResult) -> FootTrajectory:
+        """One foot alone."""
+        ...
+
+    def clone(self, **overrides: Any) -> StepableEstimator:
+        """The same estimator with ``overrides`` (e.g. ``smoother="none"``)."""
+        ...
+
+
+#: The members of :class:`StepableEstimator` a coupled fusion calls, and the constructor
+#: parameters it sets (it clones the estimator into a forward filter with
+#: ``clone(smoother="none", heading="first-step")``).
+STEPABLE_METHODS = ("start", "finish", "estimate", "clone")
 STEPABLE_PARAMS = ("smoother", "heading")
+#: The members of :class:`JointFilter`.
+JOINT_FILTER_MEMBERS = (
+    "covariance", "block", "time", "index", "position", "velocity", "quaternion", "outputs", "run_until", "selection",
+    "update", "update_position",
+)
 
 
 def stepable_gaps(estimator: Component) -> list[str]:
-    """What ``estimator`` lacks of the step-able filter contract coupled fusions drive.
-
-    The contract (written out; footnav's ``ekf`` is its reference implementation):
-
-    * ``start(imus, stances, *, initial_yaw_rad=None, initial_position_m=None)`` returns a
-      :class:`footnav.estimators.ekf.InsFilter` over all the feet, aligned at their first stances;
-    * ``trajectory(filt, foot, stance, smoothed)`` turns a finished run into a FootTrajectory;
-    * ``estimate(imu, stance)`` (every estimator), ``clone(**overrides)`` (every component);
-    * parameters ``smoother`` (``"none"``, ``"step"``, ``"whole"``) and ``heading``
-      (``"first-step"`` among its values); optionally ``closed_loop`` and ``closed_loop_std_m``
-      for the closed loop of Chistyakov et al. (2021), Alg. 1.
+    """What ``estimator`` lacks of :class:`StepableEstimator`, the contract coupled fusions drive.
 
     Returns
     -------
     list of str
-        The missing methods and parameters, e.g. ``["method trajectory", "parameter smoother"]``;
-        empty when the estimator can be driven.
+        The missing methods and parameters, e.g. ``["method finish", "parameter smoother"]``;
+        empty when the estimator can be driven. (That the filter its ``start`` returns is a
+        :class:`JointFilter` is checked when it runs: ``start`` needs the data.)
     """
     missing = [f"method {m}" for m in STEPABLE_METHODS if not callable(getattr(estimator, m, None))]
     params = estimator.get_params() if callable(getattr(estimator, "get_params", None)) else {}
@@ -289,7 +402,7 @@ def require_stepable(fusion: Component, estimator: Component) -> None:
     if gaps:
         raise CompositionError(
             f"fusion {fusion.name!r} drives the per-foot filters step by step and needs an estimator with a "
-            f"step-able filter, such as 'ekf' (footnav.core.component.stepable_gaps gives the contract); "
+            f"step-able filter, such as 'ekf' (the contract: footnav.core.component.StepableEstimator); "
             f"{estimator.name!r} lacks {', '.join(gaps)}"
         )
 

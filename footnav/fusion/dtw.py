@@ -34,7 +34,7 @@ from footnav.core import dtw_average, dtw_heading
 from footnav.core import quaternion as quat
 from footnav.core.component import MAX_LENGTH_M, Fusion, require, require_non_negative, require_positive
 from footnav.core.types import FootTrajectory, FusionResult, Path
-from footnav.fusion.joint import LEFT, RIGHT, finish_joint, forward_only, fuse_on_common_span, start_joint
+from footnav.fusion.joint import LEFT, RIGHT, finish_joint, forward_only, fuse_on_common_span, start_filter, start_joint
 
 __all__ = ["DtwFusion", "feet_heading_mismatch", "feet_timeless_average"]
 
@@ -216,11 +216,7 @@ class DtwFusion(Fusion):
             meta["heading_mismatch_rad"], meta["initial_dtw_distance_m"] = angle, dist
             yaws = [float(s.meta.get("heading_rotation_rad", 0.0)) for s in singles]
             yaws[RIGHT] += angle
-            half = 0.5 * self.step_width_m
-            filt = estimator.start(
-                [left, right], [stance_left, stance_right], initial_yaw_rad=yaws,
-                initial_position_m=[np.array([0.0, half, 0.0]), np.array([0.0, -half, 0.0])],
-            )
+            filt = start_filter(estimator, (left, right), (stance_left, stance_right), yaws, self.step_width_m)
         else:
             filt = start_joint(estimator, left, stance_left, right, stance_right, self.step_width_m)
         imus, stances = (left, right), (stance_left, stance_right)

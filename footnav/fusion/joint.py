@@ -2,10 +2,12 @@
 
 A coupled fusion needs both feet in one nav frame. Each foot's IMU starts with its own, unknown
 heading, so :func:`start_joint` first runs each foot alone (forward filter) to find the heading
-of its first step, then starts the joint :class:`~footnav.estimators.ekf.filter.InsFilter` with each
+of its first step, then starts the joint filter (:class:`~footnav.core.component.JointFilter`) with each
 foot turned so that its first step points along +x and the feet ``step_width_m`` apart across it
-(left foot at +y). :func:`finish_joint` smooths the run as the estimator says and returns both
-feet and their midpoint path.
+(left foot at +y). :func:`finish_joint` has the estimator finish the run (its own smoothing) and
+returns both feet and their midpoint path. Fusions use only the members of
+:class:`~footnav.core.component.StepableEstimator` and :class:`~footnav.core.component.JointFilter`,
+so any estimator that implements them runs with every coupled fusion.
 
 :func:`fuse_on_common_span` is what every coupled fusion's ``fuse`` is: the feet cut to their
 common time span (:func:`footnav.core.spans.common_span`; refused with InvalidInputError when
@@ -24,14 +26,12 @@ from typing import Any
 import numpy as np
 
 from footnav.core import quaternion as quat
-from footnav.core.component import require_stepable
+from footnav.core.component import JOINT_FILTER_MEMBERS, JointFilter, require_stepable
 from footnav.core.errors import CompositionError, DataQualityWarning, InvalidInputError
 from footnav.core.final_rest import final_rest
 from footnav.core.spans import FootCut, common_span, slice_stance
 from footnav.core.types import FootTrajectory, FusionResult, ImuData, StanceResult
 from footnav.core.warning_log import warn
-from footnav.estimators.ekf.filter import InsFilter
-from footnav.estimators.ekf.smoother import smooth
 from footnav.fusion.independent import midpoint_path
 
 __all__ = ["check_two_feet", "close_loops", "closing_time", "finish_joint", "forward_only", "fuse_on_common_span", "require_stepable", "start_joint"]
@@ -78,11 +78,31 @@ def start_joint(
         traj = forward.estimate(imu, stance)
         singles.append(traj)
         yaws.append(float(traj.meta.get("heading_rotation_rad", 0.0)))
+    filt = start_filter(estimator, (left, right), (stance_left, stance_right), yaws, step_width_m)
+    return (filt, singles) if return_singles else filt
+
+
+def start_filter(
+    estimator: Any,
+    imus: Sequence[ImuData],
+    stances: Sequence[StanceResult],
+    yaws: Sequence[float],
+    step_width_m: float,
+) -> JointFilter:
+    """``estimator.start`` with the feet turned by ``yaws`` (rad) and ``step_width_m`` apart across
+    +x (left at +y); what it returns is checked to be a :class:`JointFilter`."""
     half = 0.5 * float(step_width_m)
     filt = estimator.start(
-        [left, right], [stance_left, stance_right], initial_yaw_rad=yaws, initial_position_m=[np.array([0.0, half, 0.0]), np.array([0.0, -half, 0.0])]
+        list(imus), list(stances), initial_yaw_rad=list(yaws),
+        initial_position_m=[np.array([0.0, half, 0.0]), np.array([0.0, -half, 0.0])],
     )
-    return (filt, singles) if return_singles else filt
+    if not isinstance(filt, JointFilter):
+        missing = [m for m in JOINT_FILTER_MEMBERS if not hasattr(filt, m)]
+        raise CompositionError(
+            f"estimator {estimator.name!r}: start() returned a {type(filt).__name__}, which lacks {', '.join(missing)} "
+            "of footnav.core.component.JointFilter (what coupled fusions drive)"
+        )
+    return filt
 
 
 def closing_time(estimator: Any, imus: Sequence[ImuData], stances: Sequence[StanceResult]) -> float:
@@ -93,7 +113,7 @@ def closing_time(estimator: Any, imus: Sequence[ImuData], stances: Sequence[Stan
     return min(float(imu.t[final_rest(imu.t, st, what=f"{estimator.name}: closed_loop")]) for imu, st in zip(imus, stances))
 
 
-def close_loops(estimator: Any, filt: InsFilter, imus: Sequence[ImuData], stances: Sequence[StanceResult]) -> dict | None:
+def close_loops(estimator: Any, filt: JointFilter, imus: Sequence[ImuData], stances: Sequence[StanceResult]) -> dict | None:
     """With the estimator's ``closed_loop``, each foot's start position as a measurement at its
     final standstill (Chistyakov et al. 2021, Alg. 1, here inside the two-foot filter of Alg. 2),
     in time order; the final rest is checked (:func:`footnav.core.final_rest.final_rest`).
@@ -129,7 +149,7 @@ def close_loops(estimator: Any, filt: InsFilter, imus: Sequence[ImuData], stance
 
 def finish_joint(
     estimator: Any,
-    filt: InsFilter,
+    filt: JointFilter,
     stance_left: StanceResult,
     stance_right: StanceResult,
     meta: dict,
@@ -144,11 +164,7 @@ def finish_joint(
                 "turn closed_loop off, or use the 'dtw' or 'range' fusion"
             )
         meta["closed_loop"] = close_loops(estimator, filt, imus, (stance_left, stance_right))
-    filt.run_until()
-    mode = getattr(estimator, "smoother", "none")
-    smoothed = None if mode == "none" else smooth(filt, mode)
-    left = estimator.trajectory(filt, LEFT, stance_left, smoothed)
-    right = estimator.trajectory(filt, RIGHT, stance_right, smoothed)
+    left, right = estimator.finish(filt, (stance_left, stance_right))
     return FusionResult(left=left, right=right, path=midpoint_path(left, right), meta=meta)
 
 

@@ -109,8 +109,8 @@ class _HandFilter(InsFilter):
 
 
 class _HandEstimator:
-    """The step-able estimator contract (start, trajectory, estimate, clone; smoother, heading)
-    around one :class:`_HandFilter`."""
+    """The step-able estimator contract (footnav.core.component.StepableEstimator: start, finish,
+    estimate, clone; smoother, heading) around one :class:`_HandFilter`."""
 
     name = "hand"
     smoother = "none"
@@ -134,8 +134,9 @@ class _HandEstimator:
     def start(self, imus, stances, *, initial_yaw_rad=None, initial_position_m=None):
         return self.filt
 
-    def trajectory(self, filt, foot, stance, smoothed=None, **kw):
-        return self.estimate(ImuData(filt.t_hand, np.zeros((N, 3)), np.zeros((N, 3))), stance)
+    def finish(self, filt, stances):
+        filt.run_until()
+        return [self.estimate(ImuData(filt.t_hand, np.zeros((N, 3)), np.zeros((N, 3))), st) for st in stances]
 
 
 def _run_hand_step():

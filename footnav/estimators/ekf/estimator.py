@@ -277,6 +277,13 @@ class EkfEstimator(FootEstimator):
             meta["gyro_bias_sem_radps"] = standstill_rate_std(imu.gyr, align.start, align.stop, self.still_gyr_max_radps)
         return s0, align, meta
 
+    def finish(self, filt: InsFilter, stances: Sequence[StanceResult]) -> list[FootTrajectory]:
+        """Run ``filt`` (from :meth:`start`) to the end, smooth it as ``smoother`` says and return
+        each foot's trajectory (:class:`footnav.core.component.StepableEstimator`)."""
+        filt.run_until()
+        smoothed = None if self.smoother == "none" else smooth(filt, self.smoother)
+        return [self.trajectory(filt, foot, stance, smoothed) for foot, stance in enumerate(stances)]
+
     def trajectory(
         self, filt: InsFilter, foot: int, stance: StanceResult, smoothed=None, *, copy: bool = True, heading: bool = False
     ) -> FootTrajectory:

@@ -117,6 +117,7 @@ HMM_FEATURES, HMM_REORDER = "footnav/detectors/hmm/features.py", "footnav/detect
 MW, EKFP = "footnav/estimators/madgwick.py", _EKF + "estimator.py"
 RC, SV, FD = "footnav/fusion/range_constraint.py", "footnav/fusion/step_vector.py", "footnav/fusion/dtw.py"
 PF, PE, JN = "footnav/fusion/particle.py", "footnav/fusion/particle_ekf.py", "footnav/fusion/joint.py"
+PFC = "footnav/fusion/particle_cloud.py"
 
 MUTANTS: list[Mutant] = [
     # -- core/quaternion.py ------------------------------------------------------------------
@@ -329,17 +330,17 @@ MUTANTS: list[Mutant] = [
     M("dtw-fusion-offset-side", FD, ("side = 1.0 if moving == LEFT else -1.0", "side = -1.0 if moving == LEFT else 1.0"), FUSION, "sign"),
     M("particle-update-late", PF, ("(float(imu.t[stop - 1]), foot)", "(float(imu.t[stop]), foot)", 1), FUSION, "off-by-one"),
     M("particle-paper-update-late", PF, ("(float(imu.t[stop - 1]), foot)", "(float(imu.t[stop]), foot)", 0), FUSION, "off-by-one"),
-    M("particle-weights-unnormalised", PF, (("cum = logw[0] / total", "cum = logw[0]"), ("cum += logw[j] / total", "cum += logw[j]")),
+    M("particle-weights-unnormalised", PFC, (("cum = logw[0] / total", "cum = logw[0]"), ("cum += logw[j] / total", "cum += logw[j]")),
       FUSION, "missing term"),
-    M("particle-systematic-unnormalised", PF, ("cum = np.cumsum(w / w.sum())", "cum = np.cumsum(w)"), FUSION, "missing term"),
-    M("particle-systematic-points", PF, ("points = (rng.random() + np.arange(n)) / n", "points = (rng.random() + np.arange(n)) / (n + 1)"),
+    M("particle-systematic-unnormalised", PFC, ("cum = np.cumsum(w / w.sum())", "cum = np.cumsum(w)"), FUSION, "missing term"),
+    M("particle-systematic-points", PFC, ("points = (rng.random() + np.arange(n)) / n", "points = (rng.random() + np.arange(n)) / (n + 1)"),
       FUSION, "off-by-one"),
-    M("particle-rayleigh-mean", PF, ("sigma_m * np.sqrt(np.pi / 2)", "sigma_m * np.sqrt(np.pi)"), FUSION, "constant"),
-    M("particle-mixture-spread", PF, ('+ np.einsum("i,ij,ik->jk", a, d, d)', ""), FUSION, "missing term"),
-    M("particle-eig-radius", PF, ("rad = np.sqrt(0.25 * (p - s) ** 2 + q * q)", "rad = np.sqrt(0.5 * (p - s) ** 2 + q * q)"), FUSION, "constant"),
+    M("particle-rayleigh-mean", PFC, ("sigma_m * np.sqrt(np.pi / 2)", "sigma_m * np.sqrt(np.pi)"), FUSION, "constant"),
+    M("particle-mixture-spread", PFC, ('+ np.einsum("i,ij,ik->jk", a, d, d)', ""), FUSION, "missing term"),
+    M("particle-eig-radius", PFC, ("rad = np.sqrt(0.25 * (p - s) ** 2 + q * q)", "rad = np.sqrt(0.5 * (p - s) ** 2 + q * q)"), FUSION, "constant"),
     M("particle-foot-offset-sign", PF, ("z_foot = z + side * half_width * lateral", "z_foot = z - side * half_width * lateral"), FUSION, "sign"),
     M("particle-drift-sign", PF, ("drift = -side * offset_rayleigh", "drift = side * offset_rayleigh"), FUSION, "sign"),
-    M("particle-gaussian-half", PF, ('logw = -0.5 * np.einsum("ni,ij,nj->n"', 'logw = -np.einsum("ni,ij,nj->n"'), FUSION, "constant"),
+    M("particle-gaussian-half", PFC, ('logw = -0.5 * np.einsum("ni,ij,nj->n"', 'logw = -np.einsum("ni,ij,nj->n"'), FUSION, "constant"),
     M("particle-ekf-scale-sqrt", PE, ("s = sigma_m / math.sqrt(b - a)", "s = sigma_m / (b - a)"), FUSION, "missing term"),
     M("particle-ekf-q-no-dt", PE, ("cov[VEL + i, VEL + i] += noise[0] * dt", "cov[VEL + i, VEL + i] += noise[0]"), FUSION, "dropped dt"),
     M("particle-ekf-lateral-transposed", PE, ("lat_x, lat_y = side * c[0, 1], side * c[1, 1]", "lat_x, lat_y = side * c[1, 0], side * c[1, 1]"),

@@ -24,7 +24,7 @@ import pytest
 from scipy.stats import multivariate_normal
 
 import footnav
-from footnav.fusion.particle import _gaussian_weights, systematic_resample
+from footnav.fusion.particle_cloud import _gaussian_weights, systematic_resample
 from footnav.fusion.particle_ekf import N_STATES, PaperFoot
 
 G = 9.80665  # m/s^2, written out

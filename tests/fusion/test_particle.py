@@ -9,8 +9,8 @@ from footnav import CompositionError
 from footnav.estimators.ekf import EkfEstimator
 from footnav.estimators.madgwick import MadgwickEstimator
 from footnav.fusion.independent import IndependentFusion
-from footnav.fusion.particle import (
-    ParticleFusion,
+from footnav.fusion.particle import ParticleFusion
+from footnav.fusion.particle_cloud import (
     _weigh_and_resample,
     equivalent_measurement,
     gaussian_sum,

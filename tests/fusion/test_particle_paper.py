@@ -11,7 +11,8 @@ import footnav
 from footnav.core.quaternion import yaw
 from footnav.estimators.ekf import EkfEstimator
 from footnav.fusion.independent import IndependentFusion
-from footnav.fusion.particle import ParticleFusion, _moments, gaussian_sum, offset_rayleigh
+from footnav.fusion.particle import ParticleFusion
+from footnav.fusion.particle_cloud import _moments, gaussian_sum, offset_rayleigh
 from footnav.fusion.particle_ekf import drift_scales
 
 SIDE_M = 93.0 / 4  # Sec. 4: a square about 93 m round

@@ -325,7 +325,7 @@ MUTANTS: list[Mutant] = [
     M("dtw-fusion-heading-band-wider", FD, ("band = max(int(round(self.band_s * self.dtw_rate_hz)),", "band = max(int(round(self.band_s * self.dtw_rate_hz)) + 1,"),
       FUSION, "off-by-one"),
     M("dtw-fusion-heading-sign", FD, ("yaws[RIGHT] += angle", "yaws[RIGHT] -= angle"), FUSION, "sign"),
-    M("dtw-fusion-start-sides", FD, ("[np.array([0.0, half, 0.0]), np.array([0.0, -half, 0.0])]", "[np.array([0.0, -half, 0.0]), np.array([0.0, half, 0.0])]"),
+    M("joint-start-sides", JN, ("[np.array([0.0, half, 0.0]), np.array([0.0, -half, 0.0])]", "[np.array([0.0, -half, 0.0]), np.array([0.0, half, 0.0])]"),
       FUSION, "swapped arguments"),
     M("dtw-fusion-offset-side", FD, ("side = 1.0 if moving == LEFT else -1.0", "side = -1.0 if moving == LEFT else 1.0"), FUSION, "sign"),
     M("particle-update-late", PF, ("(float(imu.t[stop - 1]), foot)", "(float(imu.t[stop]), foot)", 1), FUSION, "off-by-one"),

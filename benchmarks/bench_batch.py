@@ -17,8 +17,8 @@ import time
 from functools import partial
 
 import footnav
-from footnav.core.batch import evaluate_many
-from footnav.core.types import Recording
+from footnav.analysis.batch import evaluate_many
+from footnav.types import Recording
 
 
 def simulate_named(seed: int, scale: float = 1.0) -> Recording:

@@ -31,7 +31,7 @@ def main() -> None:
     import numpy as np
 
     import footnav
-    from footnav.core.stance_check import check_stances
+    from footnav.nav.stance_check import check_stances
 
     rec = straight_walk(args.minutes, args.rate_hz)
     imu = rec.left

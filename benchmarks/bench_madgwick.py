@@ -30,8 +30,8 @@ import json, time
 t0 = time.perf_counter()
 import footnav
 from dataclasses import replace
-from footnav.core import quaternion as quat
-from footnav.core.types import StanceResult
+from footnav.nav import quaternion as quat
+from footnav.types import StanceResult
 from footnav.estimators.madgwick import MadgwickEstimator
 t1 = time.perf_counter()
 rec = footnav.simulate("straight", seed=0, distance_m=10.0)
@@ -72,8 +72,8 @@ def main() -> None:
     from dataclasses import replace
 
     import footnav
-    from footnav.core import quaternion as quat
-    from footnav.core.types import StanceResult
+    from footnav.nav import quaternion as quat
+    from footnav.types import StanceResult
     from footnav.estimators.madgwick import MadgwickEstimator
 
     est = MadgwickEstimator()

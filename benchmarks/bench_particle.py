@@ -43,7 +43,7 @@ import numpy as np
 from _common import WALK_SPEED_MPS  # benchmarks/_common.py (scripts run from benchmarks/)
 
 import footnav
-from footnav.core.component import Fusion
+from footnav.component import Fusion
 from footnav.fusion.independent import IndependentFusion
 from footnav.fusion.joint import check_two_feet, finish_joint, start_joint
 from footnav.fusion.particle import ParticleFusion
@@ -65,9 +65,9 @@ class _JointOnly(Fusion):
 
 
 def accuracy(n_seeds: int) -> None:
-    from footnav.core.datasets import load_dataset
-    from footnav.core.evaluation import trajectory_at
-    from footnav.core.metrics import ate_rmse
+    from footnav.data.datasets import load_dataset
+    from footnav.analysis.evaluation import trajectory_at
+    from footnav.analysis.metrics import ate_rmse
     from footnav.estimators.ekf import EkfEstimator
 
     det = footnav.make_detector("threshold")

@@ -12,7 +12,7 @@ from __future__ import annotations
 import argparse
 
 import footnav
-from footnav.core import metrics
+from footnav.analysis import metrics
 
 
 def main() -> None:

@@ -15,9 +15,9 @@ import warnings
 from pathlib import Path
 
 import footnav
-from footnav.core import metrics
-from footnav.core.datasets import data_dir, dataset_names, load_dataset
-from footnav.core.evaluation import evaluate
+from footnav.analysis import metrics
+from footnav.data.datasets import data_dir, dataset_names, load_dataset
+from footnav.analysis.evaluation import evaluate
 
 REFERENCE = {
     ("azure_fgo", "ate_2d", "left"): "0.36 (gaitmap RtsKalman)",
@@ -298,7 +298,7 @@ def stride_section(root, gaitmap_python: str | None = None) -> list[str]:
 
     return [
         "## Stride length (gaitmap example, motion capture)", "",
-        ("`footnav run` writes `strides.csv` (`PipelineResult.strides()`, `footnav/core/strides.py`): a stride "
+        ("`footnav run` writes `strides.csv` (`PipelineResult.strides()`, `footnav/nav/strides.py`): a stride "
          "runs from one mid-stance of a foot to its next, and its length is the horizontal displacement "
          "between the two mid-stance positions (gaitmap's definition). Truth: the heel marker (`L_FCC` / "
          "`R_FCC`) displacement between the borders of each motion-capture stride of "
@@ -339,7 +339,7 @@ def main() -> None:
         f"Pipeline: `{pipe!r}` (the defaults: adaptive detector, 9-state EKF with whole-walk RTS "
         "smoothing, each foot alone).",
         "",
-        "Metrics (definitions in `footnav/core/metrics/`): `ate_2d`/`ate_3d` = RMSE after rigid "
+        "Metrics (definitions in `footnav/analysis/metrics/`): `ate_2d`/`ate_3d` = RMSE after rigid "
         "alignment to the truth (m); `loop_closure_2d`/`_3d` = end-to-start distance of a walk that returns to "
         "its start (m, % of path); `final_separation` = E_s of seed 001 (m); `stance_f1`, "
         "`steps_missed`/`steps_false` against the recording's stance labels (for pyshoe these are "

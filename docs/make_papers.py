@@ -35,8 +35,8 @@ ROOT = HERE.parent
 sys.path.insert(0, str(ROOT))  # this checkout's footnav
 
 import footnav
-from footnav.core import metrics
-from footnav.core.evaluation import EvaluationReport, Metric, trajectory_at
+from footnav.analysis import metrics
+from footnav.analysis.evaluation import EvaluationReport, Metric, trajectory_at
 
 #: Rate at which the papers' DTW distance to the truth (Li et al. 2018, Table 2) is computed, Hz.
 TRUTH_DTW_RATE_HZ = 1.0
@@ -516,7 +516,7 @@ far, the paragraph under each table says why as far as we can tell.
 Columns: *paper's own figure* as printed (mean ± std over the paper's walks where it gives them);
 *footnav paper-mode* and *footnav best*: mean ± std over the seeds of the simulated walk (sample
 std). The configuration of each row is named in brackets `[paper-mode / best]` and listed above its
-table. Metric names are those of `footnav.evaluate` (definitions in `footnav/core/metrics/`).
+table. Metric names are those of `footnav.evaluate` (definitions in `footnav/analysis/metrics/`).
 
 """
 

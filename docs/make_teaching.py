@@ -12,8 +12,8 @@ import warnings
 from pathlib import Path
 
 import footnav
-from footnav.core.comparison import compare_detectors
-from footnav.core.datasets import load_dataset
+from footnav.analysis.comparison import compare_detectors
+from footnav.data.datasets import load_dataset
 
 HERE = Path(__file__).parent
 

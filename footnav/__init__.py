@@ -9,10 +9,9 @@ The public API::
 
 from __future__ import annotations
 
-from importlib.metadata import PackageNotFoundError, version
 
-from footnav.core.component import FootEstimator, Fusion, StanceDetector
-from footnav.core.errors import (
+from footnav.component import FootEstimator, Fusion, StanceDetector
+from footnav.errors import (
     CompositionError,
     DataNotFoundError,
     DataQualityWarning,
@@ -24,11 +23,11 @@ from footnav.core.errors import (
     PluginWarning,
     UnknownComponentError,
 )
-from footnav.core.comparison import DetectorComparison, compare_detectors
-from footnav.core.batch import evaluate_many
-from footnav.core.evaluation import EvaluationReport, evaluate
-from footnav.core.warning_log import warn
-from footnav.core.pipeline import (
+from footnav.analysis.comparison import DetectorComparison, compare_detectors
+from footnav.analysis.batch import evaluate_many
+from footnav.analysis.evaluation import EvaluationReport, evaluate
+from footnav.warning_log import warn
+from footnav.pipeline.factory import (
     Pipeline,
     list_components,
     load_pipeline,
@@ -37,35 +36,32 @@ from footnav.core.pipeline import (
     make_fusion,
     make_pipeline,
 )
-from footnav.core.types import (
+from footnav.pipeline.result import PipelineResult
+from footnav.types import (
     GRAVITY_MPS2,
     FootTrajectory,
     FootTruth,
     FusionResult,
     ImuData,
     Path,
-    PipelineResult,
     Recording,
     StanceResult,
 )
 from footnav.plugins.hookspecs import hookimpl
 
-try:
-    __version__ = version("footnav")
-except PackageNotFoundError:  # running from a source tree that is not installed
-    __version__ = "0+unknown"
+from footnav._version import __version__
 
 
 def simulate(scenario: str = "straight", *, seed: int = 0, rate_hz: float = 100.0, **options) -> Recording:
-    """Simulated two-foot walk with truth; see :func:`footnav.core.simulate.simulate`."""
-    from footnav.core.simulate import simulate as _simulate
+    """Simulated two-foot walk with truth; see :func:`footnav.data.simulate.simulate`."""
+    from footnav.data.simulate import simulate as _simulate
 
     return _simulate(scenario, seed=seed, rate_hz=rate_hz, **options)
 
 
 def load(path, format: str | None = None, **options) -> Recording:
-    """Read a recording, guessing its format; see :func:`footnav.core.io.load`."""
-    from footnav.core.io import load as _load
+    """Read a recording, guessing its format; see :func:`footnav.data.io.load`."""
+    from footnav.data.io import load as _load
 
     return _load(path, format=format, **options)
 

@@ -13,10 +13,10 @@ from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path as FilePath
 
-from footnav.core.evaluation import EvaluationReport, evaluate
-from footnav.core.output import OutputClaim, claim_output, is_footnav_figure
-from footnav.core.pipeline import make_pipeline
-from footnav.core.types import Recording
+from footnav.analysis.evaluation import EvaluationReport, evaluate
+from footnav.data.output import OutputClaim, claim_output, is_footnav_figure
+from footnav.pipeline.factory import make_pipeline
+from footnav.types import Recording
 
 __all__ = ["demo_recording", "run_demo", "DemoReport", "REFERENCE_ATE_2D_M"]
 
@@ -28,7 +28,7 @@ REFERENCE_ATE_2D_M = {"left": 0.36, "right": 0.76}
 
 def demo_recording() -> Recording:
     """The bundled azure_fgo recording with its truth (z up)."""
-    from footnav.core.io import read_azure_fgo
+    from footnav.data.io import read_azure_fgo
 
     folder = resources.files("footnav") / "data" / "azure_fgo"
     with resources.as_file(folder) as path:
@@ -46,7 +46,7 @@ def run_demo(plot: str | None = "footnav-demo.png") -> DemoReport:
     """Run the default pipeline on the bundled recording; print-ready table and optional figure.
 
     The figure replaces an earlier demo figure but never a file footnav did not write
-    (:func:`footnav.core.output.claim_output`); it is claimed before the run.
+    (:func:`footnav.data.output.claim_output`); it is claimed before the run.
     """
     with ExitStack() as claims:
         claim = None
@@ -94,7 +94,7 @@ def _run_demo(claim: OutputClaim | str | None, plot: str | None) -> DemoReport:
     if claim == "no matplotlib":
         lines.append("(install the 'plot' extra for a trajectory figure)")
     elif isinstance(claim, OutputClaim):
-        from footnav.plot import plot_trajectories
+        from footnav.analysis.plot import plot_trajectories
 
         with claim.staged() as staged:
             plot_trajectories(report.results[(rec.name, "default")], rec, staged)

@@ -13,7 +13,7 @@ sample-aligned and deterministic, and that it is *right* on a short simulated wa
 100 Hz, against the simulator's truth): a detector's stances lie in the true stances and find each
 of them, an estimator's foot ends near its true position, a fusion keeps the left foot on the left.
 ``StepableEstimatorContract`` checks an estimator the coupled fusions drive
-(:class:`footnav.core.component.StepableEstimator`) by running every one of them with it.
+(:class:`footnav.component.StepableEstimator`) by running every one of them with it.
 The bounds are generous (5-10x what the built-ins measure) so they fail only a wrong component,
 e.g. one with a flipped ZUPT sign or the feet swapped. They need pytest.
 """
@@ -26,7 +26,7 @@ from typing import Any, ClassVar
 import numpy as np
 import pytest
 
-from footnav.core.component import (
+from footnav.component import (
     JOINT_FILTER_MEMBERS,
     FootEstimator,
     Fusion,
@@ -35,8 +35,8 @@ from footnav.core.component import (
     StepableEstimator,
     stepable_gaps,
 )
-from footnav.core.errors import InvalidParameterError
-from footnav.core.types import FootTrajectory, FusionResult, Recording, StanceResult, stance_intervals
+from footnav.errors import InvalidParameterError
+from footnav.types import FootTrajectory, FusionResult, Recording, StanceResult, stance_intervals
 
 __all__ = [
     "ComponentContract", "DetectorContract", "EstimatorContract", "FusionContract", "StepableEstimatorContract",
@@ -66,7 +66,7 @@ MIN_SIGNED_SEPARATION_M = -0.05
 def contract_walk(seed: int = 0) -> Recording:
     """A short simulated straight walk (both feet, 100 Hz), cached per seed."""
     if seed not in _WALK:
-        from footnav.core.simulate import simulate
+        from footnav.data.simulate import simulate
 
         _WALK[seed] = simulate("straight", seed=seed, rate_hz=100.0, distance_m=10.0)
     return _WALK[seed]
@@ -213,8 +213,8 @@ def _signed_separation(rec: Recording, res: FusionResult) -> float:
 
 class StepableEstimatorContract(EstimatorContract):
     """Contract for an estimator that coupled fusions drive step by step
-    (:class:`footnav.core.component.StepableEstimator`): it has every member, its ``start`` returns
-    a :class:`~footnav.core.component.JointFilter`, and every built-in coupled fusion run with it
+    (:class:`footnav.component.StepableEstimator`): it has every member, its ``start`` returns
+    a :class:`~footnav.component.JointFilter`, and every built-in coupled fusion run with it
     ends each foot near its truth with the left foot on the left."""
 
     #: The coupled fusions the contract runs (built-in names).
@@ -233,7 +233,7 @@ class StepableEstimatorContract(EstimatorContract):
         assert isinstance(filt, JointFilter), f"start() returned a {type(filt).__name__} lacking {missing}"
 
     def test_every_coupled_fusion_ends_near_the_truth_left_foot_on_the_left(self):
-        from footnav.core.pipeline import make_fusion
+        from footnav.pipeline.factory import make_fusion
 
         rec = contract_walk()
         stances = StanceResult(rec.truth_left.stance), StanceResult(rec.truth_right.stance)

@@ -1,6 +1,6 @@
 """Dense Kalman filter and Rauch-Tung-Striebel primitives: the tests' reference, not footnav's.
 
-footnav's filters use the structured kernels of :mod:`footnav.core.kalman` and
+footnav's filters use the structured kernels of :mod:`footnav.nav.kalman` and
 :mod:`footnav.estimators.ekf.kernels`; the tests check those against these general, dense forms
 (any F, H, R), which are themselves checked against filterpy (tests/core/test_kalman.py). They
 work in place on caller-owned arrays (scratch from :func:`workspace`). Notation as in Simon,
@@ -17,7 +17,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-from footnav.core._numba import njit  # numba.njit that survives a read-only install
+from footnav._numba import njit  # numba.njit that survives a read-only install
 
 __all__ = ["predict", "rts_step", "spd_inverse", "symmetrize", "update", "workspace"]
 

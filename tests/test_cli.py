@@ -133,7 +133,7 @@ def test_interrupted_evaluate_leaves_no_partial_result(sim_csv, tmp_path):
 
 
 def test_interrupt_while_writing_leaves_no_partial_result(sim_csv, tmp_path, monkeypatch):
-    from footnav.core import results
+    from footnav.data import results
 
     calls = {"n": 0}
 

@@ -34,7 +34,7 @@ def test_plugins_name_lists_its_parameters(capsys):
 
 def test_plot_without_matplotlib_is_an_error_before_any_work(tmp_path, monkeypatch, capsys):
     rec = footnav.simulate("straight", seed=0, distance_m=5.0)
-    from footnav.core.io import write_footnav_csv
+    from footnav.data.io import write_footnav_csv
 
     csv = write_footnav_csv(rec.left, tmp_path / "l.csv")
     monkeypatch.setitem(sys.modules, "matplotlib", None)  # import matplotlib now raises ImportError

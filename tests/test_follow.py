@@ -120,7 +120,7 @@ def test_offline_only_pipeline_is_refused(walk_csv, tmp_path):
 
 
 def test_live_plot_is_redrawn_while_the_walk_goes_on(walk_csv, tmp_path):
-    from footnav.core.output import is_footnav_figure
+    from footnav.data.output import is_footnav_figure
 
     left, figure = tmp_path / "left.csv", tmp_path / "steps.png"
     follow = _footnav("follow", "--left", str(left), "--idle-s", "3", "--plot", str(figure), "--plot-every-s", "0.1",

@@ -23,7 +23,7 @@ def test_one_changed_compiled_helper_gives_another_folder(tree, tmp_path):
     base.mkdir()
     before = numba_cache_dir(tree, base)
     assert numba_cache_dir(tree, base) == before  # an unchanged tree reuses its folder
-    helper = tree / "core" / "quaternion.py"  # compiled helpers the filter kernels call
+    helper = tree / "nav" / "quaternion.py"  # compiled helpers the filter kernels call
     assert "njit" in helper.read_text()
     helper.write_text(helper.read_text().replace("1.0", "1.00", 1))
     after = numba_cache_dir(tree, base)
@@ -34,11 +34,11 @@ def test_one_changed_compiled_helper_gives_another_folder(tree, tmp_path):
 
 def test_the_key_ignores_timestamps_and_caches_but_not_renames(tree):
     key = source_key(tree)
-    (tree / "core" / "__pycache__").mkdir(exist_ok=True)
-    (tree / "core" / "__pycache__" / "x.nbi").write_bytes(b"cache")
-    os.utime(tree / "core" / "mechanization.py", (0, 0))
+    (tree / "nav" / "__pycache__").mkdir(exist_ok=True)
+    (tree / "nav" / "__pycache__" / "x.nbi").write_bytes(b"cache")
+    os.utime(tree / "nav" / "mechanization.py", (0, 0))
     assert source_key(tree) == key
-    (tree / "core" / "mechanization.py").rename(tree / "core" / "mechanization2.py")
+    (tree / "nav" / "mechanization.py").rename(tree / "nav" / "mechanization2.py")
     assert source_key(tree) != key
 
 

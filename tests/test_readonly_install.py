@@ -2,7 +2,7 @@
 
 numba's ``@njit(cache=True)`` raised "cannot cache function ...: no locator available" at import
 time when neither the sources' ``__pycache__`` nor ``~/.cache`` was writable (issue 14).
-:mod:`footnav.core._numba` falls back to a private folder in the temporary directory, or to no
+:mod:`footnav._numba` falls back to a private folder in the temporary directory, or to no
 cache; these tests run that for real in a subprocess and check the pieces in-process.
 """
 
@@ -22,7 +22,7 @@ import numpy as np
 import pytest
 
 import footnav
-from footnav.core import _numba
+from footnav import _numba
 
 #: Run in the subprocess: refuse to test anything if the sandbox is not what it claims (files we
 #: must not be able to write are writable), then the acceptance run of issue 14.

@@ -8,10 +8,10 @@ component works, not only that its result has the right shape.
 import numpy as np
 import pytest
 
-from footnav.core import quaternion as quat
-from footnav.core.component import FootEstimator, Fusion, StanceDetector
-from footnav.core.initial_alignment import align_at_rest
-from footnav.core.types import FootTrajectory, FusionResult, StanceResult, stance_intervals
+from footnav.nav import quaternion as quat
+from footnav.component import FootEstimator, Fusion, StanceDetector
+from footnav.nav.initial_alignment import align_at_rest
+from footnav.types import FootTrajectory, FusionResult, StanceResult, stance_intervals
 from footnav.fusion.independent import IndependentFusion
 from footnav.fusion.step_vector import StepVectorFusion
 from footnav.testing import DetectorContract, EstimatorContract, FusionContract, StepableEstimatorContract, contract_walk

@@ -99,18 +99,18 @@ def M(name, path, edits, tests, kind=""):
     return Mutant(name, path, tuple(edits), tests, kind)
 
 
-Q, MECH = "footnav/core/quaternion.py", "footnav/core/mechanization.py"
+Q, MECH = "footnav/nav/quaternion.py", "footnav/nav/mechanization.py"
 _EKF = "footnav/estimators/ekf/"
 KER, BACK, LOOP, REC = _EKF + "kernels.py", _EKF + "backward.py", _EKF + "loop.py", _EKF + "records.py"
 FILT, SM = _EKF + "filter.py", _EKF + "smoother.py"
-KAL = "footnav/core/kalman.py"
-AL, WIN, HD = "footnav/core/initial_alignment.py", "footnav/core/windows.py", "footnav/core/heading_drift.py"
-SC, GC, ST = "footnav/core/stance_check.py", "footnav/core/gait_cycles.py", "footnav/core/strides.py"
-MET_AL, MET_TR = "footnav/core/metrics/_alignment.py", "footnav/core/metrics/_trajectory.py"
-MET_DEV, MET_ST = "footnav/core/metrics/_deviation.py", "footnav/core/metrics/_strides.py"
-MET_MA, MET_CH = "footnav/core/metrics/_matching.py", "footnav/core/metrics/_checks.py"
-DT = "footnav/core/dtw.py"
-DTH, DTA = "footnav/core/dtw_heading.py", "footnav/core/dtw_average.py"
+KAL = "footnav/nav/kalman.py"
+AL, WIN, HD = "footnav/nav/initial_alignment.py", "footnav/nav/windows.py", "footnav/nav/heading_drift.py"
+SC, GC, ST = "footnav/nav/stance_check.py", "footnav/nav/gait_cycles.py", "footnav/nav/strides.py"
+MET_AL, MET_TR = "footnav/analysis/metrics/_alignment.py", "footnav/analysis/metrics/_trajectory.py"
+MET_DEV, MET_ST = "footnav/analysis/metrics/_deviation.py", "footnav/analysis/metrics/_strides.py"
+MET_MA, MET_CH = "footnav/analysis/metrics/_matching.py", "footnav/analysis/metrics/_checks.py"
+DT = "footnav/nav/dtw.py"
+DTH, DTA = "footnav/nav/dtw_heading.py", "footnav/nav/dtw_average.py"
 GLRT, THR, ADA = "footnav/detectors/glrt.py", "footnav/detectors/threshold.py", "footnav/detectors/adaptive.py"
 DG = "footnav/detectors/dual_gait.py"
 HMM_FEATURES, HMM_REORDER = "footnav/detectors/hmm/features.py", "footnav/detectors/hmm/reorder.py"
@@ -303,7 +303,7 @@ MUTANTS: list[Mutant] = [
     M("madgwick-f-transposed", MW, ("m[3 + i, j] = p[3 + i, j] + dt * (c[i, 0] * p[6, j] + c[i, 1] * p[7, j] + c[i, 2] * p[8, j])",
                                     "m[3 + i, j] = p[3 + i, j] + dt * (c[0, i] * p[6, j] + c[1, i] * p[7, j] + c[2, i] * p[8, j])"),
       MADGWICK, "transpose"),
-    M("gravity-constant", "footnav/core/types/units.py", ("GRAVITY_MPS2 = 9.80665", "GRAVITY_MPS2 = 9.81"), MADGWICK + ["tests/estimators/test_ekf.py"],
+    M("gravity-constant", "footnav/types/units.py", ("GRAVITY_MPS2 = 9.80665", "GRAVITY_MPS2 = 9.81"), MADGWICK + ["tests/estimators/test_ekf.py"],
       "constant"),
     # -- fusion ------------------------------------------------------------------------------
     M("range-mirror", RC, ("z = p[anchor] + sign * bound * u", "z = p[anchor] - sign * bound * u"), FUSION, "sign"),

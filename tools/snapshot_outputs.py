@@ -74,7 +74,7 @@ def _arrays(result) -> dict[str, np.ndarray]:
 
 def snapshot(data_dir: str | None) -> tuple[dict[str, np.ndarray], list[str]]:
     import footnav
-    from footnav.core.datasets import load_dataset
+    from footnav.data.datasets import load_dataset
 
     arrays, skipped, recordings = {}, [], {}
     for name, source, detector, estimator, params, fusion in CASES:

@@ -23,7 +23,7 @@ from footnav.cli._parser import EPILOG_FOLLOW, EPILOG_RUN, build_parser
 from footnav.cli._plugins import PLUGINS_WIDTH, cmd_demo, cmd_plugins
 from footnav.cli._run import READER_FLAGS, cmd_run
 from footnav.cli._simulate import cmd_simulate
-from footnav.core.errors import FootnavError, FootnavWarning, PluginError
+from footnav.errors import FootnavError, FootnavWarning, PluginError
 
 __all__ = [
     "EPILOG_FOLLOW",

@@ -7,7 +7,7 @@ import textwrap
 from collections.abc import Sequence
 from contextlib import ExitStack
 
-from footnav.core.errors import FootnavError
+from footnav.errors import FootnavError
 
 EXIT_OK, EXIT_INTERNAL, EXIT_USAGE = 0, 1, 2
 #: First line of every table footnav writes as CSV (EvaluationReport.to_csv): how --force knows one.
@@ -48,7 +48,7 @@ def _require_matplotlib() -> None:
 
 def _claim_figure(claims: ExitStack, path, force: bool, inputs):
     """Claim a figure path (None when not asked for, or when matplotlib is missing: said once)."""
-    from footnav.core.output import claim_output, is_footnav_figure
+    from footnav.data.output import claim_output, is_footnav_figure
 
     if not path:
         return None
@@ -59,6 +59,6 @@ def _claim_figure(claims: ExitStack, path, force: bool, inputs):
 
 
 def _plot_trajectories(result, recording, path) -> None:
-    from footnav.plot import plot_trajectories
+    from footnav.analysis.plot import plot_trajectories
 
     plot_trajectories(result, recording, path)

@@ -9,16 +9,16 @@ from contextlib import ExitStack
 from pathlib import Path as FilePath
 
 from footnav.cli._common import EXIT_INTERNAL, EXIT_OK, REPORT_CSV_HEADER, _claim_figure, _require_matplotlib
-from footnav.core.errors import FootnavError
+from footnav.errors import FootnavError
 
 
 def cmd_evaluate(args: argparse.Namespace) -> int:
-    from footnav.core.batch import evaluate_many
-    from footnav.core.datasets import load_dataset
-    from footnav.core.io import load
-    from footnav.core.output import claim_output, csv_signature
-    from footnav.core.pipeline import load_pipeline, make_pipeline
-    from footnav.core.results import write_report
+    from footnav.analysis.batch import evaluate_many
+    from footnav.data.datasets import load_dataset
+    from footnav.data.io import load
+    from footnav.data.output import claim_output, csv_signature
+    from footnav.pipeline.factory import load_pipeline, make_pipeline
+    from footnav.data.results import write_report
 
     if not args.dataset and not args.recordings:
         raise FootnavError("nothing to evaluate: give --dataset NAME and/or recording paths")
@@ -50,7 +50,7 @@ def cmd_evaluate(args: argparse.Namespace) -> int:
         with ExitStack() as staged:
             figures = staged.enter_context(plot_claim.staged()) if plot_claim else None
             if figures is not None:
-                from footnav.plot import plot_position_errors, plot_trajectories
+                from footnav.analysis.plot import plot_position_errors, plot_trajectories
 
                 by_name = {rec.name: rec for rec in recordings}
                 for (rec_name, pname), result in report.results.items():
@@ -74,7 +74,7 @@ def cmd_evaluate(args: argparse.Namespace) -> int:
 
 
 def cmd_compare_detectors(args: argparse.Namespace) -> int:
-    from footnav.core.output import claim_output, csv_signature
+    from footnav.data.output import claim_output, csv_signature
 
     sources = [x for x in (args.recording, args.dataset, args.simulate) if x]
     if len(sources) != 1:
@@ -92,17 +92,17 @@ def cmd_compare_detectors(args: argparse.Namespace) -> int:
 
 
 def _compare(args: argparse.Namespace, csv_claim, plot_claim) -> int:
-    import footnav
-    from footnav.core.comparison import compare_detectors
-    from footnav.core.datasets import load_dataset
-    from footnav.core.io import load
+    from footnav.data.simulate import simulate
+    from footnav.analysis.comparison import compare_detectors
+    from footnav.data.datasets import load_dataset
+    from footnav.data.io import load
 
     if args.recording:
         rec = load(args.recording)
     elif args.dataset:
         rec = load_dataset(args.dataset, args.data_dir)
     else:
-        rec = footnav.simulate(args.simulate, seed=args.seed, rate_hz=args.rate_hz)
+        rec = simulate(args.simulate, seed=args.seed, rate_hz=args.rate_hz)
     names = [d.strip() for d in args.detectors.split(",") if d.strip()] if args.detectors else None
     comparison = compare_detectors(rec, names, tolerance_s=args.tolerance_s)
     with ExitStack() as staged:

@@ -8,7 +8,7 @@ import sys
 from contextlib import ExitStack
 
 from footnav.cli._common import EXIT_OK, _claim_figure, _format_table
-from footnav.core.errors import FootnavError
+from footnav.errors import FootnavError
 
 #: Columns of a followed CSV (footnav CSV: ``footnav simulate`` writes it); ``foot`` optional.
 FOLLOW_COLUMNS = ("t", "acc_x", "acc_y", "acc_z", "gyr_x", "gyr_y", "gyr_z")
@@ -30,7 +30,7 @@ class _FollowedCsv:
         """``{foot: (t, acc, gyr)}`` of the complete lines, in SI units."""
         import numpy as np
 
-        from footnav.core.types import GRAVITY_MPS2
+        from footnav.types import GRAVITY_MPS2
 
         out: dict = {}
         for line in lines:
@@ -162,7 +162,7 @@ class _LivePlot:
         now = time.monotonic()
         if not final and now - self.last < self.every_s:
             return
-        from footnav.plot import plot_steps
+        from footnav.analysis.plot import plot_steps
 
         with self.claim.staged() as tmp:
             plot_steps(self.steps, tmp, title=self.title)
@@ -173,9 +173,9 @@ def cmd_follow(args: argparse.Namespace) -> int:
     import signal
     import time
 
-    from footnav.core.output import claim_output
-    from footnav.core.pipeline import load_pipeline, make_pipeline
-    from footnav.core.results import write_results
+    from footnav.data.output import claim_output
+    from footnav.pipeline.factory import load_pipeline, make_pipeline
+    from footnav.data.results import write_results
 
     if args.pipeline:
         if any(getattr(args, k) for k in ("detector", "estimator", "fusion")):

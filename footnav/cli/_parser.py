@@ -93,7 +93,7 @@ def _option(text: str) -> tuple[str, object]:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    from footnav import __version__
+    from footnav._version import __version__
 
     parser = _Parser(prog="footnav", description="Foot-mounted inertial navigation: one or both feet, composable methods.")
     parser.add_argument("--version", action="version", version=f"footnav {__version__}")
@@ -110,7 +110,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("name", nargs="?", help="a component's name: show its parameters")
     p.set_defaults(func=cmd_plugins)
 
-    from footnav.core.io.load import READERS
+    from footnav.data.io.load import READERS
 
     p = sub.add_parser(
         "run",

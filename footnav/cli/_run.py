@@ -8,11 +8,11 @@ import sys
 from contextlib import ExitStack, nullcontext
 
 from footnav.cli._common import EXIT_OK, _claim_figure, _format_table, _plot_trajectories
-from footnav.core.errors import FootnavError
+from footnav.errors import FootnavError
 
 
 def _pipeline_from_args(args: argparse.Namespace):
-    from footnav.core.pipeline import load_pipeline, make_pipeline
+    from footnav.pipeline.factory import load_pipeline, make_pipeline
 
     sync = getattr(args, "sync", None)
     if args.pipeline:
@@ -27,7 +27,7 @@ def _pipeline_from_args(args: argparse.Namespace):
     return make_pipeline(args.detector or "adaptive", args.estimator or "ekf", args.fusion or "independent", sync=sync)
 
 
-#: CLI flag -> reader option (footnav.core.io.load.reader_options says which reader takes which).
+#: CLI flag -> reader option (footnav.data.io.load.reader_options says which reader takes which).
 READER_FLAGS = {"format": "--format", "acc_unit": "--acc-unit", "gyr_unit": "--gyr-unit", "t_unit": "--t-unit",
                 "rate_hz": "--rate-hz", "drop_duplicates": "--drop-duplicates"}
 
@@ -35,7 +35,7 @@ READER_FLAGS = {"format": "--format", "acc_unit": "--acc-unit", "gyr_unit": "--g
 def _read_recording(path: str, args: argparse.Namespace):
     """Read ``path`` in any format footnav reads, with the reader options given on the command
     line; an option the file's reader does not take is an error naming both."""
-    from footnav.core.io.load import guess_format, load, reader_options
+    from footnav.data.io.load import guess_format, load, reader_options
 
     given = {k: getattr(args, k) for k in READER_FLAGS if k != "format" and getattr(args, k, None) not in (None, False)}
     fmt = args.format or guess_format(path)[0]
@@ -67,8 +67,8 @@ def _run_inputs(args: argparse.Namespace):
 
 
 def cmd_run(args: argparse.Namespace) -> int:
-    from footnav.core.output import claim_output
-    from footnav.core.results import write_results
+    from footnav.data.output import claim_output
+    from footnav.data.results import write_results
 
     pipeline = _pipeline_from_args(args)
     inputs = [p for p in (args.left, args.right, args.pipeline) if p]

@@ -6,13 +6,13 @@ import argparse
 from pathlib import Path as FilePath
 
 from footnav.cli._common import EXIT_OK
-from footnav.core.errors import FootnavError
+from footnav.errors import FootnavError
 
 
 def cmd_simulate(args: argparse.Namespace) -> int:
-    import footnav
-    from footnav.core.io.footnav_csv import write_footnav_csv, write_footnav_truth
-    from footnav.core.output import claim_output
+    from footnav.data.simulate import simulate
+    from footnav.data.io.footnav_csv import write_footnav_csv, write_footnav_truth
+    from footnav.data.output import claim_output
 
     out = FilePath(args.out)
     options = dict(args.set or [])
@@ -21,7 +21,7 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     if args.scenario == "path" and "segments" not in options:
         raise FootnavError("the path scenario needs --segments, e.g. --segments 10:90,5:-90,3:0 (metres:turn degrees)")
     with claim_output(out, force=args.force, what="output folder") as claim:
-        rec = footnav.simulate(args.scenario, seed=args.seed, rate_hz=args.rate_hz, **options)
+        rec = simulate(args.scenario, seed=args.seed, rate_hz=args.rate_hz, **options)
         with claim.staged() as tmp:
             for side, imu, truth in (("left", rec.left, rec.truth_left), ("right", rec.right, rec.truth_right)):
                 write_footnav_csv(imu, tmp / f"{side}.csv")

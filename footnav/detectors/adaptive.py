@@ -10,7 +10,7 @@ IPIN 2017), or per gait cycle from the cycle's own signal. This detector does th
 learned model:
 
 1. The gait cycles: the swing peaks of the 0.2 s RMS angular rate
-   (:func:`footnav.core.gait_cycles.swing_peaks`), one per stride; a cycle runs from one swing
+   (:func:`footnav.nav.gait_cycles.swing_peaks`), one per stride; a cycle runs from one swing
    peak to the next (before the first and after the last, the recording's ends).
 2. The statistic of the ``threshold`` detector (Skog et al. 2010, ARE and MAG over a 0.04 s
    window), normalised by the base bounds: ``s = max(gyr RMS / gyr_threshold_radps,
@@ -41,7 +41,7 @@ from typing import Any
 
 import numpy as np
 
-from footnav.core.component import (
+from footnav.component import (
     MAX_ACC_MPS2,
     MAX_DURATION_S,
     MAX_RATE_RADPS,
@@ -50,9 +50,9 @@ from footnav.core.component import (
     require_non_negative,
     require_positive,
 )
-from footnav.core.gait_cycles import SWING_ACC_MPS2, swing_peaks
-from footnav.core.types import GRAVITY_MPS2, ImuData, StanceResult, stance_intervals
-from footnav.core.windows import acc_magnitude_rms, centred, gyr_rms, window_samples
+from footnav.nav.gait_cycles import SWING_ACC_MPS2, swing_peaks
+from footnav.types import GRAVITY_MPS2, ImuData, StanceResult, stance_intervals
+from footnav.nav.windows import acc_magnitude_rms, centred, gyr_rms, window_samples
 from footnav.detectors.threshold import stance_result
 
 __all__ = ["AdaptiveDetector"]
@@ -165,7 +165,7 @@ class AdaptiveDetector(StanceDetector):
         self.max_pivot_s = max_pivot_s
 
     def validate_params(self) -> None:
-        # Upper bounds (footnav.core.component): durations multiply into window lengths in
+        # Upper bounds (footnav.component): durations multiply into window lengths in
         # samples, rates and accelerations overflow when squared; the unitless factors and
         # fractions are kept at 1000x / 1000 their sensible range, where every sample is still
         # or none is.

@@ -19,7 +19,7 @@ Skog writes each test as ``T = (1 / (sigma^2 W)) sum(...) < gamma``; footnav sta
 a root-mean-square in physical units, ``RMS < sigma sqrt(gamma)``, so a threshold reads as a motion
 bound ("the foot turns slower than 0.5 rad/s") and does not depend on the rate or on W.
 
-The window statistics live in :mod:`footnav.core.windows` (window length in samples, O(N) window
+The window statistics live in :mod:`footnav.nav.windows` (window length in samples, O(N) window
 sums, ARE / MAG / MV as RMS values; re-exported here). What the family shares lives here, once:
 the per-sample decision from the overlapping windows (:func:`windows_to_samples`, ``combine``),
 and the minimum stance and swing durations and gait events (:func:`stance_result`);
@@ -35,7 +35,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.ndimage import maximum_filter1d, minimum_filter1d
 
-from footnav.core.component import (
+from footnav.component import (
     MAX_ACC_MPS2,
     MAX_DURATION_S,
     MAX_RATE_RADPS,
@@ -45,8 +45,8 @@ from footnav.core.component import (
     require_positive,
     unit_of,
 )
-from footnav.core.types import ImuData, StanceResult, stance_intervals
-from footnav.core.windows import acc_magnitude_rms, acc_moving_std, centred, gyr_rms, window_samples, window_sums
+from footnav.types import ImuData, StanceResult, stance_intervals
+from footnav.nav.windows import acc_magnitude_rms, acc_moving_std, centred, gyr_rms, window_samples, window_sums
 
 __all__ = [
     "COMBINE_RULES",
@@ -179,7 +179,7 @@ class WindowedStanceDetector(StanceDetector):
     min_swing_s: float
 
     def validate_params(self) -> None:
-        # Upper bounds by unit (footnav.core.component): a longer window exhausts memory, a
+        # Upper bounds by unit (footnav.component): a longer window exhausts memory, a
         # larger threshold or sigma overflows when squared; unitless is the GLRT's gamma, for
         # which 1e15 already marks every window still.
         highs = {"s": MAX_DURATION_S, "rad/s": MAX_RATE_RADPS, "m/s^2": MAX_ACC_MPS2}

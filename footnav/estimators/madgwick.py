@@ -35,9 +35,9 @@ from typing import Literal
 
 import numpy as np
 
-from footnav.core import quaternion as quat
-from footnav.core._numba import njit  # numba.njit that survives a read-only install
-from footnav.core.component import (
+from footnav.nav import quaternion as quat
+from footnav._numba import njit  # numba.njit that survives a read-only install
+from footnav.component import (
     MAX_ACC_MPS2,
     MAX_RATE_RADPS,
     MAX_SPEED_MPS,
@@ -46,12 +46,12 @@ from footnav.core.component import (
     require_non_negative,
     require_positive,
 )
-from footnav.core.heading import turn_to_first_step
-from footnav.core.heading_drift import TURN_ON_BIAS_STD_RADPS, heading_drift_cov, standstill_rate_std
-from footnav.core.initial_alignment import MIN_STILL_SAMPLES, Alignment, align_first_stance
-from footnav.core.kalman import update3_inline
-from footnav.core.quaternion import as_matrix_nb
-from footnav.core.types import GRAVITY_MPS2, FootTrajectory, ImuData, StanceResult
+from footnav.nav.heading import turn_to_first_step
+from footnav.nav.heading_drift import TURN_ON_BIAS_STD_RADPS, heading_drift_cov, standstill_rate_std
+from footnav.nav.initial_alignment import MIN_STILL_SAMPLES, Alignment, align_first_stance
+from footnav.nav.kalman import update3_inline
+from footnav.nav.quaternion import as_matrix_nb
+from footnav.types import GRAVITY_MPS2, FootTrajectory, ImuData, StanceResult
 
 __all__ = ["MadgwickEstimator", "madgwick_imu_step", "madgwick_marg_step"]
 
@@ -209,7 +209,7 @@ def _loop(t, acc, gyr, mag, use_mag, stance, start, q0, beta, var_acc, var_da, v
             p[6 + i, 6 + i] += var_da * dt
         if stance[k]:
             # eq. 6: z = v^ - 0, H = [0 I 0], y = z - H d_eta; K = P H' (H P H' + R)^-1,
-            # P <- P - K H P (footnav.core.kalman, the ekf's kernel)
+            # P <- P - K H P (footnav.nav.kalman, the ekf's kernel)
             for i in range(3):
                 innov[i] = v[i] - de[3 + i]
             if update3_inline(p, kpy, 3, innov[0], innov[1], innov[2], var_zupt, np.inf, gain, sy, hp):
@@ -280,7 +280,7 @@ class MadgwickEstimator(FootEstimator):
         rad/s.
     heading_drift_in_std : bool
         Add the heading drift of gyro integration to ``position_std`` when there is no
-        magnetometer (:mod:`footnav.core.heading_drift`): a constant yaw-rate error with the std
+        magnetometer (:mod:`footnav.nav.heading_drift`): a constant yaw-rate error with the std
         of the initial-standstill bias estimate (the standard error of the still samples' mean
         rate; a consumer MEMS turn-on bias with ``gyro_bias="none"``) and a bias random walk of
         ``yaw_bias_walk_radps2_sqrthz``. Changes ``position_std`` only, never the estimate.
@@ -323,7 +323,7 @@ class MadgwickEstimator(FootEstimator):
         self.yaw_bias_walk_radps2_sqrthz = yaw_bias_walk_radps2_sqrthz
 
     def validate_params(self) -> None:
-        # Upper bounds (footnav.core.component): the stds and densities are squared into the
+        # Upper bounds (footnav.component): the stds and densities are squared into the
         # velocity filter's covariance (overflow at 1e308); beta is a gyro-error rate.
         require_positive(self, "acc_noise_mps2_sqrthz", "acc_error_walk_mps3_sqrthz", "init_acc_error_std_mps2", high=MAX_ACC_MPS2)
         require_positive(self, "zupt_std_mps", high=MAX_SPEED_MPS)

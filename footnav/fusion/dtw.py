@@ -18,8 +18,8 @@ footnav's reading. Both feet run in one joint filter, so the mid-swing measureme
 corrects both feet by their uncertainties instead of treating the standing foot as exact. The
 heading search turns the right foot's start about z (coarse grid, then bounded refinement) on the
 single-foot solutions decimated to ``dtw_rate_hz``. The DTW itself, the heading search and the
-pairing are :mod:`footnav.core.dtw`'s, :mod:`footnav.core.dtw_heading`'s and
-:mod:`footnav.core.dtw_average`'s; this module only resamples the feet for them
+pairing are :mod:`footnav.nav.dtw`'s, :mod:`footnav.nav.dtw_heading`'s and
+:mod:`footnav.nav.dtw_average`'s; this module only resamples the feet for them
 (:func:`feet_heading_mismatch`, :func:`feet_timeless_average`).
 """
 
@@ -30,10 +30,11 @@ from typing import ClassVar, Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from footnav.core import dtw_average, dtw_heading
-from footnav.core import quaternion as quat
-from footnav.core.component import MAX_LENGTH_M, Fusion, require, require_non_negative, require_positive
-from footnav.core.types import FootTrajectory, FusionResult, Path
+from footnav.nav import dtw_average
+from footnav.nav import dtw_heading
+from footnav.nav import quaternion as quat
+from footnav.component import MAX_LENGTH_M, Fusion, require, require_non_negative, require_positive
+from footnav.types import FootTrajectory, FusionResult, Path
 from footnav.fusion.joint import LEFT, RIGHT, finish_joint, forward_only, fuse_on_common_span, start_filter, start_joint
 
 __all__ = ["DtwFusion", "feet_heading_mismatch", "feet_timeless_average"]
@@ -56,7 +57,7 @@ def feet_heading_mismatch(
 ) -> tuple[float, float]:
     """Rotation of ``b`` about its start (rad) minimising the banded DTW distance to ``a``.
 
-    Chistyakov et al. (2021), Sec. 4 step 1, as :func:`footnav.core.dtw_heading.heading_mismatch` with
+    Chistyakov et al. (2021), Sec. 4 step 1, as :func:`footnav.nav.dtw_heading.heading_mismatch` with
     ``translation="start"``: each single-foot solution starts at its own origin, so both tracks
     are compared from their first points.
 
@@ -77,7 +78,7 @@ def feet_heading_mismatch(
     Raises
     ------
     InvalidInputError, InvalidParameterError
-        As :func:`footnav.core.dtw_heading.heading_mismatch` (bad tracks, ``band < |N - M|``, ``grid < 4``).
+        As :func:`footnav.nav.dtw_heading.heading_mismatch` (bad tracks, ``band < |N - M|``, ``grid < 4``).
     """
     found = dtw_heading.heading_mismatch(a, b, band=band, translation="start", grid=grid)
     return found.angle_rad, found.distance_m
@@ -88,7 +89,7 @@ def feet_timeless_average(left: FootTrajectory, right: FootTrajectory, band_s: f
 
     Both feet are resampled to ``rate_hz`` over their common time span (the pairing then costs
     O(N x band) at that rate, and feet sampled at different rates pair correctly), then paired
-    in 3-D by :func:`footnav.core.dtw_average.timeless_average`. The time of each midpoint is the mean of
+    in 3-D by :func:`footnav.nav.dtw_average.timeless_average`. The time of each midpoint is the mean of
     its pair's times (non-decreasing along the path): the path is "timeless" in the paper's
     sense, paired points need not be simultaneous.
 
@@ -110,7 +111,7 @@ def feet_timeless_average(left: FootTrajectory, right: FootTrajectory, band_s: f
     Raises
     ------
     InvalidInputError
-        As :func:`footnav.core.dtw_average.timeless_average`, e.g. field ``a`` empty when the feet's time
+        As :func:`footnav.nav.dtw_average.timeless_average`, e.g. field ``a`` empty when the feet's time
         spans share no sample at ``rate_hz``.
     """
     t = np.arange(max(left.t[0], right.t[0]), min(left.t[-1], right.t[-1]), 1.0 / rate_hz)

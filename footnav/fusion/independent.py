@@ -6,7 +6,7 @@ span); with one foot the path is that foot.
 
 Each foot is estimated over its own whole time span. When the feet's spans differ markedly
 (starts or ends more than 2 s or 5 % of the longer recording apart,
-:func:`footnav.core.spans.span_difference`) the fusion warns (DataQualityWarning); the spans and
+:func:`footnav.nav.spans.span_difference`) the fusion warns (DataQualityWarning); the spans and
 their differences are in ``meta["span"]`` whenever both feet are given.
 """
 
@@ -14,11 +14,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from footnav.core.component import Fusion
-from footnav.core.errors import DataQualityWarning
-from footnav.core.spans import span_difference
-from footnav.core.types import FootTrajectory, FusionResult, Path
-from footnav.core.warning_log import warn
+from footnav.component import Fusion
+from footnav.errors import DataQualityWarning
+from footnav.nav.spans import span_difference
+from footnav.types import FootTrajectory, FusionResult, Path
+from footnav.warning_log import warn
 
 __all__ = ["IndependentFusion", "midpoint_path"]
 

@@ -2,15 +2,15 @@
 
 A coupled fusion needs both feet in one nav frame. Each foot's IMU starts with its own, unknown
 heading, so :func:`start_joint` first runs each foot alone (forward filter) to find the heading
-of its first step, then starts the joint filter (:class:`~footnav.core.component.JointFilter`) with each
+of its first step, then starts the joint filter (:class:`~footnav.component.JointFilter`) with each
 foot turned so that its first step points along +x and the feet ``step_width_m`` apart across it
 (left foot at +y). :func:`finish_joint` has the estimator finish the run (its own smoothing) and
 returns both feet and their midpoint path. Fusions use only the members of
-:class:`~footnav.core.component.StepableEstimator` and :class:`~footnav.core.component.JointFilter`,
+:class:`~footnav.component.StepableEstimator` and :class:`~footnav.component.JointFilter`,
 so any estimator that implements them runs with every coupled fusion.
 
 :func:`fuse_on_common_span` is what every coupled fusion's ``fuse`` is: the feet cut to their
-common time span (:func:`footnav.core.spans.common_span`; refused with InvalidInputError when
+common time span (:func:`footnav.nav.spans.common_span`; refused with InvalidInputError when
 they share less than 3 s), fused there, and each foot's samples outside that span filled with
 the foot estimated alone (the estimator on the whole foot), turned and moved rigidly so that it
 continues the fused foot at the span's edge (for the start: at the fused estimate's first
@@ -25,13 +25,13 @@ from typing import Any
 
 import numpy as np
 
-from footnav.core import quaternion as quat
-from footnav.core.component import JOINT_FILTER_MEMBERS, JointFilter, require_stepable
-from footnav.core.errors import CompositionError, DataQualityWarning, InvalidInputError
-from footnav.core.final_rest import final_rest
-from footnav.core.spans import FootCut, common_span, slice_stance
-from footnav.core.types import FootTrajectory, FusionResult, ImuData, StanceResult
-from footnav.core.warning_log import warn
+from footnav.nav import quaternion as quat
+from footnav.component import JOINT_FILTER_MEMBERS, JointFilter, require_stepable
+from footnav.errors import CompositionError, DataQualityWarning, InvalidInputError
+from footnav.nav.final_rest import final_rest
+from footnav.nav.spans import FootCut, common_span, slice_stance
+from footnav.types import FootTrajectory, FusionResult, ImuData, StanceResult
+from footnav.warning_log import warn
 from footnav.fusion.independent import midpoint_path
 
 __all__ = ["check_two_feet", "close_loops", "closing_time", "finish_joint", "forward_only", "fuse_on_common_span", "require_stepable", "start_joint"]
@@ -100,7 +100,7 @@ def start_filter(
         missing = [m for m in JOINT_FILTER_MEMBERS if not hasattr(filt, m)]
         raise CompositionError(
             f"estimator {estimator.name!r}: start() returned a {type(filt).__name__}, which lacks {', '.join(missing)} "
-            "of footnav.core.component.JointFilter (what coupled fusions drive)"
+            "of footnav.component.JointFilter (what coupled fusions drive)"
         )
     return filt
 
@@ -116,7 +116,7 @@ def closing_time(estimator: Any, imus: Sequence[ImuData], stances: Sequence[Stan
 def close_loops(estimator: Any, filt: JointFilter, imus: Sequence[ImuData], stances: Sequence[StanceResult]) -> dict | None:
     """With the estimator's ``closed_loop``, each foot's start position as a measurement at its
     final standstill (Chistyakov et al. 2021, Alg. 1, here inside the two-foot filter of Alg. 2),
-    in time order; the final rest is checked (:func:`footnav.core.final_rest.final_rest`).
+    in time order; the final rest is checked (:func:`footnav.nav.final_rest.final_rest`).
     Returns what was applied (for meta), or None without ``closed_loop``."""
     if not getattr(estimator, "closed_loop", False):
         return None

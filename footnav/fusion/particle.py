@@ -116,11 +116,11 @@ from typing import ClassVar
 import numpy as np
 from numpy.typing import NDArray
 
-from footnav.core import quaternion as quat
-from footnav.core.component import MAX_LENGTH_M, Fusion, require, require_in_range, require_non_negative
-from footnav.core.errors import CompositionError
-from footnav.core.initial_alignment import align_first_stance
-from footnav.core.types import FootTrajectory, FusionResult
+from footnav.nav import quaternion as quat
+from footnav.component import MAX_LENGTH_M, Fusion, require, require_in_range, require_non_negative
+from footnav.errors import CompositionError
+from footnav.nav.initial_alignment import align_first_stance
+from footnav.types import FootTrajectory, FusionResult
 from footnav.fusion.independent import midpoint_path
 from footnav.fusion.joint import LEFT, RIGHT, closing_time, finish_joint, forward_only, fuse_on_common_span, start_joint
 from footnav.fusion.particle_cloud import (
@@ -159,7 +159,7 @@ _PAPER_NOISE_DEFAULTS = {
 
 
 def _yaw(q: NDArray[np.float64]) -> float:
-    """ZYX yaw of the quaternion [w, x, y, z], rad (as :func:`footnav.core.quaternion.yaw`)."""
+    """ZYX yaw of the quaternion [w, x, y, z], rad (as :func:`footnav.nav.quaternion.yaw`)."""
     w, x, y, z = q
     return math.atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
 

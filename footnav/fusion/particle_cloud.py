@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-from footnav.core._numba import njit  # numba.njit that survives a read-only install
+from footnav._numba import njit  # numba.njit that survives a read-only install
 
 __all__ = ["systematic_resample", "offset_rayleigh", "gaussian_sum", "mixture_mean", "equivalent_measurement"]
 

@@ -8,7 +8,7 @@ every other error state is in an EKF (eq. 3)::
 No heading error and no gyro bias state: ZUPTs do not observe them (Sec. 3.1); the gyro bias is
 the mean rate of the first standstill. Per sample (Algorithm 1):
 
-* INS mechanization (eq. 4; :func:`footnav.core.mechanization.strapdown_step`);
+* INS mechanization (eq. 4; :func:`footnav.nav.mechanization.strapdown_step`);
 * ``P = Phi P Phi' + Q`` with Phi of eq. 6: ``dp_z' = dp_z + dv_z dt``,
   ``dv' = dv + [f^n x]_{3x2} dphi dt - C_b^n db_a dt``, the rest constant. The bias term's sign
   is footnav's convention (``db = b^ - b``, ``dv = v^ - v``, ``C^ = (I - [dphi x]) C``);
@@ -31,10 +31,10 @@ import math
 import numpy as np
 from numpy.typing import NDArray
 
-from footnav.core._numba import njit  # numba.njit that survives a read-only install
-from footnav.core.kalman import sym3_inverse
-from footnav.core.mechanization import strapdown_step
-from footnav.core.quaternion import as_matrix_nb, from_rotvec_nb, multiply_nb, normalize_nb
+from footnav._numba import njit  # numba.njit that survives a read-only install
+from footnav.nav.kalman import sym3_inverse
+from footnav.nav.mechanization import strapdown_step
+from footnav.nav.quaternion import as_matrix_nb, from_rotvec_nb, multiply_nb, normalize_nb
 
 __all__ = ["N_STATES", "PZ", "VEL", "ATT", "ACC_BIAS", "PaperFoot", "drift_scales"]
 

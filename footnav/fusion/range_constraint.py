@@ -17,8 +17,8 @@ from typing import ClassVar, Literal
 
 import numpy as np
 
-from footnav.core.component import MAX_DURATION_S, MAX_LENGTH_M, Fusion, is_number, require, require_positive
-from footnav.core.types import FusionResult
+from footnav.component import MAX_DURATION_S, MAX_LENGTH_M, Fusion, is_number, require, require_positive
+from footnav.types import FusionResult
 from footnav.fusion.joint import LEFT, RIGHT, closing_time, finish_joint, fuse_on_common_span, start_joint
 
 __all__ = ["RangeConstraintFusion"]
@@ -68,7 +68,7 @@ class RangeConstraintFusion(Fusion):
         self.step_width_m = step_width_m
 
     def validate_params(self) -> None:
-        # Upper bounds (footnav.core.component): lengths are squared into the update's
+        # Upper bounds (footnav.component): lengths are squared into the update's
         # covariance; a check interval longer than a minute never checks a walk.
         require_positive(self, "max_separation_m", "constraint_std_m", high=MAX_LENGTH_M)
         require_positive(self, "check_interval_s", high=MAX_DURATION_S)

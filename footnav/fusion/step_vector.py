@@ -40,7 +40,7 @@ and stays right with a sensor mounted askew on the shoe):
     shoe turns the step vector.
 ``calibration``
     ``"standstill"``: the accelerometer scale of Sec. II-A
-    (:func:`footnav.core.calibration.calibrate_at_rest`) from each foot's first stance, applied
+    (:func:`footnav.nav.calibration.calibrate_at_rest`) from each foot's first stance, applied
     before the fusion; the gyro bias of Sec. II-A is the estimator's (``ekf``'s
     ``gyro_bias="initial-standstill"``). ``"none"`` (default): the data as given.
 
@@ -59,9 +59,9 @@ from typing import ClassVar
 
 import numpy as np
 
-from footnav.core import quaternion as quat
-from footnav.core.calibration import calibrate_at_rest
-from footnav.core.component import (
+from footnav.nav import quaternion as quat
+from footnav.nav.calibration import calibrate_at_rest
+from footnav.component import (
     MAX_DURATION_S,
     MAX_LENGTH_M,
     Fusion,
@@ -70,9 +70,9 @@ from footnav.core.component import (
     require_non_negative,
     require_positive,
 )
-from footnav.core.errors import CompositionError, DataQualityWarning, InvalidInputError
-from footnav.core.types import FusionResult, ImuData, StanceResult
-from footnav.core.warning_log import warn
+from footnav.errors import CompositionError, DataQualityWarning, InvalidInputError
+from footnav.types import FusionResult, ImuData, StanceResult
+from footnav.warning_log import warn
 from footnav.fusion.joint import (
     LEFT,
     RIGHT,
@@ -263,7 +263,7 @@ class StepVectorFusion(Fusion):
         self.heel_strike_before_stance_s = heel_strike_before_stance_s
 
     def validate_params(self) -> None:
-        # Upper bounds (footnav.core.component): lengths and their stds are squared into the
+        # Upper bounds (footnav.component): lengths and their stds are squared into the
         # step update's covariance (overflow at 1e308); a turn threshold above a full turn
         # never fires.
         for name, choices in (("step_length", STEP_LENGTHS), ("relative_frame", RELATIVE_FRAMES), ("calibration", CALIBRATIONS)):

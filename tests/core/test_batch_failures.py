@@ -15,10 +15,10 @@ import pytest
 import footnav
 from footnav import CompositionError, StanceDetector
 from footnav.cli import main
-from footnav.core.batch import evaluate_many
-from footnav.core.datasets import DATA_ENV, load_dataset
-from footnav.core.errors import DataNotFoundError, FootnavWarning, UnknownDatasetError
-from footnav.core.evaluation import EvaluationFailure, evaluate
+from footnav.analysis.batch import evaluate_many
+from footnav.data.datasets import DATA_ENV, load_dataset
+from footnav.errors import DataNotFoundError, FootnavWarning, UnknownDatasetError
+from footnav.analysis.evaluation import EvaluationFailure, evaluate
 from footnav.plugins.manager import build_registry, reset_registry
 
 HAS_DASK = importlib.util.find_spec("dask") is not None and importlib.util.find_spec("distributed") is not None

@@ -7,9 +7,9 @@ import pytest
 
 import footnav
 from footnav import DataQualityWarning, InvalidInputError, InvalidParameterError
-from footnav.core.clock_from_data import align_from_data
-from footnav.core.clock_sync import ClockMap, apply_clock, fit_clock
-from footnav.core.types import ImuData
+from footnav.nav.clock_from_data import align_from_data
+from footnav.nav.clock_sync import ClockMap, apply_clock, fit_clock
+from footnav.types import ImuData
 
 # -- seed 002's linear programs --------------------------------------------------------------------
 
@@ -164,7 +164,7 @@ def test_envelope_alone_is_only_good_to_half_a_stride():
     stride before the other, so the envelopes' correlation is off by up to half a stride
     (measured 0.41 s here, 0.54 s on 300 m walks, 0 on this 60.2 m walk)."""
     rec = footnav.simulate("straight", seed=0, distance_m=AMBIGUOUS_M, clock_offset_s=7.3456)
-    from footnav.core.clock_from_data import _Correlation, _energy
+    from footnav.nav.clock_from_data import _Correlation, _energy
 
     g_ref = np.arange(rec.left.t[0], rec.left.t[-1], 0.01)
     g_oth = np.arange(rec.right.t[0], rec.right.t[-1], 0.01)

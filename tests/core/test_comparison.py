@@ -3,7 +3,7 @@ import pytest
 
 import footnav
 from footnav.cli import main
-from footnav.core.comparison import compare_detectors
+from footnav.analysis.comparison import compare_detectors
 from footnav.detectors.threshold import ThresholdDetector
 
 
@@ -17,7 +17,7 @@ def test_rows_match_direct_metrics(walk):
     cmp = compare_detectors(walk, [("default", ThresholdDetector()), ("loose", loose)])
     rep = cmp.report
     stance = loose.detect(walk.left)
-    scores = footnav.core.metrics.sample_scores(stance.mask, walk.truth_left.stance)
+    scores = footnav.analysis.metrics.sample_scores(stance.mask, walk.truth_left.stance)
     assert rep.value("f1", "left", pipeline="loose") == pytest.approx(scores.f1)
     assert rep.value("steps_missed", "left", pipeline="default") == 0
     np.testing.assert_array_equal(cmp.stances["loose"][0].mask, stance.mask)
@@ -57,7 +57,7 @@ def test_cli_compare_detectors_needs_one_source(capsys):
 
 
 def test_a_detector_that_fails_is_reported_not_fatal(walk):
-    from footnav.core.errors import InvalidInputError
+    from footnav.errors import InvalidInputError
 
     class Refuses(ThresholdDetector):
         name = "refuses"

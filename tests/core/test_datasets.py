@@ -2,8 +2,8 @@ import pytest
 
 from footnav import DataNotFoundError
 from footnav.cli import main
-from footnav.core.datasets import data_dir, dataset_names, load_dataset
-from footnav.core.errors import UnknownDatasetError
+from footnav.data.datasets import data_dir, dataset_names, load_dataset
+from footnav.errors import UnknownDatasetError
 
 
 def test_missing_data_folder_says_where_it_looked(tmp_path):

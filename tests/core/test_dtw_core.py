@@ -1,4 +1,4 @@
-"""footnav.core.dtw, dtw_heading and dtw_average against hand-computed cases, a textbook full-matrix DTW and dtaidistance.
+"""footnav.nav.dtw, dtw_heading and dtw_average against hand-computed cases, a textbook full-matrix DTW and dtaidistance.
 
 dtaidistance conventions (used only here, as an independent reference):
 ``dtw_ndim.distance`` sums *squared* Euclidean point costs and returns the square root of the sum
@@ -16,10 +16,10 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import footnav
-from footnav.core.dtw import dtw_align
-from footnav.core.dtw_average import AveragedPath, timed_average, timeless_average
-from footnav.core.dtw_heading import heading_mismatch
-from footnav.core.errors import InvalidInputError, InvalidParameterError
+from footnav.nav.dtw import dtw_align
+from footnav.nav.dtw_average import AveragedPath, timed_average, timeless_average
+from footnav.nav.dtw_heading import heading_mismatch
+from footnav.errors import InvalidInputError, InvalidParameterError
 
 EXACT = 1e-12
 

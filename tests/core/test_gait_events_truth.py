@@ -28,8 +28,8 @@ import numpy as np
 import pytest
 
 import footnav
-from footnav.core.strides import stride_parameters
-from footnav.core.types import FootTrajectory
+from footnav.nav.strides import stride_parameters
+from footnav.types import FootTrajectory
 
 WINDOWED = ["threshold", "adaptive", "glrt", "acc-magnitude", "acc-variance", "ared"]
 EDGE_TOL_S = 0.03

@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from footnav.core import quaternion as quat
-from footnav.core.heading import heading_of_first_step, rotate_about_z, turn_to_first_step
+from footnav.nav import quaternion as quat
+from footnav.nav.heading import heading_of_first_step, rotate_about_z, turn_to_first_step
 
 
 def _solution(rng, n=50):

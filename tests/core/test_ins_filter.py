@@ -6,7 +6,7 @@ import reference_kalman as kalman  # tests/reference_kalman.py, the dense refere
 
 import footnav
 from footnav import StanceResult
-from footnav.core import quaternion as quat
+from footnav.nav import quaternion as quat
 from footnav.estimators.ekf import EkfEstimator
 from footnav.estimators.ekf import filter as ekf_filter
 from footnav.estimators.ekf.kernels import predict_cov

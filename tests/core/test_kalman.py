@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 import reference_kalman as kalman  # tests/reference_kalman.py
 
-from footnav.core.kalman import update3
+from footnav.nav.kalman import update3
 
 filterpy_kalman = pytest.importorskip("filterpy.kalman")
 

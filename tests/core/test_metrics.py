@@ -1,4 +1,4 @@
-"""Tests of footnav.core.metrics: hand-computed cases (arithmetic in the comments), properties
+"""Tests of footnav.analysis.metrics: hand-computed cases (arithmetic in the comments), properties
 (hypothesis) and, for the DTW distance, a cross-check against dtaidistance."""
 
 from __future__ import annotations
@@ -10,9 +10,9 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from footnav.core.dtw import dtw_align
-from footnav.core.errors import DataQualityWarning, InvalidInputError, InvalidParameterError
-from footnav.core.metrics import (
+from footnav.nav.dtw import dtw_align
+from footnav.errors import DataQualityWarning, InvalidInputError, InvalidParameterError
+from footnav.analysis.metrics import (
     DtwResult,
     ate_rmse,
     dtw_distance,
@@ -421,7 +421,7 @@ def test_event_timing_error_hand_computed():
 
 
 def test_step_detection_from_events_hand_case():
-    from footnav.core.metrics import step_detection_from_events
+    from footnav.analysis.metrics import step_detection_from_events
 
     #            stance phases: [2,5) [10,14) [20,22) [30,35)   [40,45)
     mask = np.zeros(50, dtype=bool)

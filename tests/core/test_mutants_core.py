@@ -9,9 +9,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from footnav.core import quaternion as quat
-from footnav.core.mechanization import strapdown
-from footnav.core.types import ImuData, StanceResult
+from footnav.nav import quaternion as quat
+from footnav.nav.mechanization import strapdown
+from footnav.types import ImuData, StanceResult
 
 G = 9.80665  # m/s^2, written out: not read from the library
 
@@ -71,7 +71,7 @@ def test_strapdown_integrates_a_linear_force_exactly():
     [(0.079, 100.0, 7), (0.08, 100.0, 9), (0.069, 100.0, 7), (0.04, 1 / 0.01, 5), (0.05, 200.0, 11), (0.059, 200.0, 11)],
 )
 def test_window_is_the_nearest_odd_sample_count(window_s, rate_hz, expected):
-    from footnav.core.windows import window_samples
+    from footnav.nav.windows import window_samples
 
     assert window_samples(window_s, rate_hz, 10_000) == expected
 
@@ -79,8 +79,8 @@ def test_window_is_the_nearest_odd_sample_count(window_s, rate_hz, expected):
 # align-start-boundary: a first stance that starts at sample 1 is a recording that does not start
 # at standstill: warned, and the estimate starts there
 def test_first_stance_at_sample_one_is_reported():
-    from footnav.core.errors import DataQualityWarning
-    from footnav.core.initial_alignment import align_first_stance
+    from footnav.errors import DataQualityWarning
+    from footnav.nav.initial_alignment import align_first_stance
 
     n = 300
     imu = _imu(np.arange(n) / 100.0, np.tile([0.0, 0.0, G], (n, 1)), np.zeros((n, 3)))
@@ -97,7 +97,7 @@ def test_first_stance_at_sample_one_is_reported():
 # J v = [-v_y, v_x]. Walking at 1 m/s along the diagonal (1, 1)/sqrt(2), dpsi = b t, so at T the
 # position error is b T^2 / 2 along (-1, 1)/sqrt(2): var_xx = var_yy = -cov_xy = (s T^2 / 2)^2 / 2
 def test_heading_drift_covariance_of_a_diagonal_walk():
-    from footnav.core.heading_drift import heading_drift_cov
+    from footnav.nav.heading_drift import heading_drift_cov
 
     t = np.arange(1001) / 100.0
     vel = np.tile([np.sqrt(0.5), np.sqrt(0.5), 0.0], (len(t), 1))
@@ -126,7 +126,7 @@ def _gait(rate_hz, swing_centres_s, duration_s, *, acc_swing=True, extra=()):
 # check-over-swing-unfiltered: gyro peaks without the swing's acceleration (turning on the spot)
 # are not swings, so a stance there is not reported as a stance in a swing
 def test_turning_without_swinging_is_no_stance_in_a_swing():
-    from footnav.core.stance_check import check_stances
+    from footnav.nav.stance_check import check_stances
 
     imu = _gait(100.0, [1.0, 2.0, 3.0, 4.0, 5.0], 6.0, acc_swing=False)
     check = check_stances(imu, StanceResult(np.ones(imu.n_samples, bool)))
@@ -135,7 +135,7 @@ def test_turning_without_swinging_is_no_stance_in_a_swing():
 
 # check-missed-time: a gait cycle without stance is reported at the midpoint of its two swing peaks
 def test_missed_stances_are_reported_between_the_swing_peaks():
-    from footnav.core.stance_check import check_stances
+    from footnav.nav.stance_check import check_stances
 
     imu = _gait(100.0, [1.0, 2.0, 3.0, 4.0, 5.0], 6.0)
     check = check_stances(imu, StanceResult(np.zeros(imu.n_samples, bool)))
@@ -144,7 +144,7 @@ def test_missed_stances_are_reported_between_the_swing_peaks():
 
 # check-suspicious-boundary: "at least max(2, 5 %) of the gait cycles"
 def test_two_bad_cycles_of_ten_are_suspicious_and_one_is_not():
-    from footnav.core.stance_check import StanceCheck
+    from footnav.nav.stance_check import StanceCheck
 
     def check(missed):
         return StanceCheck(n_cycles=10, n_stances=10, missed_s=np.array(missed), over_swing_s=np.array([]), stride_s=1.0)
@@ -156,7 +156,7 @@ def test_two_bad_cycles_of_ten_are_suspicious_and_one_is_not():
 # gait-stride-mean, gait-no-max-stride: the stride time is the median of the peak intervals
 # shorter than max_stride_s (a pause is not a stride)
 def test_stride_time_is_the_median_of_intervals_without_pauses():
-    from footnav.core.gait_cycles import swing_peaks
+    from footnav.nav.gait_cycles import swing_peaks
 
     centres = [1.0, 2.0, 3.0, 4.0, 5.3, 9.3, 13.3]  # intervals 1, 1, 1, 1.3, then two 4 s pauses
     peaks = swing_peaks(_gait(100.0, centres, 14.5).gyr, 100.0)
@@ -167,7 +167,7 @@ def test_stride_time_is_the_median_of_intervals_without_pauses():
 # gait-distance-min: once the stride time is known, peaks closer than stride_fraction of it are
 # one swing (the larger kept); a second bump 0.4 s after a swing in one of six strides is dropped
 def test_a_second_bump_within_a_stride_is_not_a_swing():
-    from footnav.core.gait_cycles import swing_peaks
+    from footnav.nav.gait_cycles import swing_peaks
 
     centres = [1.0, 2.0, 3.0, 4.0, 5.0, 6.0]
     imu = _gait(100.0, centres, 7.0, extra=[(3.4, 6.0, 0.2)])
@@ -178,8 +178,8 @@ def test_a_second_bump_within_a_stride_is_not_a_swing():
 # strides-dt-prepend: sample k's share of the time is t[k+1] - t[k]; with uneven sampling the swing
 # of samples 2 and 3 lasts from t[2] to t[4] (the first stance sample after it)
 def test_swing_time_with_uneven_sampling():
-    from footnav.core.strides import stride_parameters
-    from footnav.core.types import FootTrajectory
+    from footnav.nav.strides import stride_parameters
+    from footnav.types import FootTrajectory
 
     t = np.array([0.0, 0.1, 0.3, 0.6, 1.0, 1.5])
     n = len(t)
@@ -194,7 +194,7 @@ def test_swing_time_with_uneven_sampling():
 # metrics-rmse-mean: ATE is a root mean square. Errors 1, 1, 0, 0 m after the best fit (identity:
 # the cross-covariance is diag(4, 8)) give sqrt(1/2), not their mean 1/2
 def test_ate_is_a_root_mean_square():
-    from footnav.core.metrics import ate_rmse
+    from footnav.analysis.metrics import ate_rmse
 
     ref = np.array([[-1.0, 0.0], [1.0, 0.0], [0.0, -2.0], [0.0, 2.0]])
     est = np.array([[-2.0, 0.0], [2.0, 0.0], [0.0, -2.0], [0.0, 2.0]])
@@ -203,7 +203,7 @@ def test_ate_is_a_root_mean_square():
 
 # metrics-waypoint-radius: a pass at exactly radius_m counts
 def test_a_pass_at_exactly_the_radius_counts():
-    from footnav.core.metrics import waypoint_errors
+    from footnav.analysis.metrics import waypoint_errors
 
     x = np.linspace(-3.0, 3.0, 61)
     ref = np.column_stack([x, np.ones_like(x)])
@@ -213,7 +213,7 @@ def test_a_pass_at_exactly_the_radius_counts():
 
 # metrics-deviation-min-distance: the ratio counts samples with s_k >= min_distance_m
 def test_deviation_ratio_includes_the_minimum_distance():
-    from footnav.core.metrics import max_deviation
+    from footnav.analysis.metrics import max_deviation
 
     ref = np.array([[0.0, 0.0], [1.0, 0.0], [2.0, 0.0]])
     est = np.array([[0.0, 0.0], [1.0, 0.5], [2.0, 0.1]])
@@ -223,8 +223,8 @@ def test_deviation_ratio_includes_the_minimum_distance():
 
 # metrics-interp-duplicates: times must increase strictly
 def test_interpolation_refuses_repeated_times():
-    from footnav.core.errors import InvalidInputError
-    from footnav.core.metrics import interpolate_positions
+    from footnav.errors import InvalidInputError
+    from footnav.analysis.metrics import interpolate_positions
 
     with pytest.raises(InvalidInputError):
         interpolate_positions([0.0, 1.0, 1.0, 2.0], np.zeros((4, 3)), [0.5])
@@ -233,7 +233,7 @@ def test_interpolation_refuses_repeated_times():
 # metrics-distance-3d: the start heading comes from the first distance_m walked horizontally; a
 # climb straight up first (stairs, a lift) does not count
 def test_start_heading_uses_horizontal_distance():
-    from footnav.core.metrics import align_at_start
+    from footnav.analysis.metrics import align_at_start
 
     climb = np.column_stack([np.zeros(11), np.zeros(11), np.linspace(0.0, 3.0, 11)])
     s = np.linspace(0.2, 4.0, 20)
@@ -244,7 +244,7 @@ def test_start_heading_uses_horizontal_distance():
 
 # dtw-tie-break: among equal accumulated costs the diagonal step wins (the path with fewest pairs)
 def test_dtw_prefers_the_diagonal_on_ties():
-    from footnav.core.dtw import dtw_align
+    from footnav.nav.dtw import dtw_align
 
     res = dtw_align(np.zeros((3, 1)), np.zeros((3, 1)), return_path=True)
     np.testing.assert_array_equal(res.path, [[0, 0], [1, 1], [2, 2]])

@@ -12,9 +12,9 @@ import pytest
 from test_ins_filter import _reference_forward
 
 import footnav
-from footnav.core import quaternion as quat
+from footnav.nav import quaternion as quat
 from footnav.estimators.ekf.smoother import smooth
-from footnav.core.types import StanceResult, stance_intervals
+from footnav.types import StanceResult, stance_intervals
 from footnav.estimators.ekf import EkfEstimator
 
 

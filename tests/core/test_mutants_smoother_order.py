@@ -34,7 +34,7 @@ import pytest
 
 import footnav
 from footnav import StanceResult
-from footnav.core import quaternion as quat
+from footnav.nav import quaternion as quat
 from footnav.estimators.ekf import EkfEstimator
 from footnav.estimators.ekf.smoother import smooth
 

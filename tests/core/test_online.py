@@ -1,4 +1,4 @@
-"""Online mode (footnav.core.online): a recording pushed in chunks gives the offline causal run."""
+"""Online mode (footnav.pipeline.online): a recording pushed in chunks gives the offline causal run."""
 
 from __future__ import annotations
 
@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 import footnav
-from footnav.core import online_foot
-from footnav.core.errors import CompositionError, InvalidInputError
+from footnav.pipeline import online_foot
+from footnav.errors import CompositionError, InvalidInputError
 
 #: Step-wise smoothing: the offline run the online one must reproduce.
 STEP = {"smoother": "step"}
@@ -125,8 +125,8 @@ def test_clock_skewed_feet_in_chunks_of_different_sizes(walk):
 def test_a_clock_map_from_exchanges_puts_the_right_foot_on_the_master_clock():
     """Offset and drift, mapped by the ClockMap of the simulator's message exchanges: the stream
     gives the offline run of the same map (the sync stage), sample for sample."""
-    from footnav.core.clock_sync import fit_clock
-    from footnav.core.sync import ClockSync
+    from footnav.nav.clock_sync import fit_clock
+    from footnav.pipeline.sync import ClockSync
 
     rec = footnav.simulate("straight", seed=2, distance_m=15.0, clock_offset_s=40.0, clock_drift_ppm=300.0, clock_exchanges=40)
     ex = rec.meta["clock_exchanges"]
@@ -154,7 +154,7 @@ def test_a_silent_foot_holds_steps_at_most_max_wait(walk):
 
 
 def test_shared_recordings(shared_data):
-    from footnav.core.datasets import load_dataset
+    from footnav.data.datasets import load_dataset
 
     pipe = footnav.make_pipeline("glrt", "ekf", "independent", estimator_params=STEP)
     for name in ("azure_fgo", "gaitmap", "ipol_1-1", "pyshoe_2017-11-22-11-22-03"):

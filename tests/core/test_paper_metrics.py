@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import footnav
-from footnav.core import metrics
+from footnav.analysis import metrics
 
 
 def _turn(p, yaw):

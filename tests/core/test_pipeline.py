@@ -104,7 +104,7 @@ def test_what_the_fusion_computed_comes_back_with_the_run(walk, fusion, tmp_path
     assert res.meta["fusion"] == direct
     counts = {"range": "checks", "step-vector": "updates"}[fusion]
     assert res.meta["fusion"][counts] > 0  # a 10 m walk has steps to check or update at
-    from footnav.core.results import write_results
+    from footnav.data.results import write_results
     import json
 
     out = write_results(res, tmp_path / "out")

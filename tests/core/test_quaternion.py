@@ -6,7 +6,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.spatial.transform import Rotation
 
-from footnav.core import quaternion as quat
+from footnav.nav import quaternion as quat
 
 
 def _wxyz(r: Rotation) -> np.ndarray:

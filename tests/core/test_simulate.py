@@ -8,10 +8,10 @@ import time
 import numpy as np
 import pytest
 
-from footnav.core import quaternion as quat
-from footnav.core.errors import InvalidParameterError
-from footnav.core.simulate import PHASE_NAMES, simulate
-from footnav.core.types import GRAVITY_MPS2, FootTruth, ImuData, Recording, stance_intervals
+from footnav.nav import quaternion as quat
+from footnav.errors import InvalidParameterError
+from footnav.data.simulate import PHASE_NAMES, simulate
+from footnav.types import GRAVITY_MPS2, FootTruth, ImuData, Recording, stance_intervals
 
 G_N = np.array([0.0, 0.0, -GRAVITY_MPS2])
 SHORT = {"distance_m": 6.0, "standstill_s": 1.0}
@@ -47,7 +47,7 @@ def _qmul(p, q):
 
 
 def _qrot(q, v):
-    """C_b^n(q) v, written out independently of footnav.core.quaternion."""
+    """C_b^n(q) v, written out independently of footnav.nav.quaternion."""
     w, x, y, z = q
     return (
         (1 - 2 * (y * y + z * z)) * v[0] + 2 * (x * y - w * z) * v[1] + 2 * (x * z + w * y) * v[2],

@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 
 import footnav
-from footnav.core.errors import DataNotFoundError, DataQualityWarning
-from footnav.core.stance_check import check_stances
-from footnav.core.types import StanceResult
+from footnav.errors import DataNotFoundError, DataQualityWarning
+from footnav.nav.stance_check import check_stances
+from footnav.types import StanceResult
 from footnav.detectors.adaptive import AdaptiveDetector
 from footnav.detectors.threshold import ThresholdDetector
 
@@ -55,7 +55,7 @@ def test_a_simulated_walk_passes_quietly():
 
 
 def test_a_strict_detector_on_real_running_is_named():
-    from footnav.core.datasets import load_dataset
+    from footnav.data.datasets import load_dataset
 
     try:
         rec = load_dataset("pyshoe_2017-11-27-11-13-41")

@@ -10,10 +10,10 @@ import numpy as np
 import pytest
 
 import footnav
-from footnav.core import quaternion as quat
-from footnav.core.errors import FootnavError, InvalidInputError
-from footnav.core.strides import STRIDE_COLUMNS, mid_stances, stride_parameters
-from footnav.core.types import FootTrajectory
+from footnav.nav import quaternion as quat
+from footnav.errors import FootnavError, InvalidInputError
+from footnav.nav.strides import STRIDE_COLUMNS, mid_stances, stride_parameters
+from footnav.types import FootTrajectory
 
 
 def _trajectory(t, pos, q) -> FootTrajectory:
@@ -59,7 +59,7 @@ def test_hand_computed_walk():
 
 
 def test_turn_is_wrapped_to_minus_pi_exclusive():
-    from footnav.core.strides import _turn
+    from footnav.nav.strides import _turn
 
     q0 = quat.from_yaw(np.zeros(3))
     np.testing.assert_allclose(_turn(q0, quat.from_yaw(np.array([np.pi, -np.pi, 3 * np.pi / 2]))), [np.pi, np.pi, -np.pi / 2])
@@ -129,7 +129,7 @@ def test_without_pandas_strides_is_a_structured_array_and_to_dataframe_says_how_
 
 
 def test_write_results_writes_strides_csv(straight, tmp_path):
-    from footnav.core.results import write_results
+    from footnav.data.results import write_results
 
     _, res = straight
     out = write_results(res, tmp_path / "out")
@@ -161,7 +161,7 @@ def mocap_stride_errors(rec, res, tolerance_s: float = 0.4):
 
 
 def test_gaitmap_example_stride_length_against_motion_capture(shared_data):
-    from footnav.core.datasets import load_dataset
+    from footnav.data.datasets import load_dataset
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # clipping and stance checks are recorded in meta

@@ -1,4 +1,4 @@
-"""The clock-synchronisation stage (footnav.core.sync): both feet on one clock before detection.
+"""The clock-synchronisation stage (footnav.pipeline.sync): both feet on one clock before detection.
 
 References: the simulator's true clock (its right foot's stamps are ``(1 + drift) t + offset`` of
 true time t, the left foot's are true time), and the same walk simulated without the offset.
@@ -11,10 +11,10 @@ import pytest
 
 import footnav
 from footnav.cli import main
-from footnav.core.errors import CompositionError, InvalidInputError, InvalidParameterError
-from footnav.core.io.footnav_csv import write_footnav_csv
-from footnav.core.pipeline import load_pipeline, make_pipeline
-from footnav.core.sync import ClockSync, synchronise
+from footnav.errors import CompositionError, InvalidInputError, InvalidParameterError
+from footnav.data.io.footnav_csv import write_footnav_csv
+from footnav.pipeline.factory import load_pipeline, make_pipeline
+from footnav.pipeline.sync import ClockSync, synchronise
 
 OFFSET_S = 0.35
 DRIFT_PPM = 80.0
@@ -31,7 +31,7 @@ def walks():
 def test_data_sync_maps_the_right_foot_onto_true_time(walks):
     on_time, offset = walks
     assert np.abs(offset.right.t - on_time.right.t).max() > 0.3  # the premise: the clocks differ
-    # the simulator's walker sets off with the right foot (footnav.core.clock_sync's example)
+    # the simulator's walker sets off with the right foot (footnav.nav.clock_sync's example)
     synced, _ = synchronise(offset, ClockSync("data", drift=True, leading_foot="right"))
     err = np.abs(synced.right.t - on_time.right.t)
     assert err.max() < 0.005, err.max()  # half a 100 Hz sample

@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 import footnav
-from footnav.core import metrics
-from footnav.core.errors import DataNotFoundError, InvalidParameterError
-from footnav.core.types import GRAVITY_MPS2, ImuData
+from footnav.analysis import metrics
+from footnav.errors import DataNotFoundError, InvalidParameterError
+from footnav.types import GRAVITY_MPS2, ImuData
 from footnav.detectors.adaptive import AdaptiveDetector
 from footnav.detectors.threshold import ThresholdDetector
 
@@ -58,7 +58,7 @@ RUNNING = ["2017-11-27-11-11-53", "2017-11-27-11-13-41", "2017-11-27-11-18-11", 
 
 @pytest.mark.parametrize("trial", RUNNING)
 def test_real_running_trials_within_30_cm(trial):
-    from footnav.core.datasets import load_dataset
+    from footnav.data.datasets import load_dataset
 
     try:
         rec = load_dataset(f"pyshoe_{trial}")
@@ -107,7 +107,7 @@ def test_any_mounting(mounting):
 
 
 def _shared_names(prefix: str) -> list[str]:
-    from footnav.core.datasets import data_dir, dataset_names
+    from footnav.data.datasets import data_dir, dataset_names
 
     try:
         root = data_dir()
@@ -118,7 +118,7 @@ def _shared_names(prefix: str) -> list[str]:
 
 @pytest.mark.filterwarnings("ignore::footnav.DataQualityWarning")  # IPOL's packet loss and left-foot scale, in meta
 def test_ipol_hand_checked_steps():
-    from footnav.core.datasets import load_dataset
+    from footnav.data.datasets import load_dataset
 
     found = detected = reference = 0
     for name in _shared_names("ipol_"):
@@ -136,7 +136,7 @@ def test_ipol_hand_checked_steps():
 
 
 def test_gaitdriven_every_footprint_within_a_metre():
-    from footnav.core.datasets import load_dataset
+    from footnav.data.datasets import load_dataset
 
     for name in _shared_names("gaitdriven_"):
         rec = load_dataset(name)

@@ -6,7 +6,7 @@ import pytest
 
 import footnav
 from footnav import CompositionError, InvalidInputError
-from footnav.core import metrics
+from footnav.analysis import metrics
 from footnav.detectors.dual_gait import DualGaitDetector
 from footnav.testing import DetectorContract
 
@@ -69,7 +69,7 @@ def test_all_standstill_gives_one_stance_and_no_heel_strike():
 
 
 def test_gaitmap_strides_and_heel_strike_timing(shared_data):
-    from footnav.core.datasets import load_dataset
+    from footnav.data.datasets import load_dataset
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", footnav.DataQualityWarning)

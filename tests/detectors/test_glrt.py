@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 
 import footnav
-from footnav.core import metrics
-from footnav.core.errors import InvalidParameterError
+from footnav.analysis import metrics
+from footnav.errors import InvalidParameterError
 from footnav.detectors.glrt import GlrtDetector, glrt_statistic
 from footnav.testing import DetectorContract
 

@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 import footnav
-from footnav.core import metrics
-from footnav.core.errors import FootnavWarning, InvalidInputError, InvalidParameterError
+from footnav.analysis import metrics
+from footnav.errors import FootnavWarning, InvalidInputError, InvalidParameterError
 from footnav.detectors.hmm import (
     PHASE_NAMES,
     STRUCTURE,
@@ -346,7 +346,7 @@ def test_rejects_non_imu_input():
 
 # -- real data ----------------------------------------------------------------------------------
 def test_gaitmap_all_strides_found_and_event_timing(shared_data):
-    from footnav.core.datasets import load_dataset
+    from footnav.data.datasets import load_dataset
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", footnav.DataQualityWarning)  # 6 clipped samples per foot
@@ -432,7 +432,7 @@ def test_collapsed_model_is_refitted_and_recorded(monkeypatch):
 
 
 def test_inverted_model_is_a_specific_error(monkeypatch):
-    from footnav.core.errors import GaitModelError
+    from footnav.errors import GaitModelError
     from footnav.detectors.hmm import learning
 
     real = learning.check_model
@@ -443,7 +443,7 @@ def test_inverted_model_is_a_specific_error(monkeypatch):
 
 
 def test_pyshoe_all_trials_learn_and_stance_is_stillest(shared_data):
-    from footnav.core.datasets import dataset_names, load_dataset
+    from footnav.data.datasets import dataset_names, load_dataset
 
     names = [n for n in dataset_names(shared_data) if n.startswith("pyshoe_")]
     if not names:

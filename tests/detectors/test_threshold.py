@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 
 import footnav
-from footnav.core import metrics
-from footnav.core.errors import FootnavError, InvalidParameterError
+from footnav.analysis import metrics
+from footnav.errors import FootnavError, InvalidParameterError
 from footnav.detectors.threshold import (
     AccMagnitudeDetector,
     AccVarianceDetector,

@@ -2,7 +2,7 @@
 
 A ZUPT INS cannot observe heading: the gyro bias left after the initial standstill and its random
 walk turn the trajectory, and the position error grows with the distance walked since. Before
-footnav.core.heading_drift the 9-state ekf's covariance grew only with the white noise it models
+footnav.nav.heading_drift the 9-state ekf's covariance grew only with the white noise it models
 and madgwick's did not model heading at all: over half-hour walks 80 % and 27 % of the errors
 were within 2 std (a consistent Gaussian: 95 %). benchmarks/bench_consistency.py has the
 full figures.
@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 import footnav
-from footnav.core.heading_drift import heading_drift_cov, standstill_rate_std
+from footnav.nav.heading_drift import heading_drift_cov, standstill_rate_std
 
 SEEDS = range(6)
 

@@ -3,7 +3,7 @@ import pytest
 
 import footnav
 from footnav import InvalidInputError, StanceResult
-from footnav.core import metrics
+from footnav.analysis import metrics
 from footnav.estimators.ekf import EkfEstimator
 from footnav.testing import EstimatorContract
 
@@ -119,8 +119,8 @@ def test_smoother_cache_only_trades_memory_for_time():
 
 def test_azure_fgo_accuracy_regression(shared_data):
     """Real two-foot recording: 2-D RMSE must stay near what the closing note of the spine reports."""
-    from footnav.core.evaluation import evaluate
-    from footnav.core.io import read_azure_fgo
+    from footnav.analysis.evaluation import evaluate
+    from footnav.data.io import read_azure_fgo
 
     rec = read_azure_fgo(shared_data / "azure_fgo")
     report = evaluate(footnav.make_pipeline(), rec)
@@ -241,8 +241,8 @@ def test_closed_loop_needs_the_whole_walk_smoother():
 @pytest.mark.filterwarnings("ignore::footnav.DataQualityWarning")  # the x-io files' duplicates and gaps
 @pytest.mark.parametrize("name", ["xio_short", "xio_long"])
 def test_closed_loop_constraint_on_the_xio_loops(shared_data, name):
-    from footnav.core.datasets import load_dataset
-    from footnav.core.evaluation import evaluate
+    from footnav.data.datasets import load_dataset
+    from footnav.analysis.evaluation import evaluate
 
     rec = load_dataset(name, shared_data)
     free = evaluate(footnav.make_pipeline(), rec).value("loop_closure_2d", "left")

@@ -8,9 +8,9 @@ import pytest
 
 import footnav
 from footnav import InvalidInputError, InvalidParameterError, StanceResult
-from footnav.core import metrics
-from footnav.core import quaternion as quat
-from footnav.core.errors import DataQualityWarning
+from footnav.analysis import metrics
+from footnav.nav import quaternion as quat
+from footnav.errors import DataQualityWarning
 from footnav.estimators.madgwick import MadgwickEstimator, madgwick_imu_step, madgwick_marg_step
 from footnav.testing import EstimatorContract
 
@@ -228,8 +228,8 @@ def test_parameters_document_their_units():
 # -- real data ---------------------------------------------------------------------------------------
 @pytest.mark.parametrize("name, bounds", [("azure_fgo", (0.25, 0.12)), ("gaitmap", (0.26, 0.25))])
 def test_real_data_accuracy(shared_data, name, bounds):
-    from footnav.core.datasets import load_dataset
-    from footnav.core.evaluation import evaluate
+    from footnav.data.datasets import load_dataset
+    from footnav.analysis.evaluation import evaluate
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", DataQualityWarning)

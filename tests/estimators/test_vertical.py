@@ -2,7 +2,7 @@
 
 The bounds come from how a sampled signal can be integrated at all. Every rule that uses the
 samples at t_k (trapezoid, Simpson with the mid-interval attitude as in
-:mod:`footnav.core.mechanization`, cubic interpolation) leaves a local error of order dt^3 f'',
+:mod:`footnav.nav.mechanization`, cubic interpolation) leaves a local error of order dt^3 f'',
 and these telescope (Euler-Maclaurin): over one motion the velocity error is
 ``-dt^2 / 12 * (sum of the jumps of the nav-frame jerk)``. For a gait whose jerk is continuous
 and zero at rest that sum is zero and what is left is of higher order. The simulator's gait
@@ -23,8 +23,8 @@ from numpy.polynomial import polynomial as P
 
 import footnav
 from footnav import StanceResult
-from footnav.core import metrics
-from footnav.core.types import GRAVITY_MPS2, ImuData
+from footnav.analysis import metrics
+from footnav.types import GRAVITY_MPS2, ImuData
 from footnav.estimators.ekf import EkfEstimator
 
 

@@ -62,7 +62,7 @@ def test_a_full_disk_leaves_nothing_and_says_so(walk, tmp_path, monkeypatch, cap
 
 
 def test_a_bug_is_one_line_and_exit_1_with_the_traceback_under_v(walk, tmp_path, monkeypatch, capsys):
-    from footnav.core import pipeline
+    from footnav.pipeline import factory as pipeline
 
     def bug(*args, **kwargs):
         raise ZeroDivisionError("division by zero")
@@ -78,7 +78,7 @@ def test_a_bug_is_one_line_and_exit_1_with_the_traceback_under_v(walk, tmp_path,
 
 def test_simulate_refuses_a_negative_seed_by_name():
     import footnav
-    from footnav.core.errors import InvalidParameterError
+    from footnav.errors import InvalidParameterError
 
     with pytest.raises(InvalidParameterError, match="seed=-1 is invalid; expected an integer >= 0"):
         footnav.simulate(seed=-1)

@@ -15,8 +15,8 @@ import pytest
 
 import footnav
 from footnav import CompositionError, DataQualityWarning, InvalidInputError, StanceResult
-from footnav.core.io import read_footnav_csv
-from footnav.core.io.footnav_csv import write_footnav_csv
+from footnav.data.io import read_footnav_csv
+from footnav.data.io.footnav_csv import write_footnav_csv
 
 pytestmark = pytest.mark.fault
 

@@ -10,8 +10,8 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from footnav.core.errors import FootnavError
-from footnav.core.io import load, read_azure_fgo, read_footnav_csv, read_gaitmap, read_openshoe, read_xio, read_xsens
+from footnav.errors import FootnavError
+from footnav.data.io import load, read_azure_fgo, read_footnav_csv, read_gaitmap, read_openshoe, read_xio, read_xsens
 
 HEADERS = [
     "# units: t s, acc m/s^2, gyr rad/s\nt,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z",
@@ -83,7 +83,7 @@ def test_azure_folder_reader_never_crashes(left, right):
 
 def _valid_lines():
     import footnav
-    from footnav.core.io.footnav_csv import write_footnav_csv
+    from footnav.data.io.footnav_csv import write_footnav_csv
 
     rec = footnav.simulate("straight", distance_m=4.0, standstill_s=0.5)
     with tempfile.TemporaryDirectory() as tmp:

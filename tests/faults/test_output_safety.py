@@ -16,8 +16,8 @@ from pathlib import Path
 import pytest
 
 from footnav.cli import main
-from footnav.core.errors import DataQualityWarning, InvalidInputError
-from footnav.core.output import MARKER, claim_output, is_footnav_figure
+from footnav.errors import DataQualityWarning, InvalidInputError
+from footnav.data.output import MARKER, claim_output, is_footnav_figure
 
 pytestmark = pytest.mark.fault
 
@@ -77,7 +77,7 @@ def test_force_replaces_only_footnav_results(workspace, capsys):
 
 
 def test_the_output_is_checked_before_the_work(workspace, monkeypatch, capsys):
-    import footnav.core.pipeline as pipeline
+    import footnav.pipeline.factory as pipeline
 
     def no_work(*args, **kwargs):
         raise AssertionError("the pipeline ran although the output was refused")
@@ -129,7 +129,7 @@ def test_a_lock_held_by_a_live_run_refuses_a_second(tmp_path):
 
 
 def test_a_kill_during_replacement_leaves_a_whole_result(tmp_path, monkeypatch):
-    import footnav.core.output as output
+    import footnav.data.output as output
 
     target = tmp_path / "res"
     with claim_output(target) as claim, claim.staged() as tmp:

@@ -88,7 +88,7 @@ _SIMULATE_SKIP = {"noise", "direction", "mounting_rpy_deg", "segments"}
 
 
 def _simulate_cases():
-    from footnav.core.simulate import _COMMON_DEFAULTS, _SCENARIO_DEFAULTS
+    from footnav.data.simulate import _COMMON_DEFAULTS, _SCENARIO_DEFAULTS
 
     cases = [pytest.param("rate_hz", v, id=f"rate_hz={v:g}") for v in (1e308, -1e308)]
     for name, default in {**_COMMON_DEFAULTS, **_SCENARIO_DEFAULTS["straight"]}.items():

@@ -89,7 +89,7 @@ def test_non_finite_positions_from_a_plugin_are_never_returned(plugins, walk):
 
 def test_a_plugin_calling_sys_exit_does_not_end_the_cli_with_success(plugins, walk, tmp_path, capsys):
     from footnav.cli import EXIT_INTERNAL, main
-    from footnav.core.io.footnav_csv import write_footnav_csv
+    from footnav.data.io.footnav_csv import write_footnav_csv
 
     write_footnav_csv(walk.left, tmp_path / "l.csv")
     argv = ["run", "--left", str(tmp_path / "l.csv"), "--pipeline", str(tmp_path / "p.toml"), "--out", str(tmp_path / "o")]

@@ -7,9 +7,9 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
-from footnav.core import metrics
-from footnav.core import quaternion as quat
-from footnav.core.kalman import update3 as _update3
+from footnav.analysis import metrics
+from footnav.nav import quaternion as quat
+from footnav.nav.kalman import update3 as _update3
 
 finite = st.floats(-10.0, 10.0, allow_nan=False, allow_infinity=False)
 unit_q = arrays(np.float64, 4, elements=finite).filter(lambda q: np.linalg.norm(q) > 1e-3).map(lambda q: q / np.linalg.norm(q))

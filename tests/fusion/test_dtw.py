@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 import footnav
-from footnav.core.dtw import dtw_align
+from footnav.nav.dtw import dtw_align
 from footnav.estimators.ekf import EkfEstimator
 from footnav.fusion.dtw import DtwFusion, feet_heading_mismatch, feet_timeless_average
 from footnav.fusion.independent import IndependentFusion

@@ -8,7 +8,7 @@ import pytest
 from scipy import stats
 
 import footnav
-from footnav.core.quaternion import yaw
+from footnav.nav.quaternion import yaw
 from footnav.estimators.ekf import EkfEstimator
 from footnav.fusion.independent import IndependentFusion
 from footnav.fusion.particle import ParticleFusion

@@ -1,4 +1,4 @@
-"""Coupled fusions on feet that do not share their whole time span (footnav.core.spans).
+"""Coupled fusions on feet that do not share their whole time span (footnav.nav.spans).
 
 Each coupled fusion must fuse on the common span (as if both feet had been cut to it), keep
 each foot's trajectory sample-aligned with its input (samples outside: the foot alone), warn
@@ -14,8 +14,8 @@ import numpy as np
 import pytest
 
 import footnav
-from footnav.core.errors import DataQualityWarning
-from footnav.core.spans import MIN_COMMON_S, common_span, slice_stance, span_difference
+from footnav.errors import DataQualityWarning
+from footnav.nav.spans import MIN_COMMON_S, common_span, slice_stance, span_difference
 
 COUPLED = ["range", "step-vector", "particle", "dtw"]
 

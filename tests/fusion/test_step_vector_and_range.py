@@ -36,8 +36,8 @@ def _es_ep(res, rec):
 
 
 def test_pendulum_step_length_hand_computed():
-    q1 = footnav.core.quaternion.from_euler(0.0, np.radians(-20.0), 0.3)
-    q2 = footnav.core.quaternion.from_euler(0.0, np.radians(40.0), 0.3)
+    q1 = footnav.nav.quaternion.from_euler(0.0, np.radians(-20.0), 0.3)
+    q2 = footnav.nav.quaternion.from_euler(0.0, np.radians(40.0), 0.3)
     # theta = 60 deg about one axis: S = 2 l sin(30 deg) = l
     assert pendulum_step_length(q1, q2, 0.9) == pytest.approx(0.9, rel=1e-12)
     assert pendulum_step_length(q1, q1, 0.9) == pytest.approx(0.0, abs=1e-7)
@@ -111,7 +111,7 @@ def test_range_constraint_bounds_the_separation():
 
 
 def test_fusions_need_a_stepable_estimator():
-    class NoFilter(footnav.core.component.FootEstimator):
+    class NoFilter(footnav.component.FootEstimator):
         name = "no-filter"
 
         def __init__(self):

@@ -19,8 +19,8 @@ import pytest
 import footnav
 from footnav import DataQualityWarning, InvalidInputError
 from footnav.cli import main
-from footnav.core import quaternion as quat
-from footnav.core.calibration import calibrate_at_rest
+from footnav.nav import quaternion as quat
+from footnav.nav.calibration import calibrate_at_rest
 from footnav.estimators.ekf import EkfEstimator
 from footnav.fusion.independent import IndependentFusion
 from footnav.fusion.step_vector import StepVectorFusion, leg_length_from_height, pendulum_step_length
@@ -255,8 +255,8 @@ def _measure(n_seeds: int = 5) -> None:  # pragma: no cover - run by hand
         for m, v in rows.items():
             v = np.array(v)
             print(f"  {m:22s} {np.mean(np.abs(v[:, 0] - 0.2)):.3f} / {v[:, 1].mean():.3f}   S {np.nanmean(v[:, 2]):.3f}")
-    from footnav.core.datasets import load_dataset
-    from footnav.core.evaluation import evaluate
+    from footnav.data.datasets import load_dataset
+    from footnav.analysis.evaluation import evaluate
 
     for name in ("azure_fgo", "gaitmap"):
         try:

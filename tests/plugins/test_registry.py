@@ -225,7 +225,7 @@ def test_plugin_component_raising_during_run_is_reported_by_name_and_the_rest_ke
     from footnav.cli import EXIT_INTERNAL, main
 
     # the CLI says so in one line, exit code 1 (not the user's fault)
-    import footnav.core.io.footnav_csv as fc
+    import footnav.data.io.footnav_csv as fc
     import tempfile, pathlib
 
     tmp = pathlib.Path(tempfile.mkdtemp())

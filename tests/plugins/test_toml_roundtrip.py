@@ -44,7 +44,7 @@ def test_step_vector_options_round_trip(tmp_path):
 def test_parameter_names_are_read_per_class_and_constructor():
     """Component._param_names is cached: a subclass with its own constructor, and a class whose
     constructor is replaced later, must still report their own parameters."""
-    from footnav.core.component import StanceDetector
+    from footnav.component import StanceDetector
 
     class Base(StanceDetector):
         name = "base-probe"

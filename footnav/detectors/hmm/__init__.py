@@ -61,7 +61,7 @@ module         what
 
 from __future__ import annotations
 
-from footnav.core.errors import GaitModelError, HmmNotFittedError
+from footnav.errors import GaitModelError, HmmNotFittedError
 from footnav.detectors.hmm.detector import HmmDetector
 from footnav.detectors.hmm.features import FEATURES, lowpass, significant_axis
 from footnav.detectors.hmm.model import PHASE_NAMES, STRUCTURE

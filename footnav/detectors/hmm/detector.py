@@ -18,10 +18,10 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from footnav.core.component import MAX_DURATION_S, StanceDetector, require, require_in_range, require_positive
-from footnav.core.errors import HmmNotFittedError, InvalidInputError, InvalidParameterError
-from footnav.core.types import ImuData, StanceResult
-from footnav.core.warning_log import recording
+from footnav.component import MAX_DURATION_S, StanceDetector, require, require_in_range, require_positive
+from footnav.errors import HmmNotFittedError, InvalidInputError, InvalidParameterError
+from footnav.types import ImuData, StanceResult
+from footnav.warning_log import recording
 from footnav.detectors.hmm.decoding import decode_offline, on_samples, transition_events
 from footnav.detectors.hmm.features import FEATURES, model_grid
 from footnav.detectors.hmm.learning import learn

@@ -16,8 +16,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.signal import butter, sosfiltfilt
 
-from footnav.core.errors import InvalidInputError
-from footnav.core.types import GRAVITY_MPS2, ImuData
+from footnav.errors import InvalidInputError
+from footnav.types import GRAVITY_MPS2, ImuData
 
 __all__ = ["FEATURES", "ModelGrid", "lowpass", "model_grid", "significant_axis"]
 

@@ -8,8 +8,8 @@ recording and smoothing need no second compiled entry point.
 
 from __future__ import annotations
 
-from footnav.core._numba import njit  # numba.njit that survives a read-only install
-from footnav.core.quaternion import from_rotvec_nb, multiply_nb, normalize_nb
+from footnav._numba import njit  # numba.njit that survives a read-only install
+from footnav.nav.quaternion import from_rotvec_nb, multiply_nb, normalize_nb
 
 __all__ = ["smooth_back"]
 

@@ -18,8 +18,8 @@ from typing import Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from footnav.core import quaternion as quat
-from footnav.core.component import (
+from footnav.nav import quaternion as quat
+from footnav.component import (
     MAX_ACC_MPS2,
     MAX_ANGLE_RAD,
     MAX_LENGTH_M,
@@ -30,11 +30,11 @@ from footnav.core.component import (
     require_non_negative,
     require_positive,
 )
-from footnav.core.errors import InvalidParameterError
-from footnav.core.heading import turn_to_first_step
-from footnav.core.heading_drift import heading_drift_cov, standstill_rate_std
-from footnav.core.initial_alignment import align_first_stance
-from footnav.core.types import FootTrajectory, ImuData, StanceResult
+from footnav.errors import InvalidParameterError
+from footnav.nav.heading import turn_to_first_step
+from footnav.nav.heading_drift import heading_drift_cov, standstill_rate_std
+from footnav.nav.initial_alignment import align_first_stance
+from footnav.types import FootTrajectory, ImuData, StanceResult
 from footnav.estimators.ekf.filter import InsFilter
 from footnav.estimators.ekf.records import FilterNoise
 from footnav.estimators.ekf.smoother import KEEP_RECORD_MB, SMOOTHERS, SegmentRecords, StepSmoother, smooth
@@ -104,7 +104,7 @@ class EkfEstimator(FootEstimator):
         Standard deviation of that start-equals-end measurement, m.
     heading_drift_in_std : bool
         Add the heading drift the filter does not estimate to ``position_std``
-        (:mod:`footnav.core.heading_drift`; 9 states only, the 15-state filter carries its gyro
+        (:mod:`footnav.nav.heading_drift`; 9 states only, the 15-state filter carries its gyro
         bias itself): a constant yaw-rate error with the std of the initial-standstill bias
         estimate (the standard error of the still samples' mean rate; ``init_gyr_bias_std_radps``
         with ``gyro_bias="none"``) and a bias random walk of ``yaw_bias_walk_radps2_sqrthz``.
@@ -168,7 +168,7 @@ class EkfEstimator(FootEstimator):
         self.yaw_bias_walk_radps2_sqrthz = yaw_bias_walk_radps2_sqrthz
 
     def validate_params(self) -> None:
-        # Upper bounds (footnav.core.component): every std and noise density is squared into the
+        # Upper bounds (footnav.component): every std and noise density is squared into the
         # filter's covariance, where 1e308 overflows to inf and turns the estimate into NaN.
         require_positive(self, "acc_noise_mps2_sqrthz", "acc_bias_walk_mps3_sqrthz", "init_acc_bias_std_mps2", high=MAX_ACC_MPS2)
         require_positive(
@@ -279,7 +279,7 @@ class EkfEstimator(FootEstimator):
 
     def finish(self, filt: InsFilter, stances: Sequence[StanceResult]) -> list[FootTrajectory]:
         """Run ``filt`` (from :meth:`start`) to the end, smooth it as ``smoother`` says and return
-        each foot's trajectory (:class:`footnav.core.component.StepableEstimator`)."""
+        each foot's trajectory (:class:`footnav.component.StepableEstimator`)."""
         filt.run_until()
         smoothed = None if self.smoother == "none" else smooth(filt, self.smoother)
         return [self.trajectory(filt, foot, stance, smoothed) for foot, stance in enumerate(stances)]
@@ -292,7 +292,7 @@ class EkfEstimator(FootEstimator):
         ``smoothed``: the output of :func:`footnav.estimators.ekf.smoother.smooth` for the run, or None for
         the forward filter. ``copy=False`` hands over the filter's (or smoother's) arrays, when
         the filter is not used again. ``heading``: turn the result so that its first step points
-        along +x (:func:`footnav.core.heading.turn_to_first_step`; in place when not copied).
+        along +x (:func:`footnav.nav.heading.turn_to_first_step`; in place when not copied).
         """
         q_out, vel, pos, pos_cov = filt.outputs(foot)
         if smoothed is not None:

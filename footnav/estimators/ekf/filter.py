@@ -8,7 +8,7 @@ checkpoints (:class:`~footnav.estimators.ekf.records.Checkpoint`: state and cova
 the number of steps (plus a bounded cache of the latest segments' records), not of samples.
 The error model and its kernels are in :mod:`footnav.estimators.ekf.kernels`.
 
-A stream (:mod:`footnav.core.online`) builds a filter with room for samples still to come
+A stream (:mod:`footnav.pipeline.online`) builds a filter with room for samples still to come
 (``capacity``), hands them over as they arrive (:meth:`~InsFilter.extend`) and starts a new filter
 from an old one's checkpoint (:meth:`~InsFilter.resume`).
 """
@@ -20,8 +20,8 @@ from collections.abc import Sequence
 import numpy as np
 from numpy.typing import NDArray
 
-from footnav.core.errors import InvalidInputError
-from footnav.core.quaternion import as_matrix_nb
+from footnav.errors import InvalidInputError
+from footnav.nav.quaternion import as_matrix_nb
 from footnav.estimators.ekf.buffers import staggered
 from footnav.estimators.ekf.kernels import feedback
 from footnav.estimators.ekf.loop import DONE, MODE_BACK, MODE_CLOSE, MODE_FILTER, MODE_RECORD, MODE_STEP, STEP_END, run

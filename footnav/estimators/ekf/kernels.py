@@ -10,7 +10,7 @@ db = b^ - b, the continuous error model is::
 discretised per sample as F = I + A dt with Q = diag(sigma_g^2, sigma_a^2, 0, sigma_ba^2,
 sigma_bg^2) dt from noise *densities*, so the filter behaves the same at any sampling rate.
 A takes f^n and C at the start of the interval. The exact linearisation of the Simpson /
-trapezoid step of :mod:`footnav.core.mechanization` (velocity row [dv_f x] with the step's
+trapezoid step of :mod:`footnav.nav.mechanization` (velocity row [dv_f x] with the step's
 specific-force increment dv_f, position row dt/2 [dv_f x]) differs by O(dt) per sample, which
 telescopes over a step. Tried (Nov 2026): 9-state results changed by < 0.5 %; 15-state ones
 either way (simulator: forward ATE -5 %, smoothed ATE -2 to +12 %; real recordings: -54 % to
@@ -21,15 +21,15 @@ reset to zero (closed loop, Chistyakov et al. (2021), Alg. 1).
 
 Every kernel works in place on one foot's block at offset ``o`` of the joint state, so that two
 feet share one covariance at the cost of one. The measurement update is footnav's one Kalman
-kernel, :func:`footnav.core.kalman.update3`, shared with ``madgwick``.
+kernel, :func:`footnav.nav.kalman.update3`, shared with ``madgwick``.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from footnav.core._numba import njit  # numba.njit that survives a read-only install
-from footnav.core.quaternion import from_rotvec_nb
+from footnav._numba import njit  # numba.njit that survives a read-only install
+from footnav.nav.quaternion import from_rotvec_nb
 
 __all__ = ["feedback", "predict_cov"]
 

@@ -14,10 +14,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from footnav.core._numba import njit  # numba.njit that survives a read-only install
-from footnav.core.kalman import update3
-from footnav.core.mechanization import strapdown_step
-from footnav.core.quaternion import as_matrix_nb
+from footnav._numba import njit  # numba.njit that survives a read-only install
+from footnav.nav.kalman import update3
+from footnav.nav.mechanization import strapdown_step
+from footnav.nav.quaternion import as_matrix_nb
 from footnav.estimators.ekf.backward import smooth_back
 from footnav.estimators.ekf.kernels import feedback, predict_cov
 from footnav.estimators.ekf.records import GYR_BIAS, POS, VEL

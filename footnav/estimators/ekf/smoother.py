@@ -37,7 +37,7 @@ from typing import Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from footnav.core import quaternion as quat
+from footnav.nav import quaternion as quat
 from footnav.estimators.ekf import filter as ekf_filter  # MAX_SEGMENT_EVENTS read at run time
 from footnav.estimators.ekf.buffers import staggered
 from footnav.estimators.ekf.filter import InsFilter

@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 from scipy.io import savemat
 
-from footnav.core.errors import DataNotFoundError, DataQualityWarning, InvalidInputError
-from footnav.core.io import READERS, load, write_footnav_csv
-from footnav.core.types import GRAVITY_MPS2, ImuData
+from footnav.errors import DataNotFoundError, DataQualityWarning, InvalidInputError
+from footnav.data.io import READERS, load, write_footnav_csv
+from footnav.types import GRAVITY_MPS2, ImuData
 
 KNOWN = {"footnav_folder", "footnav_csv", "gaitmap", "azure_fgo", "xio", "openshoe", "pyshoe", "xsens", "ipol", "gaitdriven"}
 
@@ -30,7 +30,7 @@ def _make(kind, tmp):
         return write_footnav_csv(imu, tmp / "walk.csv")
     if kind == "footnav_folder":
         import footnav
-        from footnav.core.io.footnav_csv import write_footnav_truth
+        from footnav.data.io.footnav_csv import write_footnav_truth
 
         rec = footnav.simulate("straight", distance_m=3.0, standstill_s=0.5)
         folder = tmp / "sim"
@@ -95,7 +95,7 @@ def _make(kind, tmp):
 @pytest.mark.parametrize("kind", sorted(KNOWN))
 def test_guesses_each_format_records_and_logs(tmp_path, caplog, kind):
     path = _make(kind, tmp_path)
-    with caplog.at_level(logging.INFO, logger="footnav.core.io.load"):
+    with caplog.at_level(logging.INFO, logger="footnav.data.io.load"):
         rec = load(path)
     assert rec.meta["format"] == kind and rec.meta["format_guessed"] is True
     assert any(kind in r.getMessage() and str(path) in r.getMessage() for r in caplog.records)

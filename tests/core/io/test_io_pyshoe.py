@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 from scipy.io import savemat
 
-from footnav.core.errors import DataNotFoundError, DataQualityWarning, InvalidInputError
-from footnav.core.io import read_pyshoe
-from footnav.core.types import GRAVITY_MPS2
+from footnav.errors import DataNotFoundError, DataQualityWarning, InvalidInputError
+from footnav.data.io import read_pyshoe
+from footnav.types import GRAVITY_MPS2
 
 N = 400
 
@@ -165,8 +165,8 @@ def test_shared_trials(shared_data):
 def test_shared_truth_is_right_handed_after_conversion(shared_data):
     """The IMU trajectory fits the converted truth by a rotation; as stored it needs a mirror."""
     import footnav
-    from footnav.core import metrics
-    from footnav.core.evaluation import trajectory_at
+    from footnav.analysis import metrics
+    from footnav.analysis.evaluation import trajectory_at
 
     path = shared_data / "pyshoe_vicon" / "2017-11-22-11-22-03.mat"
     if not path.is_file():

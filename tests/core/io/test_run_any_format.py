@@ -7,7 +7,7 @@ import pytest
 
 import footnav
 from footnav.cli import main
-from footnav.core.io import write_footnav_csv
+from footnav.data.io import write_footnav_csv
 
 
 def _ran(out, n_feet):

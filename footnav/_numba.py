@@ -1,0 +1,156 @@
+"""numba's ``njit`` for footnav's kernels, so that importing footnav never needs a writable cache.
+
+footnav's kernels are compiled with ``@njit(cache=True)``: numba saves the machine code and the
+next process loads it instead of compiling again (about ten seconds for the whole package).
+numba looks for a writable cache folder in ``NUMBA_CACHE_DIR``, then ``__pycache__`` next to the
+sources, then the user's cache folder under ``HOME``, and when none of them is writable (a
+read-only installation run by a user without a writable home: containers, shared servers,
+CI sandboxes) it raises ``RuntimeError: cannot cache function ...: no locator available`` while
+the module is being imported, so ``import footnav`` failed.
+
+:func:`njit` is ``numba.njit`` unchanged wherever numba finds a cache folder. Only where it
+finds none does it compile the kernel with a private cache folder in the system's temporary
+directory (``footnav-numba-cache-<uid>``, created mode 0700 and used only when it is a real
+folder owned by this user that nobody else can write), or, when there is no such folder, without
+a cache. Then it says so once per process with a ``logging`` WARNING on ``footnav._numba``.
+
+Why logging and not a :class:`~footnav.FootnavWarning`: the notice is about the installation,
+not about the data or the call. Components are imported lazily, so a warning could be raised
+inside ``Pipeline.run`` and land in that run's ``meta["warnings"]`` and ``summary.json``, making
+the provenance of the same data depend on the machine. A logging WARNING reaches stderr even when
+the application configured no logging (Python's last-resort handler) and stays out of results.
+
+The private folder is checked because numba's cache files are pickles that are loaded as they
+are: a folder another user could write into would let that user run code in this process.
+"""
+
+from __future__ import annotations
+
+import logging
+import os
+import stat
+import tempfile
+import threading
+from collections.abc import Callable
+from typing import Any
+
+import numba
+from numba.core import config as _numba_config
+
+__all__ = ["fallback_cache_dir", "njit"]
+
+log = logging.getLogger(__name__)
+
+_NO_LOCATOR = "no locator available"
+_lock = threading.Lock()
+#: ``None`` until the first fallback; then ``(path or None,)`` so the folder is checked only once.
+_fallback: tuple[str | None] | None = None
+
+
+def fallback_cache_dir() -> str | None:
+    """The private cache folder used when numba has no writable cache folder, or None.
+
+    ``<tempdir>/footnav-numba-cache-<uid>``, created with mode 0700. It is returned only when it
+    is a folder (not a symbolic link) owned by the current user, not writable by group or others,
+    and writable by us; otherwise None (footnav then compiles without a cache).
+
+    Returns
+    -------
+    str or None
+        The folder, or None when no safe writable folder exists.
+    """
+    try:
+        base = tempfile.gettempdir()  # FileNotFoundError when no temporary folder is writable
+        uid = os.getuid() if hasattr(os, "getuid") else None
+        path = os.path.join(base, f"footnav-numba-cache-{uid if uid is not None else 'user'}")
+        try:
+            os.mkdir(path, 0o700)
+        except FileExistsError:
+            pass
+        info = os.lstat(path)
+        if not stat.S_ISDIR(info.st_mode):
+            return None
+        # On POSIX the temporary directory is shared between users: refuse a folder someone else
+        # made or can write into (see the module docstring). Windows has a per-user temp folder.
+        if uid is not None and (info.st_uid != uid or info.st_mode & 0o022):
+            return None
+        tempfile.TemporaryFile(dir=path).close()  # the check numba itself makes
+        return path
+    except OSError:
+        return None
+
+
+def _fallback_dir_once(func: Callable) -> str | None:
+    """Find the fallback folder on the first call and log the one notice of the process.
+
+    Called with ``_lock`` held, so two threads importing footnav log one notice.
+    """
+    global _fallback
+    if _fallback is None:
+        path = fallback_cache_dir()
+        _fallback = (path,)
+        where = (
+            f"caching compiled code in {path} instead"
+            if path is not None
+            else "compiling without a cache (every process compiles again, about 10 s)"
+        )
+        log.warning(
+            "numba has no writable cache folder for %s (read-only installation, no writable HOME "
+            "and NUMBA_CACHE_DIR not set); %s. Set NUMBA_CACHE_DIR to a writable folder to choose one.",
+            os.path.dirname(func.__code__.co_filename),
+            where,
+        )
+    return _fallback[0]
+
+
+def njit(*args: Any, **options: Any) -> Any:
+    """``numba.njit`` that falls back to a private or no cache when numba has no cache folder.
+
+    Used exactly like ``numba.njit`` (``@njit`` or ``@njit(cache=True, ...)``) and returns numba's
+    dispatcher. With ``cache=True`` and no writable cache folder, the function is compiled with
+    the cache in :func:`fallback_cache_dir`, or without a cache when that is None, and one
+    ``logging`` WARNING per process says which.
+
+    Parameters
+    ----------
+    *args
+        The function (``@njit`` without parentheses), or numba's signatures.
+    **options
+        numba.njit's options, passed on unchanged.
+
+    Returns
+    -------
+    numba dispatcher or decorator
+        What ``numba.njit`` returns for the same arguments.
+    """
+    if len(args) == 1 and callable(args[0]) and not isinstance(args[0], str) and not options:
+        return _compile(args[0], (), {})
+
+    def decorate(func: Callable) -> Any:
+        return _compile(func, args, options)
+
+    return decorate
+
+
+def _compile(func: Callable, signatures: tuple, options: dict[str, Any]) -> Any:
+    """Apply numba.njit; on "no locator available", retry with the fallback folder or no cache."""
+    try:
+        return numba.njit(*signatures, **options)(func)
+    except RuntimeError as exc:
+        if not options.get("cache") or _NO_LOCATOR not in str(exc):
+            raise
+    # numba reads config.CACHE_DIR (NUMBA_CACHE_DIR) when the dispatcher picks its cache folder,
+    # i.e. here, and keeps that folder for the function. Setting it only around this call keeps
+    # every other numba user of the process (and NUMBA_CACHE_DIR in os.environ) untouched; the
+    # lock keeps two threads importing footnav from restoring each other's value.
+    # Without a safe folder: compile without a cache rather than fail the import.
+    with _lock:
+        path = _fallback_dir_once(func)
+        if path is None:
+            return numba.njit(*signatures, **{**options, "cache": False})(func)
+        saved = _numba_config.CACHE_DIR
+        _numba_config.CACHE_DIR = path
+        try:
+            return numba.njit(*signatures, **options)(func)
+        finally:
+            _numba_config.CACHE_DIR = saved

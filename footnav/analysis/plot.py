@@ -1,0 +1,169 @@
+"""Figures (needs the ``plot`` extra: matplotlib).
+
+Importing this module raises ImportError when matplotlib is not installed.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path as FilePath
+
+import matplotlib
+
+matplotlib.use("Agg")  # files only: footnav never opens windows
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from footnav.analysis import metrics  # noqa: E402
+from footnav.analysis.evaluation import trajectory_at  # noqa: E402
+from footnav.pipeline.result import PipelineResult  # noqa: E402
+from footnav.types import Recording  # noqa: E402
+
+__all__ = ["plot_trajectories", "plot_stance_comparison", "plot_position_errors", "plot_steps"]
+
+
+def _save(fig, path: FilePath, dpi: int) -> None:
+    """Save and close; a PNG names footnav as its software, so that ``--force`` may replace it
+    (:func:`footnav.data.output.is_footnav_figure`)."""
+    from footnav._version import __version__
+    from footnav.data.output import FIGURE_SOFTWARE
+
+    png = FilePath(path).suffix.lower() == ".png"
+    fig.savefig(path, dpi=dpi, metadata={"Software": f"{FIGURE_SOFTWARE} {__version__}"} if png else None)
+    plt.close(fig)
+
+
+def plot_trajectories(result: PipelineResult, recording: Recording | None, path: str | FilePath) -> FilePath:
+    """Top view of each foot's estimate, rigidly aligned (2-D) onto its truth when there is one.
+
+    Each estimate's start is marked with a circle and its end with a square; with a truth, the
+    legend gives each foot's 2-D ATE (RMSE after the alignment) and its end error (after aligning
+    the start only, :func:`footnav.analysis.metrics.align_at_start`), the figures the demo prints.
+    Writes a PNG to ``path`` and returns it.
+    """
+    fig, ax = plt.subplots(figsize=(8, 6), constrained_layout=True)
+    feet = [("left", result.left, "tab:blue"), ("right", result.right, "tab:red")]
+    for foot, traj, color in feet:
+        if traj is None:
+            continue
+        truth = None if recording is None else getattr(recording, f"truth_{foot}")
+        if truth is not None and len(truth.t) > 1 and truth.frame != "footprints":
+            est, inside = trajectory_at(traj, truth.t)
+            ref = truth.position[inside]
+            aligned, _, _ = metrics.rigid_align(est, ref, dims=2)
+            ate = metrics.ate_rmse(est, ref, dims=2)
+            end = metrics.end_to_end_error(metrics.align_at_start(est, ref).aligned, ref, dims=2).error_m
+            ax.plot(truth.position[:, 0], truth.position[:, 1], color=color, lw=3, alpha=0.25, label=f"{foot} truth")
+            shown = aligned
+            label = f"{foot} estimate (aligned): ATE {ate:.2f} m, end error {end:.2f} m"
+        else:
+            shown = traj.position
+            label = f"{foot} estimate"
+        ax.plot(shown[:, 0], shown[:, 1], color=color, lw=1, label=label)
+        ax.plot(*shown[0, :2], "o", color=color, ms=7, mfc="white", label=f"{foot} start")
+        ax.plot(*shown[-1, :2], "s", color=color, ms=7, label=f"{foot} end")
+    if result.right is not None and not (recording is not None and recording.truth_left is not None):
+        # the pedestrian (the fusion's path) in the estimate's own frame
+        ax.plot(result.path.position[:, 0], result.path.position[:, 1], color="0.2", lw=1, ls="--", label="pedestrian path")
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.set_xlabel("x (m)")
+    ax.set_ylabel("y (m)")
+    name = "" if recording is None else recording.name
+    ax.set_title(f"footnav {name}: " + " + ".join(c.get("name", kind) for kind, c in result.meta["pipeline"].items()))
+    ax.legend(loc="best", fontsize="small")
+    ax.grid(True, alpha=0.3)
+    path = FilePath(path)
+    _save(fig, path, 120)
+    return path
+
+
+def plot_steps(steps, path: str | FilePath, *, title: str = "") -> FilePath:
+    """Top view of the footprints of closed steps (online mode's ``ClosedStep``: ``foot``,
+    ``position`` in m, nav frame), one line per foot, the newest footprint of each foot marked
+    with a square. What ``footnav follow --plot`` redraws while a walk goes on.
+    """
+    fig, ax = plt.subplots(figsize=(7, 5.5), constrained_layout=True)
+    for foot, color in (("left", "tab:blue"), ("right", "tab:red")):
+        xy = np.array([s.position[:2] for s in steps if s.foot == foot]).reshape(-1, 2)
+        if len(xy) == 0:
+            continue
+        ax.plot(xy[:, 0], xy[:, 1], ".-", color=color, lw=1, ms=5, label=f"{foot}: {len(xy)} steps")
+        ax.plot(*xy[-1], "s", color=color, ms=8)
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.set_xlabel("x (m)")
+    ax.set_ylabel("y (m)")
+    ax.set_title(title or "footnav: closed steps")
+    if steps:
+        ax.legend(loc="best", fontsize="small")
+    ax.grid(True, alpha=0.3)
+    path = FilePath(path)
+    _save(fig, path, 100)
+    return path
+
+
+def plot_stance_comparison(comparison, path: str | FilePath, *, seconds: tuple[float, float] | None = None) -> FilePath:
+    """Each foot's angular-rate norm with every detector's stance (and the reference) stacked below.
+
+    ``comparison`` is a :class:`~footnav.analysis.comparison.DetectorComparison`; ``seconds`` limits
+    the time axis to ``(start, stop)``. Writes a PNG to ``path`` and returns it.
+    """
+    rec = comparison.recording
+    labels = list(comparison.stances)
+    feet = [("left", rec.left, rec.truth_left, 0)] + ([("right", rec.right, rec.truth_right, 1)] if rec.right is not None else [])
+    # one signal row per foot, then one band per detector (and the reference stance when known)
+    rows: list[tuple] = []
+    for foot, imu, truth, col in feet:
+        rows.append(("signal", foot, imu, truth))
+        rows += [("band", lab, imu, comparison.stances[lab][col].mask) for lab in labels]
+        if truth is not None and truth.stance is not None and len(truth.stance) == imu.n_samples:
+            rows.append(("band", "reference", imu, truth.stance))
+    ratios = [3 if r[0] == "signal" else 1 for r in rows]
+    fig, axes = plt.subplots(
+        len(rows), 1, sharex=True, figsize=(11, 1.0 + 0.5 * len(rows) + 1.2 * len(feet)),
+        gridspec_kw={"height_ratios": ratios}, constrained_layout=True,
+    )
+    axes = np.atleast_1d(axes)
+    for ax, (kind, name, imu, data) in zip(axes, rows):
+        if kind == "signal":
+            ax.plot(imu.t, np.linalg.norm(imu.gyr, axis=1), color="0.2", lw=0.7)
+            ax.set_ylabel(f"{name}\n|w| (rad/s)")
+            if data is not None and data.stance is None and len(data.events.get("mid_stance", ())):
+                ax.vlines(imu.t[data.events["mid_stance"]], 0, 1, transform=ax.get_xaxis_transform(),
+                          color="tab:green", lw=0.8, alpha=0.6, label="reference mid-stance")
+                ax.legend(loc="upper right", fontsize="x-small")
+        else:
+            ax.fill_between(imu.t, 0, 1, where=data, step="mid", color="tab:green" if name == "reference" else "tab:blue", lw=0)
+            ax.set_yticks([])
+            ax.set_ylim(0, 1)
+            ax.set_ylabel(name, rotation=0, ha="right", va="center", fontsize="small")
+    axes[-1].set_xlabel("t (s)")
+    if seconds is not None:
+        axes[-1].set_xlim(*seconds)
+    fig.suptitle(f"stance per detector: {rec.name or 'recording'}")
+    path = FilePath(path)
+    _save(fig, path, 110)
+    return path
+
+
+def plot_position_errors(result: PipelineResult, recording: Recording, path: str | FilePath) -> FilePath:
+    """Horizontal position error of each foot against its truth over time, after the same 2-D rigid
+    alignment as the ``ate_2d`` metric, with the stance phases shaded. Writes a PNG, returns it."""
+    fig, ax = plt.subplots(figsize=(10, 4), constrained_layout=True)
+    for foot, color in (("left", "tab:blue"), ("right", "tab:red")):
+        traj, truth = getattr(result, foot), getattr(recording, f"truth_{foot}")
+        if traj is None or truth is None or len(truth.t) < 2:
+            continue
+        est, inside = trajectory_at(traj, truth.t)
+        aligned, _, _ = metrics.rigid_align(est, truth.position[inside], dims=2)
+        err = np.linalg.norm(aligned[:, :2] - truth.position[inside, :2], axis=1)
+        ax.plot(truth.t[inside], err, color=color, lw=1, label=f"{foot} (RMSE {np.sqrt(np.mean(err**2)):.3f} m)")
+    stance = result.stance_left
+    t_left = result.left.t
+    ax.fill_between(t_left, 0, 1, where=stance.mask, transform=ax.get_xaxis_transform(), color="0.85", lw=0, step="mid", label="left stance")
+    ax.set_xlabel("t (s)")
+    ax.set_ylabel("horizontal error (m)")
+    ax.legend(loc="upper left", fontsize="small")
+    ax.grid(True, alpha=0.3)
+    ax.set_title(f"position error: {recording.name or 'recording'}")
+    path = FilePath(path)
+    _save(fig, path, 110)
+    return path

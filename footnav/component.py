@@ -1,0 +1,512 @@
+"""Base classes of footnav's components: detectors, estimators, fusions.
+
+A component follows scikit-learn's contract: the constructor takes keyword-only parameters, stores
+them unchanged under the same names and does nothing else; ``get_params`` / ``set_params`` /
+``clone`` make any configuration reproducible and printable; validation happens when the action
+method starts (``validate_params``). Parameters carry their unit in their name (``window_s``,
+``sigma_acc_mps2``) and are described in the class's numpydoc ``Parameters`` section, from which
+:meth:`Component.parameter_info` builds the table that ``footnav plugins`` and the docs show.
+"""
+
+from __future__ import annotations
+
+import inspect
+import math
+import re
+from dataclasses import dataclass
+from numbers import Integral, Real
+from typing import TYPE_CHECKING, Any, ClassVar, Mapping, Protocol, Sequence, runtime_checkable
+
+from footnav.errors import CompositionError, InvalidParameterError
+
+if TYPE_CHECKING:
+    import numpy as np
+    from numpy.typing import NDArray
+
+    from footnav.types import FootTrajectory, ImuData, StanceResult
+
+__all__ = [
+    "Component",
+    "ParameterInfo",
+    "StanceDetector",
+    "FootEstimator",
+    "Fusion",
+    "JointFilter",
+    "StepableEstimator",
+    "KINDS",
+    "is_number",
+    "require_positive",
+    "require_non_negative",
+    "require_in_range",
+]
+
+#: Unit suffix of a parameter name -> unit, longest suffix first.
+_UNIT_SUFFIXES = (
+    ("_radps2", "rad/s^2"),
+    ("_mps3", "m/s^3"),
+    ("_mps2", "m/s^2"),
+    ("_radps", "rad/s"),
+    ("_dps", "deg/s"),
+    ("_mps", "m/s"),
+    ("_deg", "deg"),
+    ("_rad", "rad"),
+    ("_hz", "Hz"),
+    ("_mb", "MB"),
+    ("_ms", "ms"),
+    ("_s", "s"),
+    ("_m", "m"),
+    ("_g", "g"),
+)
+_SQRT_HZ = "_sqrthz"
+
+
+def unit_of(name: str) -> str:
+    """Unit named by a parameter's suffix (``sigma_acc_mps2_sqrthz`` -> ``m/s^2/sqrt(Hz)``), or ''."""
+    per_root_hz = name.endswith(_SQRT_HZ)
+    base = name[: -len(_SQRT_HZ)] if per_root_hz else name
+    for suffix, unit in _UNIT_SUFFIXES:
+        if base.endswith(suffix):
+            return unit + ("/sqrt(Hz)" if per_root_hz else "")
+    return ""
+
+
+@dataclass(frozen=True)
+class ParameterInfo:
+    """One constructor parameter of a component: name, default, unit and description."""
+
+    name: str
+    default: Any
+    unit: str
+    description: str
+
+
+def _docstring_parameters(cls: type) -> dict[str, str]:
+    """Descriptions of the numpydoc ``Parameters`` section of ``cls`` (first sentence each)."""
+    doc = inspect.getdoc(cls) or ""
+    match = re.search(r"^Parameters\n-+\n(.*?)(?:\n\n[A-Z][A-Za-z ]+\n-+\n|\Z)", doc, re.S | re.M)
+    if not match:
+        return {}
+    out: dict[str, str] = {}
+    current: list[str] = []
+    names: list[str] = []
+    for line in match.group(1).splitlines():
+        if line and not line.startswith(" "):
+            if names:
+                for n in names:
+                    out[n] = " ".join(current).strip()
+            names = [n.strip() for n in line.split(":")[0].split(",")]
+            current = []
+        elif line.strip():
+            current.append(line.strip())
+    for n in names:
+        out[n] = " ".join(current).strip()
+    return out
+
+
+class Component:
+    """Base of every footnav component.
+
+    Subclasses set ``name`` (the registry name), ``kind`` (set by the three bases below) and
+    declare what they need with ``needs_two_feet`` and ``needs_magnetometer``.
+    """
+
+    kind: ClassVar[str] = ""
+    name: ClassVar[str] = ""
+    needs_two_feet: ClassVar[bool] = False
+    needs_magnetometer: ClassVar[bool] = False
+
+    # -- parameters ---------------------------------------------------------------------------
+    @classmethod
+    def _param_names(cls) -> list[str]:
+        # inspect.signature costs ~0.3 ms; online mode validates parameters on every push. Cached
+        # per class (in its own __dict__: a subclass has its own constructor) and per __init__, so
+        # a class whose constructor is replaced afterwards is read again.
+        cached = cls.__dict__.get("_param_names_cache")
+        if cached is None or cached[0] is not cls.__init__:
+            sig = inspect.signature(cls.__init__)
+            names = tuple(
+                p.name
+                for p in sig.parameters.values()
+                if p.name != "self" and p.kind in (p.KEYWORD_ONLY, p.POSITIONAL_OR_KEYWORD)
+            )
+            cached = (cls.__init__, names)
+            cls._param_names_cache = cached
+        return list(cached[1])
+
+    @classmethod
+    def parameter_info(cls) -> list[ParameterInfo]:
+        """Every constructor parameter with its default, unit (from the name) and description."""
+        sig = inspect.signature(cls.__init__)
+        docs = _docstring_parameters(cls)
+        return [
+            ParameterInfo(
+                name=n,
+                default=sig.parameters[n].default,
+                unit=unit_of(n),
+                description=docs.get(n, ""),
+            )
+            for n in cls._param_names()
+        ]
+
+    def get_params(self, deep: bool = True) -> dict[str, Any]:
+        """The constructor parameters as a dict (re-creates the component with ``type(self)(**p)``).
+
+        ``deep`` is scikit-learn's signature (``sklearn.base.clone`` passes ``deep=False``);
+        footnav components hold no nested components, so both give the same dict.
+        """
+        return {n: getattr(self, n) for n in self._param_names()}
+
+    def set_params(self, **params: Any) -> "Component":
+        """Set parameters by name; unknown names raise InvalidParameterError listing the valid ones."""
+        check_param_names(type(self), params)
+        for key, value in params.items():
+            setattr(self, key, value)
+        return self
+
+    def clone(self, **overrides: Any) -> "Component":
+        """A new, unfitted component with the same parameters (and ``overrides``)."""
+        params = self.get_params()
+        check_param_names(type(self), overrides)
+        params.update(overrides)
+        return type(self)(**params)
+
+    def validate_params(self) -> None:
+        """Check parameter values; called by the action method. Subclasses extend it."""
+
+    def __repr__(self) -> str:
+        sig = inspect.signature(type(self).__init__)
+        shown = []
+        for name, value in self.get_params().items():
+            default = sig.parameters[name].default
+            try:
+                same = bool(value == default)
+            except Exception:  # array-valued parameters compare elementwise
+                same = False
+            if not same:
+                shown.append(f"{name}={value!r}")
+        return f"{type(self).__name__}({', '.join(shown)})"
+
+    def describe(self) -> dict[str, Any]:
+        """Kind, name and parameters: what provenance records and TOML re-creates."""
+        return {"kind": self.kind, "name": self.name, "params": self.get_params()}
+
+
+def check_param_names(cls: type[Component], params: Mapping[str, Any]) -> None:
+    """Raise InvalidParameterError for parameter names ``cls`` does not take, listing the valid ones."""
+    valid = cls._param_names()
+    unknown = [k for k in params if k not in valid]
+    if unknown:
+        import difflib
+
+        hints = []
+        for k in unknown:
+            close = difflib.get_close_matches(k, valid, n=1)
+            hints.append(f"{k!r}" + (f" (did you mean {close[0]!r}?)" if close else ""))
+        raise InvalidParameterError(
+            f"{cls.kind} {cls.name!r} has no parameter {', '.join(hints)}; valid parameters: {', '.join(valid) or 'none'}"
+        )
+
+
+def require(condition: bool, component: Component, param: str, expected: str) -> None:
+    """Raise InvalidParameterError unless ``condition``: names component, parameter, value, expectation."""
+    if not condition:
+        raise InvalidParameterError(
+            f"{component.kind} {component.name!r}: parameter {param}={getattr(component, param)!r} is invalid; "
+            f"expected {expected}"
+        )
+
+
+class StanceDetector(Component):
+    """Finds the zero-velocity (stance) phases of a foot: ``detect(imu) -> StanceResult``.
+
+    A detector that needs both feet (``needs_two_feet = True``) implements ``detect_pair``; the
+    pipeline always calls ``detect_pair(left, right)``, whose default detects each foot alone.
+    """
+
+    kind: ClassVar[str] = "detector"
+
+    @property
+    def latency_s(self) -> float | None:
+        """How long after a sample arrives its stance decision is final, s; None: unbounded
+        (the detector needs the whole recording and cannot run online, :mod:`footnav.pipeline.online`).
+
+        The default covers a windowed detector: the window ahead of the sample (half a centred
+        window, ``window_s`` for ``combine="any"`` / ``"all"``), then ``min_stance_s`` to know a
+        stance run is kept and ``min_swing_s`` to know a gap is not bridged. A detector without
+        ``window_s`` declares None unless it overrides this.
+        """
+        window = getattr(self, "window_s", None)
+        if window is None:
+            return None
+        ahead = window / 2 if getattr(self, "combine", "center") == "center" else window
+        return float(ahead + getattr(self, "min_stance_s", 0.0) + getattr(self, "min_swing_s", 0.0))
+
+    def detect(self, imu):  # pragma: no cover - abstract
+        raise NotImplementedError
+
+    def detect_pair(self, left, right):
+        """Stance of both feet; ``right`` may be None for one-foot detectors."""
+        return self.detect(left), (None if right is None else self.detect(right))
+
+
+class FootEstimator(Component):
+    """Estimates one foot's trajectory: ``estimate(imu, stance) -> FootTrajectory``."""
+
+    kind: ClassVar[str] = "estimator"
+
+    def estimate(self, imu, stance):  # pragma: no cover - abstract
+        raise NotImplementedError
+
+
+@runtime_checkable
+class JointFilter(Protocol):
+    """The filter a coupled fusion advances, reads and updates: the feet in one error state.
+
+    A :class:`StepableEstimator`'s ``start`` returns one. Feet are numbered in the order given to
+    ``start`` (0 left, 1 right); positions in m and velocities in m/s in the nav frame (z up),
+    quaternions [w, x, y, z] body to nav, times in s. Coupled fusions use these members and no
+    others; :class:`footnav.estimators.ekf.InsFilter` is the reference implementation.
+    """
+
+    @property
+    def covariance(self) -> NDArray[np.float64]:
+        """The joint error-state covariance now, (N, N)."""
+        ...
+
+    def block(self, foot: int, name: str) -> slice:
+        """The error-state columns of ``foot``'s block ``name`` (``"pos"``, ``"vel"``, ``"att"``)."""
+        ...
+
+    def time(self, foot: int) -> float:
+        """Time of ``foot``'s last processed sample, s."""
+        ...
+
+    def index(self, foot: int) -> int:
+        """Index of ``foot``'s last processed sample in its recording."""
+        ...
+
+    def position(self, foot: int) -> NDArray[np.float64]:
+        """``foot``'s position now, (3,) m."""
+        ...
+
+    def velocity(self, foot: int) -> NDArray[np.float64]:
+        """``foot``'s velocity now, (3,) m/s."""
+        ...
+
+    def quaternion(self, foot: int) -> NDArray[np.float64]:
+        """``foot``'s attitude now, (4,)."""
+        ...
+
+    def outputs(self, foot: int) -> Sequence[NDArray[np.float64]]:
+        """``foot``'s forward estimate per sample so far: attitude (K, 4), velocity (K, 3),
+        position (K, 3), then anything else; a sample holds the estimate before any update at
+        its instant."""
+        ...
+
+    def run_until(self, t_stop: float = ...) -> None:
+        """Process every foot's samples up to time ``t_stop`` (s; all of them by default)."""
+        ...
+
+    def selection(self, indices: NDArray[np.int64]) -> NDArray[np.float64]:
+        """H that measures the error states ``indices``, (len(indices), N)."""
+        ...
+
+    def update(
+        self, h: NDArray[np.float64], innovation: NDArray[np.float64], r: NDArray[np.float64], *, gate: float | None = None
+    ) -> NDArray[np.float64] | None:
+        """Kalman update with ``innovation = h(x^) - z = H dx + noise`` of variance ``r``; the
+        correction applied, or None when ``gate`` rejected it."""
+        ...
+
+    def update_position(
+        self, foot: int, z: NDArray[np.float64], std_m: float | NDArray[np.float64], axes: int = 3
+    ) -> NDArray[np.float64] | None:
+        """Position measurement ``z`` (m) of ``foot``'s first ``axes`` axes with std ``std_m``."""
+        ...
+
+
+@runtime_checkable
+class StepableEstimator(Protocol):
+    """An estimator coupled fusions can drive step by step (range, step-vector, particle, dtw).
+
+    Besides the estimator's ``estimate`` and the component's ``clone`` it starts one joint filter
+    over all the feet and finishes it with its own smoothing. Its constructor takes ``smoother``
+    (``"none"`` among its values: the fusions' forward tracks) and ``heading`` (``"first-step"``
+    among its values: ``estimate`` then turns the foot so that its first step points along +x
+    and records the turn in ``meta["heading_rotation_rad"]``, which ``start`` takes as the
+    initial yaw). Optionally ``closed_loop`` and ``closed_loop_std_m`` (Chistyakov et al. (2021),
+    Alg. 1). footnav's ``ekf`` is the reference implementation; ``footnav.testing``'s
+    ``StepableEstimatorContract`` runs every coupled fusion with a candidate.
+    """
+
+    smoother: str
+    heading: str
+
+    def start(
+        self,
+        imus: Sequence[ImuData],
+        stances: Sequence[StanceResult],
+        *,
+        initial_yaw_rad: Sequence[float] | None = None,
+        initial_position_m: Sequence[NDArray[np.float64]] | None = None,
+    ) -> JointFilter:
+        """A joint filter over ``imus``, each foot aligned at its first stance, its yaw (rad) and
+        position (m) set as given, ready to run."""
+        ...
+
+    def finish(self, filt: JointFilter, stances: Sequence[StanceResult]) -> list[FootTrajectory]:
+        """Run ``filt`` to the end, smooth as ``smoother`` says and return each foot's trajectory."""
+        ...
+
+    def estimate(self, imu: ImuData, stance: StanceResult) -> FootTrajectory:
+        """One foot alone."""
+        ...
+
+    def clone(self, **overrides: Any) -> StepableEstimator:
+        """The same estimator with ``overrides`` (e.g. ``smoother="none"``)."""
+        ...
+
+
+#: The members of :class:`StepableEstimator` a coupled fusion calls, and the constructor
+#: parameters it sets (it clones the estimator into a forward filter with
+#: ``clone(smoother="none", heading="first-step")``).
+STEPABLE_METHODS = ("start", "finish", "estimate", "clone")
+STEPABLE_PARAMS = ("smoother", "heading")
+#: The members of :class:`JointFilter`.
+JOINT_FILTER_MEMBERS = (
+    "covariance", "block", "time", "index", "position", "velocity", "quaternion", "outputs", "run_until", "selection",
+    "update", "update_position",
+)
+
+
+def stepable_gaps(estimator: Component) -> list[str]:
+    """What ``estimator`` lacks of :class:`StepableEstimator`, the contract coupled fusions drive.
+
+    Returns
+    -------
+    list of str
+        The missing methods and parameters, e.g. ``["method finish", "parameter smoother"]``;
+        empty when the estimator can be driven. (That the filter its ``start`` returns is a
+        :class:`JointFilter` is checked when it runs: ``start`` needs the data.)
+    """
+    missing = [f"method {m}" for m in STEPABLE_METHODS if not callable(getattr(estimator, m, None))]
+    params = estimator.get_params() if callable(getattr(estimator, "get_params", None)) else {}
+    missing += [f"parameter {p}" for p in STEPABLE_PARAMS if p not in params]
+    return missing
+
+
+def require_stepable(fusion: Component, estimator: Component) -> None:
+    """Raise CompositionError unless ``estimator`` meets the step-able filter contract
+    (:func:`stepable_gaps`), naming what it lacks."""
+    gaps = stepable_gaps(estimator)
+    if gaps:
+        raise CompositionError(
+            f"fusion {fusion.name!r} drives the per-foot filters step by step and needs an estimator with a "
+            f"step-able filter, such as 'ekf' (the contract: footnav.component.StepableEstimator); "
+            f"{estimator.name!r} lacks {', '.join(gaps)}"
+        )
+
+
+class Fusion(Component):
+    """Combines the feet into one pedestrian: ``fuse(estimator, left, stance_left, right, stance_right)``.
+
+    A fusion drives the per-foot ``estimator`` (it may call ``estimator.estimate`` or step its
+    filter) and returns a :class:`~footnav.types.FusionResult`.
+    """
+
+    kind: ClassVar[str] = "fusion"
+    #: The fusion drives the estimator's step-able filter (``estimator.start``): checked by the
+    #: pipeline before anything runs.
+    needs_stepable_estimator: ClassVar[bool] = False
+
+    def fuse(self, estimator, left, stance_left, right=None, stance_right=None):  # pragma: no cover
+        raise NotImplementedError
+
+
+KINDS = {"detector": StanceDetector, "estimator": FootEstimator, "fusion": Fusion}
+
+
+def is_number(value: Any) -> bool:
+    """A finite real number (not a bool)."""
+    return isinstance(value, Real) and not isinstance(value, bool) and math.isfinite(value)
+
+
+def require_positive(component: Component, *names: str, high: float = math.inf) -> None:
+    """InvalidParameterError naming the first of ``names`` that is not a number in (0, high]."""
+    require_in_range(component, *names, low=0.0, high=high, low_open=True)
+
+
+def require_non_negative(component: Component, *names: str, high: float = math.inf) -> None:
+    """InvalidParameterError naming the first of ``names`` that is not a number in [0, high]."""
+    require_in_range(component, *names, low=0.0, high=high)
+
+
+# Upper bounds shared by the built-in components' parameters (listed in docs/reliability.md).
+# Each lies far above any value that makes sense and far below where a value would exhaust
+# memory or time (durations and rates multiply into sample counts) or overflow (standard
+# deviations and noise densities are squared, 1e308 ** 2 is inf).
+#: Windows, minimum durations, gait intervals in s: no gait event lasts a minute.
+MAX_DURATION_S = 60.0
+#: Angular rates (thresholds, noise, bias walks) in rad/s: 30x a 2000 deg/s full scale.
+MAX_RATE_RADPS = 1000.0
+#: Accelerations (thresholds, noise, bias walks) in m/s^2: about 100 g.
+MAX_ACC_MPS2 = 1000.0
+#: Lengths and their standard deviations in m (foot separation, step geometry).
+MAX_LENGTH_M = 100.0
+#: Velocity standard deviations in m/s.
+MAX_SPEED_MPS = 100.0
+#: Angle standard deviations in rad: above 2 pi an angle is not known at all.
+MAX_ANGLE_RAD = 10.0
+
+
+def _format_bound(value: float) -> str:
+    return f"{value:g}" if math.isfinite(value) else ("inf" if value > 0 else "-inf")
+
+
+def require_in_range(
+    component: Component,
+    *names: str,
+    low: float,
+    high: float,
+    low_open: bool = False,
+    high_open: bool = False,
+    integer: bool = False,
+) -> None:
+    """InvalidParameterError naming the first of ``names`` outside ``low .. high``.
+
+    The upper bounds of footnav's parameters are where a larger value would exhaust memory or
+    time (windows and rates that multiply into sample counts) or overflow (a standard deviation
+    is squared), set well above any value that makes sense; docs/reliability.md lists them.
+
+    Parameters
+    ----------
+    component
+        The component whose attributes are checked; the message names its kind and name.
+    *names
+        Parameter names sharing the range.
+    low, high
+        The bounds, included unless ``low_open`` / ``high_open``; ``high=math.inf`` for none.
+    low_open, high_open
+        Exclude the bound: ``low=0, low_open=True`` is "positive".
+    integer
+        Require an integer (``int`` or a numpy integer, not a bool) rather than a finite real.
+
+    Raises
+    ------
+    InvalidParameterError
+        Naming the component, the parameter, its value and the range with the parameter's unit,
+        e.g. ``parameter window_s=1e+308 is invalid; expected a number in (0, 60] s``.
+    """
+    left = "(" if low_open else "["
+    right = ")" if high_open or not math.isfinite(high) else "]"
+    for name in names:
+        value = getattr(component, name)
+        kind_ok = (isinstance(value, Integral) and not isinstance(value, bool)) if integer else is_number(value)
+        ok = kind_ok and (value > low if low_open else value >= low) and (value < high if high_open else value <= high)
+        if not ok:  # the message only when needed: online mode checks parameters on every push
+            unit = unit_of(name)
+            expected = (
+                f"{'an integer' if integer else 'a number'} in {left}{_format_bound(low)}, {_format_bound(high)}{right}"
+                + (f" {unit}" if unit else "")
+            )
+            require(ok, component, name, expected)

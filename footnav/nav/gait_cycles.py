@@ -1,0 +1,116 @@
+"""Gait cycles in a foot's angular rate: one swing peak per stride, found without stance labels.
+
+Every stride of a foot holds one swing, the most energetic moment of its gait cycle, and one stance
+between consecutive swings. The swings are the unmistakable part of the signal at every pace: the
+windowed RMS angular rate over ~0.2 s (about half a swing) has one broad hump per swing, 5-15 rad/s
+in walking and running, ~1 rad/s in shuffling or crawling, whatever the sensor's mounting (a norm).
+:func:`swing_peaks` finds those humps; the stance detector :mod:`footnav.detectors.adaptive` and
+the pipeline's stance self-check (:mod:`footnav.nav.stance_check`) both stand on them.
+
+The window is long enough to merge the zero crossing of the pitch rate in mid-swing (two narrow
+humps of the raw norm) into one hump, and short enough not to bridge a running stance (~0.2 s).
+A hump counts when its prominence is a large share of its height (the signal falls far between
+two swings, not between the halves of one) and when it is at least a fraction of the recording's
+typical stride apart from a higher one.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.signal import find_peaks
+
+from footnav.nav.windows import centred, gyr_rms, window_samples
+
+__all__ = ["SWING_ACC_MPS2", "SwingPeaks", "swing_peaks"]
+
+#: A swinging foot accelerates: the RMS of ``|f| - g`` over its swing window exceeds this (m/s^2;
+#: 5-20 m/s^2 in the walking and running swings of the shared recordings). A foot that turns fast
+#: but stays below it pivots on the ground (turns on the spot, U-turn shuffles: 0.6-2 m/s^2).
+SWING_ACC_MPS2 = 2.0
+
+
+@dataclass(frozen=True, eq=False)
+class SwingPeaks:
+    """The swing peaks of one foot's recording.
+
+    Attributes
+    ----------
+    index
+        Sample index of each swing peak, increasing, (K,).
+    height_radps
+        RMS angular rate of the ``window_samples`` window centred on each peak, rad/s, (K,).
+    energy_radps
+        That windowed RMS angular rate at every sample, rad/s, (N,).
+    window_samples
+        The window, samples.
+    stride_s
+        Median time between consecutive peaks closer than ``max_stride_s`` (the typical stride of
+        this recording), s, or nan with fewer than two such peaks.
+    """
+
+    index: NDArray[np.int64]
+    height_radps: NDArray[np.float64]
+    energy_radps: NDArray[np.float64]
+    window_samples: int
+    stride_s: float
+
+
+def _prominent_peaks(energy: NDArray, min_height: float, rel_prominence: float, distance: int) -> NDArray[np.int64]:
+    idx, props = find_peaks(energy, height=min_height, prominence=0.0, distance=max(1, distance))
+    keep = props["prominences"] >= rel_prominence * props["peak_heights"]
+    return idx[keep].astype(np.int64)
+
+
+def swing_peaks(
+    gyr: NDArray[np.float64],
+    rate_hz: float,
+    *,
+    window_s: float = 0.2,
+    min_peak_radps: float = 0.6,
+    rel_prominence: float = 0.4,
+    min_stride_s: float = 0.3,
+    stride_fraction: float = 0.6,
+    max_stride_s: float = 2.5,
+) -> SwingPeaks:
+    """Swing peaks of the windowed RMS angular rate: one per stride of this foot.
+
+    Parameters
+    ----------
+    gyr
+        Angular rate, rad/s, body frame, (N, 3).
+    rate_hz
+        Sampling rate, Hz.
+    window_s
+        RMS window, s (odd number of samples, :func:`~footnav.nav.windows.window_samples`).
+    min_peak_radps
+        A swing peaks above this, rad/s: below it the foot is fidgeting, not stepping.
+    rel_prominence
+        A swing's prominence (scipy.signal.peak_prominences) is at least this share of its height.
+    min_stride_s
+        Peaks closer than this are one swing, s (no foot strides faster).
+    stride_fraction
+        Second pass: peaks closer than this fraction of the typical stride are one swing (the
+        lower one goes); 0 skips it.
+    max_stride_s
+        Peak intervals longer than this are pauses, not strides, when the typical stride is taken.
+
+    Returns
+    -------
+    SwingPeaks
+    """
+    gyr = np.asarray(gyr, dtype=np.float64)
+    n = len(gyr)
+    win = window_samples(window_s, rate_hz, n)
+    energy = centred(gyr_rms(gyr, win), win, n)
+    idx = _prominent_peaks(energy, min_peak_radps, rel_prominence, int(min_stride_s * rate_hz))
+    intervals = np.diff(idx)
+    intervals = intervals[intervals < max_stride_s * rate_hz]
+    stride_s = float(np.median(intervals)) / rate_hz if len(intervals) else float("nan")
+    if stride_fraction > 0 and len(intervals) >= 3:
+        # the typical stride separates the halves of one swing that the first pass took as two
+        distance = max(int(min_stride_s * rate_hz), int(stride_fraction * stride_s * rate_hz))
+        idx = _prominent_peaks(energy, min_peak_radps, rel_prominence, distance)
+    return SwingPeaks(idx, energy[idx], energy, win, stride_s)

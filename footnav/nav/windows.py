@@ -1,0 +1,90 @@
+"""Windowed statistics of IMU signals: window lengths, O(N) window sums and RMS values.
+
+Shared by the stance detectors (Skog, Händel, Nilsson and Rantakokko, "Zero-velocity detection --
+an algorithm evaluation", IEEE Trans. Biomed. Eng. 57(11), 2010, Sec. III: ARE, MAG and MV as
+root-mean-squares in physical units) and by the gait-cycle analysis of
+:mod:`footnav.nav.gait_cycles`. A window of W samples is indexed by its first sample; the
+statistic of the window *centred* on each sample is :func:`centred`.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import NDArray
+
+from footnav.types import GRAVITY_MPS2
+
+__all__ = [
+    "acc_magnitude_rms",
+    "acc_moving_std",
+    "centred",
+    "gyr_rms",
+    "window_samples",
+    "window_sums",
+]
+
+#: Added to half the window length in samples before rounding down (see :func:`window_samples`).
+_ROUNDING_SLACK = 1e-6
+
+
+def window_samples(window_s: float, rate_hz: float, n_samples: int) -> int:
+    """Window length W in samples: ``window_s * rate_hz`` rounded to an odd number, 1 <= W <= N.
+
+    Odd, so that a window can be centred on a sample (W//2 samples either side): an even window
+    would shift every stance edge by half a sample, differently at each rate. ``2 floor(x/2) + 1``
+    is the odd number nearest ``x`` (ties upward). A recording shorter than the window is one
+    window (W = N).
+    """
+    # the slack keeps the upward tie stable: a rate from a median interval is inexact
+    # (1 / 0.01 s = 99.99999999999999 Hz), and 0.04 s x that must still give 5 samples, not 3
+    win = 2 * int(np.floor(window_s * rate_hz / 2.0 + _ROUNDING_SLACK)) + 1
+    return int(min(max(win, 1), n_samples))
+
+
+def window_sums(x: NDArray[np.float64], win: int) -> NDArray[np.float64]:
+    """Sum of ``x`` (N, ...) over every full window of ``win`` samples, by start index: (N-W+1, ...).
+
+    Window k covers samples ``k .. k+W-1``. O(N) by one cumulative sum (no per-window loop); the
+    difference of two cumulative sums loses ~1e-16 of the running total, far below any threshold.
+    """
+    c = np.cumsum(x, axis=0)
+    c = np.concatenate([np.zeros((1,) + x.shape[1:]), c])
+    return c[win:] - c[:-win]
+
+
+def centred(stat: NDArray[np.float64], win: int, n_samples: int) -> NDArray[np.float64]:
+    """Per-sample values of a per-window statistic (N-W+1,): the window centred on each sample,
+    the first / last full window at the ends of the recording. Shape (N,)."""
+    k = np.clip(np.arange(n_samples) - win // 2, 0, n_samples - win)
+    return stat[k]
+
+
+def _rms(sum_of_squares: NDArray[np.float64], win: int) -> NDArray[np.float64]:
+    # a difference of cumulative sums can dip a few ulp below 0 where the true sum is 0
+    return np.sqrt(np.maximum(sum_of_squares, 0.0) / win)
+
+
+def gyr_rms(gyr: NDArray[np.float64], win: int) -> NDArray[np.float64]:
+    """ARE statistic: ``sqrt((1/W) sum ||w_l||^2)`` of every window, rad/s, (N-W+1,)."""
+    return _rms(window_sums(np.einsum("ij,ij->i", gyr, gyr), win), win)
+
+
+def acc_magnitude_rms(acc: NDArray[np.float64], win: int) -> NDArray[np.float64]:
+    """MAG statistic: ``sqrt((1/W) sum (||f_l|| - g)^2)`` of every window, m/s^2, (N-W+1,)."""
+    return _rms(window_sums((np.linalg.norm(acc, axis=1) - GRAVITY_MPS2) ** 2, win), win)
+
+
+def acc_moving_std(acc: NDArray[np.float64], win: int) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """MV statistic ``sqrt((1/W) sum ||f_l - f_mean||^2)`` (m/s^2) and the window means f_mean
+    (m/s^2, (N-W+1, 3)) of every window.
+
+    The variance is ``mean ||f||^2 - ||f_mean||^2``; both terms are taken about the recording's
+    mean specific force, which leaves the variance unchanged and keeps the two terms small, so the
+    subtraction does not cancel ~g^2 = 96 against itself.
+    """
+    offset = acc.mean(axis=0)
+    centred = acc - offset
+    mean_c = window_sums(centred, win) / win
+    mean_sq_c = window_sums(np.einsum("ij,ij->i", centred, centred), win) / win
+    variance = np.maximum(mean_sq_c - np.einsum("ij,ij->i", mean_c, mean_c), 0.0)
+    return np.sqrt(variance), mean_c + offset

@@ -1,0 +1,271 @@
+"""Online mode: a pipeline on a live stream, final one step after it happens, in bounded memory.
+
+:meth:`footnav.pipeline.factory.Pipeline.online` returns an :class:`OnlineStream`. Samples arrive in
+chunks of any size (one sample to minutes), per foot and on each foot's own schedule;
+:meth:`OnlineStream.push` returns what became final since the last push, and
+:meth:`OnlineStream.close` the :class:`~footnav.pipeline.result.PipelineResult` of the offline run of
+the same pipeline (identical on the simulated and shared recordings; the tests allow 1e-9 m).
+
+How it stays equal to the offline run, per foot (:mod:`footnav.pipeline.online_foot`):
+
+1. **Detection** is re-run on a short buffer: the last ``margin`` final samples and the samples
+   not yet final. A detector declares its latency (``StanceDetector.latency_s``): its decision
+   on a sample depends on nothing later than that, so decisions older than the latency (plus
+   two samples) are final; decisions within ``margin`` of the buffer's start are never used (the
+   buffer's start has edge effects of the same reach). A detector without a bounded latency
+   (``latency_s = None``: the adaptive detector's per-cycle bounds need the recording's typical
+   stride, the HMM's Viterbi path the whole recording) is refused.
+2. **The forward filter** (the estimator's :class:`~footnav.estimators.ekf.InsFilter`, aligned
+   by ``estimator.start`` once the first stance is final) runs on the final samples. The filter
+   is built over a fixed-size *segment* of samples that the stream fills as they become final;
+   when the segment is full, a new one starts from the filter's last checkpoint at a step end
+   (its state, covariance and the step-wise smoother's chaining value there). The filter is
+   deterministic, so the continued run is the offline run, sample for sample.
+3. **Step-wise smoothing** (``smoother="step"``) closes each step at its end: every sample up to
+   the last closed step is final, and is returned by the next push. The frame's heading (the
+   first step along +x) is known once the first step longer than 0.2 m has closed; samples are
+   held until then.
+
+Latency: a step (from one stance's end to the next stance's end) is final once that stance's end
+is detected, i.e. when the sample after it is final: ``latency_s`` plus 3 samples after the
+stance's last sample arrives (measured by ``benchmarks/bench_online.py`` and
+``tests/core/test_online.py``).
+
+Memory: the input buffer, the detection buffer and the filter segment are bounded; with
+``keep=False`` nothing grows with the walk (``close`` then returns None). ``keep=True`` keeps every
+final sample for ``close``'s result, as the offline run would.
+
+Fusions: only those whose result at a step end does not depend on later samples run online
+(``independent``); the others fuse on the feet's common time span, known only at the end, or
+average the whole walk (DTW), and are refused with a message.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+from footnav.nav.clock_sync import ClockMap
+from footnav.errors import CompositionError, InvalidInputError, InvalidParameterError
+from footnav.pipeline.online_foot import ClosedStep, FootStream, FootUpdate, ForwardEstimate, as_chunk
+from footnav.pipeline.result import PipelineResult
+from footnav.warning_log import recording
+
+__all__ = ["OFFLINE_ONLY_FUSIONS", "ONLINE_FUSIONS", "ClosedStep", "FootUpdate", "ForwardEstimate", "OnlineStream", "OnlineUpdate"]
+
+
+#: Fusions whose output at a step end needs no later sample: they run online.
+ONLINE_FUSIONS = ("independent",)
+#: Why the other built-in fusions are offline only.
+OFFLINE_ONLY_FUSIONS = {
+    "dtw": "it averages the feet's whole walks (dynamic time warping needs both sequences complete)",
+    "range": "it fuses the feet on their common time span, known only when both recordings end",
+    "step-vector": "it fuses the feet on their common time span, known only when both recordings end",
+    "particle": "it fuses the feet on their common time span, known only when both recordings end",
+}
+
+_FEET = ("left", "right")
+
+
+@dataclass(frozen=True)
+class OnlineUpdate:
+    """What a :meth:`OnlineStream.push` made final: per foot, and the closed steps in time order."""
+
+    left: FootUpdate
+    right: FootUpdate | None
+    steps: list[ClosedStep] = field(default_factory=list)
+
+
+class OnlineStream:
+    """A pipeline on a live stream; make it with :meth:`Pipeline.online`.
+
+    Parameters
+    ----------
+    pipeline
+        A pipeline whose components run online: a detector with a bounded ``latency_s``, an
+        estimator with a step-able filter and ``smoother="step"`` (or ``"none"``), an online
+        fusion (:data:`ONLINE_FUSIONS`).
+    feet
+        1 (``left`` only) or 2.
+    max_wait_s
+        How long (s, in the faster foot's time) a closed step waits for the other foot before
+        it is returned out of time order (``ClosedStep.late``).
+    clock_offset_s
+        Per foot, added to its time stamps to put both feet on one clock, e.g.
+        ``{"right": -0.012}``.
+    clocks
+        Per foot, a :class:`~footnav.nav.clock_sync.ClockMap` applied to its time stamps (an
+        offset and a rate), e.g. ``{"right": fit_clock(tm1, ti, tm2)}`` from the message
+        exchanges of Chistyakov et al. (2021), Sec. 5B logged before the walk. A foot takes an
+        offset or a map, not both.
+    keep
+        Keep every final sample for :meth:`close`'s result; False keeps nothing of the past
+        (memory independent of the walk's length) and ``close`` returns None.
+    rate_hz
+        The sampling rate the detector's windows are counted at, Hz; default: 1 / the median
+        interval of the first second. The offline run takes the whole recording's median
+        interval: with jittered sampling, a window on the edge of rounding to another number of
+        samples differs unless this is the same (``recording.left.rate_hz``).
+    """
+
+    def __init__(
+        self,
+        pipeline: Any,
+        *,
+        feet: int = 2,
+        max_wait_s: float = 2.0,
+        clock_offset_s: Mapping[str, float] | None = None,
+        clocks: Mapping[str, ClockMap] | None = None,
+        keep: bool = True,
+        rate_hz: float | None = None,
+    ) -> None:
+        if feet not in (1, 2):
+            raise InvalidParameterError(f"online: feet={feet!r} is invalid; expected 1 or 2")
+        if not (isinstance(max_wait_s, (int, float)) and max_wait_s >= 0):
+            raise InvalidParameterError(f"online: max_wait_s={max_wait_s!r} is invalid; expected a number >= 0 s")
+        offsets = dict(clock_offset_s or {})
+        unknown = set(offsets) - set(_FEET[:feet])
+        if unknown:
+            raise InvalidParameterError(f"online: clock_offset_s names {sorted(unknown)}; expected {list(_FEET[:feet])}")
+        self.clocks = dict(clocks or {})
+        for foot, clock in self.clocks.items():
+            if foot not in _FEET[:feet]:
+                raise InvalidParameterError(f"online: clocks names {foot!r}; expected one of {list(_FEET[:feet])}")
+            if not isinstance(clock, ClockMap):
+                raise InvalidParameterError(
+                    f"online: clocks[{foot!r}] is a {type(clock).__name__}; expected a footnav.nav.clock_sync.ClockMap"
+                )
+            if foot in offsets:
+                raise InvalidParameterError(f"online: the {foot} foot has both a clock_offset_s and a clock map; give one")
+        if rate_hz is not None and not (isinstance(rate_hz, (int, float)) and 0 < rate_hz < 1e6):
+            raise InvalidParameterError(f"online: rate_hz={rate_hz!r} is invalid; expected a number in (0, 1e6) Hz or None")
+        self.rate_hz = rate_hz
+        self.pipeline = pipeline
+        self.latency_s = check_online(pipeline, feet)
+        self.n_feet = feet
+        self.max_wait_s = float(max_wait_s)
+        self.keep = bool(keep)
+        self.feet = [FootStream(self, foot, offsets.get(foot, 0.0)) for foot in _FEET[:feet]]
+        self._held: list[ClosedStep] = []
+        self._closed = False
+        self._t0 = time.perf_counter()
+        self._push_s = 0.0
+        self.n_pushes = 0
+
+    def __repr__(self) -> str:
+        n = [f.input.end for f in self.feet]
+        return f"OnlineStream(feet={self.n_feet}, samples={n}, final={[f.n_out for f in self.feet]}, latency_s={self.latency_s:.3g})"
+
+    def push(self, left: Any = None, right: Any = None) -> OnlineUpdate:
+        """Add samples of either foot or both; returns what became final since the last push."""
+        if self._closed:
+            raise InvalidInputError("the stream is closed; start a new one with pipeline.online()", field="push")
+        if right is not None and self.n_feet == 1:
+            raise InvalidInputError("a one-foot stream (feet=1) takes left=... only", field="right")
+        t0 = time.perf_counter()
+        for foot, chunk in zip(self.feet, (left, right)):
+            if chunk is not None:
+                t, acc, gyr = as_chunk(chunk, foot.foot)
+                clock = self.clocks.get(foot.foot)
+                foot.push(t if clock is None else clock(t), acc, gyr)
+        out = self._update(final=False)
+        self._push_s += time.perf_counter() - t0
+        self.n_pushes += 1
+        return out
+
+    def _update(self, final: bool) -> OnlineUpdate:
+        updates = [f.take() for f in self.feet]
+        for f in self.feet:
+            self._held.extend(f.pending_steps)
+            f.pending_steps.clear()
+        self._held.sort(key=lambda s: (s.t, s.foot))
+        released: list[ClosedStep] = []
+        if final or self.n_feet == 1:
+            released, self._held = self._held, []
+        else:
+            keep = []
+            for step in self._held:
+                other = self.feet[1 - _FEET.index(step.foot)]
+                own = self.feet[_FEET.index(step.foot)]
+                if other.closed_until() >= step.t or other.finished:
+                    released.append(step)
+                elif own.t_last - step.t > self.max_wait_s:
+                    released.append(ClosedStep(step.t, step.foot, step.position, step.stride_length_m, step.heading_rad, step.index, late=True))
+                else:
+                    keep.append(step)
+            self._held = keep
+        return OnlineUpdate(updates[0], updates[1] if self.n_feet == 2 else None, released)
+
+    def close(self) -> PipelineResult | None:
+        """End the stream: every remaining sample becomes final (the last step is closed as the
+        offline run closes it). Returns the whole :class:`PipelineResult` (``keep=True``) or None;
+        :attr:`last_update` holds what the end made final."""
+        if self._closed:
+            raise InvalidInputError("the stream is already closed", field="close")
+        self._closed = True
+        with recording() as caught:
+            for f in self.feet:
+                f.finish()
+        self.last_update = self._update(final=True)
+        if not self.keep:
+            return None
+        from footnav._version import __version__
+        from footnav.fusion.independent import midpoint_path
+
+        trajs = [f.trajectory() for f in self.feet]
+        left, stance_left = trajs[0]
+        right, stance_right = trajs[1] if self.n_feet == 2 else (None, None)
+        meta = {
+            "pipeline": self.pipeline.config(),
+            "footnav_version": __version__,
+            "warnings": [str(w) for w in caught],
+            "stance_check": {},
+            "fusion": {"fusion": self.pipeline.fusion.describe()},
+            "runtime_s": self._push_s,
+            "input": {foot.foot: {"online": True, "samples": foot.input.end} for foot in self.feet},
+            "online": self.stats(),
+        }
+        return PipelineResult(left=left, right=right, path=midpoint_path(left, right), stance_left=stance_left,
+                              stance_right=stance_right, meta=meta)
+
+    def stats(self) -> dict[str, Any]:
+        """Samples received and final per foot, the detector's latency, time spent in push."""
+        return {
+            "latency_s": self.latency_s,
+            "samples": {f.foot: f.input.end for f in self.feet},
+            "final": {f.foot: f.n_out for f in self.feet},
+            "pushes": self.n_pushes,
+            "push_time_s": self._push_s,
+        }
+
+
+def check_online(pipeline: Any, feet: int) -> float:
+    """The detector's latency (s) when the pipeline can run online; else InvalidParameterError or
+    CompositionError saying which component cannot and why."""
+    det, est, fus = pipeline.detector, pipeline.estimator, pipeline.fusion
+    latency = det.latency_s
+    if latency is None:
+        raise CompositionError(
+            f"detector {det.name!r} cannot run online: its decision on a sample depends on samples without "
+            f"bound (it declares latency_s = None); use a windowed detector such as 'threshold' or 'glrt'"
+        )
+    if fus.needs_two_feet and feet < 2:
+        raise CompositionError(f"fusion {fus.name!r} needs both feet (feet=2)")
+    if fus.name not in ONLINE_FUSIONS:
+        why = OFFLINE_ONLY_FUSIONS.get(fus.name, "it is not known to give its result at a step end from the samples so far")
+        raise CompositionError(
+            f"fusion {fus.name!r} is offline only: {why}; online mode runs {', '.join(repr(n) for n in ONLINE_FUSIONS)}"
+        )
+    if not callable(getattr(est, "start", None)):
+        raise CompositionError(f"estimator {est.name!r} has no step-able filter (start(imus, stances)); online mode needs one, such as 'ekf'")
+    est.validate_params()
+    if getattr(est, "smoother", None) not in ("step", "none"):
+        raise CompositionError(
+            f"estimator {est.name!r} with smoother={getattr(est, 'smoother', None)!r} is offline only: whole-walk "
+            "smoothing needs the whole walk; use smoother='step' (each step smoothed at its end) or 'none'"
+        )
+    if getattr(est, "closed_loop", False):
+        raise CompositionError(f"estimator {est.name!r} with closed_loop=True is offline only: it needs the walk's end")
+    return float(latency)

@@ -1,0 +1,555 @@
+"""One foot of an online stream (:mod:`footnav.pipeline.online`): detection on a short window,
+the forward filter in fixed-size segments continued from step-end checkpoints, step-wise
+smoothing, footprints and the frame's heading.
+
+Global sample indices count the foot's samples since the stream began; the filter segment's
+local index ``k`` is global ``seg0 + k``. What the stream guarantees (the offline causal run,
+bounded memory, the latency) is explained in :mod:`footnav.pipeline.online`.
+
+A segment is an :class:`~footnav.estimators.ekf.filter.InsFilter` built with room for the
+samples to come (``capacity``), fed the final samples with ``InsFilter.extend`` and started from
+a step-end checkpoint of the previous segment with ``InsFilter.resume``: only public methods.
+"""
+
+from __future__ import annotations
+
+import math
+from collections import deque
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from footnav.errors import InvalidInputError
+from footnav.nav.heading import MIN_FIRST_STEP_M, rotate_about_z, turn_to_first_step
+from footnav.nav.heading_drift import heading_drift_cov
+from footnav.types import FootTrajectory, ImuData, StanceResult, stance_intervals
+from footnav.warning_log import recording
+from footnav.estimators.ekf.filter import InsFilter
+from footnav.estimators.ekf.records import FilterState
+from footnav.estimators.ekf.smoother import StepSmoother
+
+__all__ = ["SEGMENT_SAMPLES", "ClosedStep", "FootStream", "FootUpdate", "ForwardEstimate", "as_chunk"]
+
+#: Samples a filter segment holds at first (grown when a stance or swing outlasts it).
+SEGMENT_SAMPLES = 16384
+
+
+# -- what a push returns ----------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class ForwardEstimate:
+    """The forward filter's state at its newest sample (not final: later samples refine it).
+
+    ``position_cov`` is the 3 x 3 position covariance (m^2) of the filter, in the nav frame
+    (until the first step's heading is known: the sensor's initial heading, not yet turned).
+    """
+
+    t: float
+    position: NDArray[np.float64]
+    velocity: NDArray[np.float64]
+    quaternion: NDArray[np.float64]
+    position_cov: NDArray[np.float64]
+
+
+@dataclass(frozen=True)
+class ClosedStep:
+    """One step that became final: the foot's stance ended at ``t`` (s).
+
+    ``position`` is the footprint (mean position over the stance, m, nav frame),
+    ``stride_length_m`` the horizontal distance from the foot's previous footprint and
+    ``heading_rad`` its direction (about z from +x; nan for the first footprint).
+    ``late`` is True when the step was released without waiting for the other foot
+    (``max_wait_s`` ran out).
+    """
+
+    t: float
+    foot: str
+    position: NDArray[np.float64]
+    stride_length_m: float
+    heading_rad: float
+    index: int
+    late: bool = False
+
+
+@dataclass(frozen=True)
+class FootUpdate:
+    """One foot's samples that became final in a push (smoothed per step, nav frame), and the
+    forward estimate at its newest sample (None before the filter is aligned)."""
+
+    t: NDArray[np.float64]
+    position: NDArray[np.float64]
+    velocity: NDArray[np.float64]
+    quaternion: NDArray[np.float64]
+    forward: ForwardEstimate | None
+
+    @property
+    def n_samples(self) -> int:
+        return len(self.t)
+
+
+def _empty_update(forward: ForwardEstimate | None) -> FootUpdate:
+    z3 = np.empty((0, 3))
+    return FootUpdate(np.empty(0), z3, z3.copy(), np.empty((0, 4)), forward)
+
+
+# -- chunks -------------------------------------------------------------------------------------
+
+
+def as_chunk(chunk: Any, foot: str) -> tuple[NDArray, NDArray, NDArray]:
+    """``(t, acc, gyr)`` arrays (SI) of a chunk: an ImuData, a pandas DataFrame with columns ``t,
+    acc_x..gyr_z``, a mapping with ``t``, ``acc``, ``gyr``, or a tuple ``(t, acc, gyr)``; one
+    sample may be given as scalars and 3-vectors."""
+    if isinstance(chunk, ImuData):
+        t, acc, gyr = chunk.t, chunk.acc, chunk.gyr
+    elif hasattr(chunk, "columns") and hasattr(chunk, "iloc"):
+        cols = [c for c in ("acc_x", "acc_y", "acc_z", "gyr_x", "gyr_y", "gyr_z", "t") if c not in chunk.columns]
+        if cols:
+            raise InvalidInputError(f"the {foot} foot's DataFrame chunk has no column(s) {cols}", field=foot)
+        t = chunk["t"].to_numpy()
+        acc = chunk[["acc_x", "acc_y", "acc_z"]].to_numpy()
+        gyr = chunk[["gyr_x", "gyr_y", "gyr_z"]].to_numpy()
+    elif isinstance(chunk, Mapping):
+        try:
+            t, acc, gyr = chunk["t"], chunk["acc"], chunk["gyr"]
+        except KeyError as exc:
+            raise InvalidInputError(f"the {foot} foot's chunk has no {exc.args[0]!r}; give t, acc, gyr", field=foot) from None
+    elif isinstance(chunk, (tuple, list)) and len(chunk) == 3:
+        t, acc, gyr = chunk
+    else:
+        raise InvalidInputError(
+            f"the {foot} foot's chunk is a {type(chunk).__name__}; give an ImuData, a DataFrame, "
+            "a mapping {'t', 'acc', 'gyr'} or a tuple (t, acc, gyr)",
+            field=foot,
+        )
+    t = np.atleast_1d(np.asarray(t, dtype=np.float64))
+    acc = np.asarray(acc, dtype=np.float64).reshape(-1, 3)
+    gyr = np.asarray(gyr, dtype=np.float64).reshape(-1, 3)
+    if t.ndim != 1 or len(acc) != len(t) or len(gyr) != len(t):
+        raise InvalidInputError(
+            f"the {foot} foot's chunk has {len(t)} times, {len(acc)} acc and {len(gyr)} gyr rows; one row per sample",
+            field=foot,
+        )
+    if not (np.isfinite(t).all() and np.isfinite(acc).all() and np.isfinite(gyr).all()):
+        raise InvalidInputError(f"the {foot} foot's chunk has non-finite values", field=foot)
+    return t, acc, gyr
+
+
+class _Grow:
+    """Growing (N, ...) arrays with a moving start: append at the end, drop from the front, in
+    amortised O(1) per sample and memory proportional to what is kept."""
+
+    def __init__(self, shapes: list[tuple[tuple[int, ...], Any]]) -> None:
+        self.arrays = [np.empty((64, *s), dtype=d) for s, d in shapes]
+        self.start = 0  # global index of row 0
+        self.n = 0  # rows held
+
+    @property
+    def end(self) -> int:
+        return self.start + self.n
+
+    def append(self, *rows: NDArray) -> None:
+        m = len(rows[0])
+        if self.n + m > len(self.arrays[0]):
+            cap = max(2 * (self.n + m), 64)
+            self.arrays = [np.concatenate([a[: self.n], np.empty((cap - self.n, *a.shape[1:]), a.dtype)]) for a in self.arrays]
+        for a, r in zip(self.arrays, rows):
+            a[self.n : self.n + m] = r
+        self.n += m
+
+    def drop_before(self, g: int) -> None:
+        """Forget rows before global index ``g``; the arrays shrink when mostly empty."""
+        cut = min(max(g - self.start, 0), self.n)
+        if cut == 0:
+            return
+        keep = self.n - cut
+        if 4 * keep < len(self.arrays[0]) and len(self.arrays[0]) > 64:
+            cap = max(2 * keep, 64)
+            self.arrays = [np.concatenate([a[cut : self.n], np.empty((cap - keep, *a.shape[1:]), a.dtype)]) for a in self.arrays]
+        else:
+            for a in self.arrays:
+                a[:keep] = a[cut : self.n]
+        self.start += cut
+        self.n = keep
+
+    def rows(self, a: int, b: int) -> list[NDArray]:
+        """Views of global rows ``a:b``."""
+        return [x[a - self.start : b - self.start] for x in self.arrays]
+
+
+# -- one foot -------------------------------------------------------------------------------------
+
+
+class FootStream:
+    """Detection, forward filter with step-wise smoothing, and the final samples of one foot.
+
+    Global sample indices count the foot's samples since the stream began; the filter segment's
+    local index ``k`` is global ``seg0 + k``.
+    """
+
+    def __init__(self, stream: Any, foot: str, offset_s: float) -> None:
+        self.stream = stream
+        self.foot = foot
+        self.offset_s = float(offset_s)
+        # input not yet dropped: t, acc, gyr and the final stance decision
+        self.input = _Grow([((), np.float64), ((3,), np.float64), ((3,), np.float64), ((), np.bool_)])
+        self.n_final = 0  # samples whose stance decision is final
+        self.n_fed = 0  # final samples copied into the filter segment
+        self.rate_hz: float | None = None
+        self.lag = 0  # detection latency, samples
+        self.margin = 0  # final samples re-detected before the frontier, samples
+        self.run_start: int | None = None  # start of the stance run open at the frontier
+        self.first_stance_closed = False
+        self.filt: InsFilter | None = None
+        self.seg0 = 0
+        self.base_k = 0  # local index of the segment's initial state
+        self.n_checkpoints = 1  # the segment's checkpoints already read
+        self.start_index = 0  # where the filter started (the first stance), global
+        self.meta: dict = {}
+        # final (smoothed) outputs: t, q, v, p, position covariance (xx, xy, yy, zz), stance
+        self.out = _Grow([((), np.float64), ((4,), np.float64), ((3,), np.float64), ((3,), np.float64), ((4,), np.float64), ((), np.bool_)])
+        self.n_out = 0
+        self.emitted = 0
+        self.t_final = -math.inf
+        # footprints and steps
+        self.fp_sum = np.zeros(3)
+        self.fp_n = 0
+        self.footprints: list[NDArray] = []  # unturned, until the heading is known
+        self.step_positions: list[tuple[float, int, NDArray]] = []  # (t, index, footprint) awaiting the heading
+        self.last_footprint: NDArray | None = None
+        self.n_steps = 0
+        self.psi: float | None = None
+        self.pending_steps: list[ClosedStep] = []
+        #: (global index of the step end, newest received sample's global index when it became
+        #: final) of the latest steps: the latency, measured
+        self.step_final_at: deque[tuple[int, int]] = deque(maxlen=256)
+        self.finished = False
+
+    def closed_until(self) -> float:
+        """Every step of this foot that ends before this time (s) has been returned or is held
+        with the released ones: the filter's newest sample, or the first step awaiting the heading."""
+        if self.filt is None:
+            return -math.inf
+        t = self.filt.time(0)
+        if self.step_positions:
+            t = min(t, self.step_positions[0][0] - 1e-9)
+        return t
+
+    @property
+    def t_last(self) -> float:
+        return float(self.input.arrays[0][self.input.n - 1]) if self.input.n else -math.inf
+
+    # -- input and detection --------------------------------------------------------------------
+    def push(self, t: NDArray, acc: NDArray, gyr: NDArray) -> None:
+        if len(t) == 0:
+            return
+        if self.offset_s:
+            t = t + self.offset_s
+        full = np.concatenate(([self.t_last], t)) if self.input.n else t
+        bad = np.flatnonzero(np.diff(full) <= 0)
+        if len(bad):
+            i = int(bad[0]) + (0 if self.input.n else 1)
+            raise InvalidInputError(
+                f"the {self.foot} foot's time stamps must increase strictly; its sample {self.input.end + i} at "
+                f"t={t[i]!r} s does not (previous {full[i + (1 if self.input.n else 0) - 1]!r} s)",
+                field=self.foot,
+                index=self.input.end + i,
+            )
+        self.input.append(t, acc, gyr, np.zeros(len(t), dtype=bool))
+        self._detect(final=False)
+        self._filter(final=False)
+
+    def _detect(self, final: bool) -> None:
+        inp = self.input
+        n_in = inp.end
+        if n_in < 2:
+            if final:
+                raise InvalidInputError(f"the {self.foot} foot has {n_in} sample(s); need at least 2", field=self.foot)
+            return
+        if self.rate_hz is None:
+            # the latency in samples needs the rate: wait for a second of data (or the end)
+            tt = inp.arrays[0][: inp.n]
+            if self.stream.rate_hz is not None:
+                self.rate_hz = float(self.stream.rate_hz)
+            elif not final and tt[-1] - tt[0] < 1.0:
+                return
+            else:
+                self.rate_hz = float(1.0 / np.median(np.diff(tt)))
+            self.lag = math.ceil(self.stream.latency_s * self.rate_hz) + 2
+            self.margin = 3 * self.lag + 8
+        frontier = n_in if final else n_in - self.lag
+        if frontier <= self.n_final:
+            return
+        a = max(self.n_final - self.margin, inp.start)
+        t, acc, gyr, mask = inp.rows(a, n_in)
+        # the detector's rate is the median interval's: the stream's rate, not each window's own
+        # (jittered sampling gives windows of other lengths), so it sees the samples on a grid
+        # at that rate (a windowed detector counts samples; the time stamps give it the rate)
+        t = t[0] + np.arange(len(t)) / self.rate_hz
+        with recording(quiet=True):  # a window's gaps were warned about with the recording
+            stance = self.stream.pipeline.detector.detect(ImuData(t=t, acc=acc.copy(), gyr=gyr.copy()))
+        new = np.asarray(stance.mask, dtype=bool)[self.n_final - a : frontier - a]
+        mask[self.n_final - a : frontier - a] = new
+        self._track_runs(new)
+        self.n_final = frontier
+
+    def _track_runs(self, new: NDArray[np.bool_]) -> None:
+        """Whether the first stance has ended, from the newly final decisions."""
+        if self.first_stance_closed:
+            return
+        if self.run_start is not None and not new[0]:
+            self.first_stance_closed = True
+            return
+        for s, e in stance_intervals(new):
+            if e < len(new):
+                self.first_stance_closed = True
+                return
+            self.run_start = self.n_final + int(s) if self.run_start is None else self.run_start
+
+    # -- the filter ---------------------------------------------------------------------------------
+    def _filter(self, final: bool) -> None:
+        if self.filt is None and not self._start(final):
+            return
+        if self.n_final - self.seg0 > self.filt.capacity(0):
+            self._restart()
+        self.filt.extend(*self.input.rows(self.n_fed, self.n_final))
+        self.n_fed = self.n_final
+        self._run(final)
+        self._harvest(final)
+        self.input.drop_before(min(self.n_final - self.margin, self.n_fed))
+
+    def _run(self, final: bool) -> None:
+        """Filter the fed samples: all at the end; else up to the one before the newest final
+        sample, whose step end needs the next sample's decision (as in the offline loop)."""
+        filt = self.filt
+        last = self.n_fed - 1 - self.seg0
+        if final:
+            filt.run_until()
+        elif last - 1 > filt.index(0):
+            filt.run_until(float(filt.samples(0).t[last - 1]))
+
+    def _start(self, final: bool) -> bool:
+        """Align the filter once the first stance is final (``estimator.start``), in a segment."""
+        est = self.stream.pipeline.estimator
+        t, acc, gyr, mask = (x.copy() for x in self.input.rows(0, self.n_final))
+        if not self.first_stance_closed and not final:
+            return False
+        # with no stance at all this raises the estimator's own error, as offline
+        first = est.start([ImuData(t=t, acc=acc, gyr=gyr)], [StanceResult(mask=mask)])
+        self.start_index = first.start_index(0)
+        self.seg0, self.base_k = 0, self.start_index
+        # the aligned state (f^n too, from the first stance's sample)
+        self._base_state = first.checkpoints[0].state.copy()
+        self.filt = self._segment((t, acc, gyr, mask), max(SEGMENT_SAMPLES, 2 * self.n_final), first, self._base_state, self.base_k)
+        self.n_fed = self.n_final
+        self.filt.meta = first.meta
+        self.meta = dict(first.meta[0])
+        self.n_checkpoints = 1
+        return True
+
+    def _segment(self, samples: tuple, size: int, like: InsFilter, state: FilterState, base: int) -> InsFilter:
+        """A filter with room for ``size`` samples over the fed ``samples`` (t, acc, gyr, stance),
+        resumed from ``state`` at its sample ``base``; ``like`` (the aligned filter, or the old
+        segment) gives the noise and the outputs up to ``base`` until the caller copies its own."""
+        t, acc, gyr, mask = samples
+        filt = InsFilter(
+            [t], [acc], [gyr], [mask], [base], [like.quaternion(0)], [like.position(0)], [like.biases(0)[1]],
+            np.diag(like.covariance), like.noise, like.n_states, capacity=[size],
+        )
+        filt.step_stops = True  # a checkpoint at every step end: where a new segment can start
+        if self.stream.pipeline.estimator.smoother == "step":
+            filt.step_smoother = StepSmoother(filt)
+        filt.resume(state, [base])
+        return filt
+
+    def _restart(self) -> None:
+        """A new segment from the old one's last checkpoint (a step end, or a full smoother
+        buffer: after either the smoother's record is empty), with the state, the outputs and
+        the smoother's chaining value there; the final samples after it are filtered again (the
+        loop is deterministic: the same numbers). Without any checkpoint the segment grows."""
+        old = self.filt
+        k_now = old.index(0)
+        cps = old.checkpoints[1:]  # the first is the segment's start
+        if cps:
+            cp = cps[-1]
+            shift, base = int(cp.k[0]), 0
+            state = cp.state
+            if shift == k_now and old.step_smoother is not None and old.step_smoother.fill[0]:
+                old.close_step(old.step_smoother)  # the cut the next sample would make
+            self._harvest(False, upto=shift)
+            size = max(SEGMENT_SAMPLES, 2 * (self.n_final - self.seg0 - shift))
+        else:  # a stance or swing longer than the segment: a longer one, from the same start
+            shift, base = 0, self.base_k
+            state = self._base_state
+            size = 2 * max(old.capacity(0), self.n_final - self.seg0)
+        n = self.n_fed - self.seg0 - shift
+        new = self._segment(tuple(x[shift : shift + n] for x in old.samples(0)), size, old, state, base)
+        pairs = list(zip(old.outputs(0), new.outputs(0)))
+        if new.step_smoother is not None:
+            pairs += list(zip(old.step_smoother.smoothed, new.step_smoother.smoothed))
+        for src, dst in pairs:
+            dst[: base + 1] = src[shift : shift + base + 1]
+        new.meta = old.meta
+        self.filt = new
+        self.seg0 += shift
+        self.base_k = base
+        self._base_state = state.copy()
+        self.n_checkpoints = 1
+        # the fed samples after the checkpoint again (the same numbers: the loop is deterministic)
+        if n - 2 > base:
+            new.run_until(float(new.samples(0).t[n - 2]))
+
+    def _harvest(self, final: bool, upto: int | None = None) -> None:
+        """Move the samples up to the last closed step (all of them at the end) to the outputs.
+
+        A checkpoint at a step end closes a step; one at a full smoother buffer closes its
+        samples once the next sample has cut the buffer (or ``upto``: a restart cuts it)."""
+        filt = self.filt
+        k_now = filt.index(0)
+        cps = filt.checkpoints
+        end = None
+        i = self.n_checkpoints
+        while i < len(cps):
+            cp = cps[i]
+            k = int(cp.k[0])
+            if not (cp.step_end or k < k_now or (upto is not None and k <= upto)):
+                break
+            if cp.step_end:
+                self.step_final_at.append((self.seg0 + k, self.input.end - 1))
+            end = k
+            i += 1
+        self.n_checkpoints = i
+        if final:
+            if filt.step_smoother is not None:
+                filt.close_step(filt.step_smoother)
+            end = k_now
+        if end is None or self.seg0 + end < self.n_out:
+            return
+        a, b = self.n_out - self.seg0, end + 1
+        q, v, p, pcov = filt.outputs(0)
+        if filt.step_smoother is not None:
+            q, v, p = filt.step_smoother.smoothed
+        fed = filt.samples(0)
+        t, stance = fed.t[a:b], fed.stance[a:b]
+        self.out.append(t, q[a:b], v[a:b], p[a:b], pcov[a:b], stance)
+        next_stance = False if final else bool(fed.stance[b]) if b < self.n_fed - self.seg0 else True
+        self._footprints(t, p[a:b], stance, next_stance)
+        self.n_out = self.seg0 + b
+        self.t_final = float(t[-1]) if len(t) else self.t_final
+        if final and self.psi is None:
+            self._find_heading(final=True)
+
+    def _footprints(self, t: NDArray, pos: NDArray, mask: NDArray, next_stance: bool) -> None:
+        """Footprints (means over each stance) and the steps that closed among new final samples."""
+        for s, e in stance_intervals(mask):
+            self.fp_sum += pos[s:e].sum(axis=0)
+            self.fp_n += int(e - s)
+            if e < len(mask) or not next_stance:
+                self._close_step(float(t[e - 1]))
+
+    def _close_step(self, t_end: float) -> None:
+        fp = self.fp_sum / max(self.fp_n, 1)
+        self.fp_sum = np.zeros(3)
+        self.fp_n = 0
+        self.step_positions.append((t_end, self.n_steps, fp))
+        self.n_steps += 1
+        if self.psi is None:
+            self.footprints.append(fp)
+            self._find_heading(final=False)
+        else:
+            self._release_steps()
+
+    def _find_heading(self, final: bool) -> None:
+        """The heading of the first step (:func:`footnav.nav.heading.heading_of_first_step`)."""
+        if self.stream.pipeline.estimator.heading != "first-step":
+            self.psi = 0.0
+        elif len(self.footprints) >= 2:
+            first = self.footprints[0]
+            for fp in self.footprints[1:]:
+                d = fp - first
+                if np.hypot(d[0], d[1]) > MIN_FIRST_STEP_M:
+                    self.psi = float(np.arctan2(d[1], d[0]))
+                    self.footprints = []
+                    break
+        if self.psi is None and final:
+            self.psi = 0.0
+        if self.psi is not None:
+            self._release_steps()
+
+    def _release_steps(self) -> None:
+        c, s = math.cos(-self.psi), math.sin(-self.psi)
+        for t_end, idx, fp in self.step_positions:
+            p = np.array([c * fp[0] - s * fp[1], s * fp[0] + c * fp[1], fp[2]])
+            if self.last_footprint is None:
+                length, heading = 0.0, math.nan
+            else:
+                d = p - self.last_footprint
+                length, heading = float(np.hypot(d[0], d[1])), float(math.atan2(d[1], d[0]))
+            self.last_footprint = p
+            self.pending_steps.append(ClosedStep(t_end, self.foot, p, length, heading, idx))
+        self.step_positions.clear()
+
+    # -- what a push returns ------------------------------------------------------------------------
+    def take(self) -> FootUpdate:
+        forward = self.forward()
+        if self.psi is None or self.emitted >= self.n_out:
+            return _empty_update(forward)
+        t, q, v, p, pcov, _ = (np.array(x) for x in self.out.rows(self.emitted, self.n_out))
+        if self.psi:
+            rotate_about_z(-self.psi, p, v, q, pcov)
+        self.emitted = self.n_out
+        if not self.stream.keep:
+            self.out.drop_before(self.n_out)
+        return FootUpdate(t, p, v, q, forward)
+
+    def forward(self) -> ForwardEstimate | None:
+        """The forward filter's state at its newest sample, in the output frame."""
+        filt = self.filt
+        if filt is None:
+            return None
+        pos, vel, q = filt.position(0), filt.velocity(0), filt.quaternion(0)
+        sl = filt.block(0, "pos")
+        cov = filt.covariance[sl, sl]
+        if self.psi:
+            p, v, qq = pos[None].copy(), vel[None].copy(), q[None].copy()
+            rotate_about_z(-self.psi, p, v, qq, np.zeros((1, 4)))
+            c, s = math.cos(-self.psi), math.sin(-self.psi)
+            rot = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+            pos, vel, q, cov = p[0], v[0], qq[0], rot @ cov @ rot.T
+        return ForwardEstimate(filt.time(0), pos, vel, q, cov)
+
+    # -- the end ------------------------------------------------------------------------------------
+    def finish(self) -> None:
+        if self.finished:
+            return
+        self.finished = True
+        if self.input.end == 0:
+            raise InvalidInputError(f"no samples of the {self.foot} foot were pushed", field=self.foot)
+        self._detect(final=True)
+        self._filter(final=True)
+
+    def trajectory(self) -> tuple[FootTrajectory, StanceResult]:
+        """The foot's whole result, made as :meth:`EkfEstimator.trajectory` makes it offline."""
+        est = self.stream.pipeline.estimator
+        t, q, v, p, pcov, mask = (np.array(x) for x in self.out.rows(0, self.n_out))
+        runs = stance_intervals(mask)
+        stance = StanceResult(
+            mask=mask,
+            events={"foot_flat": runs[:, 0], "heel_off": runs[:, 1] - 1},
+            meta={"detector": self.stream.pipeline.detector.describe(), "online": True, "latency_s": self.stream.latency_s},
+        )
+        meta = {"estimator": est.describe(), **self.meta, "smoother": est.smoother, "online": True}
+        if getattr(est, "heading_drift_in_std", False) and self.filt.n_states == 9:
+            rate_std = self.meta.get("gyro_bias_sem_radps", est.init_gyr_bias_std_radps)
+            drift = heading_drift_cov(t, v, self.start_index, rate_std, est.yaw_bias_walk_radps2_sqrthz)
+            pcov = np.concatenate([pcov[:, :3] + drift, pcov[:, 3:]], axis=1)
+            meta["heading_drift"] = {"yaw_rate_std_radps": float(rate_std), "yaw_bias_walk_radps2_sqrthz": float(est.yaw_bias_walk_radps2_sqrthz)}
+        if est.heading == "first-step":
+            p, v, q, std = turn_to_first_step(p, v, q, pcov, runs, meta)
+        else:
+            std = np.sqrt(np.maximum(pcov[:, [0, 2, 3]], 0.0))
+        traj = FootTrajectory(t=t, position=p, velocity=v, quaternion=q, position_std=std, steps=runs, meta=meta)
+        return traj, stance

@@ -1,0 +1,39 @@
+"""Array checks the data types share: float64 conversion naming the bad field and index, read-only arrays."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from footnav.errors import InvalidInputError
+
+
+def _readonly(a: NDArray) -> NDArray:
+    a = np.ascontiguousarray(a)
+    a.setflags(write=False)
+    return a
+
+
+def _as_float_array(value: Any, name: str, ncols: int | None, path: str | None) -> NDArray[np.float64]:
+    try:
+        arr = np.asarray(value, dtype=np.float64)
+    except (TypeError, ValueError) as exc:
+        raise InvalidInputError(f"cannot convert to float64 ({exc})", field=name, path=path) from None
+    if ncols is None:
+        if arr.ndim != 1:
+            raise InvalidInputError(f"expected shape (N,), got {arr.shape}", field=name, path=path)
+    elif arr.ndim != 2 or arr.shape[1] != ncols:
+        raise InvalidInputError(f"expected shape (N, {ncols}), got {arr.shape}", field=name, path=path)
+    bad = ~np.isfinite(arr)
+    if bad.any():
+        first = int(np.argmax(bad.reshape(len(arr), -1).any(axis=1)))
+        raise InvalidInputError(
+            f"non-finite value {arr[first]!r}; every sample must be finite", field=name, index=first, path=path
+        )
+    return arr
+
+
+def _first_true(mask: NDArray[np.bool_]) -> int:
+    return int(np.argmax(mask))

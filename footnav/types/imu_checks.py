@@ -1,0 +1,355 @@
+"""Plausibility checks of one sensor's data in SI units: units, time base and rate, the
+accelerometer at rest, saturation (clipping).
+
+:meth:`footnav.types.ImuData.from_arrays`, :meth:`~footnav.types.ImuData.check_units`
+and the readers run them. Their thresholds are the module constants below, each with the reason
+for its value.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from footnav.errors import InvalidInputError
+from footnav.types.units import _T_SCALE, GRAVITY_MPS2
+
+__all__ = [
+    "ACC_FULL_SCALES_G",
+    "ACC_MEDIAN_BOUNDS_MPS2",
+    "ACC_MOVING_FRACTION",
+    "ACC_MOVING_MPS2",
+    "ACC_REST_ERROR_FRACTION",
+    "ACC_REST_WARN_FRACTION",
+    "CLIP_FRACTION_OF_FULL_SCALE",
+    "CLIP_MIN_ACC_MPS2",
+    "CLIP_MIN_GYR_RADPS",
+    "CLIP_MIN_REPEATS",
+    "FULL_SCALE_RATIO",
+    "GYR_FULL_SCALES_DPS",
+    "GYR_PEAK_MAX_RADPS",
+    "GYR_PEAK_MIN_RADPS",
+    "PEAK_HOLD_S",
+    "RATE_BOUNDS_HZ",
+    "RATE_ERROR_HZ",
+    "REST_ACC_REL_STD",
+    "REST_GYR_RADPS",
+    "REST_MIN_S",
+    "REST_WINDOW_S",
+    "detect_clipping",
+]
+
+#: A foot-mounted IMU reads about 1 g of specific force over a recording (the foot stands still
+#: much of the time); a median |f| outside these bounds (m/s^2) is not a foot in m/s^2.
+ACC_MEDIAN_BOUNDS_MPS2 = (2.5, 30.0)
+#: The largest MEMS gyroscope full scale is +-4000 deg/s (70 rad/s). An angular rate held above
+#: this (rad/s) for ``PEAK_HOLD_S`` is deg/s read as rad/s. A held peak, not a percentile: on a
+#: mostly still recording the few swings are far fewer than 1 % of the samples.
+GYR_PEAK_MAX_RADPS = 70.0
+#: A walking foot pitches at 5-12 rad/s in swing (every shared recording: held peaks 2-17 rad/s).
+#: A foot that moves (``ACC_MOVING_MPS2``) but whose held peak stays below this (rad/s) is rad/s
+#: read as deg/s (57 x too small: swings of ~0.1-0.2 rad/s).
+GYR_PEAK_MIN_RADPS = 0.5
+#: The foot moves when at least ``ACC_MOVING_FRACTION`` of the samples have | |acc| - median |acc| |
+#: above ``ACC_MOVING_MPS2`` (0.5 g): in a walk the swings are 30-40 % of the time; a few knocks on
+#: a still sensor (or a clipped spike) are not walking.
+ACC_MOVING_MPS2 = 0.5 * GRAVITY_MPS2
+ACC_MOVING_FRACTION = 0.05
+#: A peak counts when held this long (at least 3 samples): single-sample glitches are not peaks.
+PEAK_HOLD_S = 0.01
+#: Window (s) over which a sample counts as at rest: |acc| steady within ``REST_ACC_REL_STD`` of
+#: its median and mean |gyr| below ``REST_GYR_RADPS``. Scale free, so a mis-scaled accelerometer
+#: still shows its rest phases.
+REST_WINDOW_S = 0.1
+REST_ACC_REL_STD = 0.02
+REST_GYR_RADPS = 0.5
+#: At least this long (s) at rest in total before the at-rest magnitude is judged.
+REST_MIN_S = 0.25
+#: At rest an accelerometer reads g. More than this fraction off g is a DataQualityWarning (cheap
+#: uncalibrated sensors are 1-5 % off: the IPOL left-foot sensors read 3.5-6.7 % above g, every
+#: other shared recording within 2.5 %) ...
+ACC_REST_WARN_FRACTION = 0.03
+#: ... and more than this fraction off is an error: no accelerometer, calibrated or not, is 25 %
+#: off; it is a wrong unit or scale (2 x: 19.6 m/s^2 at rest) that would otherwise show up later
+#: as "no stance phase detected".
+ACC_REST_ERROR_FRACTION = 0.25
+
+#: Sampling rates (Hz) footnav's detectors and filters are made for: at 20 Hz a 0.4 s swing has 8
+#: samples and a fast walk's stance 3-4, fewer do not resolve the gait cycle (windows of a few
+#: samples, strapdown rotation of > 0.5 rad per sample in swing); above 2 kHz no foot-mounted IMU
+#: on record, and the filters' noise models (per-sample white noise, windows in samples) were
+#: tuned and tested at 60-820 Hz. Outside: DataQualityWarning naming the rate, ``meta["rate_check"]``.
+RATE_BOUNDS_HZ = (20.0, 2000.0)
+#: Outside these rates (Hz) the time stamps are not in the declared unit: 1 kHz in ms read as s is
+#: 1 Hz, 100 Hz in us read as s 1e-4 Hz; 100 Hz in s declared ms 100 kHz. InvalidInputError
+#: naming the unit that gives a plausible rate.
+RATE_ERROR_HZ = (1.5, 100_000.0)
+
+#: Common full scales of MEMS gyroscopes (deg/s) and accelerometers (g).
+GYR_FULL_SCALES_DPS = (250.0, 500.0, 1000.0, 2000.0)
+ACC_FULL_SCALES_G = (2.0, 4.0, 8.0, 16.0)
+#: A plateau within this ratio of a nominal full scale is saturation at that full scale: a 16-bit
+#: sensor's largest code is 0.999-1.15 x nominal (e.g. 8.75 mdps/LSB x 32767 = 287 deg/s on a
+#: 250 deg/s range), calibration moves it a few percent either way.
+FULL_SCALE_RATIO = (0.95, 1.2)
+
+#: An extreme value held by at least this many samples of one axis is a full-scale plateau.
+CLIP_MIN_REPEATS = 3
+#: Plateaus below this magnitude are the rest readings of a quantised sensor, not clipping (unless
+#: they sit at a common full scale, ``FULL_SCALE_RATIO``).
+CLIP_MIN_ACC_MPS2 = 2.0 * GRAVITY_MPS2
+#: Gyroscope plateaus below this magnitude (rad/s, ~290 deg/s) are not clipping either (same
+#: exception).
+CLIP_MIN_GYR_RADPS = 5.0
+#: With a known full scale, readings at or above this fraction of it count as clipped: after the
+#: sensor's calibration (scale, cross-axis) a saturated raw axis is no longer one constant value.
+CLIP_FRACTION_OF_FULL_SCALE = 0.98
+
+
+def _held_peak(x: NDArray[np.float64], hold: int) -> float:
+    """Largest value ``x`` stays at or above for ``hold`` consecutive samples."""
+    from scipy.ndimage import minimum_filter1d
+
+    if len(x) < hold:
+        return float(x.min()) if len(x) else 0.0
+    # running minimum of every full window of ``hold`` samples (the filter centres window i on
+    # i - hold // 2 .. i + hold - 1 - hold // 2: the padded edge windows are dropped), then its max
+    running = minimum_filter1d(x, hold, mode="nearest")
+    return float(running[hold // 2 : len(x) - (hold - 1 - hold // 2)].max())
+
+
+def _at_rest(acc_norm: NDArray[np.float64], gyr_norm: NDArray[np.float64], rate_hz: float) -> NDArray[np.bool_]:
+    """Samples inside a ``REST_WINDOW_S`` window of steady |acc| and small |gyr|."""
+    from scipy.ndimage import maximum_filter1d, uniform_filter1d
+
+    n = len(acc_norm)
+    k = max(5, round(REST_WINDOW_S * rate_hz))
+    if n < k:
+        return np.zeros(n, dtype=bool)
+    # O(N) running moments of the centred windows (no k x N window views: this runs on every
+    # input); |acc| is taken about its median so that E[x^2] - E[x]^2 does not cancel ~g^2
+    median = float(np.median(acc_norm))
+    a = acc_norm - median
+    mean_a = uniform_filter1d(a, k, mode="nearest")
+    std_a = np.sqrt(np.maximum(uniform_filter1d(a * a, k, mode="nearest") - mean_a * mean_a, 0.0))
+    ok = (std_a < REST_ACC_REL_STD * median) & (uniform_filter1d(gyr_norm, k, mode="nearest") < REST_GYR_RADPS)
+    # a sample is at rest when any window holding it is (an even window's centre sits half a
+    # sample early, so the dilation is shifted back by one to cover exactly those windows)
+    return maximum_filter1d(ok.astype(np.uint8), k, mode="constant", cval=0, origin=-1 if k % 2 == 0 else 0) > 0
+
+
+def _full_scale_of(value: float, scales: tuple[float, ...], unit_si: float) -> float | None:
+    """The nominal full scale (in the listed unit) ``|value|`` (SI) saturates at, if any."""
+    lo, hi = FULL_SCALE_RATIO
+    for fs in scales:
+        if lo <= abs(value) / (fs * unit_si) <= hi:
+            return fs
+    return None
+
+
+def detect_clipping(
+    acc: NDArray[np.float64], gyr: NDArray[np.float64], *, acc_full_scale_mps2: float | None = None
+) -> dict[str, Any] | None:
+    """Find samples at the sensor's full scale.
+
+    Two rules, either marks a sample of one axis as clipped:
+
+    * plateau: the axis' largest (or smallest) value is held by at least ``CLIP_MIN_REPEATS``
+      samples and its magnitude is at least ``CLIP_MIN_ACC_MPS2`` (``CLIP_MIN_GYR_RADPS`` for the
+      gyroscope) or lies at a common full scale (``GYR_FULL_SCALES_DPS``, ``ACC_FULL_SCALES_G``,
+      within ``FULL_SCALE_RATIO``) -- a saturated ADC repeats its maximum code;
+    * full scale (accelerometer, only when the format documents it): ``|a| >=
+      CLIP_FRACTION_OF_FULL_SCALE * acc_full_scale_mps2``.
+
+    Returns
+    -------
+    dict or None
+        ``{"acc": n, "first_index": i, "gyr": m, "gyr_first_index": j, "acc_full_scale": "+-2 g",
+        "gyr_full_scale": "+-250 deg/s", "rule": ...}`` with ``n`` (``m``) the number of samples
+        with at least one clipped accelerometer (gyroscope) axis, ``i`` (``j``) the first such
+        sample (None if none), the full scales the plateaus sit at (None when not a common one);
+        None when nothing is clipped.
+    """
+    found: dict[str, float] = {}
+
+    def plateau(x: NDArray[np.float64], floor: float, scales: tuple[float, ...], unit_si: float, key: str) -> NDArray[np.bool_]:
+        hit = np.zeros(x.shape, dtype=bool)
+        for k in range(x.shape[1]):
+            col = x[:, k]
+            for extreme in (col.max(), col.min()):
+                fs = _full_scale_of(extreme, scales, unit_si)
+                if abs(extreme) >= floor or fs is not None:
+                    same = col == extreme
+                    if same.sum() >= CLIP_MIN_REPEATS:
+                        hit[:, k] |= same
+                        if fs is not None:
+                            found.setdefault(key, fs)
+        return hit
+
+    acc_hit = plateau(acc, CLIP_MIN_ACC_MPS2, ACC_FULL_SCALES_G, GRAVITY_MPS2, "acc")
+    if acc_full_scale_mps2 is not None:
+        acc_hit |= np.abs(acc) >= CLIP_FRACTION_OF_FULL_SCALE * acc_full_scale_mps2
+    gyr_hit = plateau(gyr, CLIP_MIN_GYR_RADPS, GYR_FULL_SCALES_DPS, np.pi / 180.0, "gyr")
+    acc_rows = acc_hit.any(axis=1)
+    gyr_rows = gyr_hit.any(axis=1)
+    if not acc_rows.any() and not gyr_rows.any():
+        return None
+    rule = f"extreme value repeated >= {CLIP_MIN_REPEATS} times"
+    if acc_full_scale_mps2 is not None:
+        rule += f", or |acc| >= {CLIP_FRACTION_OF_FULL_SCALE:g} x full scale {acc_full_scale_mps2:.4g} m/s^2"
+    return {
+        "acc": int(acc_rows.sum()),
+        "first_index": int(np.argmax(acc_rows)) if acc_rows.any() else None,
+        "gyr": int(gyr_rows.sum()),
+        "gyr_first_index": int(np.argmax(gyr_rows)) if gyr_rows.any() else None,
+        "acc_full_scale_mps2": acc_full_scale_mps2,
+        "acc_full_scale": f"+-{found['acc']:g} g" if "acc" in found and acc_rows.any() else None,
+        "gyr_full_scale": f"+-{found['gyr']:g} deg/s" if "gyr" in found and gyr_rows.any() else None,
+        "rule": rule,
+    }
+
+
+def _unit_hint(raw_dt: float) -> str:
+    """Which time unit would make a median interval of ``raw_dt`` (in the file's numbers) a rate
+    inside ``RATE_BOUNDS_HZ``."""
+    lo, hi = RATE_BOUNDS_HZ
+    for unit, scale in _T_SCALE.items():
+        rate = 1.0 / (raw_dt * scale)
+        if lo <= rate <= hi:
+            return f"; if the time stamps are in {unit}, pass t_unit={unit!r} ({rate:.4g} Hz)"
+    return ""
+
+
+def _check_data(
+    t: NDArray[np.float64],
+    acc: NDArray[np.float64],
+    gyr: NDArray[np.float64],
+    meta: Mapping[str, Any],
+    *,
+    acc_full_scale_mps2: float | None = None,
+    clipping: bool = True,
+) -> list[tuple[str, Any, str]]:
+    """Check units, time base, rate, at-rest magnitude and (``clipping``) saturation of SI data.
+
+    Raises InvalidInputError where the data cannot be what they are declared to be; returns the
+    findings to warn about as ``(meta key, record, message)``.
+    """
+    path = meta.get("source")
+    label = (path or "ImuData") + (f" ({meta['foot']} foot)" if meta.get("foot") in ("left", "right") else "")
+    t_unit = str((meta.get("units_in") or {}).get("t", "s"))
+    findings: list[tuple[str, Any, str]] = []
+
+    # -- time base and rate ------------------------------------------------------------------
+    dt = float(np.median(np.diff(t)))
+    rate = 1.0 / dt
+    raw_dt = dt / _T_SCALE.get(t_unit, 1.0)
+    if not RATE_ERROR_HZ[0] <= rate <= RATE_ERROR_HZ[1]:
+        raise InvalidInputError(
+            f"implausible time base: median sampling interval {dt:.4g} s ({rate:.3g} Hz) with t in {t_unit}; "
+            f"no foot-mounted IMU samples {'that slowly' if rate < RATE_ERROR_HZ[0] else 'that fast'} "
+            f"(footnav is made for {RATE_BOUNDS_HZ[0]:g}-{RATE_BOUNDS_HZ[1]:g} Hz)"
+            + (_unit_hint(raw_dt) or "; check the time column's unit"),
+            field="t",
+            path=path,
+        )
+    lo, hi = RATE_BOUNDS_HZ
+    if not lo <= rate <= hi:
+        findings.append((
+            "rate_check",
+            {"rate_hz": rate, "bounds_hz": [lo, hi]},
+            (
+                f"{label}: sampling rate {rate:.4g} Hz is {'below' if rate < lo else 'above'} the "
+                f"{lo:g}-{hi:g} Hz footnav's detectors and filters are made for; results may be wrong"
+                + _unit_hint(raw_dt) + "; recorded in meta['rate_check']"
+            ),
+        ))
+
+    # -- units -----------------------------------------------------------------------------------
+    acc_norm = np.linalg.norm(acc, axis=1)
+    gyr_norm = np.linalg.norm(gyr, axis=1)
+    f = float(np.median(acc_norm))
+    lo_a, hi_a = ACC_MEDIAN_BOUNDS_MPS2
+    if not lo_a <= f <= hi_a:
+        hint = "the data look like g: read them with acc_unit='g'" if 0.5 <= f < lo_a else (
+            "is the accelerometer in another unit, or is its column mapping wrong?")
+        raise InvalidInputError(
+            f"implausible specific force: median |acc| = {f:.3g} m/s^2, but a foot-mounted IMU reads gravity "
+            f"({GRAVITY_MPS2:g} m/s^2) whenever the foot stands still; {hint}",
+            field="acc",
+            path=path,
+        )
+    hold = max(3, round(PEAK_HOLD_S * rate))
+    w_peak = _held_peak(gyr_norm, hold)
+    if w_peak > GYR_PEAK_MAX_RADPS:
+        i = int(np.argmax(gyr_norm > GYR_PEAK_MAX_RADPS))
+        raise InvalidInputError(
+            f"implausible angular rate: |gyr| held above {w_peak:.3g} rad/s, beyond any MEMS gyroscope's range "
+            f"(~{GYR_PEAK_MAX_RADPS:g} rad/s = 4000 deg/s); the data look like deg/s: read them with gyr_unit='deg/s'",
+            field="gyr",
+            index=i,
+            path=path,
+        )
+    n_moving = int(np.count_nonzero(np.abs(acc_norm - f) > ACC_MOVING_MPS2))
+    moving = n_moving / len(acc_norm)
+    # at least a swing's worth (0.2 s) of motion: a few rows of a test file are no walk
+    if moving >= ACC_MOVING_FRACTION and n_moving >= max(10, 0.2 * rate) and w_peak < GYR_PEAK_MIN_RADPS:
+        findings.append((
+            "gyr_unit_check",
+            {"gyr_peak_radps": w_peak, "acc_moving_fraction": moving},
+            (
+                f"{label}: the foot moves (|acc| is more than 0.5 g off its median in {moving * 100:.0f} % of the "
+                f"samples) but turns at most {w_peak:.3g} rad/s "
+                f"({np.degrees(w_peak):.3g} deg/s); a walking foot turns at 5-12 rad/s in swing: the gyroscope looks "
+                f"like rad/s read as deg/s (declared {(meta.get('units_in') or {}).get('gyr', 'rad/s')!r}); "
+                "recorded in meta['gyr_unit_check']"
+            ),
+        ))
+
+    # -- the accelerometer at rest ----------------------------------------------------------------
+    rest = _at_rest(acc_norm, gyr_norm, rate)
+    if rest.sum() >= max(10, REST_MIN_S * rate):
+        g_rest = float(np.median(acc_norm[rest]))
+        off = g_rest / GRAVITY_MPS2 - 1.0
+        first = int(np.argmax(rest))
+        if abs(off) > ACC_REST_ERROR_FRACTION:
+            raise InvalidInputError(
+                f"the accelerometer reads {g_rest:.3g} m/s^2 at rest ({g_rest / GRAVITY_MPS2:.2f} x g, median over "
+                f"{int(rest.sum())} still samples, the first at index {first}), not g = {GRAVITY_MPS2:g} m/s^2: "
+                "a wrong unit or scale factor (acc_unit, the sensor's range setting) or a wrong column",
+                field="acc",
+                index=first,
+                path=path,
+            )
+        if abs(off) > ACC_REST_WARN_FRACTION:
+            findings.append((
+                "acc_at_rest",
+                {"magnitude_mps2": g_rest, "off_g_fraction": off, "samples": int(rest.sum()), "first_index": first},
+                (
+                    f"{label}: the accelerometer reads {g_rest:.4g} m/s^2 at rest, {off * 100:+.1f} % off g "
+                    f"({GRAVITY_MPS2:g} m/s^2; median over {int(rest.sum())} still samples): an uncalibrated or "
+                    "mis-scaled sensor; tilt and distances carry that error; recorded in meta['acc_at_rest']"
+                ),
+            ))
+
+    # -- saturation ------------------------------------------------------------------------------
+    clipped = detect_clipping(acc, gyr, acc_full_scale_mps2=acc_full_scale_mps2) if clipping else None
+    if clipped is not None:
+        parts = []
+        if clipped["acc"]:
+            fs = f", full scale {clipped['acc_full_scale']}" if clipped["acc_full_scale"] else ""
+            parts.append(f"{clipped['acc']} accelerometer sample(s) (first at index {clipped['first_index']}{fs})")
+        if clipped["gyr"]:
+            fs = f", full scale {clipped['gyr_full_scale']}" if clipped["gyr_full_scale"] else ""
+            parts.append(f"{clipped['gyr']} gyroscope sample(s) (first at index {clipped['gyr_first_index']}{fs})")
+        findings.append((
+            "clipped",
+            clipped,
+            (
+                f"{label}: {' and '.join(parts)} at the sensor's full scale: the true value is unknown there "
+                "(clipping, saturation); recorded in meta['clipped']"
+            ),
+        ))
+    return findings

@@ -465,7 +465,11 @@ class InsFilter:
 
     def outputs(self, foot: int | None = None) -> Outputs:
         """Per-sample attitude, velocity, position and position covariance (xx, xy, yy, zz) of
-        ``foot``, or of all feet concatenated (None); views of the filter's own arrays."""
+        ``foot``, or of all feet concatenated (None); views of the filter's own arrays.
+
+        A sample holds the forward estimate as the loop left it: a caller's :meth:`update` at a
+        sample's instant shows from the next sample on (and in the smoothed outputs), not at
+        that sample."""
         if foot is None:
             return self._out
         sl = slice(self._offsets[foot], self._offsets[foot + 1])

@@ -43,6 +43,7 @@ import numpy as np
 
 from footnav.analysis import metrics
 from footnav.errors import FootnavWarning, InvalidParameterError
+from footnav.nav.interpolation import interp_columns
 from footnav.pipeline.factory import Pipeline
 from footnav.pipeline.result import PipelineResult
 from footnav.types import FootTrajectory, FootTruth, Recording, StanceResult
@@ -256,7 +257,7 @@ def trajectory_at(traj: FootTrajectory, t: np.ndarray) -> tuple[np.ndarray, np.n
     boolean mask of the ``t`` that fall inside it."""
     inside = (t >= traj.t[0]) & (t <= traj.t[-1])
     tt = t[inside]
-    pos = np.stack([np.interp(tt, traj.t, traj.position[:, i]) for i in range(3)], axis=1)
+    pos = interp_columns(tt, traj.t, traj.position[:, :3])
     return pos, inside
 
 

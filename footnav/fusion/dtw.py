@@ -34,6 +34,7 @@ from footnav.nav import dtw_average
 from footnav.nav import dtw_heading
 from footnav.nav import quaternion as quat
 from footnav.component import MAX_LENGTH_M, Fusion, require, require_non_negative, require_positive
+from footnav.nav.interpolation import interp_columns
 from footnav.types import FootTrajectory, FusionResult, Path
 from footnav.fusion.joint import LEFT, RIGHT, finish_joint, forward_only, fuse_on_common_span, start_filter, start_joint
 
@@ -44,7 +45,7 @@ PATHS = ("timeless", "timed")
 
 def _resample(traj: FootTrajectory, t: NDArray[np.float64], dims: int) -> NDArray[np.float64]:
     """The first ``dims`` position columns (m) linearly interpolated to times ``t`` (s)."""
-    return np.column_stack([np.interp(t, traj.t, traj.position[:, i]) for i in range(dims)])
+    return interp_columns(t, traj.t, traj.position[:, :dims])
 
 
 def _decimate(traj: FootTrajectory, rate_hz: float) -> NDArray[np.float64]:

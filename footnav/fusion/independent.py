@@ -16,6 +16,7 @@ import numpy as np
 
 from footnav.component import Fusion
 from footnav.errors import DataQualityWarning
+from footnav.nav.interpolation import interp_columns
 from footnav.nav.spans import span_difference
 from footnav.types import FootTrajectory, FusionResult, Path
 from footnav.warning_log import warn
@@ -30,7 +31,7 @@ def midpoint_path(left: FootTrajectory, right: FootTrajectory | None) -> Path:
     lo, hi = max(left.t[0], right.t[0]), min(left.t[-1], right.t[-1])
     keep = (left.t >= lo) & (left.t <= hi)
     t = left.t[keep]
-    right_pos = np.stack([np.interp(t, right.t, right.position[:, i]) for i in range(3)], axis=1)
+    right_pos = interp_columns(t, right.t, right.position[:, :3])
     return Path(t=t, position=0.5 * (left.position[keep] + right_pos), meta={"path": "midpoint of the feet"})
 
 

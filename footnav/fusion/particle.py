@@ -114,7 +114,6 @@ import math
 from typing import ClassVar
 
 import numpy as np
-from numpy.typing import NDArray
 
 from footnav.nav import quaternion as quat
 from footnav.component import MAX_LENGTH_M, Fusion, require, require_in_range, require_non_negative
@@ -156,12 +155,6 @@ _PAPER_NOISE_DEFAULTS = {
     "init_attitude_std_rad": 0.01,
     "init_acc_bias_std_mps2": 0.05,
 }
-
-
-def _yaw(q: NDArray[np.float64]) -> float:
-    """ZYX yaw of the quaternion [w, x, y, z], rad (as :func:`footnav.nav.quaternion.yaw`)."""
-    w, x, y, z = q
-    return math.atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
 
 
 class ParticleFusion(Fusion):
@@ -332,7 +325,7 @@ class ParticleFusion(Fusion):
         pos = [filt.block(f, "pos").start for f in feet]  # x, y of the foot's position error
         h_pos = [filt.selection(np.array([o, o + 1])) for o in pos]
         # the yaw each sensor has when its foot faces the first step (+x)
-        yaw0 = [_yaw(filt.quaternion(f)) for f in feet]
+        yaw0 = [quat.yaw_of(filt.quaternion(f)) for f in feet]
         cov = filt.covariance
         # per foot: the EKF's horizontal position and its covariance at the foot's last PF update
         last_p = [filt.position(f)[:2] for f in feet]
@@ -364,7 +357,7 @@ class ParticleFusion(Fusion):
             cov = filt.covariance
             p, cov_p = filt.position(foot)[:2], cov[o : o + 2, o : o + 2]
             side = 1.0 if foot == LEFT else -1.0
-            heading = _yaw(filt.quaternion(foot)) - yaw0[foot]
+            heading = quat.yaw_of(filt.quaternion(foot)) - yaw0[foot]
             lateral = np.array([-math.sin(heading), math.cos(heading)])  # the foot's +y, nav frame
             # eq. 10-12: the cloud of the foot that stood moves with its EKF, spread by the EKF's
             # position covariance growth since its last update (the sum of P_vel dt^2, eq. 11)

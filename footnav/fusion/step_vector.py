@@ -144,10 +144,6 @@ def pendulum_step_length(q1: np.ndarray, q2: np.ndarray, leg_length_m: float) ->
     return 2.0 * leg_length_m * np.sin(0.5 * theta)  # S = 2 l sin(theta/2)  (eq. 6)
 
 
-def _wrap(angle: float) -> float:
-    return float((angle + np.pi) % (2 * np.pi) - np.pi)
-
-
 class StepVectorFusion(Fusion):
     """Relative position of the feet at every step in one joint filter, Zhao et al. (2019), eq. 4-7.
 
@@ -323,7 +319,7 @@ class StepVectorFusion(Fusion):
             runs_f, traj_f = runs[front], singles[front]
             a0, a1 = runs_f[j - 1, 0], runs_f[j, 0]
             stride = np.linalg.norm(traj_f.position[a1, :2] - traj_f.position[a0, :2])
-            if stride < 0.2 or abs(_wrap(quat.yaw(traj_f.quaternion[a1]) - quat.yaw(traj_f.quaternion[a0]))) > turn:
+            if stride < 0.2 or abs(quat.wrap_angle(quat.yaw(traj_f.quaternion[a1]) - quat.yaw(traj_f.quaternion[a0]))) > turn:
                 continue
             q_r = singles[rear].quaternion
             s1 = pendulum_step_length(q_r[support[0]], q_r[support[1]], 1.0)
@@ -421,7 +417,7 @@ class StepVectorFusion(Fusion):
             yaw_r = float(quat.yaw(q_out[hs_rear])) - yaw0[rear]
             prev = last_stance_yaw.get(rear)
             last_stance_yaw[rear] = yaw_r  # heading of the rear foot's footprint
-            if prev is not None and abs(_wrap(yaw_r - prev)) > turn:
+            if prev is not None and abs(quat.wrap_angle(yaw_r - prev)) > turn:
                 suspended += 1  # Sec. V-C: no update while curving or turning
                 continue
             s = pendulum_step_length(q_out[hs_rear], q_out[k_q2], leg)  # S = 2 l sin(theta/2)  (eq. 5-6)

@@ -21,6 +21,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from footnav.nav.dtw import _float64, _readonly, _trajectory, dtw_align
 from footnav.errors import InvalidInputError, InvalidParameterError
+from footnav.nav.interpolation import interp_columns
 
 __all__ = [
     "AveragedPath",
@@ -195,6 +196,5 @@ def timed_average(
                 field="t",
                 index=k,
             )
-    ia = np.column_stack([np.interp(grid, ta, pa[:, q]) for q in range(pa.shape[1])])
-    ib = np.column_stack([np.interp(grid, tb, pb[:, q]) for q in range(pb.shape[1])])
+    ia, ib = interp_columns(grid, ta, pa), interp_columns(grid, tb, pb)
     return AveragedPath(_readonly(0.5 * (ia + ib)), _readonly(grid))

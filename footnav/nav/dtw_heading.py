@@ -19,6 +19,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.optimize import minimize_scalar
 
 from footnav.nav.dtw import _band, _choice, _readonly, _trajectory, dtw_align
+from footnav.nav.quaternion import wrap_angle
 from footnav.errors import InvalidParameterError
 
 __all__ = [
@@ -41,10 +42,6 @@ def _rotate_xy(xy: NDArray[np.float64], angle_rad: float) -> NDArray[np.float64]
     # [x'; y'] = [cos -sin; sin cos] [x; y]: counter-clockwise about +z (z up)
     c, s = np.cos(angle_rad), np.sin(angle_rad)
     return np.ascontiguousarray(xy @ np.array([[c, s], [-s, c]]))
-
-
-def _wrap(angle_rad: float) -> float:
-    return float((angle_rad + np.pi) % (2.0 * np.pi) - np.pi)
 
 
 @dataclass(frozen=True, eq=False)
@@ -161,4 +158,4 @@ def heading_mismatch(
         cost, bounds=(best - step, best + step), method="bounded", options={"xatol": HEADING_XATOL_RAD}
     )
     angle, dist = (float(res.x), float(res.fun)) if res.fun <= costs.min() else (best, float(costs.min()))
-    return HeadingMismatch(_wrap(angle), dist, _readonly(pivot), _readonly(np.asarray(shift, dtype=np.float64)))
+    return HeadingMismatch(wrap_angle(angle), dist, _readonly(pivot), _readonly(np.asarray(shift, dtype=np.float64)))

@@ -8,6 +8,8 @@ written into a preallocated output, no allocation).
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
@@ -15,6 +17,8 @@ from footnav._numba import njit  # numba.njit that survives a read-only install
 
 __all__ = [
     "IDENTITY",
+    "yaw_of",
+    "wrap_angle",
     "multiply",
     "conjugate",
     "normalize",
@@ -156,6 +160,18 @@ def as_euler(q: ArrayLike) -> NDArray[np.float64]:
 def yaw(q: ArrayLike) -> NDArray[np.float64]:
     """Heading (rotation about nav z) in rad of quaternion(s) q."""
     return as_euler(q)[..., 2]
+
+
+def yaw_of(q: NDArray[np.float64]) -> float:
+    """:func:`yaw` of one quaternion [w, x, y, z] as a float, rad: the ZYX yaw
+    ``atan2(2 (w z + x y), 1 - 2 (y^2 + z^2))`` without the array machinery (per-step loops)."""
+    w, x, y, z = q
+    return math.atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
+
+
+def wrap_angle(angle_rad: float) -> float:
+    """``angle_rad`` wrapped to [-pi, pi), rad."""
+    return float((angle_rad + np.pi) % (2.0 * np.pi) - np.pi)
 
 
 def from_yaw(angle: ArrayLike) -> NDArray[np.float64]:

@@ -62,3 +62,18 @@ def test_numba_kernels_match_numpy(rotations):
     np.testing.assert_allclose(c, quat.as_matrix(p), atol=1e-15)
     quat.from_rotvec_nb(0.1, -0.2, 0.3, out)
     np.testing.assert_allclose(out, quat.from_rotvec([0.1, -0.2, 0.3]), atol=1e-15)
+
+
+def test_scalar_yaw_and_wrap_against_hand_values():
+    """quaternion.yaw_of (the per-step scalar yaw) and wrap_angle, against values worked by hand."""
+    import math
+
+    from footnav.nav.quaternion import wrap_angle, yaw, yaw_of
+
+    half = math.radians(30.0)
+    q = np.array([math.cos(half), 0.0, 0.0, math.sin(half)])  # 60 deg about z
+    assert yaw_of(q) == pytest.approx(math.radians(60.0), abs=1e-15)
+    assert yaw_of(q) == pytest.approx(float(yaw(q)), abs=1e-15)
+    assert wrap_angle(3.5 * math.pi) == pytest.approx(-0.5 * math.pi)
+    assert wrap_angle(math.pi) == pytest.approx(-math.pi)  # [-pi, pi)
+    assert wrap_angle(-0.25) == -0.25

@@ -13,6 +13,7 @@ from numpy.typing import ArrayLike, NDArray
 from footnav.nav.dtw import DtwAlignment, dtw_align
 from footnav.errors import InvalidInputError, InvalidParameterError
 from footnav.analysis.metrics._checks import _check_dims, _events, _percent, _points, _same_length
+from footnav.nav.interpolation import interp_columns
 
 #: Minimum reference distance travelled (m) before the deviation / distance ratio of
 #: :func:`max_deviation` is evaluated. [Chistyakov2021] does not say how it treats the first metres, where
@@ -127,7 +128,7 @@ def interpolate_positions(t: ArrayLike, position: ArrayLike, t_new: ArrayLike) -
         raise InvalidInputError("need at least 2 strictly increasing times", field="t")
     if len(tn) and (tn.min() < tt[0] or tn.max() > tt[-1]):
         raise InvalidInputError(f"times outside [{tt[0]:g}, {tt[-1]:g}] s would need extrapolation", field="t_new")
-    return np.stack([np.interp(tn, tt, p[:, k]) for k in range(p.shape[1])], axis=1)
+    return interp_columns(tn, tt, p)
 
 
 @dataclass(frozen=True)

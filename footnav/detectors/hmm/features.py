@@ -17,6 +17,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.signal import butter, sosfiltfilt
 
 from footnav.errors import InvalidInputError
+from footnav.nav.interpolation import interp_columns
 from footnav.types import GRAVITY_MPS2, ImuData
 
 __all__ = ["FEATURES", "ModelGrid", "lowpass", "model_grid", "significant_axis"]
@@ -107,6 +108,6 @@ def model_grid(imu: ImuData, features: str, model_rate_hz: float) -> ModelGrid:
         return ModelGrid(np.array(x, dtype=np.float64), np.array(imu.t), np.arange(imu.n_samples))
     if rate > model_rate_hz:
         x = lowpass(x, ANTI_ALIAS_FRACTION * model_rate_hz, rate)
-    feats = np.column_stack([np.interp(t_model, imu.t, x[:, j]) for j in range(x.shape[1])])
+    feats = interp_columns(t_model, imu.t, x)
     nearest = np.clip(np.rint((imu.t - t0) * model_rate_hz).astype(np.int64), 0, n_model - 1)
     return ModelGrid(feats, t_model, nearest)

@@ -36,6 +36,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from footnav._numba import njit  # numba.njit that survives a read-only install
 from footnav.errors import InvalidInputError, InvalidParameterError
+from footnav.types._arrays import _readonly  # the one copy: a read-only, C-contiguous view
 
 __all__ = [
     "DtwAlignment",
@@ -49,12 +50,6 @@ _NORMALIZE = ("mean", "none")
 # ---------------------------------------------------------------------------------------------
 # input checking
 # ---------------------------------------------------------------------------------------------
-def _readonly(a: NDArray) -> NDArray:
-    a = np.ascontiguousarray(a)
-    a.setflags(write=False)
-    return a
-
-
 def _float64(value: ArrayLike, name: str) -> NDArray[np.float64]:
     """``value`` as a float64 array; InvalidInputError naming ``name`` if it is not numeric."""
     try:

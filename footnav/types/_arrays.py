@@ -11,6 +11,7 @@ from footnav.errors import InvalidInputError
 
 
 def _readonly(a: NDArray) -> NDArray:
+    """``a`` as a C-contiguous array that cannot be written (results handed to users)."""
     a = np.ascontiguousarray(a)
     a.setflags(write=False)
     return a

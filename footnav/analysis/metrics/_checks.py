@@ -7,6 +7,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from footnav.errors import InvalidInputError, InvalidParameterError
+from footnav.types._arrays import _readonly  # the one copy: a read-only, C-contiguous view
 
 #: Percent per unit fraction.
 _PERCENT = 100.0
@@ -102,12 +103,6 @@ def _mask(value: ArrayLike, name: str) -> NDArray[np.bool_]:
             i = int(np.argmax(bad))
             raise InvalidInputError(f"value {arr[i]!r} is not 0/1 or boolean", field=name, index=i)
     return arr.astype(bool)
-
-
-def _readonly(a: NDArray) -> NDArray:
-    a = np.ascontiguousarray(a)
-    a.setflags(write=False)
-    return a
 
 
 def _percent(num: float, den: float) -> float:

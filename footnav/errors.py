@@ -13,6 +13,7 @@ __all__ = [
     "InvalidParameterError",
     "UnknownComponentError",
     "UnknownDatasetError",
+    "MetricNotFoundError",
     "CompositionError",
     "PluginError",
     "DataNotFoundError",
@@ -79,6 +80,14 @@ class UnknownComponentError(FootnavError, LookupError):
 
 class UnknownDatasetError(FootnavError, LookupError):
     """No shared recording is known under that name."""
+
+
+class MetricNotFoundError(FootnavError, KeyError):
+    """An evaluation report has no such metric for that foot (or its run failed); also a
+    KeyError, as a missing key is."""
+
+    def __str__(self) -> str:  # KeyError would print the message with quotes around it
+        return str(self.args[0]) if self.args else ""
 
 
 class CompositionError(FootnavError):

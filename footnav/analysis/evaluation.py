@@ -42,7 +42,7 @@ from typing import Any, Iterable, Literal
 import numpy as np
 
 from footnav.analysis import metrics
-from footnav.errors import FootnavWarning, InvalidParameterError
+from footnav.errors import FootnavWarning, InvalidParameterError, MetricNotFoundError
 from footnav.nav.interpolation import interp_columns
 from footnav.pipeline.factory import Pipeline
 from footnav.pipeline.result import PipelineResult
@@ -120,7 +120,14 @@ class EvaluationReport:
     failures: tuple[EvaluationFailure, ...] = ()
 
     def value(self, name: str, foot: str = "left", recording: str | None = None, pipeline: str | None = None) -> float:
-        """The value of one metric (the first match)."""
+        """The value of one metric (the first match).
+
+        Raises
+        ------
+        MetricNotFoundError
+            No such metric for ``foot`` (the message says when the run that would have given it
+            failed); a KeyError too.
+        """
         for m in self.metrics:
             if (
                 m.name == name
@@ -134,8 +141,8 @@ class EvaluationReport:
             if (recording is None or f.recording == recording) and (pipeline is None or f.pipeline == pipeline)
         ]
         if failed:
-            raise KeyError(f"no metric {name!r} for foot {foot!r}: the run failed ({failed[0]})")
-        raise KeyError(f"no metric {name!r} for foot {foot!r}")
+            raise MetricNotFoundError(f"no metric {name!r} for foot {foot!r}: the run failed ({failed[0]})")
+        raise MetricNotFoundError(f"no metric {name!r} for foot {foot!r}")
 
     def __add__(self, other: "EvaluationReport") -> "EvaluationReport":
         return EvaluationReport(

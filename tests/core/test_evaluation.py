@@ -2,6 +2,7 @@ import numpy as np
 import pytest
 
 import footnav
+from footnav.errors import FootnavError, MetricNotFoundError
 from footnav.analysis import metrics
 from footnav.analysis.batch import evaluate_many
 from footnav.analysis.evaluation import evaluate, trajectory_at
@@ -30,8 +31,11 @@ def test_one_foot_recording_has_no_two_foot_metrics(loop):
     one = footnav.Recording(left=loop.left, truth_left=loop.truth_left, name="one")
     report = evaluate(footnav.make_pipeline(), one)
     assert {m.foot for m in report.metrics} == {"left", "both"}
-    with pytest.raises(KeyError):
+    with pytest.raises(MetricNotFoundError) as exc:
         report.value("final_separation", "both")
+    # footnav's own error, still a KeyError for code that catches that; the message unquoted
+    assert isinstance(exc.value, FootnavError) and isinstance(exc.value, KeyError)
+    assert str(exc.value) == "no metric 'final_separation' for foot 'both'"
 
 
 def test_many_pipelines_side_by_side(loop):

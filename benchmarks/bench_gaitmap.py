@@ -56,8 +56,8 @@ print(json.dumps({"seconds": best, "version": gaitmap.__version__}))
 
 #: footnav pipelines timed: the default, and the detector closest to gaitmap's (a gyro threshold).
 PIPELINES = {
-    "default (adaptive + ekf, whole-walk RTS)": ("adaptive", {}),
-    "threshold + ekf, whole-walk RTS": ("threshold", {}),
+    "default (adaptive + ekf, whole-walk RTS)": "adaptive",
+    "threshold + ekf, whole-walk RTS": "threshold",
 }
 
 
@@ -86,7 +86,7 @@ def main(argv: list[str] | None = None) -> int:
     with tempfile.TemporaryDirectory() as tmp:
         path = os.path.join(tmp, "walk.npz")
         np.savez(path, acc=imu.acc, gyr=imu.gyr)
-        pipes = {label: footnav.make_pipeline(det, "ekf") for label, (det, _) in PIPELINES.items()}
+        pipes = {label: footnav.make_pipeline(det, "ekf") for label, det in PIPELINES.items()}
         for pipe in pipes.values():  # compile outside the timing
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")

@@ -1,10 +1,10 @@
 """Two feet in one joint filter: what every coupled fusion starts and ends with.
 
 A coupled fusion needs both feet in one nav frame. Each foot's IMU starts with its own, unknown
-heading, so :func:`start_joint` first runs each foot alone (forward filter) to find the heading
-of its first step, then starts the joint filter (:class:`~footnav.component.JointFilter`) with each
-foot turned so that its first step points along +x and the feet ``step_width_m`` apart across it
-(left foot at +y). :func:`finish_joint` has the estimator finish the run (its own smoothing) and
+heading, so :func:`start_joint` first runs each foot alone (forward filter) over its first steps
+to find the heading of its first step (:func:`first_step_yaw`), then starts the joint filter
+(:class:`~footnav.component.JointFilter`) with each foot turned so that its first step points
+along +x and the feet ``step_width_m`` apart across it (left foot at +y). :func:`finish_joint` has the estimator finish the run (its own smoothing) and
 returns both feet and their midpoint path. Fusions use only the members of
 :class:`~footnav.component.StepableEstimator` and :class:`~footnav.component.JointFilter`,
 so any estimator that implements them runs with every coupled fusion.
@@ -34,7 +34,7 @@ from footnav.types import FootTrajectory, FusionResult, ImuData, StanceResult
 from footnav.warning_log import warn
 from footnav.fusion.independent import midpoint_path
 
-__all__ = ["check_two_feet", "close_loops", "closing_time", "finish_joint", "forward_only", "fuse_on_common_span", "require_stepable", "start_joint"]
+__all__ = ["check_two_feet", "close_loops", "closing_time", "finish_joint", "first_step_yaw", "forward_only", "fuse_on_common_span", "require_stepable", "start_joint"]
 
 #: What a coupled fusion does with a foot's samples outside the common span (meta and warning).
 OUTSIDE_SPAN = "each foot's samples outside it are that foot estimated alone, continued rigidly from the fused edge"
@@ -72,14 +72,36 @@ def start_joint(
     """The joint filter of both feet in one nav frame (x: the first step, z up, origin between
     the feet), ready to run; with ``return_singles`` also each foot's own forward solution
     (FootTrajectory, first step along +x)."""
-    yaws, singles = [], []
+    pairs = ((left, stance_left), (right, stance_right))
     forward = forward_only(estimator)
-    for imu, stance in ((left, stance_left), (right, stance_right)):
-        traj = forward.estimate(imu, stance)
-        singles.append(traj)
-        yaws.append(float(traj.meta.get("heading_rotation_rad", 0.0)))
+    if return_singles:
+        singles = [forward.estimate(imu, stance) for imu, stance in pairs]
+        yaws = [float(traj.meta.get("heading_rotation_rad", 0.0)) for traj in singles]
+    else:
+        yaws = [first_step_yaw(forward, imu, stance) for imu, stance in pairs]
     filt = start_filter(estimator, (left, right), (stance_left, stance_right), yaws, step_width_m)
     return (filt, singles) if return_singles else filt
+
+
+def first_step_yaw(forward: Any, imu: ImuData, stance: StanceResult, first_steps: int = 4) -> float:
+    """The turn (rad about z) that puts the foot's first step along +x: ``forward``'s
+    ``meta["heading_rotation_rad"]`` (0 when the foot never stepped), found on the shortest
+    prefix of the recording that holds it.
+
+    ``forward`` (:func:`forward_only`) is causal, so its first step's heading depends only on the
+    samples up to that step's end: it runs on the first ``first_steps`` stance phases, then on
+    twice as many, until the heading is found or the prefix is the whole recording. A coupled
+    fusion thus filters each sample once (in its joint filter), not once more per foot alone.
+    """
+    intervals = stance.intervals
+    n = max(2, int(first_steps))
+    while n < len(intervals):
+        stop = int(intervals[n - 1, 1])  # the n-th stance phase ends here: its footprint is whole
+        traj = forward.estimate(imu.slice(0, stop), slice_stance(stance, 0, stop))
+        if "heading_rotation_rad" in traj.meta:
+            return float(traj.meta["heading_rotation_rad"])
+        n *= 2
+    return float(forward.estimate(imu, stance).meta.get("heading_rotation_rad", 0.0))
 
 
 def start_filter(

@@ -121,7 +121,9 @@ from footnav.errors import CompositionError
 from footnav.nav.initial_alignment import align_first_stance
 from footnav.types import FootTrajectory, FusionResult
 from footnav.fusion.independent import midpoint_path
-from footnav.fusion.joint import LEFT, RIGHT, closing_time, finish_joint, forward_only, fuse_on_common_span, start_joint
+from footnav.fusion.joint import (
+    LEFT, RIGHT, closing_time, finish_joint, first_step_yaw, forward_only, fuse_on_common_span, start_joint,
+)
 from footnav.fusion.particle_cloud import (
     _MIN_VAR_M2,
     _gaussian_weights,
@@ -275,7 +277,7 @@ class ParticleFusion(Fusion):
         for foot, (imu, st) in enumerate(((left, stance_left), (right, stance_right))):
             # the nav frame of the joint filter (joint.start_joint): the first step along +x,
             # the left foot at +y
-            yaw = float(forward.estimate(imu, st).meta.get("heading_rotation_rad", 0.0))
+            yaw = first_step_yaw(forward, imu, st)
             s0, align, meta = align_first_stance(imu, st, still_gyr_max_radps=still, stacklevel=5)
             side = 1.0 if foot == RIGHT else -1.0  # the right shoe's tail along its +y (Sec. 2.2)
             p0 = np.array([0.0, -side * half, 0.0])

@@ -1,4 +1,4 @@
-"""The Kalman update of a 3-vector of states, compiled: one kernel for every footnav filter.
+"""The Kalman update, compiled: a 3-vector of states for every footnav filter's own updates, any H for a caller's.
 
 A zero-velocity update (``ekf``, ``madgwick``), the zero-angular-rate update (``ekf`` with bias
 states) and a 3-D position measurement all measure one 3-vector of the state directly, so H is a
@@ -15,13 +15,19 @@ into both triangles; the dense reference the tests compare with is tests/referen
 
 Callers: :mod:`footnav.estimators.ekf.loop` (its ZUPT and ZARU), :mod:`footnav.estimators.madgwick`
 (its ZUPT); :func:`sym3_inverse` also serves :mod:`footnav.fusion.particle_ekf`.
+
+:func:`update_dense` is the general form for the few measurements a coupled fusion makes per step
+(any (m, N) H, m small): the same equations with S factored by Cholesky, in one compiled call
+instead of some twenty small numpy calls (each of which costs more than the arithmetic).
 """
 
 from __future__ import annotations
 
+import numpy as np
+
 from footnav._numba import njit  # numba.njit that survives a read-only install
 
-__all__ = ["sym3_inverse", "update3", "update3_inline"]
+__all__ = ["DENSE_BAD_INPUT", "DENSE_NOT_PD", "DENSE_OK", "sym3_inverse", "update3", "update3_inline", "update_dense"]
 
 
 @njit(cache=True, inline="always", error_model="numpy")
@@ -107,3 +113,104 @@ update3 = njit(cache=True, error_model="numpy")(_update3)
 #: and a call passing its four arrays costs their reference counting (about 6 % of madgwick's
 #: time, measured); the ekf's loop, larger, calls :func:`update3`.
 update3_inline = njit(cache=True, inline="always", error_model="numpy")(_update3)
+
+
+#: What :func:`update_dense` found: the update is computed; S is not positive definite; H, y or r
+#: are not finite (or r not positive).
+DENSE_OK, DENSE_NOT_PD, DENSE_BAD_INPUT = 0, 1, 2
+
+
+@njit(cache=True, error_model="numpy")
+def update_dense(cov, h, y, r, chol, ph, gain, sy, dx, new_cov):
+    """Kalman update with a dense measurement ``y = H dx + noise`` (noise variances ``r``), into
+    scratch: nothing the caller passes as input changes, so it can still decide (a gate on the
+    returned normalised innovation squared) before it takes ``new_cov`` and ``dx``.
+
+    Parameters
+    ----------
+    cov
+        P (N, N), read only.
+    h, y, r
+        H (m, N), the innovation (m,) (z - H x, or an error-state filter's h(x^) - z) and the
+        measurement noise variance per component (m,).
+    chol, ph
+        Scratch (m, m) and (N, m): the Cholesky factor L of S = H P H' + diag(r), and P H'.
+    gain, sy, dx, new_cov
+        Written: K = P H' S^-1 (N, m), S^-1 y (m,), dx = K y (N,) and P - K (H P), symmetrised
+        as (A + A') / 2 (N, N).
+
+    Returns
+    -------
+    tuple of (int, float)
+        (``DENSE_OK``, y' S^-1 y); (``DENSE_NOT_PD``, nan) when S is not positive definite;
+        (``DENSE_BAD_INPUT``, nan) when H, y or r hold a non-finite value or r a value <= 0.
+        Only with ``DENSE_OK`` are ``gain``, ``sy``, ``dx`` and ``new_cov`` written.
+    """
+    big, m = cov.shape[0], len(y)
+    for i in range(m):
+        if not (np.isfinite(y[i]) and r[i] > 0.0 and np.isfinite(r[i])):
+            return DENSE_BAD_INPUT, np.nan
+        for j in range(big):
+            if not np.isfinite(h[i, j]):
+                return DENSE_BAD_INPUT, np.nan
+    for i in range(big):  # P H'
+        for a in range(m):
+            acc = 0.0
+            for j in range(big):
+                acc += cov[i, j] * h[a, j]
+            ph[i, a] = acc
+    for a in range(m):  # S = H (P H') + R, factored S = L L' (lower triangle of chol)
+        for b in range(a + 1):
+            acc = 0.0
+            for j in range(big):
+                acc += h[a, j] * ph[j, b]
+            if a == b:
+                acc += r[a]
+            for c in range(b):
+                acc -= chol[a, c] * chol[b, c]
+            if a == b:
+                if not acc > 0.0:
+                    return DENSE_NOT_PD, np.nan
+                chol[a, a] = np.sqrt(acc)
+            else:
+                chol[a, b] = acc / chol[b, b]
+    # S^-1 v by forward and back substitution: for y, then for each row of P H' (K = P H' S^-1)
+    nis = 0.0
+    for a in range(m):
+        acc = y[a]
+        for c in range(a):
+            acc -= chol[a, c] * sy[c]
+        sy[a] = acc / chol[a, a]
+    for a in range(m - 1, -1, -1):
+        acc = sy[a]
+        for c in range(a + 1, m):
+            acc -= chol[c, a] * sy[c]
+        sy[a] = acc / chol[a, a]
+    for a in range(m):
+        nis += y[a] * sy[a]
+    for i in range(big):
+        for a in range(m):
+            acc = ph[i, a]
+            for c in range(a):
+                acc -= chol[a, c] * gain[i, c]
+            gain[i, a] = acc / chol[a, a]
+        for a in range(m - 1, -1, -1):
+            acc = gain[i, a]
+            for c in range(a + 1, m):
+                acc -= chol[c, a] * gain[i, c]
+            gain[i, a] = acc / chol[a, a]
+        acc = 0.0
+        for a in range(m):
+            acc += gain[i, a] * y[a]
+        dx[i] = acc
+    for i in range(big):  # P - K (P H')', symmetrised
+        for j in range(i + 1):
+            u = cov[i, j]
+            w = cov[j, i]
+            for a in range(m):
+                u -= gain[i, a] * ph[j, a]
+                w -= gain[j, a] * ph[i, a]
+            val = 0.5 * (u + w)
+            new_cov[i, j] = val
+            new_cov[j, i] = val
+    return DENSE_OK, nis

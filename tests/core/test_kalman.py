@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 import reference_kalman as kalman  # tests/reference_kalman.py
 
-from footnav.nav.kalman import update3
+from footnav.nav.kalman import DENSE_BAD_INPUT, DENSE_NOT_PD, DENSE_OK, update3, update_dense
 
 filterpy_kalman = pytest.importorskip("filterpy.kalman")
 
@@ -105,3 +105,43 @@ def test_footnav_selection_update_equals_the_dense_update(start):
     p3 = p0.copy()
     assert not update3(p3, dx, start, *y, r, 0.5 * float(y @ sy), gain, sy, hp)
     np.testing.assert_array_equal(p3, p0)
+
+
+def _dense(p, h, y, r):
+    m, n = h.shape
+    scratch = (np.zeros((m, m)), np.zeros((n, m)), np.zeros((n, m)), np.zeros(m), np.zeros(n), np.zeros((n, n)))
+    status, nis = update_dense(p, h, y, r, *scratch)
+    return status, nis, *scratch[2:]
+
+
+@pytest.mark.parametrize("n, m", [(18, 2), (18, 3), (30, 6), (9, 1)])
+def test_dense_update_equals_the_reference(n, m):
+    """The caller's update (any H, e.g. the step-vector's rotated [I -I]) against the dense
+    reference (Joseph form, checked against filterpy above)."""
+    rng = np.random.default_rng(n + m)
+    p0 = _random_spd(rng, n)
+    p0 = 0.5 * (p0 + p0.T)
+    h, y, r = rng.normal(size=(m, n)), rng.normal(size=m), rng.uniform(0.05, 0.5, size=m)
+    x1, p1 = np.zeros(n), p0.copy()
+    assert kalman.update(x1, p1, h, np.diag(r), y, *kalman.workspace(n, m))
+    p_in = p0.copy()
+    status, nis, gain, sy, dx, p2 = _dense(p_in, h, y, r)
+    assert status == DENSE_OK
+    np.testing.assert_array_equal(p_in, p0)  # the input is left as it was
+    np.testing.assert_allclose(dx, x1, rtol=1e-10, atol=1e-12)
+    np.testing.assert_allclose(p2, p1, rtol=1e-9, atol=1e-11)
+    np.testing.assert_array_equal(p2, p2.T)
+    s = h @ p0 @ h.T + np.diag(r)
+    np.testing.assert_allclose(sy, np.linalg.solve(s, y), rtol=1e-10)
+    np.testing.assert_allclose(gain, p0 @ h.T @ np.linalg.inv(s), rtol=1e-9, atol=1e-12)
+    assert nis == pytest.approx(float(y @ np.linalg.solve(s, y)), rel=1e-12)
+
+
+def test_dense_update_names_bad_input_and_a_singular_innovation():
+    p, h, y, r = np.eye(4), np.zeros((2, 4)), np.ones(2), np.ones(2)
+    h[0, 0] = h[1, 1] = 1.0
+    assert _dense(p, h, y, r)[0] == DENSE_OK
+    for bad in ((h, np.array([1.0, np.nan]), r), (h, y, np.array([1.0, 0.0])), (np.where(h > 0, np.inf, 0.0), y, r)):
+        assert _dense(p, *bad)[0] == DENSE_BAD_INPUT
+    # a covariance that is no longer positive semi-definite there (P00 = -2): S = -2 + 1 < 0
+    assert _dense(np.diag([-2.0, 1.0, 1.0, 1.0]), h, y, r)[0] == DENSE_NOT_PD

@@ -21,6 +21,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from footnav.errors import InvalidInputError
+from footnav.nav.kalman import DENSE_BAD_INPUT, DENSE_NOT_PD, update_dense
 from footnav.nav.quaternion import as_matrix_nb
 from footnav.estimators.ekf.buffers import staggered
 from footnav.estimators.ekf.kernels import feedback
@@ -387,32 +388,35 @@ class InsFilter:
             smoother), or None when the gate rejected the measurement.
         """
         big = self._cov.shape[0]
-        hm = np.atleast_2d(np.asarray(h, dtype=float))
-        y = np.atleast_1d(np.asarray(innovation, dtype=float))
+        # C-contiguous float64 (one compiled signature of update_dense)
+        hm = np.ascontiguousarray(np.atleast_2d(np.asarray(h, dtype=np.float64)))
+        y = np.ascontiguousarray(np.atleast_1d(np.asarray(innovation, dtype=np.float64)))
         m = len(y)
-        r = np.broadcast_to(np.asarray(r, dtype=float), (m,))
-        if hm.shape != (m, big) or not (np.all(np.isfinite(y)) and np.all(np.isfinite(hm)) and np.all(r > 0)):
+        r = np.asarray(r, dtype=np.float64)
+        if r.shape != (m,):
+            r = np.full(m, float(r)) if r.size == 1 else r
+        if hm.shape != (m, big) or r.shape != (m,) or y.ndim != 1:
             raise InvalidInputError(
-                f"measurement update needs H of shape ({m}, {big}), finite innovations and positive variances; "
-                f"got H {hm.shape}, innovation {y!r}, r {r!r}",
+                f"measurement update needs H of shape ({m}, {big}), {m} innovations and {m} variances (or one); "
+                f"got H {hm.shape}, innovation {y.shape}, r {r.shape}",
                 field="innovation",
             )
-        ph = self._cov @ hm.T
-        s = hm @ ph + np.diag(r)
-        try:
-            chol = np.linalg.cholesky(s)
-        except np.linalg.LinAlgError:
-            raise InvalidInputError("measurement update: innovation covariance is not positive definite", field="r") from None
-        sy = np.linalg.solve(chol.T, np.linalg.solve(chol, y))
-        if gate is not None and float(y @ sy) > gate:
+        r = np.ascontiguousarray(r)
+        gain, sy, dx, cov = np.empty((big, m)), np.empty(m), np.empty(big), np.empty((big, big))
+        status, nis = update_dense(self._cov, hm, y, r, np.zeros((m, m)), np.empty((big, m)), gain, sy, dx, cov)
+        if status == DENSE_BAD_INPUT:
+            raise InvalidInputError(
+                f"measurement update needs finite H and innovations and positive variances; got innovation {y!r}, r {r!r}",
+                field="innovation",
+            )
+        if status == DENSE_NOT_PD:
+            raise InvalidInputError("measurement update: innovation covariance is not positive definite", field="r")
+        if gate is not None and nis > gate:
             return None
         # the update belongs to a checkpoint at this instant, made before P changes (a kept
         # segment's backward pass starts from the covariance after its last sample)
         self.close()
-        gain = np.linalg.solve(chol.T, np.linalg.solve(chol, ph.T)).T  # K = P H' S^-1
-        dx = gain @ y
-        cov = self._cov - gain @ ph.T
-        self._cov[:] = 0.5 * (cov + cov.T)
+        self._cov[:] = cov
         self._apply(dx)
         cp = self.checkpoints[-1]
         cp.updates.append(CallerUpdate(hm, gain, sy, y))

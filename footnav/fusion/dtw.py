@@ -245,7 +245,7 @@ class DtwFusion(Fusion):
             offset = np.zeros(2)
             if self.lateral_offset_m:
                 # across the standing foot's heading, towards the moving foot's side
-                yaw = float(quat.yaw(filt.quaternion(other)))
+                yaw = quat.yaw_of(filt.quaternion(other))
                 side = 1.0 if moving == LEFT else -1.0
                 offset = side * self.lateral_offset_m * np.array([-np.sin(yaw), np.cos(yaw)])
             y = (filt.position(moving) - filt.position(other))[:2] - offset

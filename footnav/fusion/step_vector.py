@@ -55,6 +55,7 @@ References
 
 from __future__ import annotations
 
+import math
 from typing import ClassVar
 
 import numpy as np
@@ -139,9 +140,10 @@ def pendulum_step_length(q1: np.ndarray, q2: np.ndarray, leg_length_m: float) ->
     ``theta = 2 acos(|q[1]|)``: the absolute value picks the shorter of the two rotations a
     quaternion and its negative describe (eq. 5 as printed assumes q[1] >= 0).
     """
-    q = quat.multiply(q1, quat.conjugate(q2))  # q = q1 (x) q2*      (eq. 5)
-    theta = 2.0 * np.arccos(np.clip(abs(float(q[0])), 0.0, 1.0))  # theta = 2 acos(q[1])
-    return 2.0 * leg_length_m * np.sin(0.5 * theta)  # S = 2 l sin(theta/2)  (eq. 6)
+    # q = q1 (x) q2* (eq. 5); its scalar part, all eq. 5 needs, is the dot product of q1 and q2
+    w = float(q1[0]) * float(q2[0]) + float(q1[1]) * float(q2[1]) + float(q1[2]) * float(q2[2]) + float(q1[3]) * float(q2[3])
+    theta = 2.0 * math.acos(min(abs(w), 1.0))  # theta = 2 acos(q[1])
+    return 2.0 * leg_length_m * math.sin(0.5 * theta)  # S = 2 l sin(theta/2)  (eq. 6)
 
 
 class StepVectorFusion(Fusion):
@@ -319,7 +321,7 @@ class StepVectorFusion(Fusion):
             runs_f, traj_f = runs[front], singles[front]
             a0, a1 = runs_f[j - 1, 0], runs_f[j, 0]
             stride = np.linalg.norm(traj_f.position[a1, :2] - traj_f.position[a0, :2])
-            if stride < 0.2 or abs(quat.wrap_angle(quat.yaw(traj_f.quaternion[a1]) - quat.yaw(traj_f.quaternion[a0]))) > turn:
+            if stride < 0.2 or abs(quat.wrap_angle(quat.yaw_of(traj_f.quaternion[a1]) - quat.yaw_of(traj_f.quaternion[a0]))) > turn:
                 continue
             q_r = singles[rear].quaternion
             s1 = pendulum_step_length(q_r[support[0]], q_r[support[1]], 1.0)
@@ -394,7 +396,7 @@ class StepVectorFusion(Fusion):
         filt, singles = start_joint(estimator, left, stance_left, right, stance_right, self.step_width_m, return_singles=True)
         leg = self.leg_length_m if self.step_length == "pendulum" else self._fit_leg_length(imus, stances, singles)
         # the yaw each sensor has when its foot faces the walking direction (+x at the start)
-        yaw0 = [float(quat.yaw(filt.quaternion(f))) for f in (LEFT, RIGHT)]
+        yaw0 = [quat.yaw_of(filt.quaternion(f)) for f in (LEFT, RIGHT)]
         big = filt.covariance.shape[0]
         turn = np.radians(self.turn_threshold_deg)
         r = np.array([self.step_length_std_m, self.step_width_std_m, self.step_elevation_std_m]) ** 2
@@ -414,7 +416,7 @@ class StepVectorFusion(Fusion):
                 continue
             hs_rear, k_q2 = support
             q_out = filt.outputs(rear)[0]
-            yaw_r = float(quat.yaw(q_out[hs_rear])) - yaw0[rear]
+            yaw_r = quat.yaw_of(q_out[hs_rear]) - yaw0[rear]
             prev = last_stance_yaw.get(rear)
             last_stance_yaw[rear] = yaw_r  # heading of the rear foot's footprint
             if prev is not None and abs(quat.wrap_angle(yaw_r - prev)) > turn:

@@ -87,16 +87,21 @@ class SegmentRecords:
     def keep(self, checkpoint: int, cov: NDArray[np.float64]) -> None:
         """Keep the open segment, which ends at ``checkpoint``, and start the next one.
 
-        Only segments that fill at least half the buffer are kept, by handing the buffer over: a
-        short segment (a fusion stops at every step) costs one call of the compiled loop whether
-        its backward pass reads a kept record or re-runs it, and keeping it would cost a copy.
+        A segment that fills at least half the buffer is kept by handing the buffer over; a
+        shorter one (a fusion's update at every step ends one) by copying what it used: the copy
+        costs a fraction of re-running the segment, which would filter its samples a second time.
         """
         used = int(self.fill[0])
         self.fill[0] = 0
-        if used == 0 or self.budget_bytes <= 0 or 2 * used < self.capacity:
+        if used == 0 or self.budget_bytes <= 0:
             return
-        rec, nbytes = self.record.head(used), _nbytes(self.record) + cov.nbytes
-        self.record = empty_record(self.big, self.capacity, self.columns, zero=False)
+        if 2 * used < self.capacity:
+            rec = Record(*(np.array(a) for a in self.record.head(used)))
+            nbytes = _nbytes(rec)
+        else:  # the views hold the whole buffer
+            rec, nbytes = self.record.head(used), _nbytes(self.record)
+            self.record = empty_record(self.big, self.capacity, self.columns, zero=False)
+        nbytes += cov.nbytes
         self.kept[checkpoint] = (rec, used, cov.copy(), nbytes)
         self.nbytes += nbytes
         while self.nbytes > self.budget_bytes:

@@ -96,12 +96,23 @@ class RangeConstraintFusion(Fusion):
         times = times[times <= closing_time(estimator, imus, stances)]
         bound = float(self.max_separation_m)
         applied = 0
-        for t in times:
-            filt.run_until(t)
+        # footnav's filter checks the times in its compiled loop; any other JointFilter here
+        watch = getattr(filt, "run_until_apart", None)
+        i = 0
+        while i < len(times):
+            if watch is not None:
+                found = watch(times, bound, i)
+                if found is None:
+                    break
+                i = found
+            else:
+                filt.run_until(times[i])
             p = [filt.position(LEFT), filt.position(RIGHT)]
             d = p[LEFT] - p[RIGHT]
-            dist = math.sqrt(float(d[0]) ** 2 + float(d[1]) ** 2 + float(d[2]) ** 2)  # scalar: checked every 0.05 s
-            if dist <= bound:
+            dx, dy, dz = float(d[0]), float(d[1]), float(d[2])
+            dist = math.sqrt(dx * dx + dy * dy + dz * dz)  # as InsFilter.run_until_apart, to the bit
+            if dist <= bound:  # (never after run_until_apart's stop)
+                i += 1
                 continue
             u = d / dist
             standing = [bool(st.mask[min(filt.index(f), len(st.mask) - 1)]) for f, st in enumerate(stances)]
@@ -116,5 +127,6 @@ class RangeConstraintFusion(Fusion):
                 filt.update_position(LEFT, centre + 0.5 * bound * u, self.constraint_std_m)
                 filt.update_position(RIGHT, centre - 0.5 * bound * u, self.constraint_std_m)
             applied += 1
+            i += 1
         meta = {"fusion": self.describe(), "constraint_updates": applied, "checks": len(times)}
         return finish_joint(estimator, filt, stance_left, stance_right, meta, imus)

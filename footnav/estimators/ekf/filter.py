@@ -25,7 +25,7 @@ from footnav.nav.kalman import DENSE_BAD_INPUT, DENSE_NOT_PD, update_dense
 from footnav.nav.quaternion import as_matrix_nb
 from footnav.estimators.ekf.buffers import staggered
 from footnav.estimators.ekf.kernels import feedback
-from footnav.estimators.ekf.loop import DONE, MODE_BACK, MODE_CLOSE, MODE_FILTER, MODE_RECORD, MODE_STEP, STEP_END, run
+from footnav.estimators.ekf.loop import APART, DONE, MODE_BACK, MODE_CLOSE, MODE_FILTER, MODE_RECORD, MODE_STEP, STEP_END, run
 from footnav.estimators.ekf.records import (
     ACC_BIAS,
     ATT,
@@ -46,6 +46,9 @@ from footnav.estimators.ekf.records import (
 )
 
 __all__ = ["MAX_SEGMENT_EVENTS", "InsFilter"]
+
+#: The loop's watch switched off (:meth:`InsFilter.run_until_apart`): no watched times.
+_NO_WATCH = np.zeros(0)
 
 #: Largest number of samples between two checkpoints (and in a step-wise smoother's buffer):
 #: bounds the smoother's buffers when a foot stands still for minutes.
@@ -296,12 +299,12 @@ class InsFilter:
         self.checkpoints = [self._checkpoint(step_end=False)]
 
     # -- acting --------------------------------------------------------------------------------
-    def _call(self, mode, k, stop_at, t_stop, max_events, step_stops, state, rec, sm, fill, mu, d):
+    def _call(self, mode, k, stop_at, t_stop, max_events, step_stops, state, rec, sm, fill, mu, d, watch_times=_NO_WATCH, watch=_NO_WATCH):
         """One call of the compiled loop from ``state`` (a :class:`FilterState`)."""
         return run(
             self._in, stop_at, k, float(t_stop), int(max_events), bool(step_stops), state, self.n_states, self._q_diag,
             self.noise.zupt_std_mps**2, self.noise.zaru_std_radps**2, self._out, mode, rec, sm, fill, mu, d,
-            self._scratch(rec),
+            self._scratch(rec), watch_times, watch,
         )
 
     @property
@@ -318,6 +321,36 @@ class InsFilter:
 
     def run_until(self, t_stop: float = np.inf) -> None:
         """Process every sample with time <= ``t_stop`` (s) of each foot, in time order."""
+        self._run(t_stop, _NO_WATCH, _NO_WATCH)
+
+    def run_until_apart(self, times: NDArray[np.float64], bound_m: float, start: int = 0) -> int | None:
+        """Run through ``times`` (s, increasing) from index ``start`` until the two feet are more
+        than ``bound_m`` apart at one of them.
+
+        At each time the check sees the filter as :meth:`run_until` of that time leaves it, so
+        this equals ``run_until(t)`` and a distance check for each ``t`` in turn, without a return
+        to Python at each (a range constraint checks every 0.05 s).
+
+        Returns
+        -------
+        int or None
+            The index of the first time at which the feet are farther apart than ``bound_m`` (or
+            their distance is not a number), the filter standing at it; None when there is none,
+            the filter standing at the last time.
+        """
+        if self.n_feet != 2:
+            raise ValueError("run_until_apart needs a filter of two feet")
+        times = np.ascontiguousarray(times, dtype=np.float64)
+        if start >= len(times):
+            return None
+        watch = np.array([float(bound_m), float(start)])
+        if self._run(float(times[-1]), times, watch) == APART:
+            return int(watch[1])
+        return None
+
+    def _run(self, t_stop: float, watch_times: NDArray[np.float64], watch: NDArray[np.float64]) -> int:
+        """:meth:`run_until` with the loop's watch (:func:`footnav.estimators.ekf.loop.run`);
+        returns why it stopped: ``DONE`` or ``APART``."""
         ss, sr = self.step_smoother, self.segment_records
         while True:
             # the buffers anew at each call: a checkpoint may hand the segment records a new one
@@ -330,16 +363,16 @@ class InsFilter:
             # a checkpoint at least every MAX_SEGMENT_EVENTS: the smoother re-runs one at a time
             reason, events = self._call(
                 mode, self._k, self._stop_at, t_stop, MAX_SEGMENT_EVENTS - self._since_checkpoint, self.step_stops,
-                self._state, *bufs,
+                self._state, *bufs, watch_times, watch,
             )
             self._n_events += events
             self._since_checkpoint += events
             # checkpoints where a step ends or a segment is full; a stop for the caller needs one
             # only if the caller then updates (see update): memory grows with steps, not with stops
-            if events and reason != DONE:
+            if reason == DONE or reason == APART:
+                return reason
+            if events:
                 self._add_checkpoint(step_end=reason == STEP_END)
-            if reason == DONE:
-                return
 
     def _add_checkpoint(self, step_end: bool) -> None:
         self.checkpoints.append(self._checkpoint(step_end=step_end))

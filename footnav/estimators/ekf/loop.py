@@ -22,13 +22,14 @@ from footnav.estimators.ekf.backward import smooth_back
 from footnav.estimators.ekf.kernels import feedback, predict_cov
 from footnav.estimators.ekf.records import GYR_BIAS, POS, VEL
 
-__all__ = ["DONE", "FULL", "MODE_BACK", "MODE_CLOSE", "MODE_FILTER", "MODE_RECORD", "MODE_STEP", "MODE_WHOLE", "STEP_END", "ZARU_GATE", "run"]
+__all__ = ["APART", "DONE", "FULL", "MODE_BACK", "MODE_CLOSE", "MODE_FILTER", "MODE_RECORD", "MODE_STEP", "MODE_WHOLE", "STEP_END", "ZARU_GATE", "run"]
 
 #: Chi-square gate of the zero-angular-rate update: 3 degrees of freedom, 99.9 %.
 ZARU_GATE = 16.27
 
-#: Why :func:`run` returned: nothing left before t_stop, a foot's stance ended, max_events done.
-DONE, STEP_END, FULL = 0, 1, 2
+#: Why :func:`run` returned: nothing left before t_stop, a foot's stance ended, max_events done,
+#: the feet were found farther apart than the watched bound.
+DONE, STEP_END, FULL, APART = 0, 1, 2, 3
 
 
 @njit(cache=True, error_model="numpy")
@@ -47,6 +48,22 @@ def _next_foot(t, k, stop_at, t_stop):
     return f
 
 
+@njit(cache=True, error_model="numpy")
+def _apart(watch_times, watch, p, t_next, t_stop):
+    """Check the watched times before ``t_next`` (and not after ``t_stop``) from index
+    ``watch[1]`` on: True at the first where feet 0 and 1 are more than ``watch[0]`` m apart,
+    ``watch[1]`` left there; else False, ``watch[1]`` past the checked times."""
+    i = int(watch[1])
+    while i < len(watch_times) and watch_times[i] < t_next and watch_times[i] <= t_stop:
+        dx, dy, dz = p[0, 0] - p[1, 0], p[0, 1] - p[1, 1], p[0, 2] - p[1, 2]
+        if not np.sqrt(dx * dx + dy * dy + dz * dz) <= watch[0]:  # a NaN distance stops too
+            watch[1] = i
+            return True
+        i += 1
+    watch[1] = i
+    return False
+
+
 #: What a call of :func:`run` does besides filtering.
 MODE_FILTER, MODE_STEP, MODE_WHOLE, MODE_CLOSE, MODE_RECORD, MODE_BACK = 0, 1, 2, 3, 4, 5
 
@@ -54,7 +71,7 @@ MODE_FILTER, MODE_STEP, MODE_WHOLE, MODE_CLOSE, MODE_RECORD, MODE_BACK = 0, 1, 2
 @njit(cache=True, error_model="numpy")
 def run(
     samples, stop_at, k, t_stop, max_events, step_stops, state, n, q_diag, r_zupt, r_zaru, out,
-    mode, rec, sm, fill, mu, d, ws,
+    mode, rec, sm, fill, mu, d, ws, watch_times, watch,
 ):
     """Advance the feet through their samples with t <= t_stop, in time order.
 
@@ -77,8 +94,15 @@ def run(
     * ``MODE_BACK``: no filtering; ``d = P mu`` with the given covariance and the backward pass
       over the ``fill[0]`` recorded events (a kept segment of the whole-walk smoother).
 
+    ``watch_times`` (s, increasing) and ``watch`` ([bound in m, index of the next time]): at
+    each of those times from ``watch[1]`` on (once every sample at or before it is processed)
+    the distance between the two feet is checked, and the loop stops at the first where it
+    exceeds the bound, ``watch[1]`` left at that time's index. No watch: an empty
+    ``watch_times``. (A fusion's check at every few samples costs a Python round trip each
+    otherwise; :meth:`footnav.estimators.ekf.filter.InsFilter.run_until_apart`.)
+
     Returns (reason, events): reason 0 nothing left before t_stop, 1 a foot's stance just ended
-    (only with ``step_stops``), 2 ``max_events`` processed.
+    (only with ``step_stops``), 2 ``max_events`` processed, 3 the feet apart at a watched time.
     """
     t, acc, gyr, stance = samples
     q, v, p, ba, bg, f_n, cov = state
@@ -100,8 +124,15 @@ def run(
         fill[0] = 0
     events = 0
     reason = FULL
+    n_watch = len(watch_times)
     while events < max_events:
         f = _next_foot(t, k, stop_at, t_stop)
+        if n_watch:
+            # the watched times before the next sample (all of them at the end): every sample
+            # at or before each is processed now
+            t_next = t[k[f] + 1] if f >= 0 else np.inf
+            if _apart(watch_times, watch, p, t_next, t_stop):
+                return APART, events
         if f < 0:
             reason = DONE
             break

@@ -49,7 +49,8 @@ from typing import Any
 
 from footnav.nav.clock_sync import ClockMap
 from footnav.errors import CompositionError, InvalidInputError, InvalidParameterError
-from footnav.pipeline.online_foot import ClosedStep, FootStream, FootUpdate, ForwardEstimate, as_chunk
+from footnav.pipeline.online_foot import FootStream
+from footnav.pipeline.online_io import ClosedStep, FootUpdate, ForwardEstimate, as_chunk
 from footnav.pipeline.result import PipelineResult
 from footnav.warning_log import recording
 

@@ -9,14 +9,13 @@ bounded memory, the latency) is explained in :mod:`footnav.pipeline.online`.
 A segment is an :class:`~footnav.estimators.ekf.filter.InsFilter` built with room for the
 samples to come (``capacity``), fed the final samples with ``InsFilter.extend`` and started from
 a step-end checkpoint of the previous segment with ``InsFilter.resume``: only public methods.
+What a push takes and returns is in :mod:`footnav.pipeline.online_io`.
 """
 
 from __future__ import annotations
 
 import math
 from collections import deque
-from collections.abc import Mapping
-from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -30,6 +29,7 @@ from footnav.warning_log import recording
 from footnav.estimators.ekf.filter import InsFilter
 from footnav.estimators.ekf.records import FilterState
 from footnav.estimators.ekf.smoother import StepSmoother
+from footnav.pipeline.online_io import ClosedStep, FootUpdate, ForwardEstimate, as_chunk, empty_update
 
 __all__ = ["SEGMENT_SAMPLES", "ClosedStep", "FootStream", "FootUpdate", "ForwardEstimate", "as_chunk"]
 
@@ -37,115 +37,29 @@ __all__ = ["SEGMENT_SAMPLES", "ClosedStep", "FootStream", "FootUpdate", "Forward
 SEGMENT_SAMPLES = 16384
 
 
-# -- what a push returns ----------------------------------------------------------------------
-
-
-@dataclass(frozen=True)
-class ForwardEstimate:
-    """The forward filter's state at its newest sample (not final: later samples refine it).
-
-    ``position_cov`` is the 3 x 3 position covariance (m^2) of the filter, in the nav frame
-    (until the first step's heading is known: the sensor's initial heading, not yet turned).
-    """
-
-    t: float
-    position: NDArray[np.float64]
-    velocity: NDArray[np.float64]
-    quaternion: NDArray[np.float64]
-    position_cov: NDArray[np.float64]
-
-
-@dataclass(frozen=True)
-class ClosedStep:
-    """One step that became final: the foot's stance ended at ``t`` (s).
-
-    ``position`` is the footprint (mean position over the stance, m, nav frame),
-    ``stride_length_m`` the horizontal distance from the foot's previous footprint and
-    ``heading_rad`` its direction (about z from +x; nan for the first footprint).
-    ``late`` is True when the step was released without waiting for the other foot
-    (``max_wait_s`` ran out).
-    """
-
-    t: float
-    foot: str
-    position: NDArray[np.float64]
-    stride_length_m: float
-    heading_rad: float
-    index: int
-    late: bool = False
-
-
-@dataclass(frozen=True)
-class FootUpdate:
-    """One foot's samples that became final in a push (smoothed per step, nav frame), and the
-    forward estimate at its newest sample (None before the filter is aligned)."""
-
-    t: NDArray[np.float64]
-    position: NDArray[np.float64]
-    velocity: NDArray[np.float64]
-    quaternion: NDArray[np.float64]
-    forward: ForwardEstimate | None
-
-    @property
-    def n_samples(self) -> int:
-        return len(self.t)
-
-
-def _empty_update(forward: ForwardEstimate | None) -> FootUpdate:
-    z3 = np.empty((0, 3))
-    return FootUpdate(np.empty(0), z3, z3.copy(), np.empty((0, 4)), forward)
-
-
-# -- chunks -------------------------------------------------------------------------------------
-
-
-def as_chunk(chunk: Any, foot: str) -> tuple[NDArray, NDArray, NDArray]:
-    """``(t, acc, gyr)`` arrays (SI) of a chunk: an ImuData, a pandas DataFrame with columns ``t,
-    acc_x..gyr_z``, a mapping with ``t``, ``acc``, ``gyr``, or a tuple ``(t, acc, gyr)``; one
-    sample may be given as scalars and 3-vectors."""
-    if isinstance(chunk, ImuData):
-        t, acc, gyr = chunk.t, chunk.acc, chunk.gyr
-    elif hasattr(chunk, "columns") and hasattr(chunk, "iloc"):
-        cols = [c for c in ("acc_x", "acc_y", "acc_z", "gyr_x", "gyr_y", "gyr_z", "t") if c not in chunk.columns]
-        if cols:
-            raise InvalidInputError(f"the {foot} foot's DataFrame chunk has no column(s) {cols}", field=foot)
-        t = chunk["t"].to_numpy()
-        acc = chunk[["acc_x", "acc_y", "acc_z"]].to_numpy()
-        gyr = chunk[["gyr_x", "gyr_y", "gyr_z"]].to_numpy()
-    elif isinstance(chunk, Mapping):
-        try:
-            t, acc, gyr = chunk["t"], chunk["acc"], chunk["gyr"]
-        except KeyError as exc:
-            raise InvalidInputError(f"the {foot} foot's chunk has no {exc.args[0]!r}; give t, acc, gyr", field=foot) from None
-    elif isinstance(chunk, (tuple, list)) and len(chunk) == 3:
-        t, acc, gyr = chunk
-    else:
-        raise InvalidInputError(
-            f"the {foot} foot's chunk is a {type(chunk).__name__}; give an ImuData, a DataFrame, "
-            "a mapping {'t', 'acc', 'gyr'} or a tuple (t, acc, gyr)",
-            field=foot,
-        )
-    t = np.atleast_1d(np.asarray(t, dtype=np.float64))
-    acc = np.asarray(acc, dtype=np.float64).reshape(-1, 3)
-    gyr = np.asarray(gyr, dtype=np.float64).reshape(-1, 3)
-    if t.ndim != 1 or len(acc) != len(t) or len(gyr) != len(t):
-        raise InvalidInputError(
-            f"the {foot} foot's chunk has {len(t)} times, {len(acc)} acc and {len(gyr)} gyr rows; one row per sample",
-            field=foot,
-        )
-    if not (np.isfinite(t).all() and np.isfinite(acc).all() and np.isfinite(gyr).all()):
-        raise InvalidInputError(f"the {foot} foot's chunk has non-finite values", field=foot)
-    return t, acc, gyr
+def _runs(mask: NDArray[np.bool_]) -> list[tuple[int, int]]:
+    """:func:`~footnav.types.stance_intervals` as a list of (start, stop) ints: the few runs of a
+    push's final samples, with a third of its numpy calls."""
+    if len(mask) == 0:
+        return []
+    bounds = [0, *(np.flatnonzero(mask[1:] != mask[:-1]) + 1).tolist(), len(mask)]
+    return [(bounds[i], bounds[i + 1]) for i in range(0 if mask[0] else 1, len(bounds) - 1, 2)]
 
 
 class _Grow:
     """Growing (N, ...) arrays with a moving start: append at the end, drop from the front, in
-    amortised O(1) per sample and memory proportional to what is kept."""
+    amortised O(1) per sample and memory proportional to what is kept.
+
+    The rows held are ``arrays[off : off + n]``: dropping only moves ``off``, and the rows are
+    moved to the front (or the arrays reallocated) only when an append finds no room at the
+    end, so a push's drop and append cost no copy of the rows kept.
+    """
 
     def __init__(self, shapes: list[tuple[tuple[int, ...], Any]]) -> None:
         self.arrays = [np.empty((64, *s), dtype=d) for s, d in shapes]
-        self.start = 0  # global index of row 0
+        self.start = 0  # global index of the first row held
         self.n = 0  # rows held
+        self.off = 0  # array index of the first row held
 
     @property
     def end(self) -> int:
@@ -153,31 +67,42 @@ class _Grow:
 
     def append(self, *rows: NDArray) -> None:
         m = len(rows[0])
-        if self.n + m > len(self.arrays[0]):
-            cap = max(2 * (self.n + m), 64)
-            self.arrays = [np.concatenate([a[: self.n], np.empty((cap - self.n, *a.shape[1:]), a.dtype)]) for a in self.arrays]
+        off, n = self.off, self.n
+        cap = len(self.arrays[0])
+        if off + n + m > cap:
+            # no room at the end: move the rows to the front, in arrays of twice what is needed
+            # when more than half full (or mostly empty: they shrink), so a move is rare
+            need = n + m
+            size = max(2 * need, 64) if (2 * need > cap or 8 * need < cap) else cap
+            if size != cap:
+                arrays = [np.empty((size, *a.shape[1:]), a.dtype) for a in self.arrays]
+                for dst, src in zip(arrays, self.arrays):
+                    dst[:n] = src[off : off + n]
+                self.arrays = arrays
+            else:
+                for a in self.arrays:
+                    a[:n] = a[off : off + n]
+            self.off = off = 0
+        a0 = off + n
         for a, r in zip(self.arrays, rows):
-            a[self.n : self.n + m] = r
-        self.n += m
+            a[a0 : a0 + m] = r
+        self.n = n + m
 
     def drop_before(self, g: int) -> None:
-        """Forget rows before global index ``g``; the arrays shrink when mostly empty."""
+        """Forget rows before global index ``g`` (the room is reused by a later append)."""
         cut = min(max(g - self.start, 0), self.n)
-        if cut == 0:
-            return
-        keep = self.n - cut
-        if 4 * keep < len(self.arrays[0]) and len(self.arrays[0]) > 64:
-            cap = max(2 * keep, 64)
-            self.arrays = [np.concatenate([a[cut : self.n], np.empty((cap - keep, *a.shape[1:]), a.dtype)]) for a in self.arrays]
-        else:
-            for a in self.arrays:
-                a[:keep] = a[cut : self.n]
+        self.off += cut
         self.start += cut
-        self.n = keep
+        self.n -= cut
 
     def rows(self, a: int, b: int) -> list[NDArray]:
         """Views of global rows ``a:b``."""
-        return [x[a - self.start : b - self.start] for x in self.arrays]
+        i = self.off - self.start
+        return [x[a + i : b + i] for x in self.arrays]
+
+    def last(self) -> Any:
+        """The first array's newest row."""
+        return self.arrays[0][self.off + self.n - 1]
 
 
 # -- one foot -------------------------------------------------------------------------------------
@@ -227,6 +152,10 @@ class FootStream:
         #: final) of the latest steps: the latency, measured
         self.step_final_at: deque[tuple[int, int]] = deque(maxlen=256)
         self.finished = False
+        self._grid = np.empty(0)  # np.arange(n) / rate_hz for the last detection window's n
+        self._imu: ImuData | None = None  # the first detection window (see _window_imu)
+        self._pos_block: slice | None = None  # the filter's position block (one filter layout per stream)
+        self._rot: tuple[float, NDArray] | None = None  # (psi, the 3 x 3 turn by -psi about z)
 
     def closed_until(self) -> float:
         """Every step of this foot that ends before this time (s) has been returned or is held
@@ -240,7 +169,7 @@ class FootStream:
 
     @property
     def t_last(self) -> float:
-        return float(self.input.arrays[0][self.input.n - 1]) if self.input.n else -math.inf
+        return float(self.input.last()) if self.input.n else -math.inf
 
     # -- input and detection --------------------------------------------------------------------
     def push(self, t: NDArray, acc: NDArray, gyr: NDArray) -> None:
@@ -248,9 +177,10 @@ class FootStream:
             return
         if self.offset_s:
             t = t + self.offset_s
-        full = np.concatenate(([self.t_last], t)) if self.input.n else t
-        bad = np.flatnonzero(np.diff(full) <= 0)
-        if len(bad):
+        # the common case checked without building the joined times; the error names the first bad one
+        if (self.input.n and not t[0] > self.input.last()) or (len(t) > 1 and not (t[1:] > t[:-1]).all()):
+            full = np.concatenate(([self.t_last], t)) if self.input.n else t
+            bad = np.flatnonzero(np.diff(full) <= 0)
             i = int(bad[0]) + (0 if self.input.n else 1)
             raise InvalidInputError(
                 f"the {self.foot} foot's time stamps must increase strictly; its sample {self.input.end + i} at "
@@ -258,7 +188,7 @@ class FootStream:
                 field=self.foot,
                 index=self.input.end + i,
             )
-        self.input.append(t, acc, gyr, np.zeros(len(t), dtype=bool))
+        self.input.append(t, acc, gyr, False)  # the stance decision, once final
         self._detect(final=False)
         self._filter(final=False)
 
@@ -271,7 +201,7 @@ class FootStream:
             return
         if self.rate_hz is None:
             # the latency in samples needs the rate: wait for a second of data (or the end)
-            tt = inp.arrays[0][: inp.n]
+            tt = inp.rows(inp.start, inp.end)[0]
             if self.stream.rate_hz is not None:
                 self.rate_hz = float(self.stream.rate_hz)
             elif not final and tt[-1] - tt[0] < 1.0:
@@ -288,13 +218,34 @@ class FootStream:
         # the detector's rate is the median interval's: the stream's rate, not each window's own
         # (jittered sampling gives windows of other lengths), so it sees the samples on a grid
         # at that rate (a windowed detector counts samples; the time stamps give it the rate)
-        t = t[0] + np.arange(len(t)) / self.rate_hz
+        if len(self._grid) != len(t):  # the window's length changes rarely: its grid is kept
+            self._grid = np.arange(len(t)) / self.rate_hz
+        t = t[0] + self._grid
         with recording(quiet=True):  # a window's gaps were warned about with the recording
-            stance = self.stream.pipeline.detector.detect(ImuData(t=t, acc=acc.copy(), gyr=gyr.copy()))
+            stance = self.stream.pipeline.detector.detect(self._window_imu(t, acc.copy(), gyr.copy()))
         new = np.asarray(stance.mask, dtype=bool)[self.n_final - a : frontier - a]
         mask[self.n_final - a : frontier - a] = new
         self._track_runs(new)
         self.n_final = frontier
+
+    def _window_imu(self, t: NDArray, acc: NDArray, gyr: NDArray) -> ImuData:
+        """The detection window as an ImuData (the arrays are the caller's fresh copies).
+
+        The first window goes through ImuData's checks; later ones take its fields with their
+        own arrays, unchecked: the checks would find nothing (as_chunk checked the values and
+        shapes, ``t`` is a grid: strictly increasing, without gaps) and cost as much as a
+        threshold detector's work on a one-second window."""
+        if self._imu is None:
+            self._imu = ImuData(t=t, acc=acc, gyr=gyr)
+            return self._imu
+        imu = object.__new__(ImuData)
+        fields = imu.__dict__
+        fields.update(self._imu.__dict__)
+        fields.pop("rate_hz", None)  # cached by the first window's detector: each window has its own
+        for name, a in (("t", t), ("acc", acc), ("gyr", gyr)):
+            a.setflags(write=False)  # read-only, as ImuData makes them
+            fields[name] = a
+        return imu
 
     def _track_runs(self, new: NDArray[np.bool_]) -> None:
         """Whether the first stance has ended, from the newly final decisions."""
@@ -444,7 +395,7 @@ class FootStream:
 
     def _footprints(self, t: NDArray, pos: NDArray, mask: NDArray, next_stance: bool) -> None:
         """Footprints (means over each stance) and the steps that closed among new final samples."""
-        for s, e in stance_intervals(mask):
+        for s, e in _runs(mask):
             self.fp_sum += pos[s:e].sum(axis=0)
             self.fp_n += int(e - s)
             if e < len(mask) or not next_stance:
@@ -496,10 +447,13 @@ class FootStream:
     def take(self) -> FootUpdate:
         forward = self.forward()
         if self.psi is None or self.emitted >= self.n_out:
-            return _empty_update(forward)
-        t, q, v, p, pcov, _ = (np.array(x) for x in self.out.rows(self.emitted, self.n_out))
+            return empty_update(forward)
+        t, q, v, p, pcov, _ = self.out.rows(self.emitted, self.n_out)
+        t, q, v, p = t.copy(), q.copy(), v.copy(), p.copy()
         if self.psi:
-            rotate_about_z(-self.psi, p, v, q, pcov)
+            # the covariance is turned too (rotate_about_z turns all four), into a scratch copy:
+            # a FootUpdate does not carry it
+            rotate_about_z(-self.psi, p, v, q, pcov.copy())
         self.emitted = self.n_out
         if not self.stream.keep:
             self.out.drop_before(self.n_out)
@@ -511,13 +465,17 @@ class FootStream:
         if filt is None:
             return None
         pos, vel, q = filt.position(0), filt.velocity(0), filt.quaternion(0)
-        sl = filt.block(0, "pos")
+        if self._pos_block is None:
+            self._pos_block = filt.block(0, "pos")
+        sl = self._pos_block
         cov = filt.covariance[sl, sl]
         if self.psi:
-            p, v, qq = pos[None].copy(), vel[None].copy(), q[None].copy()
+            if self._rot is None or self._rot[0] != self.psi:  # psi is set once: turned with one matrix
+                c, s = math.cos(-self.psi), math.sin(-self.psi)
+                self._rot = (self.psi, np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]]))
+            rot = self._rot[1]
+            p, v, qq = pos[None], vel[None], q[None]  # the filter's copies, turned in place
             rotate_about_z(-self.psi, p, v, qq, np.zeros((1, 4)))
-            c, s = math.cos(-self.psi), math.sin(-self.psi)
-            rot = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
             pos, vel, q, cov = p[0], v[0], qq[0], rot @ cov @ rot.T
         return ForwardEstimate(filt.time(0), pos, vel, q, cov)
 

@@ -193,8 +193,52 @@ def test_memory_is_bounded_without_keep():
         n += update.left.n_samples
         for foot in stream.feet:
             assert foot.input.n < 500 and foot.out.n < 500
+            # the arrays too, not only the rows held (_Grow drops by moving an offset)
+            assert len(foot.input.arrays[0]) < 2048 and len(foot.out.arrays[0]) < 2048
     assert stream.close() is None
     assert n + stream.last_update.left.n_samples == rec.left.n_samples
+
+
+def test_grow_buffer_appends_and_drops_in_bounded_arrays():
+    rng = np.random.default_rng(5)
+    grow = online_foot._Grow([((), np.float64), ((3,), np.float64), ((), np.bool_)])
+    held = np.empty(0)  # the rows the buffer must hold, by global index grow.start ...
+    total = 0
+    for _ in range(3000):
+        m = int(rng.integers(0, 300))
+        t = np.arange(total, total + m, dtype=float)
+        grow.append(t, np.repeat(t[:, None], 3, axis=1), t % 2 == 0)
+        total += m
+        held = np.concatenate([held, t])
+        cut = int(rng.integers(grow.start, grow.end + 1))
+        grow.drop_before(cut)
+        held = held[cut - (total - len(held)) :] if cut > total - len(held) else held
+        assert grow.end == total and grow.n == len(held)
+        t_rows, acc_rows, even = grow.rows(grow.start, grow.end)
+        np.testing.assert_array_equal(t_rows, held)
+        np.testing.assert_array_equal(acc_rows[:, 2], held)
+        np.testing.assert_array_equal(even, held % 2 == 0)
+        if grow.n:
+            assert grow.last() == held[-1]
+        assert len(grow.arrays[0]) <= max(64, 8 * (grow.n + 300))
+
+
+def test_runs_are_the_stance_intervals():
+    rng = np.random.default_rng(6)
+    for n in [0, 1, 2, 3, 10, 200] * 50:
+        mask = rng.random(n) < rng.random()
+        assert online_foot._runs(mask) == [tuple(map(int, r)) for r in footnav.types.stance_intervals(mask)]
+
+
+def test_time_stamps_within_a_chunk_are_checked(walk):
+    pipe = footnav.make_pipeline("threshold", "ekf", "independent", estimator_params=STEP)
+    stream = pipe.online(feet=1)
+    stream.push(left=(walk.left.t[:50], walk.left.acc[:50], walk.left.gyr[:50]))
+    t = walk.left.t[50:60].copy()
+    t[4] = t[3]
+    with pytest.raises(InvalidInputError, match=r"its sample 54 at .* does not \(previous") as info:
+        stream.push(left=(t, walk.left.acc[50:60], walk.left.gyr[50:60]))
+    assert info.value.index == 54
 
 
 def test_forward_estimate_and_inputs(walk):

@@ -15,6 +15,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from footnav.errors import InvalidInputError
+from footnav.types._derived import row_norms
 from footnav.types.units import _T_SCALE, GRAVITY_MPS2
 
 __all__ = [
@@ -121,8 +122,11 @@ def _held_peak(x: NDArray[np.float64], hold: int) -> float:
     return float(running[hold // 2 : len(x) - (hold - 1 - hold // 2)].max())
 
 
-def _at_rest(acc_norm: NDArray[np.float64], gyr_norm: NDArray[np.float64], rate_hz: float) -> NDArray[np.bool_]:
-    """Samples inside a ``REST_WINDOW_S`` window of steady |acc| and small |gyr|."""
+def _at_rest(
+    acc_norm: NDArray[np.float64], gyr_norm: NDArray[np.float64], rate_hz: float, median: float
+) -> NDArray[np.bool_]:
+    """Samples inside a ``REST_WINDOW_S`` window of steady |acc| and small |gyr|; ``median`` is
+    ``np.median(acc_norm)`` (the caller has it: one sort of N values less)."""
     from scipy.ndimage import maximum_filter1d, uniform_filter1d
 
     n = len(acc_norm)
@@ -131,7 +135,6 @@ def _at_rest(acc_norm: NDArray[np.float64], gyr_norm: NDArray[np.float64], rate_
         return np.zeros(n, dtype=bool)
     # O(N) running moments of the centred windows (no k x N window views: this runs on every
     # input); |acc| is taken about its median so that E[x^2] - E[x]^2 does not cancel ~g^2
-    median = float(np.median(acc_norm))
     a = acc_norm - median
     mean_a = uniform_filter1d(a, k, mode="nearest")
     std_a = np.sqrt(np.maximum(uniform_filter1d(a * a, k, mode="nearest") - mean_a * mean_a, 0.0))
@@ -231,11 +234,13 @@ def _check_data(
     *,
     acc_full_scale_mps2: float | None = None,
     clipping: bool = True,
+    median_dt: float | None = None,
 ) -> list[tuple[str, Any, str]]:
     """Check units, time base, rate, at-rest magnitude and (``clipping``) saturation of SI data.
 
     Raises InvalidInputError where the data cannot be what they are declared to be; returns the
-    findings to warn about as ``(meta key, record, message)``.
+    findings to warn about as ``(meta key, record, message)``. ``median_dt`` is the median of
+    ``np.diff(t)`` when the caller has it (ImuData keeps it), saving a sort of the intervals.
     """
     path = meta.get("source")
     label = (path or "ImuData") + (f" ({meta['foot']} foot)" if meta.get("foot") in ("left", "right") else "")
@@ -243,7 +248,7 @@ def _check_data(
     findings: list[tuple[str, Any, str]] = []
 
     # -- time base and rate ------------------------------------------------------------------
-    dt = float(np.median(np.diff(t)))
+    dt = float(np.median(np.diff(t))) if median_dt is None else median_dt
     rate = 1.0 / dt
     raw_dt = dt / _T_SCALE.get(t_unit, 1.0)
     if not RATE_ERROR_HZ[0] <= rate <= RATE_ERROR_HZ[1]:
@@ -268,8 +273,9 @@ def _check_data(
         ))
 
     # -- units -----------------------------------------------------------------------------------
-    acc_norm = np.linalg.norm(acc, axis=1)
-    gyr_norm = np.linalg.norm(gyr, axis=1)
+    # shared with the detectors within a pipeline run (the same bits as np.linalg.norm)
+    acc_norm = row_norms(acc)
+    gyr_norm = row_norms(gyr)
     f = float(np.median(acc_norm))
     lo_a, hi_a = ACC_MEDIAN_BOUNDS_MPS2
     if not lo_a <= f <= hi_a:
@@ -309,7 +315,7 @@ def _check_data(
         ))
 
     # -- the accelerometer at rest ----------------------------------------------------------------
-    rest = _at_rest(acc_norm, gyr_norm, rate)
+    rest = _at_rest(acc_norm, gyr_norm, rate, f)
     if rest.sum() >= max(10, REST_MIN_S * rate):
         g_rest = float(np.median(acc_norm[rest]))
         off = g_rest / GRAVITY_MPS2 - 1.0

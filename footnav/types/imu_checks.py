@@ -14,6 +14,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from footnav._numba import njit
 from footnav.errors import InvalidInputError
 from footnav.types._derived import row_norms
 from footnav.types.units import _T_SCALE, GRAVITY_MPS2
@@ -112,14 +113,39 @@ CLIP_FRACTION_OF_FULL_SCALE = 0.98
 
 def _held_peak(x: NDArray[np.float64], hold: int) -> float:
     """Largest value ``x`` stays at or above for ``hold`` consecutive samples."""
-    from scipy.ndimage import minimum_filter1d
-
     if len(x) < hold:
         return float(x.min()) if len(x) else 0.0
-    # running minimum of every full window of ``hold`` samples (the filter centres window i on
-    # i - hold // 2 .. i + hold - 1 - hold // 2: the padded edge windows are dropped), then its max
-    running = minimum_filter1d(x, hold, mode="nearest")
-    return float(running[hold // 2 : len(x) - (hold - 1 - hold // 2)].max())
+    return float(_max_of_window_minima(x, hold))
+
+
+@njit(cache=True)
+def _max_of_window_minima(x: NDArray[np.float64], hold: int) -> float:
+    # the maximum over every full window of ``hold`` samples of its minimum, by a monotonic queue
+    # of the window's candidates for its minimum (O(N) for any hold; min and max are exact, so
+    # this is the value of a running minimum filter's maximum)
+    queue = np.empty(len(x), dtype=np.int64)
+    head = tail = 0
+    best = -np.inf
+    for i in range(len(x)):
+        while tail > head and x[queue[tail - 1]] >= x[i]:
+            tail -= 1
+        queue[tail] = i
+        tail += 1
+        if queue[head] <= i - hold:
+            head += 1
+        if i >= hold - 1 and x[queue[head]] > best:
+            best = x[queue[head]]
+    return best
+
+
+@njit(cache=True)
+def _count_beyond(x: NDArray[np.float64], centre: float, bound: float) -> int:
+    # np.count_nonzero(np.abs(x - centre) > bound) without its two temporaries
+    count = 0
+    for v in x:
+        if abs(v - centre) > bound:
+            count += 1
+    return count
 
 
 def _at_rest(
@@ -298,7 +324,7 @@ def _check_data(
             index=i,
             path=path,
         )
-    n_moving = int(np.count_nonzero(np.abs(acc_norm - f) > ACC_MOVING_MPS2))
+    n_moving = _count_beyond(acc_norm, f, ACC_MOVING_MPS2)
     moving = n_moving / len(acc_norm)
     # at least a swing's worth (0.2 s) of motion: a few rows of a test file are no walk
     if moving >= ACC_MOVING_FRACTION and n_moving >= max(10, 0.2 * rate) and w_peak < GYR_PEAK_MIN_RADPS:

@@ -120,12 +120,19 @@ def _held_peak(x: NDArray[np.float64], hold: int) -> float:
 
 @njit(cache=True)
 def _max_of_window_minima(x: NDArray[np.float64], hold: int) -> float:
-    # the maximum over every full window of ``hold`` samples of its minimum, by a monotonic queue
-    # of the window's candidates for its minimum (O(N) for any hold; min and max are exact, so
-    # this is the value of a running minimum filter's maximum)
+    # the maximum over every full window of ``hold`` samples of its minimum (min and max are
+    # exact, so this is the value of a running minimum filter's maximum)
+    best = -np.inf
+    if hold <= 32:  # a few samples at usual rates (3 at 100 Hz): direct, branch-light
+        for i in range(len(x) - hold + 1):
+            m = x[i]
+            for j in range(i + 1, i + hold):
+                m = min(m, x[j])
+            best = max(best, m)
+        return best
+    # long holds (kHz rates): a monotonic queue of the window's candidates for its minimum, O(N)
     queue = np.empty(len(x), dtype=np.int64)
     head = tail = 0
-    best = -np.inf
     for i in range(len(x)):
         while tail > head and x[queue[tail - 1]] >= x[i]:
             tail -= 1

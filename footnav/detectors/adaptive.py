@@ -244,7 +244,7 @@ class AdaptiveDetector(StanceDetector):
         runs = stance_intervals(mask)
         if self.pivot_yaw_share >= 1.0 or len(runs) < 2:
             return np.empty((0, 2), dtype=np.int64)
-        a0, a1, b0 = runs[:-1, 0], runs[:-1, 1], runs[1:, 0]
+        a1, b0 = runs[:-1, 1], runs[1:, 0]
         # the preceding stance's mean specific force: "up" in the body frame
         c = _prefix_sums_at(imu.acc, runs[:, :2].ravel())
         up = c[1::2][:-1] - c[0::2][:-1]

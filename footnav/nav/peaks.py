@@ -68,8 +68,7 @@ def _base_minima(x: NDArray[np.float64], peaks: NDArray[np.int64]) -> tuple[NDAr
             m = x[i]
             # samples not above x[i] are inside its search: their stretches' minima join its own
             while top > 0 and x[stack[top - 1]] <= x[i]:
-                if low[top - 1] < m:
-                    m = low[top - 1]
+                m = min(m, low[top - 1])
                 top -= 1
             stack[top] = i
             low[top] = m

@@ -160,21 +160,55 @@ def _at_rest(
 ) -> NDArray[np.bool_]:
     """Samples inside a ``REST_WINDOW_S`` window of steady |acc| and small |gyr|; ``median`` is
     ``np.median(acc_norm)`` (the caller has it: one sort of N values less)."""
-    from scipy.ndimage import maximum_filter1d, uniform_filter1d
-
     n = len(acc_norm)
     k = max(5, round(REST_WINDOW_S * rate_hz))
     if n < k:
         return np.zeros(n, dtype=bool)
+    return _rest_mask(acc_norm, gyr_norm, median, k, REST_ACC_REL_STD * median, REST_GYR_RADPS)
+
+
+@njit(cache=True)
+def _running_mean(x: NDArray[np.float64], k: int) -> NDArray[np.float64]:
+    # scipy.ndimage.uniform_filter1d(x, k, mode="nearest") with the arithmetic of scipy 1.17's
+    # (a running window sum, (entering - leaving) added per sample, divided by k for each output;
+    # the ends repeat the first / last sample), so the same bits as the filter this replaced
+    n = len(x)
+    s1 = k // 2
+    out = np.empty(n)
+    total = 0.0
+    for j in range(k):
+        total += x[min(max(j - s1, 0), n - 1)]
+    out[0] = total / k
+    for i in range(1, n):
+        total += x[min(max(i + k - 1 - s1, 0), n - 1)] - x[min(max(i - 1 - s1, 0), n - 1)]
+        out[i] = total / k
+    return out
+
+
+@njit(cache=True)
+def _rest_mask(
+    acc_norm: NDArray[np.float64], gyr_norm: NDArray[np.float64], median: float, k: int, acc_std_max: float,
+    gyr_max: float,
+) -> NDArray[np.bool_]:
     # O(N) running moments of the centred windows (no k x N window views: this runs on every
     # input); |acc| is taken about its median so that E[x^2] - E[x]^2 does not cancel ~g^2
+    n = len(acc_norm)
     a = acc_norm - median
-    mean_a = uniform_filter1d(a, k, mode="nearest")
-    std_a = np.sqrt(np.maximum(uniform_filter1d(a * a, k, mode="nearest") - mean_a * mean_a, 0.0))
-    ok = (std_a < REST_ACC_REL_STD * median) & (uniform_filter1d(gyr_norm, k, mode="nearest") < REST_GYR_RADPS)
-    # a sample is at rest when any window holding it is (an even window's centre sits half a
-    # sample early, so the dilation is shifted back by one to cover exactly those windows)
-    return maximum_filter1d(ok.astype(np.uint8), k, mode="constant", cval=0, origin=-1 if k % 2 == 0 else 0) > 0
+    mean_a = _running_mean(a, k)
+    mean_a2 = _running_mean(a * a, k)
+    mean_g = _running_mean(gyr_norm, k)
+    # count[i]: steady windows centred before sample i
+    count = np.zeros(n + 1, dtype=np.int64)
+    for i in range(n):
+        steady = np.sqrt(max(mean_a2[i] - mean_a[i] * mean_a[i], 0.0)) < acc_std_max and mean_g[i] < gyr_max
+        count[i + 1] = count[i] + steady
+    # a sample is at rest when any window holding it is: the windows centred from i - left to
+    # i + k - 1 - left (an even window's centre sits half a sample early: left = k/2 - 1)
+    left = k // 2 - (1 if k % 2 == 0 else 0)
+    rest = np.empty(n, dtype=np.bool_)
+    for i in range(n):
+        rest[i] = count[min(i + k - left, n)] > count[max(i - left, 0)]
+    return rest
 
 
 def _full_scale_of(value: float, scales: tuple[float, ...], unit_si: float) -> float | None:

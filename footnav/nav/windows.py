@@ -4,7 +4,10 @@ Shared by the stance detectors (Skog, Händel, Nilsson and Rantakokko, "Zero-vel
 an algorithm evaluation", IEEE Trans. Biomed. Eng. 57(11), 2010, Sec. III: ARE, MAG and MV as
 root-mean-squares in physical units) and by the gait-cycle analysis of
 :mod:`footnav.nav.gait_cycles`. A window of W samples is indexed by its first sample; the
-statistic of the window *centred* on each sample is :func:`centred`.
+statistic of the window *centred* on each sample is :func:`centred` (for the ARE and MAG
+statistics, :func:`centred_gyr_rms` and :func:`centred_acc_magnitude_rms` in one pass). The
+cumulative sums of ``||w||^2`` and ``(||f|| - g)^2`` serve every window length; within a pipeline
+run they are computed once per foot (:mod:`footnav.types._derived`).
 """
 
 from __future__ import annotations

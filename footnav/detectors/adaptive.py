@@ -52,8 +52,10 @@ from footnav.component import (
 )
 from footnav.nav.gait_cycles import SWING_ACC_MPS2, swing_peaks
 from footnav.types import GRAVITY_MPS2, ImuData, StanceResult, stance_intervals
-from footnav.nav.windows import acc_magnitude_rms, centred, gyr_rms, window_samples
-from footnav.detectors.threshold import stance_result
+from footnav.nav.windows import centred_acc_magnitude_rms, centred_gyr_rms, window_samples
+from footnav.detectors.threshold import clean_stance_mask, stance_result
+from footnav.types._derived import row_norms, sharing
+from footnav._numba import njit
 
 __all__ = ["AdaptiveDetector"]
 
@@ -182,11 +184,17 @@ class AdaptiveDetector(StanceDetector):
     def detect(self, imu: ImuData) -> StanceResult:
         """Stance mask, ``foot_flat`` / ``heel_off`` events, ``score`` = statistic / cycle bound."""
         self.validate_params()
+        # the statistic, the swing peaks and the pivots share |w|^2 and |f| (and, in a pipeline
+        # run, the stance self-check shares the swing peaks): one pass each over the samples
+        with sharing():
+            return self._detect(imu)
+
+    def _detect(self, imu: ImuData) -> StanceResult:
         n, rate = imu.n_samples, imu.rate_hz
         win = window_samples(self.window_s, rate, n)
         stat = np.maximum(
-            centred(gyr_rms(imu.gyr, win), win, n) / self.gyr_threshold_radps,
-            centred(acc_magnitude_rms(imu.acc, win), win, n) / self.acc_tolerance_mps2,
+            centred_gyr_rms(imu.gyr, win) / self.gyr_threshold_radps,
+            centred_acc_magnitude_rms(imu.acc, win) / self.acc_tolerance_mps2,
         )
         peaks = swing_peaks(
             imu.gyr,
@@ -209,7 +217,7 @@ class AdaptiveDetector(StanceDetector):
             cycle_scale = np.maximum(np.minimum(raised, ceiling), self.min_scale)
             scale[idx[0] : idx[-1]] = np.repeat(cycle_scale, np.diff(idx))
         mask = stat < scale
-        pivots = self._bridge_pivots(imu, stance_result(mask, rate, self.min_stance_s, self.min_swing_s, stat, {}).mask)
+        pivots = self._bridge_pivots(imu, clean_stance_mask(mask, rate, self.min_stance_s, self.min_swing_s))
         meta: dict[str, Any] = {
             "detector": self.describe(),
             "window_samples": win,
@@ -236,10 +244,10 @@ class AdaptiveDetector(StanceDetector):
         runs = stance_intervals(mask)
         if self.pivot_yaw_share >= 1.0 or len(runs) < 2:
             return np.empty((0, 2), dtype=np.int64)
-        a0, a1, b0 = runs[:-1, 0], runs[:-1, 1], runs[1:, 0]
+        a1, b0 = runs[:-1, 1], runs[1:, 0]
         # the preceding stance's mean specific force: "up" in the body frame
-        c = np.concatenate([np.zeros((1, 3)), np.cumsum(imu.acc, axis=0)])
-        up = c[a1] - c[a0]
+        c = _prefix_sums_at(imu.acc, runs[:, :2].ravel())
+        up = c[1::2][:-1] - c[0::2][:-1]
         up /= np.maximum(np.linalg.norm(up, axis=1, keepdims=True), 1e-12)
         # every gap at once: its samples in order, each with its gap's "up", summed per gap
         length = b0 - a1
@@ -248,7 +256,7 @@ class AdaptiveDetector(StanceDetector):
         w = imu.gyr[in_gap]
         total = np.add.reduceat(np.einsum("ij,ij->i", w, w), first)
         yaw = np.add.reduceat(np.einsum("ij,ij->i", w, np.repeat(up, length, axis=0)) ** 2, first)
-        acc_dev2 = np.add.reduceat((np.linalg.norm(imu.acc[in_gap], axis=1) - GRAVITY_MPS2) ** 2, first) / length
+        acc_dev2 = np.add.reduceat((row_norms(imu.acc)[in_gap] - GRAVITY_MPS2) ** 2, first) / length
         pivot = (
             ((b0 - a1) <= self.max_pivot_s * imu.rate_hz)
             & (total > 0)
@@ -267,3 +275,22 @@ def _longest_run_per_cycle(still: np.ndarray, idx: np.ndarray) -> np.ndarray:
         k = np.searchsorted(idx, runs[:, 0], side="right") - 1
         np.maximum.at(longest, k, np.minimum(runs[:, 1], idx[k + 1]) - runs[:, 0])
     return longest
+
+
+@njit(cache=True)
+def _prefix_sums_at(x: np.ndarray, at: np.ndarray) -> np.ndarray:
+    """``cumulative(x)[at]`` for increasing ``at`` (M,): rows (M, 3), without the (N + 1, 3) array.
+
+    The running sum adds the rows in order as ``np.cumsum`` does (the first row taken as it is),
+    so every value is bit-identical to the cumulative sum's.
+    """
+    out = np.zeros((len(at), x.shape[1]))
+    s = np.zeros(x.shape[1])
+    j = 0  # rows summed so far
+    for m in range(len(at)):
+        while j < at[m]:
+            for k in range(x.shape[1]):
+                s[k] = x[j, k] if j == 0 else s[k] + x[j, k]
+            j += 1
+        out[m] = s
+    return out

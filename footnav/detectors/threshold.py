@@ -45,6 +45,7 @@ from footnav.component import (
     require_positive,
     unit_of,
 )
+from footnav._numba import njit
 from footnav.types import ImuData, StanceResult, stance_intervals
 from footnav.nav.windows import acc_magnitude_rms, acc_moving_std, centred, gyr_rms, window_samples, window_sums
 
@@ -57,6 +58,7 @@ __all__ = [
     "WindowedStanceDetector",
     "acc_magnitude_rms",
     "acc_moving_std",
+    "clean_stance_mask",
     "gyr_rms",
     "stance_result",
     "window_samples",
@@ -110,6 +112,46 @@ def windows_to_samples(
     return filtered[win // 2 : win // 2 + n_samples].astype(bool)
 
 
+def clean_stance_mask(
+    mask: NDArray[np.bool_], rate_hz: float, min_stance_s: float, min_swing_s: float
+) -> NDArray[np.bool_]:
+    """Steps 1 and 2 of :func:`stance_result` on a copy of ``mask``: runs shorter than
+    ``min_stance_s`` dropped, then gaps shorter than ``min_swing_s`` between the remaining runs
+    bridged. (N,) bool."""
+    mask = np.array(mask, dtype=bool)
+    _clean_runs(mask, int(round(min_stance_s * rate_hz)), int(round(min_swing_s * rate_hz)))
+    return mask
+
+
+@njit(cache=True)
+def _clean_runs(mask: NDArray[np.bool_], min_len: int, min_gap: int) -> None:
+    # one scan per step instead of a Python loop over every stance (thousands in an hour's walk)
+    n = len(mask)
+    i = 0
+    while i < n:
+        if mask[i]:
+            j = i
+            while j < n and mask[j]:
+                j += 1
+            if j - i < min_len:
+                mask[i:j] = False
+            i = j
+        else:
+            i += 1
+    # the gaps between the runs left by step 1; bridging one does not change the next
+    stop = -1  # end of the previous run
+    i = 0
+    while i < n:
+        if mask[i]:
+            if stop >= 0 and i - stop < min_gap:
+                mask[stop:i] = True
+            while i < n and mask[i]:
+                i += 1
+            stop = i
+        else:
+            i += 1
+
+
 def stance_result(
     mask: NDArray[np.bool_],
     rate_hz: float,
@@ -130,16 +172,7 @@ def stance_result(
        (stance starts, and stance ends - 1): a window-based detector sees when the foot stops and
        starts moving, not which part of it touches the ground.
     """
-    mask = np.array(mask, dtype=bool)
-    min_len = int(round(min_stance_s * rate_hz))
-    for start, stop in stance_intervals(mask):
-        if stop - start < min_len:
-            mask[start:stop] = False
-    runs = stance_intervals(mask)
-    min_gap = int(round(min_swing_s * rate_hz))
-    for stop, next_start in zip(runs[:-1, 1], runs[1:, 0]):
-        if next_start - stop < min_gap:
-            mask[stop:next_start] = True
+    mask = clean_stance_mask(mask, rate_hz, min_stance_s, min_swing_s)
     runs = stance_intervals(mask)
     return StanceResult(
         mask=mask,

@@ -30,6 +30,11 @@ def midpoint_path(left: FootTrajectory, right: FootTrajectory | None) -> Path:
         return Path(t=left.t, position=left.position, meta={"path": "single foot"})
     lo, hi = max(left.t[0], right.t[0]), min(left.t[-1], right.t[-1])
     keep = (left.t >= lo) & (left.t <= hi)
+    # where t increases (any estimator's) the kept samples are one run: a slice, not a copy
+    # through a boolean mask of the (N, 3) positions
+    i0, i1 = int(np.argmax(keep)), len(keep) - int(np.argmax(keep[::-1]))
+    if keep[i0:i1].all():
+        keep = slice(i0, i1)
     t = left.t[keep]
     right_pos = interp_columns(t, right.t, right.position[:, :3])
     return Path(t=t, position=0.5 * (left.position[keep] + right_pos), meta={"path": "midpoint of the feet"})

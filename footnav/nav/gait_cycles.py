@@ -20,9 +20,10 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.signal import find_peaks
 
-from footnav.nav.windows import centred, gyr_rms, window_samples
+from footnav.nav.peaks import peak_candidates
+from footnav.nav.windows import centred_gyr_rms, window_samples
+from footnav.types._derived import shared
 
 __all__ = ["SWING_ACC_MPS2", "SwingPeaks", "swing_peaks"]
 
@@ -56,12 +57,6 @@ class SwingPeaks:
     energy_radps: NDArray[np.float64]
     window_samples: int
     stride_s: float
-
-
-def _prominent_peaks(energy: NDArray, min_height: float, rel_prominence: float, distance: int) -> NDArray[np.int64]:
-    idx, props = find_peaks(energy, height=min_height, prominence=0.0, distance=max(1, distance))
-    keep = props["prominences"] >= rel_prominence * props["peak_heights"]
-    return idx[keep].astype(np.int64)
 
 
 def swing_peaks(
@@ -100,17 +95,37 @@ def swing_peaks(
     Returns
     -------
     SwingPeaks
+        Within a pipeline run (:func:`footnav.types._derived.sharing`) the one computed for the
+        same read-only ``gyr`` and arguments: the detector's peaks serve the stance self-check.
     """
     gyr = np.asarray(gyr, dtype=np.float64)
+    args = (rate_hz, window_s, min_peak_radps, rel_prominence, min_stride_s, stride_fraction, max_stride_s)
+    return shared("swing_peaks", (gyr,), args, lambda: _swing_peaks(gyr, *args))
+
+
+def _swing_peaks(
+    gyr: NDArray[np.float64],
+    rate_hz: float,
+    window_s: float,
+    min_peak_radps: float,
+    rel_prominence: float,
+    min_stride_s: float,
+    stride_fraction: float,
+    max_stride_s: float,
+) -> SwingPeaks:
     n = len(gyr)
     win = window_samples(window_s, rate_hz, n)
-    energy = centred(gyr_rms(gyr, win), win, n)
-    idx = _prominent_peaks(energy, min_peak_radps, rel_prominence, int(min_stride_s * rate_hz))
+    energy = centred_gyr_rms(gyr, win)
+    # scipy.signal.find_peaks(energy, height=min_peak_radps, prominence=0.0, distance=...) kept
+    # when the prominence is at least rel_prominence x the height, for both passes at the cost of
+    # one (footnav.nav.peaks)
+    candidates = peak_candidates(energy, min_peak_radps)
+    idx = candidates.select(max(1, int(min_stride_s * rate_hz)), rel_prominence)
     intervals = np.diff(idx)
     intervals = intervals[intervals < max_stride_s * rate_hz]
     stride_s = float(np.median(intervals)) / rate_hz if len(intervals) else float("nan")
     if stride_fraction > 0 and len(intervals) >= 3:
         # the typical stride separates the halves of one swing that the first pass took as two
         distance = max(int(min_stride_s * rate_hz), int(stride_fraction * stride_s * rate_hz))
-        idx = _prominent_peaks(energy, min_peak_radps, rel_prominence, distance)
+        idx = candidates.select(max(1, distance), rel_prominence)
     return SwingPeaks(idx, energy[idx], energy, win, stride_s)

@@ -22,7 +22,7 @@ from numpy.typing import NDArray
 
 from footnav.nav.gait_cycles import SWING_ACC_MPS2, swing_peaks
 from footnav.types import ImuData, StanceResult, stance_intervals
-from footnav.nav.windows import acc_magnitude_rms, centred
+from footnav.nav.windows import centred_acc_magnitude_rms
 
 __all__ = ["StanceCheck", "check_stances"]
 
@@ -148,7 +148,7 @@ def check_stances(
     # stance samples before index i: a cycle (a, b) holds a stance when the count grows inside it
     # only a foot that accelerates swings: a pivot on the ground (turning on the spot) or a
     # dragged foot (crawling) turns as fast, and may stand throughout
-    acc_dev = centred(acc_magnitude_rms(imu.acc, peaks.window_samples), peaks.window_samples, len(mask))
+    acc_dev = centred_acc_magnitude_rms(imu.acc, peaks.window_samples)
     swinging = acc_dev[idx] >= SWING_ACC_MPS2
     count = np.concatenate([[0], np.cumsum(mask)])
     a, b = idx[:-1], idx[1:]

@@ -4,7 +4,10 @@ Shared by the stance detectors (Skog, Händel, Nilsson and Rantakokko, "Zero-vel
 an algorithm evaluation", IEEE Trans. Biomed. Eng. 57(11), 2010, Sec. III: ARE, MAG and MV as
 root-mean-squares in physical units) and by the gait-cycle analysis of
 :mod:`footnav.nav.gait_cycles`. A window of W samples is indexed by its first sample; the
-statistic of the window *centred* on each sample is :func:`centred`.
+statistic of the window *centred* on each sample is :func:`centred` (for the ARE and MAG
+statistics, :func:`centred_gyr_rms` and :func:`centred_acc_magnitude_rms` in one pass). The
+cumulative sums of ``||w||^2`` and ``(||f|| - g)^2`` serve every window length; within a pipeline
+run they are computed once per foot (:mod:`footnav.types._derived`).
 """
 
 from __future__ import annotations
@@ -12,12 +15,16 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
+from footnav._numba import njit
 from footnav.types import GRAVITY_MPS2
+from footnav.types._derived import cumulative, row_norms, shared
 
 __all__ = [
     "acc_magnitude_rms",
     "acc_moving_std",
     "centred",
+    "centred_acc_magnitude_rms",
+    "centred_gyr_rms",
     "gyr_rms",
     "window_samples",
     "window_sums",
@@ -47,8 +54,7 @@ def window_sums(x: NDArray[np.float64], win: int) -> NDArray[np.float64]:
     Window k covers samples ``k .. k+W-1``. O(N) by one cumulative sum (no per-window loop); the
     difference of two cumulative sums loses ~1e-16 of the running total, far below any threshold.
     """
-    c = np.cumsum(x, axis=0)
-    c = np.concatenate([np.zeros((1,) + x.shape[1:]), c])
+    c = cumulative(x)
     return c[win:] - c[:-win]
 
 
@@ -64,14 +70,55 @@ def _rms(sum_of_squares: NDArray[np.float64], win: int) -> NDArray[np.float64]:
     return np.sqrt(np.maximum(sum_of_squares, 0.0) / win)
 
 
+def _gyr_sq_cumulative(gyr: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Cumulative sum of ``||w_l||^2`` (N + 1,): every window length's sums are its differences,
+    so the detector's window and the swing peaks' share one (within a pipeline run, too)."""
+    return shared("gyr_sq_cumulative", (gyr,), (), lambda: cumulative(np.einsum("ij,ij->i", gyr, gyr)))
+
+
+def _acc_dev_sq_cumulative(acc: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Cumulative sum of ``(||f_l|| - g)^2`` (N + 1,), shared like :func:`_gyr_sq_cumulative`."""
+    return shared("acc_dev_sq_cumulative", (acc,), (), lambda: cumulative((row_norms(acc) - GRAVITY_MPS2) ** 2))
+
+
 def gyr_rms(gyr: NDArray[np.float64], win: int) -> NDArray[np.float64]:
     """ARE statistic: ``sqrt((1/W) sum ||w_l||^2)`` of every window, rad/s, (N-W+1,)."""
-    return _rms(window_sums(np.einsum("ij,ij->i", gyr, gyr), win), win)
+    c = _gyr_sq_cumulative(gyr)
+    return _rms(c[win:] - c[:-win], win)
 
 
 def acc_magnitude_rms(acc: NDArray[np.float64], win: int) -> NDArray[np.float64]:
     """MAG statistic: ``sqrt((1/W) sum (||f_l|| - g)^2)`` of every window, m/s^2, (N-W+1,)."""
-    return _rms(window_sums((np.linalg.norm(acc, axis=1) - GRAVITY_MPS2) ** 2, win), win)
+    c = _acc_dev_sq_cumulative(acc)
+    return _rms(c[win:] - c[:-win], win)
+
+
+@njit(cache=True)
+def _centred_rms(c: NDArray[np.float64], win: int) -> NDArray[np.float64]:
+    # centred(_rms(c[win:] - c[:-win], win), win, n) in one pass: the same operations per sample
+    # (so the same bits), without the three temporaries and the index array
+    n = len(c) - 1
+    half, last = win // 2, n - win
+    rms = np.empty(last + 1)
+    for k in range(last + 1):  # a branch-free loop the compiler vectorises
+        rms[k] = np.sqrt(max(c[k + win] - c[k], 0.0) / win)
+    out = np.empty(n)
+    out[:half] = rms[0]  # the first / last full window at the ends
+    out[half : half + last + 1] = rms
+    out[half + last + 1 :] = rms[last]
+    return out
+
+
+def centred_gyr_rms(gyr: NDArray[np.float64], win: int) -> NDArray[np.float64]:
+    """``centred(gyr_rms(gyr, win), win, N)``: the ARE statistic of the window centred on each
+    sample, rad/s, (N,)."""
+    return _centred_rms(_gyr_sq_cumulative(gyr), win)
+
+
+def centred_acc_magnitude_rms(acc: NDArray[np.float64], win: int) -> NDArray[np.float64]:
+    """``centred(acc_magnitude_rms(acc, win), win, N)``: the MAG statistic of the window centred
+    on each sample, m/s^2, (N,)."""
+    return _centred_rms(_acc_dev_sq_cumulative(acc), win)
 
 
 def acc_moving_std(acc: NDArray[np.float64], win: int) -> tuple[NDArray[np.float64], NDArray[np.float64]]:

@@ -29,6 +29,7 @@ from footnav.nav.stance_check import check_stances
 from footnav.pipeline.sync import ClockSync, recording_exchanges
 from footnav.pipeline.result import PipelineResult
 from footnav.types import FusionResult, ImuData, Recording, StanceResult
+from footnav.types._derived import sharing
 from footnav.warning_log import recording, warn
 
 if TYPE_CHECKING:
@@ -219,6 +220,9 @@ class Pipeline:
             if traj is None or len(traj.t) != imu.n_samples:
                 n = "no trajectory" if traj is None else f"a trajectory of {len(traj.t)} samples"
                 raise self._faulty(culprit, f"returned {n} for the {foot} foot's {imu.n_samples} samples")
+            # one flat reduction first: the per-row one is needed only to name the bad rows
+            if np.isfinite(traj.position).all():
+                continue
             bad = ~np.isfinite(traj.position).all(axis=1)
             if bad.any():
                 raise self._faulty(
@@ -270,7 +274,9 @@ class Pipeline:
         t0 = time.perf_counter()
         # the inputs' provenance as given, before any component could touch it
         inputs = {"left": copy.deepcopy(dict(left.meta)), "right": None if right is None else copy.deepcopy(dict(right.meta))}
-        with recording() as caught:  # this run's warnings, not another thread's (core/warning_log.py)
+        # this run's warnings, not another thread's (core/warning_log.py); what the checks, the
+        # detector and the stance self-check derive from the same arrays is computed once
+        with recording() as caught, sharing():
             for imu in (left, right):  # inside: what the checks find is recorded with the run
                 if imu is not None:
                     imu.check_units()

@@ -141,6 +141,8 @@ class ImuData:
         object.__setattr__(self, "gyr", _readonly(gyr))
         object.__setattr__(self, "mag", None if mag is None else _readonly(mag))
         object.__setattr__(self, "meta", ReadOnlyMeta(meta))
+        # kept for rate_hz and check_units: t is read-only, so its median interval never changes
+        object.__setattr__(self, "_median_dt", median_dt)
 
     # -- construction -------------------------------------------------------------------------
     @classmethod
@@ -235,7 +237,9 @@ class ImuData:
                 )
         imu = cls(t=t_arr, acc=acc_arr, gyr=gyr_arr, mag=mag_arr, meta=meta)
         if check_units:
-            findings = _check_data(imu.t, imu.acc, imu.gyr, imu.meta, acc_full_scale_mps2=acc_full_scale_mps2)
+            findings = _check_data(
+                imu.t, imu.acc, imu.gyr, imu.meta, acc_full_scale_mps2=acc_full_scale_mps2, median_dt=imu._median_dt
+            )
             if findings:
                 imu = replace(imu, meta={**imu.meta, **{key: record for key, record, _ in findings}})
                 for _, _, message in findings:
@@ -257,7 +261,9 @@ class ImuData:
         # no clipping search here: saturation is a property of how data were recorded, found where
         # they enter (from_arrays, readers); synthetic data built with the constructor repeat their
         # exact peaks every stride, which the plateau rule would call clipping
-        for key, _, message in _check_data(self.t, self.acc, self.gyr, self.meta, clipping=False):
+        for key, _, message in _check_data(
+            self.t, self.acc, self.gyr, self.meta, clipping=False, median_dt=self._median_dt
+        ):
             if key not in self.meta:
                 warn(message, DataQualityWarning, stacklevel=2)
 
@@ -303,7 +309,7 @@ class ImuData:
     @functools.cached_property
     def rate_hz(self) -> float:
         """Nominal sampling rate in Hz: 1 / median sampling interval (computed once: t is read-only)."""
-        return float(1.0 / np.median(np.diff(self.t)))
+        return float(1.0 / self._median_dt)
 
     @property
     def has_mag(self) -> bool:

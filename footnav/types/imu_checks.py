@@ -14,7 +14,9 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from footnav._numba import njit
 from footnav.errors import InvalidInputError
+from footnav.types._derived import row_norms
 from footnav.types.units import _T_SCALE, GRAVITY_MPS2
 
 __all__ = [
@@ -111,34 +113,102 @@ CLIP_FRACTION_OF_FULL_SCALE = 0.98
 
 def _held_peak(x: NDArray[np.float64], hold: int) -> float:
     """Largest value ``x`` stays at or above for ``hold`` consecutive samples."""
-    from scipy.ndimage import minimum_filter1d
-
     if len(x) < hold:
         return float(x.min()) if len(x) else 0.0
-    # running minimum of every full window of ``hold`` samples (the filter centres window i on
-    # i - hold // 2 .. i + hold - 1 - hold // 2: the padded edge windows are dropped), then its max
-    running = minimum_filter1d(x, hold, mode="nearest")
-    return float(running[hold // 2 : len(x) - (hold - 1 - hold // 2)].max())
+    return float(_max_of_window_minima(x, hold))
 
 
-def _at_rest(acc_norm: NDArray[np.float64], gyr_norm: NDArray[np.float64], rate_hz: float) -> NDArray[np.bool_]:
-    """Samples inside a ``REST_WINDOW_S`` window of steady |acc| and small |gyr|."""
-    from scipy.ndimage import maximum_filter1d, uniform_filter1d
+@njit(cache=True)
+def _max_of_window_minima(x: NDArray[np.float64], hold: int) -> float:
+    # the maximum over every full window of ``hold`` samples of its minimum (min and max are
+    # exact, so this is the value of a running minimum filter's maximum)
+    best = -np.inf
+    if hold <= 32:  # a few samples at usual rates (3 at 100 Hz): direct, branch-light
+        for i in range(len(x) - hold + 1):
+            m = x[i]
+            for j in range(i + 1, i + hold):
+                m = min(m, x[j])
+            best = max(best, m)
+        return best
+    # long holds (kHz rates): a monotonic queue of the window's candidates for its minimum, O(N)
+    queue = np.empty(len(x), dtype=np.int64)
+    head = tail = 0
+    for i in range(len(x)):
+        while tail > head and x[queue[tail - 1]] >= x[i]:
+            tail -= 1
+        queue[tail] = i
+        tail += 1
+        if queue[head] <= i - hold:
+            head += 1
+        if i >= hold - 1 and x[queue[head]] > best:
+            best = x[queue[head]]
+    return best
 
+
+@njit(cache=True)
+def _count_beyond(x: NDArray[np.float64], centre: float, bound: float) -> int:
+    # np.count_nonzero(np.abs(x - centre) > bound) without its two temporaries
+    count = 0
+    for v in x:
+        if abs(v - centre) > bound:
+            count += 1
+    return count
+
+
+def _at_rest(
+    acc_norm: NDArray[np.float64], gyr_norm: NDArray[np.float64], rate_hz: float, median: float
+) -> NDArray[np.bool_]:
+    """Samples inside a ``REST_WINDOW_S`` window of steady |acc| and small |gyr|; ``median`` is
+    ``np.median(acc_norm)`` (the caller has it: one sort of N values less)."""
     n = len(acc_norm)
     k = max(5, round(REST_WINDOW_S * rate_hz))
     if n < k:
         return np.zeros(n, dtype=bool)
+    return _rest_mask(acc_norm, gyr_norm, median, k, REST_ACC_REL_STD * median, REST_GYR_RADPS)
+
+
+@njit(cache=True)
+def _running_mean(x: NDArray[np.float64], k: int) -> NDArray[np.float64]:
+    # scipy.ndimage.uniform_filter1d(x, k, mode="nearest") with the arithmetic of scipy 1.17's
+    # (a running window sum, (entering - leaving) added per sample, divided by k for each output;
+    # the ends repeat the first / last sample), so the same bits as the filter this replaced
+    n = len(x)
+    s1 = k // 2
+    out = np.empty(n)
+    total = 0.0
+    for j in range(k):
+        total += x[min(max(j - s1, 0), n - 1)]
+    out[0] = total / k
+    for i in range(1, n):
+        total += x[min(max(i + k - 1 - s1, 0), n - 1)] - x[min(max(i - 1 - s1, 0), n - 1)]
+        out[i] = total / k
+    return out
+
+
+@njit(cache=True)
+def _rest_mask(
+    acc_norm: NDArray[np.float64], gyr_norm: NDArray[np.float64], median: float, k: int, acc_std_max: float,
+    gyr_max: float,
+) -> NDArray[np.bool_]:
     # O(N) running moments of the centred windows (no k x N window views: this runs on every
     # input); |acc| is taken about its median so that E[x^2] - E[x]^2 does not cancel ~g^2
-    median = float(np.median(acc_norm))
+    n = len(acc_norm)
     a = acc_norm - median
-    mean_a = uniform_filter1d(a, k, mode="nearest")
-    std_a = np.sqrt(np.maximum(uniform_filter1d(a * a, k, mode="nearest") - mean_a * mean_a, 0.0))
-    ok = (std_a < REST_ACC_REL_STD * median) & (uniform_filter1d(gyr_norm, k, mode="nearest") < REST_GYR_RADPS)
-    # a sample is at rest when any window holding it is (an even window's centre sits half a
-    # sample early, so the dilation is shifted back by one to cover exactly those windows)
-    return maximum_filter1d(ok.astype(np.uint8), k, mode="constant", cval=0, origin=-1 if k % 2 == 0 else 0) > 0
+    mean_a = _running_mean(a, k)
+    mean_a2 = _running_mean(a * a, k)
+    mean_g = _running_mean(gyr_norm, k)
+    # count[i]: steady windows centred before sample i
+    count = np.zeros(n + 1, dtype=np.int64)
+    for i in range(n):
+        steady = np.sqrt(max(mean_a2[i] - mean_a[i] * mean_a[i], 0.0)) < acc_std_max and mean_g[i] < gyr_max
+        count[i + 1] = count[i] + steady
+    # a sample is at rest when any window holding it is: the windows centred from i - left to
+    # i + k - 1 - left (an even window's centre sits half a sample early: left = k/2 - 1)
+    left = k // 2 - (1 if k % 2 == 0 else 0)
+    rest = np.empty(n, dtype=np.bool_)
+    for i in range(n):
+        rest[i] = count[min(i + k - left, n)] > count[max(i - left, 0)]
+    return rest
 
 
 def _full_scale_of(value: float, scales: tuple[float, ...], unit_si: float) -> float | None:
@@ -231,11 +301,13 @@ def _check_data(
     *,
     acc_full_scale_mps2: float | None = None,
     clipping: bool = True,
+    median_dt: float | None = None,
 ) -> list[tuple[str, Any, str]]:
     """Check units, time base, rate, at-rest magnitude and (``clipping``) saturation of SI data.
 
     Raises InvalidInputError where the data cannot be what they are declared to be; returns the
-    findings to warn about as ``(meta key, record, message)``.
+    findings to warn about as ``(meta key, record, message)``. ``median_dt`` is the median of
+    ``np.diff(t)`` when the caller has it (ImuData keeps it), saving a sort of the intervals.
     """
     path = meta.get("source")
     label = (path or "ImuData") + (f" ({meta['foot']} foot)" if meta.get("foot") in ("left", "right") else "")
@@ -243,7 +315,7 @@ def _check_data(
     findings: list[tuple[str, Any, str]] = []
 
     # -- time base and rate ------------------------------------------------------------------
-    dt = float(np.median(np.diff(t)))
+    dt = float(np.median(np.diff(t))) if median_dt is None else median_dt
     rate = 1.0 / dt
     raw_dt = dt / _T_SCALE.get(t_unit, 1.0)
     if not RATE_ERROR_HZ[0] <= rate <= RATE_ERROR_HZ[1]:
@@ -268,8 +340,9 @@ def _check_data(
         ))
 
     # -- units -----------------------------------------------------------------------------------
-    acc_norm = np.linalg.norm(acc, axis=1)
-    gyr_norm = np.linalg.norm(gyr, axis=1)
+    # shared with the detectors within a pipeline run (the same bits as np.linalg.norm)
+    acc_norm = row_norms(acc)
+    gyr_norm = row_norms(gyr)
     f = float(np.median(acc_norm))
     lo_a, hi_a = ACC_MEDIAN_BOUNDS_MPS2
     if not lo_a <= f <= hi_a:
@@ -292,7 +365,7 @@ def _check_data(
             index=i,
             path=path,
         )
-    n_moving = int(np.count_nonzero(np.abs(acc_norm - f) > ACC_MOVING_MPS2))
+    n_moving = _count_beyond(acc_norm, f, ACC_MOVING_MPS2)
     moving = n_moving / len(acc_norm)
     # at least a swing's worth (0.2 s) of motion: a few rows of a test file are no walk
     if moving >= ACC_MOVING_FRACTION and n_moving >= max(10, 0.2 * rate) and w_peak < GYR_PEAK_MIN_RADPS:
@@ -309,7 +382,7 @@ def _check_data(
         ))
 
     # -- the accelerometer at rest ----------------------------------------------------------------
-    rest = _at_rest(acc_norm, gyr_norm, rate)
+    rest = _at_rest(acc_norm, gyr_norm, rate, f)
     if rest.sum() >= max(10, REST_MIN_S * rate):
         g_rest = float(np.median(acc_norm[rest]))
         off = g_rest / GRAVITY_MPS2 - 1.0

@@ -238,14 +238,7 @@ class FootStream:
         if self._imu is None:
             self._imu = ImuData(t=t, acc=acc, gyr=gyr)
             return self._imu
-        imu = object.__new__(ImuData)
-        fields = imu.__dict__
-        fields.update(self._imu.__dict__)
-        fields.pop("rate_hz", None)  # cached by the first window's detector: each window has its own
-        for name, a in (("t", t), ("acc", acc), ("gyr", gyr)):
-            a.setflags(write=False)  # read-only, as ImuData makes them
-            fields[name] = a
-        return imu
+        return self._imu.same_grid(t, acc, gyr)
 
     def _track_runs(self, new: NDArray[np.bool_]) -> None:
         """Whether the first stance has ended, from the newly final decisions."""

@@ -315,6 +315,23 @@ class ImuData:
     def has_mag(self) -> bool:
         return self.mag is not None
 
+    def same_grid(self, t: NDArray[np.float64], acc: NDArray[np.float64], gyr: NDArray[np.float64]) -> ImuData:
+        """This recording's frame, meta and sampling interval with other samples, **unchecked**.
+
+        For a caller that has checked the samples itself and keeps them on this recording's
+        grid: footnav's online stream hands each detection window over this way, where the
+        checks of the constructor would cost as much as the detector's work on the window.
+        The arrays are taken (made read-only), not copied."""
+        imu = object.__new__(ImuData)
+        fields = imu.__dict__
+        fields.update(self.__dict__)
+        fields.pop("rate_hz", None)  # a cached property: recomputed from the same interval
+        for name, a in (("t", t), ("acc", acc), ("gyr", gyr)):
+            a.setflags(write=False)
+            fields[name] = a
+        fields["mag"] = None
+        return imu
+
     def slice(self, start: int | None = None, stop: int | None = None) -> ImuData:
         """Samples ``start:stop`` as a new ImuData (same meta)."""
         s = np.s_[start:stop]

@@ -26,7 +26,7 @@ WARMUP_DISTANCE_M = 10.0
 def _tasks() -> list[tuple[str, Callable[[], object]]]:
     """What :func:`warm_up` runs: every registered estimator and fusion on a short simulated walk
     of both feet (offline, with the evaluation's metrics), and ``footnav follow``'s online stream."""
-    from footnav import simulate
+    from footnav.data.simulate import simulate
     from footnav.analysis.evaluation import evaluate
     from footnav.pipeline.factory import make_pipeline
     from footnav.plugins.manager import get_registry

@@ -1,12 +1,13 @@
 """``footnav warmup``: compile every numerical kernel into numba's cache, before the first real run.
 
-The first call of a kernel in a process with an empty cache compiles it (the ekf's loop alone
-takes about 6 s, see issue 20); later processes load the machine code from the cache in a
-fraction of a second. Compilation cannot be made that short without slowing the warm loop, so
-this command moves it out of the user's way: run it once after installing (or in a container's
-build step), as the user who will run footnav and with the same ``NUMBA_CACHE_DIR``. The cache
-is per user when the installation is read-only: numba only uses a cache folder it can write,
-so machine code compiled into a read-only ``site-packages`` by another user is not loaded.
+The first call of a kernel in a process with an empty cache compiles it (the ekf's loop with
+the kernels it calls takes about 6.5 s, see issue 20); later processes load the machine code
+from the cache in a fraction of a second. Inlining the loop's callees made its compilation
+longer, not shorter, so this command moves the compilation out of the user's way instead: run
+it once after installing (or in a container's build step), as the user who will run footnav
+and with the same ``NUMBA_CACHE_DIR``. The cache is per user when the installation is
+read-only: numba only uses a cache folder it can write (a read-only ``__pycache__`` or
+``NUMBA_CACHE_DIR`` is skipped), so machine code compiled there beforehand is not loaded.
 """
 
 from __future__ import annotations

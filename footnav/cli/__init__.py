@@ -3,7 +3,7 @@
 Exit codes: 0 success, 2 bad usage or bad input (one-line message, no traceback), 1 internal error.
 
 One module per command group, each importing only the shared helpers below it:
-``_run`` (run), ``_follow`` (follow), ``_simulate`` (simulate), ``_evaluate`` (evaluate,
+``_run`` (run), ``_follow`` (follow), ``_simulate`` (simulate), ``_warmup`` (warmup), ``_evaluate`` (evaluate,
 compare-detectors), ``_plugins`` (plugins, demo), ``_parser`` (the argument parser) and
 ``_common`` (exit codes, tables, figure claims). ``main`` is here, with what it installs
 around a command: the warning printer, the compile notice and the one-line error messages.
@@ -23,6 +23,7 @@ from footnav.cli._parser import EPILOG_FOLLOW, EPILOG_RUN, build_parser
 from footnav.cli._plugins import PLUGINS_WIDTH, cmd_demo, cmd_plugins
 from footnav.cli._run import READER_FLAGS, cmd_run
 from footnav.cli._simulate import cmd_simulate
+from footnav.cli._warmup import cmd_warmup
 from footnav.errors import FootnavError, FootnavWarning, PluginError
 
 __all__ = [
@@ -43,6 +44,7 @@ __all__ = [
     "cmd_plugins",
     "cmd_run",
     "cmd_simulate",
+    "cmd_warmup",
     "main",
 ]
 

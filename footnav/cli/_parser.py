@@ -13,6 +13,7 @@ from footnav.cli._follow import cmd_follow
 from footnav.cli._plugins import cmd_demo, cmd_plugins
 from footnav.cli._run import cmd_run
 from footnav.cli._simulate import cmd_simulate
+from footnav.cli._warmup import cmd_warmup
 
 EPILOG_RUN = """examples:
   footnav run --left L.csv --right R.csv --acc-unit g --gyr-unit deg/s --out results/walk1
@@ -253,4 +254,17 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--plot", default="footnav-demo.png", help="trajectory figure to write when matplotlib is installed")
     p.add_argument("--no-plot", action="store_true", help="do not write the figure")
     p.set_defaults(func=cmd_demo)
+
+    p = sub.add_parser(
+        "warmup",
+        help="compile the numerical kernels into numba's cache (once, after installing)",
+        description=(
+            "Run every built-in component once on a short simulated walk, so that numba compiles its kernels "
+            "into its cache now instead of in the first real run (several seconds). Run it as the user who will "
+            "run footnav, with the same NUMBA_CACHE_DIR: a read-only installation caches per user."
+        ),
+        epilog="examples:\n  footnav warmup\n  NUMBA_CACHE_DIR=/opt/cache/numba footnav warmup",
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    p.set_defaults(func=cmd_warmup)
     return parser

@@ -169,7 +169,10 @@ def _loop(t, acc, gyr, mag, use_mag, stance, start, q0, beta, var_acc, var_da, v
         a_prev[i] = c[i, 0] * acc[start, 0] + c[i, 1] * acc[start, 1] + c[i, 2] * acc[start, 2]
     a_prev[2] -= GRAVITY_MPS2
     for k in range(start + 1):
-        q_out[k] = q
+        # element by element: a row assigned from an array (q_out[k] = q) makes numba compile its
+        # shape-mismatch error message too (string formatting, about 2 s of the first call)
+        for i in range(4):
+            q_out[k, i] = q[i]
         v_out[k] = 0.0
         r_out[k] = 0.0
         rcov_out[k] = 0.0

@@ -1,0 +1,100 @@
+"""``footnav warmup``: compile every numerical kernel into numba's cache, before the first real run.
+
+The first call of a kernel in a process with an empty cache compiles it (the ekf's loop with
+the kernels it calls takes about 6.5 s, see issue 20); later processes load the machine code
+from the cache in a fraction of a second. Inlining the loop's callees made its compilation
+longer, not shorter, so this command moves the compilation out of the user's way instead: run
+it once after installing (or in a container's build step), as the user who will run footnav
+and with the same ``NUMBA_CACHE_DIR``. The cache is per user when the installation is
+read-only: numba only uses a cache folder it can write (a read-only ``__pycache__`` or
+``NUMBA_CACHE_DIR`` is skipped), so machine code compiled there beforehand is not loaded.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from collections.abc import Callable
+
+from footnav.cli._common import EXIT_OK
+
+#: Short, but long enough for every code path the kernels have (stance, swing, turns, the
+#: whole-walk smoother's segments): compiling does not depend on the length.
+WARMUP_DISTANCE_M = 10.0
+
+
+def _tasks() -> list[tuple[str, Callable[[], object]]]:
+    """What :func:`warm_up` runs: every registered estimator and fusion on a short simulated walk
+    of both feet (offline, with the evaluation's metrics), and ``footnav follow``'s online stream."""
+    from footnav.data.simulate import simulate
+    from footnav.analysis.evaluation import evaluate
+    from footnav.pipeline.factory import make_pipeline
+    from footnav.plugins.manager import get_registry
+
+    rec = simulate("straight", distance_m=WARMUP_DISTANCE_M, seed=0)
+    reg = get_registry()
+    tasks: list[tuple[str, Callable[[], object]]] = []
+    for e in reg:
+        if e.kind == "estimator" and not e.cls.needs_magnetometer:
+            tasks.append((f"estimator {e.name}", lambda name=e.name: evaluate(make_pipeline(estimator=name), rec)))
+    for e in reg:
+        if e.kind == "fusion" and e.name != "independent" and not e.cls.needs_magnetometer:
+            tasks.append((f"fusion {e.name}", lambda name=e.name: evaluate(make_pipeline(fusion=name), rec)))
+
+    def online() -> object:  # as ``footnav follow`` composes it by default
+        stream = make_pipeline("threshold", estimator_params={"smoother": "step"}).online(feet=2)
+        stream.push(left=rec.left, right=rec.right)
+        return stream.close()
+
+    tasks.append(("online stream", online))
+    return tasks
+
+
+def warm_up(progress: Callable[[str, float], None] | None = None) -> list[tuple[str, float]]:
+    """Run every built-in component once on a short simulated walk, filling numba's cache.
+
+    Parameters
+    ----------
+    progress
+        Called after each step with its name and its seconds (None: silent).
+
+    Returns
+    -------
+    list of (str, float)
+        Each step's name and wall-clock seconds (compilation or cache loading, and the run).
+    """
+    done = []
+    for name, task in _tasks():
+        t0 = time.perf_counter()
+        task()
+        seconds = time.perf_counter() - t0
+        done.append((name, seconds))
+        if progress is not None:
+            progress(name, seconds)
+    return done
+
+
+def cache_folder() -> str | None:
+    """The folder numba caches the ekf's loop in (the other kernels' are beside it), or None
+    when footnav compiles without a cache (see :mod:`footnav._numba`)."""
+    from footnav.estimators.ekf.loop import run
+
+    cache = getattr(run, "_cache", None)
+    return getattr(cache, "cache_path", None)
+
+
+def cmd_warmup(args: argparse.Namespace) -> int:
+    def say(name: str, seconds: float) -> None:
+        print(f"{name:<20} {seconds:6.1f} s", flush=True)
+
+    t0 = time.perf_counter()
+    warm_up(say)
+    print(f"{'total':<20} {time.perf_counter() - t0:6.1f} s")
+    folder = cache_folder()
+    if folder is None:
+        print("numba has no cache folder here: every process compiles again (set NUMBA_CACHE_DIR to a writable folder)",
+              file=sys.stderr)
+    else:
+        print(f"numba cache: {folder}")
+    return EXIT_OK

@@ -1,0 +1,66 @@
+"""``footnav warmup`` fills numba's cache, so that a later process compiles nothing (issue 20)."""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
+import pytest
+
+from footnav.cli import main
+from footnav.cli._warmup import _tasks
+from footnav.plugins.manager import get_registry
+
+#: Run after the warmup in a fresh process: what a user runs first, with numba's compile events
+#: counted (each compiled function, nested ones included).
+_FIRST_RUN = textwrap.dedent(
+    """
+    import json
+    from numba.core import event
+    import footnav
+    rec = footnav.simulate("straight", distance_m=20, seed=3)
+    with event.install_recorder("numba:compile") as compiled:
+        footnav.make_pipeline().run(rec)
+        footnav.make_pipeline(estimator="madgwick").run(rec)
+        stream = footnav.make_pipeline("threshold", estimator_params={"smoother": "step"}).online(feet=2)
+        stream.push(left=rec.left, right=rec.right)
+        stream.close()
+    names = sorted({ev.data["dispatcher"].py_func.__qualname__ for _, ev in compiled.buffer if ev.is_start})
+    print(json.dumps(names))
+    """
+)
+
+
+def test_warmup_runs_every_estimator_and_fusion():
+    names = {name for name, _ in _tasks()}
+    for e in get_registry():
+        if e.kind == "estimator":
+            assert f"estimator {e.name}" in names
+        elif e.kind == "fusion" and e.name != "independent":
+            assert f"fusion {e.name}" in names
+    assert "online stream" in names
+
+
+def test_warmup_command_names_the_cache(capsys):
+    assert main(["warmup"]) == 0
+    out = capsys.readouterr().out
+    assert "estimator ekf" in out and "total" in out
+    assert "numba cache: " in out
+
+
+@pytest.mark.slow
+def test_after_warmup_a_new_process_compiles_nothing(tmp_path):
+    env = {k: v for k, v in os.environ.items() if k != "NUMBA_CACHE_DIR"}
+    env["NUMBA_CACHE_DIR"] = str(tmp_path / "numba")  # empty: the warmup compiles everything
+    root = Path(__file__).resolve().parents[1]
+    env["PYTHONPATH"] = os.pathsep.join([str(root), env.get("PYTHONPATH", "")])
+    warm = subprocess.run([sys.executable, "-m", "footnav.cli", "warmup"], env=env, capture_output=True, text=True, timeout=900)
+    assert warm.returncode == 0, warm.stderr[-3000:]
+    assert f"numba cache: {tmp_path / 'numba'}" in warm.stdout
+    first = subprocess.run([sys.executable, "-c", _FIRST_RUN], env=env, capture_output=True, text=True, timeout=900)
+    assert first.returncode == 0, first.stderr[-3000:]
+    assert json.loads(first.stdout.strip().splitlines()[-1]) == []

@@ -292,5 +292,6 @@ def _prefix_sums_at(x: np.ndarray, at: np.ndarray) -> np.ndarray:
             for k in range(x.shape[1]):
                 s[k] = x[j, k] if j == 0 else s[k] + x[j, k]
             j += 1
-        out[m] = s
+        for k in range(x.shape[1]):  # not out[m] = s: that compiles numba's shape-mismatch error
+            out[m, k] = s[k]
     return out

@@ -102,10 +102,11 @@ def _centred_rms(c: NDArray[np.float64], win: int) -> NDArray[np.float64]:
     rms = np.empty(last + 1)
     for k in range(last + 1):  # a branch-free loop the compiler vectorises
         rms[k] = np.sqrt(max(c[k + win] - c[k], 0.0) / win)
+    # element by element: a slice assignment of an array compiles numba's shape-mismatch error
+    # and its message formatting, seconds of the first call's compilation
     out = np.empty(n)
-    out[:half] = rms[0]  # the first / last full window at the ends
-    out[half : half + last + 1] = rms
-    out[half + last + 1 :] = rms[last]
+    for k in range(n):
+        out[k] = rms[min(max(k - half, 0), last)]  # the first / last full window at the ends
     return out
 
 

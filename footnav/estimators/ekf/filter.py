@@ -374,8 +374,11 @@ class InsFilter:
             if events:
                 self._add_checkpoint(step_end=reason == STEP_END)
 
-    def _add_checkpoint(self, step_end: bool) -> None:
-        self.checkpoints.append(self._checkpoint(step_end=step_end))
+    def _add_checkpoint(self, step_end: bool, state: bool = True) -> None:
+        """A checkpoint here; ``state=False`` leaves its state to the caller (an update sets it
+        after changing the state: a copy now would be thrown away)."""
+        cp = self._checkpoint(step_end=step_end) if state else Checkpoint(self._n_events, self._k.copy(), None, step_end=step_end)
+        self.checkpoints.append(cp)
         self._since_checkpoint = 0
         if self.segment_records is not None:  # before any update at this instant changes P
             self.segment_records.keep(len(self.checkpoints) - 1, self._cov)
@@ -447,8 +450,10 @@ class InsFilter:
         if gate is not None and nis > gate:
             return None
         # the update belongs to a checkpoint at this instant, made before P changes (a kept
-        # segment's backward pass starts from the covariance after its last sample)
-        self.close()
+        # segment's backward pass starts from the covariance after its last sample); its state
+        # is the one after the update, set below
+        if self._since_checkpoint:
+            self._add_checkpoint(step_end=False, state=False)
         self._cov[:] = cov
         self._apply(dx)
         cp = self.checkpoints[-1]
@@ -471,7 +476,8 @@ class InsFilter:
         sl = self.block(foot, "pos")
         h = self.selection(np.arange(sl.start, sl.start + axes))
         innov = self._p[foot, :axes] - np.asarray(z, float)[:axes]
-        return self.update(h, innov, np.broadcast_to(np.asarray(std_m, float) ** 2, (axes,)))
+        var = np.asarray(std_m, float) ** 2
+        return self.update(h, innov, np.full(axes, float(var)) if var.ndim == 0 else var)
 
     def _apply(self, dx: NDArray[np.float64]) -> None:
         dq, q_tmp = np.zeros(4), np.zeros(4)

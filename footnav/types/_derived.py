@@ -60,7 +60,8 @@ def shared(name: str, arrays: tuple[NDArray, ...], params: tuple, compute: Calla
     params
         The other (hashable) arguments it depends on.
     compute
-        Computes the value; callers must not modify what it returns (it may be handed out again).
+        Computes the value; what it returns (arrays, or a tuple of them) is made read-only when
+        kept, since it may be handed out again.
 
     Returns
     -------
@@ -74,6 +75,10 @@ def shared(name: str, arrays: tuple[NDArray, ...], params: tuple, compute: Calla
     if hit is not None:
         return hit[1]
     value = compute()
+    # handed out again: read-only, so that a user that changed it in place would fail loudly
+    for v in value if isinstance(value, tuple) else (value,):
+        if isinstance(v, np.ndarray):
+            v.setflags(write=False)
     cache[key] = (arrays, value)  # the arrays stay alive: their ids are not reused in the block
     return value
 

@@ -31,6 +31,7 @@ from numpy.typing import NDArray
 
 from footnav._numba import njit  # numba.njit that survives a read-only install
 from footnav.nav.initial_alignment import MIN_STILL_SAMPLES
+from footnav.types._arrays import _readonly  # read-only views: one compiled variant of _propagate
 
 __all__ = ["heading_drift_cov", "standstill_rate_std", "TURN_ON_BIAS_STD_RADPS"]
 
@@ -69,20 +70,6 @@ def _propagate(t, vel, start, var_rate0, q2, out):
         out[k, 2] = pyy
 
 
-def _read_only_view(a: NDArray[np.float64]) -> NDArray[np.float64]:
-    """``a`` as C-contiguous float64 that cannot be written, without a copy when it already is one.
-
-    numba compiles one variant of a kernel per array type, and read-only arrays are a type of their
-    own: ``ImuData.t`` (madgwick) is read-only, the ekf's sample times are not, so both ran a
-    variant of :func:`_propagate` of their own (about 0.2 s each, compiled once per cache).
-    """
-    a = np.ascontiguousarray(a, dtype=np.float64)
-    if a.flags.writeable:
-        a = a.view()
-        a.flags.writeable = False
-    return a
-
-
 def heading_drift_cov(
     t: NDArray[np.float64],
     velocity: NDArray[np.float64],
@@ -108,7 +95,7 @@ def heading_drift_cov(
     out = np.empty((len(t), 3))
     if len(t):
         _propagate(
-            _read_only_view(t), _read_only_view(velocity),
+            _readonly(np.asarray(t, dtype=np.float64)), _readonly(np.asarray(velocity, dtype=np.float64)),
             int(min(max(start, 0), len(t) - 1)), float(rate_std_radps) ** 2, float(walk_radps2_sqrthz) ** 2, out,
         )
     return out

@@ -11,9 +11,12 @@ from footnav.errors import InvalidInputError
 
 
 def _readonly(a: NDArray) -> NDArray:
-    """``a`` as a C-contiguous array that cannot be written (results handed to users)."""
+    """``a`` as a C-contiguous array that cannot be written: a read-only view when it already is
+    C-contiguous (no copy, and the caller's own array keeps its flags), else a read-only copy."""
     a = np.ascontiguousarray(a)
-    a.setflags(write=False)
+    if a.flags.writeable:
+        a = a.view()
+        a.setflags(write=False)
     return a
 
 

@@ -157,3 +157,17 @@ def test_units_declared_wrong_are_caught_at_the_edge(acc_scale, gyr_scale, unit,
     wrong = ImuData(imu.t, imu.acc * acc_scale, imu.gyr * gyr_scale)  # the constructor trusts its caller
     with pytest.raises(InvalidInputError, match=unit):
         footnav.make_pipeline().run(wrong)  # but a pipeline checks before it runs
+
+
+def test_types_leave_the_callers_arrays_writeable():
+    """footnav's types hold read-only views: the arrays a user passed in keep their own flags."""
+    t = np.arange(200) / 100.0
+    acc = np.tile([0.0, 0.0, 9.81], (200, 1))
+    gyr = np.zeros((200, 3))
+    imu = ImuData(t=t, acc=acc, gyr=gyr)
+    assert t.flags.writeable and acc.flags.writeable and gyr.flags.writeable
+    assert not (imu.t.flags.writeable or imu.acc.flags.writeable or imu.gyr.flags.writeable)
+    assert np.shares_memory(imu.t, t)  # a view, not a copy
+    mask = np.zeros(200, dtype=bool)
+    stance = StanceResult(mask)
+    assert mask.flags.writeable and not stance.mask.flags.writeable

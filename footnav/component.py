@@ -31,6 +31,7 @@ __all__ = [
     "StanceDetector",
     "FootEstimator",
     "Fusion",
+    "FusionSession",
     "JointFilter",
     "StepableEstimator",
     "KINDS",
@@ -424,6 +425,44 @@ class Fusion(Component):
 
     def fuse(self, estimator, left, stance_left, right=None, stance_right=None):  # pragma: no cover
         raise NotImplementedError
+
+    #: A coupled fusion whose work at a time needs no later sample offers :meth:`session`
+    #: (online mode, :mod:`footnav.pipeline.online`); None: offline only.
+    session = None
+
+
+@runtime_checkable
+class FusionSession(Protocol):
+    """A coupled fusion's own work on a joint filter whose samples arrive as a walk goes on.
+
+    A fusion's ``session(estimator, start_s)`` returns one for the feet's common start
+    ``start_s`` (s); online mode
+    (:mod:`footnav.pipeline.online`) starts the joint filter with both feet ``step_width_m``
+    apart (as the fusion's offline run does), then calls :meth:`advance` whenever both feet's
+    samples up to a time are final, and :meth:`finish` at the end. The fusion's offline ``fuse``
+    runs the same session once over the whole walk, so the two give the same numbers.
+    """
+
+    step_width_m: float
+
+    def advance(
+        self,
+        filt: JointFilter,
+        until_s: float,
+        landings: Sequence[NDArray[np.float64]],
+        standing: Any,
+        *,
+        stop_s: float | None = None,
+    ) -> None:
+        """Apply every measurement of the fusion at times <= ``until_s`` (s); ``landings`` are
+        each foot's stance starts (s) that became known since the last call (after the foot's
+        first stance), ``standing(foot)`` whether a foot is in stance at its current sample, and
+        ``stop_s`` the feet's common end (s) once it is known (the last call)."""
+        ...
+
+    def finish(self) -> dict[str, Any]:
+        """The fusion's meta (what it applied), after the last :meth:`advance`."""
+        ...
 
 
 KINDS = {"detector": StanceDetector, "estimator": FootEstimator, "fusion": Fusion}

@@ -14,7 +14,7 @@ measurement to the joint filter:
 from __future__ import annotations
 
 import math
-from typing import ClassVar, Literal
+from typing import Any, ClassVar, Literal
 
 import numpy as np
 
@@ -22,7 +22,7 @@ from footnav.component import MAX_DURATION_S, MAX_LENGTH_M, Fusion, is_number, r
 from footnav.types import FusionResult
 from footnav.fusion.joint import LEFT, RIGHT, closing_time, finish_joint, fuse_on_common_span, start_joint
 
-__all__ = ["RangeConstraintFusion"]
+__all__ = ["RangeConstraintFusion", "RangeSession"]
 
 PROJECTIONS = ("moving", "symmetric")
 
@@ -85,17 +85,91 @@ class RangeConstraintFusion(Fusion):
         """
         return fuse_on_common_span(self, estimator, left, stance_left, right, stance_right, self._fuse_span)
 
+    def session(self, estimator: Any, start_s: float) -> RangeSession:
+        """The constraint's checks and projections, from the feet's common start ``start_s``
+        (s), on a joint filter that grows as samples arrive (online mode;
+        :class:`footnav.component.FusionSession`)."""
+        self.validate_params()
+        return RangeSession(self, start_s)  # (a closed loop needs the walk's end: offline only)
+
     def _fuse_span(self, estimator, left, stance_left, right, stance_right) -> FusionResult:
-        """:meth:`fuse` on feet that share their whole time span."""
+        """:meth:`fuse` on feet that share their whole time span: one session over the whole walk."""
         imus, stances = (left, right), (stance_left, stance_right)
         filt = start_joint(estimator, left, stance_left, right, stance_right, self.step_width_m)
-        t0, t1 = max(left.t[0], right.t[0]), min(left.t[-1], right.t[-1])
-        checks = np.arange(t0, t1, self.check_interval_s)
+        session = RangeSession(self, max(left.t[0], right.t[0]), closing_time(estimator, imus, stances))
         landings = [imu.t[stance.intervals[1:, 0]] for imu, stance in zip(imus, stances)]
-        times = np.unique(np.concatenate([checks, *landings]))
-        times = times[times <= closing_time(estimator, imus, stances)]
-        bound = float(self.max_separation_m)
-        applied = 0
+        masks = [np.asarray(st.mask, dtype=bool) for st in stances]
+
+        def standing(foot: int) -> bool:
+            return bool(masks[foot][min(filt.index(foot), len(masks[foot]) - 1)])
+
+        stop = min(left.t[-1], right.t[-1])
+        session.advance(filt, stop, landings, standing, stop_s=stop)
+        meta = session.finish()
+        return finish_joint(estimator, filt, stance_left, stance_right, meta, imus)
+
+
+class RangeSession:
+    """The range constraint's work on one joint filter: checks every ``check_interval_s`` from
+    the feet's common start and at every landing, each a projection when the feet are too far
+    apart (:class:`RangeConstraintFusion`; :class:`footnav.component.FusionSession`).
+
+    The check times are ``np.arange(start_s, stop_s, check_interval_s)``, made one at a time with
+    numpy's own arithmetic (the first two values, then ``start + i * delta``), so a walk whose end
+    is not yet known gets the very times its offline run gets.
+
+    Parameters
+    ----------
+    fusion
+        The range fusion (its parameters).
+    start_s
+        The feet's common start, s.
+    closing_s
+        No check after this time, s (the estimator's closed loop takes over there).
+    """
+
+    def __init__(self, fusion: RangeConstraintFusion, start_s: float, closing_s: float = math.inf) -> None:
+        self.fusion = fusion
+        self.step_width_m = float(fusion.step_width_m)
+        self.closing_s = float(closing_s)
+        self.applied = 0
+        self.n_times = 0
+        self._landings: list[float] = []  # known landings not yet checked, s
+        self._i = 0  # the next check
+        self._step = float(fusion.check_interval_s)
+        self._t0 = float(start_s)
+        self._delta = (self._t0 + self._step) - self._t0  # numpy's arange: start + i * (the second value - start)
+
+    def _check_time(self, i: int) -> float:
+        return self._t0 if i == 0 else self._t0 + self._step if i == 1 else self._t0 + i * self._delta
+
+    def _times(self, until_s: float, stop_s: float | None) -> np.ndarray:
+        """The check and landing times <= ``until_s`` not done yet (checks before ``stop_s``,
+        as arange stops), sorted and unique, and at most ``closing_s``."""
+        n_max = math.inf if stop_s is None else max(math.ceil((stop_s - self._t0) / self._step), 0)
+        checks = []
+        i = self._i
+        while i < n_max:
+            t = self._check_time(i)
+            if t > until_s:
+                break
+            checks.append(t)
+            i += 1
+        self._i = i
+        now = [t for t in self._landings if t <= until_s]
+        self._landings = [t for t in self._landings if t > until_s]
+        times = np.unique(np.array(checks + now, dtype=float))
+        return times[times <= self.closing_s]
+
+    def advance(self, filt, until_s: float, landings, standing, *, stop_s: float | None = None) -> None:
+        """Check and project at every time <= ``until_s`` (s); ``landings``: each foot's newly
+        known stance starts, s; ``stop_s``: the feet's common end, once known."""
+        for new in landings:
+            self._landings.extend(float(t) for t in np.asarray(new, dtype=float).ravel())
+        times = self._times(until_s, stop_s)
+        self.n_times += len(times)
+        fusion = self.fusion
+        bound = float(fusion.max_separation_m)
         # footnav's filter checks the times in its compiled loop; any other JointFilter here
         watch = getattr(filt, "run_until_apart", None)
         i = 0
@@ -115,18 +189,20 @@ class RangeConstraintFusion(Fusion):
                 i += 1
                 continue
             u = d / dist
-            standing = [bool(st.mask[min(filt.index(f), len(st.mask) - 1)]) for f, st in enumerate(stances)]
-            if self.projection == "moving" and standing[LEFT] != standing[RIGHT]:
-                anchor = LEFT if standing[LEFT] else RIGHT
+            feet_standing = [standing(LEFT), standing(RIGHT)]
+            if fusion.projection == "moving" and feet_standing[LEFT] != feet_standing[RIGHT]:
+                anchor = LEFT if feet_standing[LEFT] else RIGHT
                 mover = 1 - anchor
                 sign = 1.0 if mover == LEFT else -1.0  # d points from right to left
                 z = p[anchor] + sign * bound * u
-                filt.update_position(mover, z, self.constraint_std_m)
+                filt.update_position(mover, z, fusion.constraint_std_m)
             else:
                 centre = 0.5 * (p[LEFT] + p[RIGHT])
-                filt.update_position(LEFT, centre + 0.5 * bound * u, self.constraint_std_m)
-                filt.update_position(RIGHT, centre - 0.5 * bound * u, self.constraint_std_m)
-            applied += 1
+                filt.update_position(LEFT, centre + 0.5 * bound * u, fusion.constraint_std_m)
+                filt.update_position(RIGHT, centre - 0.5 * bound * u, fusion.constraint_std_m)
+            self.applied += 1
             i += 1
-        meta = {"fusion": self.describe(), "constraint_updates": applied, "checks": len(times)}
-        return finish_joint(estimator, filt, stance_left, stance_right, meta, imus)
+
+    def finish(self) -> dict:
+        """The fusion's meta, after the last :meth:`advance` (with ``stop_s``)."""
+        return {"fusion": self.fusion.describe(), "constraint_updates": self.applied, "checks": self.n_times}

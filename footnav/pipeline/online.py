@@ -179,8 +179,8 @@ class OnlineStream:
     def _update(self, final: bool) -> OnlineUpdate:
         updates = [f.take() for f in self.feet]
         for f in self.feet:
-            self._held.extend(f.pending_steps)
-            f.pending_steps.clear()
+            self._held.extend(f.steps.pending)
+            f.steps.pending.clear()
         self._held.sort(key=lambda s: (s.t, s.foot))
         released: list[ClosedStep] = []
         if final or self.n_feet == 1:

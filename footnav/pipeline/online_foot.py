@@ -22,28 +22,19 @@ import numpy as np
 from numpy.typing import NDArray
 
 from footnav.errors import InvalidInputError
-from footnav.nav.heading import MIN_FIRST_STEP_M, rotate_about_z, turn_to_first_step
-from footnav.nav.heading_drift import heading_drift_cov
+from footnav.nav.heading import rotate_about_z
 from footnav.types import FootTrajectory, ImuData, StanceResult, stance_intervals
 from footnav.warning_log import recording
 from footnav.estimators.ekf.filter import InsFilter
 from footnav.estimators.ekf.records import FilterState
 from footnav.estimators.ekf.smoother import StepSmoother
 from footnav.pipeline.online_io import ClosedStep, FootUpdate, ForwardEstimate, as_chunk, empty_update
+from footnav.pipeline.online_steps import StepTracker
 
 __all__ = ["SEGMENT_SAMPLES", "ClosedStep", "FootStream", "FootUpdate", "ForwardEstimate", "as_chunk"]
 
 #: Samples a filter segment holds at first (grown when a stance or swing outlasts it).
 SEGMENT_SAMPLES = 16384
-
-
-def _runs(mask: NDArray[np.bool_]) -> list[tuple[int, int]]:
-    """:func:`~footnav.types.stance_intervals` as a list of (start, stop) ints: the few runs of a
-    push's final samples, with a third of its numpy calls."""
-    if len(mask) == 0:
-        return []
-    bounds = [0, *(np.flatnonzero(mask[1:] != mask[:-1]) + 1).tolist(), len(mask)]
-    return [(bounds[i], bounds[i + 1]) for i in range(0 if mask[0] else 1, len(bounds) - 1, 2)]
 
 
 class _Grow:
@@ -139,15 +130,9 @@ class FootStream:
         self.n_out = 0
         self.emitted = 0
         self.t_final = -math.inf
-        # footprints and steps
-        self.fp_sum = np.zeros(3)
-        self.fp_n = 0
-        self.footprints: list[NDArray] = []  # unturned, until the heading is known
-        self.step_positions: list[tuple[float, int, NDArray]] = []  # (t, index, footprint) awaiting the heading
-        self.last_footprint: NDArray | None = None
-        self.n_steps = 0
-        self.psi: float | None = None
-        self.pending_steps: list[ClosedStep] = []
+        # footprints and closed steps; the heading of the first step, unless the frame is the sensor's
+        heading = stream.pipeline.estimator.heading
+        self.steps = StepTracker(foot, None if heading == "first-step" else 0.0)
         #: (global index of the step end, newest received sample's global index when it became
         #: final) of the latest steps: the latency, measured
         self.step_final_at: deque[tuple[int, int]] = deque(maxlen=256)
@@ -163,9 +148,12 @@ class FootStream:
         if self.filt is None:
             return -math.inf
         t = self.filt.time(0)
-        if self.step_positions:
-            t = min(t, self.step_positions[0][0] - 1e-9)
-        return t
+        return min(t, self.steps.first_waiting_s - 1e-9)
+
+    @property
+    def psi(self) -> float | None:
+        """The turn (rad about z) from the filter's frame to the output frame, once known."""
+        return self.steps.psi
 
     @property
     def t_last(self) -> float:
@@ -380,61 +368,11 @@ class FootStream:
         t, stance = fed.t[a:b], fed.stance[a:b]
         self.out.append(t, q[a:b], v[a:b], p[a:b], pcov[a:b], stance)
         next_stance = False if final else bool(fed.stance[b]) if b < self.n_fed - self.seg0 else True
-        self._footprints(t, p[a:b], stance, next_stance)
+        self.steps.add(t, p[a:b], stance, next_stance)
         self.n_out = self.seg0 + b
         self.t_final = float(t[-1]) if len(t) else self.t_final
-        if final and self.psi is None:
-            self._find_heading(final=True)
-
-    def _footprints(self, t: NDArray, pos: NDArray, mask: NDArray, next_stance: bool) -> None:
-        """Footprints (means over each stance) and the steps that closed among new final samples."""
-        for s, e in _runs(mask):
-            self.fp_sum += pos[s:e].sum(axis=0)
-            self.fp_n += int(e - s)
-            if e < len(mask) or not next_stance:
-                self._close_step(float(t[e - 1]))
-
-    def _close_step(self, t_end: float) -> None:
-        fp = self.fp_sum / max(self.fp_n, 1)
-        self.fp_sum = np.zeros(3)
-        self.fp_n = 0
-        self.step_positions.append((t_end, self.n_steps, fp))
-        self.n_steps += 1
-        if self.psi is None:
-            self.footprints.append(fp)
-            self._find_heading(final=False)
-        else:
-            self._release_steps()
-
-    def _find_heading(self, final: bool) -> None:
-        """The heading of the first step (:func:`footnav.nav.heading.heading_of_first_step`)."""
-        if self.stream.pipeline.estimator.heading != "first-step":
-            self.psi = 0.0
-        elif len(self.footprints) >= 2:
-            first = self.footprints[0]
-            for fp in self.footprints[1:]:
-                d = fp - first
-                if np.hypot(d[0], d[1]) > MIN_FIRST_STEP_M:
-                    self.psi = float(np.arctan2(d[1], d[0]))
-                    self.footprints = []
-                    break
-        if self.psi is None and final:
-            self.psi = 0.0
-        if self.psi is not None:
-            self._release_steps()
-
-    def _release_steps(self) -> None:
-        c, s = math.cos(-self.psi), math.sin(-self.psi)
-        for t_end, idx, fp in self.step_positions:
-            p = np.array([c * fp[0] - s * fp[1], s * fp[0] + c * fp[1], fp[2]])
-            if self.last_footprint is None:
-                length, heading = 0.0, math.nan
-            else:
-                d = p - self.last_footprint
-                length, heading = float(np.hypot(d[0], d[1])), float(math.atan2(d[1], d[0]))
-            self.last_footprint = p
-            self.pending_steps.append(ClosedStep(t_end, self.foot, p, length, heading, idx))
-        self.step_positions.clear()
+        if final:
+            self.steps.finish()
 
     # -- what a push returns ------------------------------------------------------------------------
     def take(self) -> FootUpdate:
@@ -492,15 +430,9 @@ class FootStream:
             events={"foot_flat": runs[:, 0], "heel_off": runs[:, 1] - 1},
             meta={"detector": self.stream.pipeline.detector.describe(), "online": True, "latency_s": self.stream.latency_s},
         )
-        meta = {"estimator": est.describe(), **self.meta, "smoother": est.smoother, "online": True}
-        if getattr(est, "heading_drift_in_std", False) and self.filt.n_states == 9:
-            rate_std = self.meta.get("gyro_bias_sem_radps", est.init_gyr_bias_std_radps)
-            drift = heading_drift_cov(t, v, self.start_index, rate_std, est.yaw_bias_walk_radps2_sqrthz)
-            pcov = np.concatenate([pcov[:, :3] + drift, pcov[:, 3:]], axis=1)
-            meta["heading_drift"] = {"yaw_rate_std_radps": float(rate_std), "yaw_bias_walk_radps2_sqrthz": float(est.yaw_bias_walk_radps2_sqrthz)}
-        if est.heading == "first-step":
-            p, v, q, std = turn_to_first_step(p, v, q, pcov, runs, meta)
-        else:
-            std = np.sqrt(np.maximum(pcov[:, [0, 2, 3]], 0.0))
-        traj = FootTrajectory(t=t, position=p, velocity=v, quaternion=q, position_std=std, steps=runs, meta=meta)
+        traj = est.package(
+            t, q, v, p, pcov, self.start_index, self.meta, runs, smoothed=est.smoother != "none",
+            heading=est.heading == "first-step", biases=est.final_biases(self.filt, 0),
+        )
+        traj.meta["online"] = True
         return traj, stance

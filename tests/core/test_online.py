@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import footnav
-from footnav.pipeline import online_foot
+from footnav.pipeline import online_foot, online_steps
 from footnav.errors import CompositionError, InvalidInputError
 
 #: Step-wise smoothing: the offline run the online one must reproduce.
@@ -227,7 +227,7 @@ def test_runs_are_the_stance_intervals():
     rng = np.random.default_rng(6)
     for n in [0, 1, 2, 3, 10, 200] * 50:
         mask = rng.random(n) < rng.random()
-        assert online_foot._runs(mask) == [tuple(map(int, r)) for r in footnav.types.stance_intervals(mask)]
+        assert online_steps.stance_runs(mask) == [tuple(map(int, r)) for r in footnav.types.stance_intervals(mask)]
 
 
 def test_time_stamps_within_a_chunk_are_checked(walk):

@@ -298,30 +298,60 @@ class EkfEstimator(FootEstimator):
         if smoothed is not None:
             sl = slice(filt.global_index(foot, 0), filt.global_index(foot, len(q_out) - 1) + 1)
             q_out, vel, pos = (x[sl] for x in smoothed)
-        meta = {"estimator": self.describe(), **filt.meta[foot], "smoother": self.smoother if smoothed is not None else "none"}
-        if self.bias_states:
-            ba, bg = filt.biases(foot)
-            cov = filt.covariance
-            meta["acc_bias_mps2"], meta["gyr_bias_radps"] = ba.tolist(), bg.tolist()
-            meta["acc_bias_std_mps2"] = np.sqrt(np.diag(cov)[filt.block(foot, "acc_bias")]).tolist()
-            meta["gyr_bias_std_radps"] = np.sqrt(np.diag(cov)[filt.block(foot, "gyr_bias")]).tolist()
-        t = filt.samples(foot).t
-        drift_in_std = self.heading_drift_in_std and self.n_states == 9
         if copy:
             pos, vel, q_out = pos.copy(), vel.copy(), q_out.copy()
-            pos_cov = pos_cov if drift_in_std else pos_cov.copy()
+            pos_cov = pos_cov if self.heading_drift_in_std and self.n_states == 9 else pos_cov.copy()
+        return self.package(
+            filt.samples(foot).t, q_out, vel, pos, pos_cov, filt.start_index(foot), filt.meta[foot], stance.intervals,
+            smoothed=smoothed is not None, heading=heading, biases=self.final_biases(filt, foot),
+        )
+
+    def final_biases(self, filt: InsFilter, foot: int) -> tuple | None:
+        """With bias states, the foot's accelerometer (m/s^2) and gyro (rad/s) biases now and
+        their stds, for :meth:`package`; else None."""
+        if not self.bias_states:
+            return None
+        cov = np.diag(filt.covariance)
+        return (*filt.biases(foot), np.sqrt(cov[filt.block(foot, "acc_bias")]), np.sqrt(cov[filt.block(foot, "gyr_bias")]))
+
+    def package(
+        self,
+        t: NDArray[np.float64],
+        q: NDArray[np.float64],
+        vel: NDArray[np.float64],
+        pos: NDArray[np.float64],
+        pos_cov: NDArray[np.float64],
+        start_index: int,
+        filter_meta: dict,
+        steps: NDArray[np.int64],
+        *,
+        smoothed: bool,
+        heading: bool,
+        biases: tuple | None = None,
+    ) -> FootTrajectory:
+        """A foot's :class:`FootTrajectory` from its per-sample estimate (the arrays are taken,
+        turned in place with ``heading``): ``pos_cov`` the forward filter's position covariance
+        (xx, xy, yy, zz, m^2), ``start_index`` where the filter started, ``filter_meta`` the
+        alignment's notes, ``steps`` the stance intervals, ``biases`` (15 states) the final
+        accelerometer and gyro biases and their stds. Used by :meth:`trajectory` and by online
+        mode (:mod:`footnav.pipeline.online`), which keeps the arrays itself."""
+        meta = {"estimator": self.describe(), **filter_meta, "smoother": self.smoother if smoothed else "none"}
+        if biases is not None:
+            ba, bg, ba_std, bg_std = biases
+            meta["acc_bias_mps2"], meta["gyr_bias_radps"] = np.asarray(ba).tolist(), np.asarray(bg).tolist()
+            meta["acc_bias_std_mps2"], meta["gyr_bias_std_radps"] = np.asarray(ba_std).tolist(), np.asarray(bg_std).tolist()
         # the smoothed covariance is at most the filtered one: std is the forward filter's, plus
         # the heading drift it does not model (a new array: the filter's own stays as it is)
-        if drift_in_std:
-            rate_std = filt.meta[foot].get("gyro_bias_sem_radps", self.init_gyr_bias_std_radps)
-            drift = heading_drift_cov(t, vel, filt.start_index(foot), rate_std, self.yaw_bias_walk_radps2_sqrthz)
+        if self.heading_drift_in_std and self.n_states == 9:
+            rate_std = filter_meta.get("gyro_bias_sem_radps", self.init_gyr_bias_std_radps)
+            drift = heading_drift_cov(t, vel, start_index, rate_std, self.yaw_bias_walk_radps2_sqrthz)
             pos_cov = np.concatenate([pos_cov[:, :3] + drift, pos_cov[:, 3:]], axis=1)
             meta["heading_drift"] = {"yaw_rate_std_radps": float(rate_std), "yaw_bias_walk_radps2_sqrthz": float(self.yaw_bias_walk_radps2_sqrthz)}
         if heading:
-            pos, vel, q_out, std = turn_to_first_step(pos, vel, q_out, pos_cov, stance.intervals, meta)
+            pos, vel, q, std = turn_to_first_step(pos, vel, q, pos_cov, steps, meta)
         else:
             std = np.sqrt(np.maximum(pos_cov[:, [0, 2, 3]], 0.0))
-        return FootTrajectory(t=t, position=pos, velocity=vel, quaternion=q_out, position_std=std, steps=stance.intervals, meta=meta)
+        return FootTrajectory(t=t, position=pos, velocity=vel, quaternion=q, position_std=std, steps=steps, meta=meta)
 
     # -- the estimator ---------------------------------------------------------------------------
     def estimate(self, imu: ImuData, stance: StanceResult) -> FootTrajectory:

@@ -29,12 +29,15 @@ from footnav.nav import quaternion as quat
 from footnav.component import JOINT_FILTER_MEMBERS, JointFilter, require_stepable
 from footnav.errors import CompositionError, DataQualityWarning, InvalidInputError
 from footnav.nav.final_rest import final_rest
-from footnav.nav.spans import FootCut, common_span, slice_stance
+from footnav.nav.spans import CommonSpan, FootCut, common_span, slice_stance
 from footnav.types import FootTrajectory, FusionResult, ImuData, StanceResult
 from footnav.warning_log import warn
 from footnav.fusion.independent import midpoint_path
 
-__all__ = ["check_two_feet", "close_loops", "closing_time", "finish_joint", "first_step_yaw", "forward_only", "fuse_on_common_span", "require_stepable", "start_joint"]
+__all__ = [
+    "check_two_feet", "close_loops", "closing_time", "continue_rigidly", "finish_joint", "first_step_yaw", "forward_only",
+    "fuse_on_common_span", "fused_start", "on_whole_span", "require_stepable", "start_joint",
+]
 
 #: What a coupled fusion does with a foot's samples outside the common span (meta and warning).
 OUTSIDE_SPAN = "each foot's samples outside it are that foot estimated alone, continued rigidly from the fused edge"
@@ -190,6 +193,18 @@ def finish_joint(
     return FusionResult(left=left, right=right, path=midpoint_path(left, right), meta=meta)
 
 
+def continue_rigidly(alone: tuple, alone_anchor: tuple, fused_anchor: tuple) -> tuple:
+    """A foot estimated alone (position (N, 3) m, velocity (N, 3) m/s, attitude (N, 4)), turned
+    about z and moved so that its ``alone_anchor`` sample (position, attitude) lands on
+    ``fused_anchor`` (position, attitude): what a coupled fusion puts outside the feet's common
+    span. Returns the position, velocity and attitude."""
+    pos, vel, q = alone
+    turn = float(quat.yaw(fused_anchor[1]) - quat.yaw(alone_anchor[1]))
+    c, s = np.cos(turn), np.sin(turn)
+    rot = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+    return (pos - alone_anchor[0]) @ rot.T + fused_anchor[0], vel @ rot.T, quat.multiply(quat.from_yaw(turn), q)
+
+
 def _continue_alone(fused: FootTrajectory, alone: FootTrajectory, cut: FootCut) -> tuple[FootTrajectory, dict]:
     """``fused`` (samples ``cut.start_index:cut.stop_index`` of the foot) on the foot's whole
     sample grid: outside, ``alone`` (the foot estimated alone) turned about z and moved so that
@@ -198,20 +213,18 @@ def _continue_alone(fused: FootTrajectory, alone: FootTrajectory, cut: FootCut) 
     i0, i1 = cut.start_index, cut.stop_index
     pos, vel, q = alone.position.copy(), alone.velocity.copy(), alone.quaternion.copy()
     std = alone.position_std.copy()
-    s0 = int(fused.meta.get("estimate_start_index", 0)) if i0 > 0 else 0
-    first = i0 + s0  # the first fused sample kept
+    first = fused_start(fused, cut)  # the first fused sample kept
+    s0 = first - i0
     pos[first:i1], vel[first:i1] = fused.position[s0:], fused.velocity[s0:]
     q[first:i1], std[first:i1] = fused.quaternion[s0:], fused.position_std[s0:]
     for lo, hi, anchor in ((0, first, first), (i1, cut.n_samples, i1 - 1)):
         if hi <= lo:
             continue
         k = anchor - i0  # in the fused trajectory
-        turn = float(quat.yaw(fused.quaternion[k]) - quat.yaw(alone.quaternion[anchor]))
-        c, s = np.cos(turn), np.sin(turn)
-        rot = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
-        pos[lo:hi] = (alone.position[lo:hi] - alone.position[anchor]) @ rot.T + fused.position[k]
-        vel[lo:hi] = alone.velocity[lo:hi] @ rot.T
-        q[lo:hi] = quat.multiply(quat.from_yaw(turn), alone.quaternion[lo:hi])
+        pos[lo:hi], vel[lo:hi], q[lo:hi] = continue_rigidly(
+            (alone.position[lo:hi], alone.velocity[lo:hi], alone.quaternion[lo:hi]),
+            (alone.position[anchor], alone.quaternion[anchor]), (fused.position[k], fused.quaternion[k]),
+        )
         # the fused uncertainty at the edge plus what the foot alone gained since (or before)
         grow = np.maximum(alone.position_std[lo:hi] ** 2 - alone.position_std[anchor] ** 2, 0.0)
         std[lo:hi] = np.sqrt(fused.position_std[k] ** 2 + grow)
@@ -222,6 +235,33 @@ def _continue_alone(fused: FootTrajectory, alone: FootTrajectory, cut: FootCut) 
         meta={**fused.meta, "span": info, "estimate_start_index": first if i0 > 0 else fused.meta.get("estimate_start_index", 0)},
     )
     return traj, info
+
+
+def fused_start(fused: FootTrajectory | dict, cut: FootCut) -> int:
+    """The foot's first sample (its own index) that a coupled fusion's result takes from the
+    fused estimate: the span's start, or, when the span cuts the foot's start, the fused
+    estimate's first stance (``meta["estimate_start_index"]``; a FootTrajectory or its meta)."""
+    meta = fused.meta if isinstance(fused, FootTrajectory) else fused
+    return cut.start_index + (int(meta.get("estimate_start_index", 0)) if cut.start_index > 0 else 0)
+
+
+def on_whole_span(fusion: Any, result: FusionResult, span: CommonSpan, alone: Callable[[int], FootTrajectory]) -> FusionResult:
+    """A coupled fusion's ``result`` on the common ``span`` put on each foot's whole sample grid:
+    outside the span, ``alone(foot)`` (0 left, 1 right; the foot estimated alone) continued
+    rigidly from the fused edge; ``meta["span"]`` says which samples are which. (The caller
+    warns when ``span.warn``.)"""
+    if not span.cut:
+        return FusionResult(result.left, result.right, result.path, meta={**result.meta, "span": {**span.as_meta(), "outside": None}})
+    out, infos = [], {}
+    for foot, (cut, fused, name) in enumerate(zip((span.left, span.right), (result.left, result.right), ("left", "right"))):
+        if not cut.cut:
+            out.append(fused)
+            continue
+        traj, infos[name] = _continue_alone(fused, alone(foot), cut)
+        out.append(traj)
+    meta = {**result.meta, "span": {**span.as_meta(), "outside": OUTSIDE_SPAN, **{f"{k}_samples": v for k, v in infos.items()}}}
+    path = result.path
+    return FusionResult(left=out[0], right=out[1], path=type(path)(t=path.t, position=path.position, meta={**path.meta, "span": [span.start_s, span.stop_s]}), meta=meta)
 
 
 def fuse_on_common_span(
@@ -251,8 +291,7 @@ def fuse_on_common_span(
         return fuse_span(estimator, left, stance_left, right, stance_right)  # the estimator names the bad mask
     span = common_span(left, right, fusion=fusion.name)
     if not span.cut:
-        result = fuse_span(estimator, left, stance_left, right, stance_right)
-        return FusionResult(result.left, result.right, result.path, meta={**result.meta, "span": {**span.as_meta(), "outside": None}})
+        return on_whole_span(fusion, fuse_span(estimator, left, stance_left, right, stance_right), span, None)
     if getattr(estimator, "closed_loop", False) and (span.left.stop_index < span.left.n_samples or span.right.stop_index < span.right.n_samples):
         raise InvalidInputError(
             f"fusion {fusion.name!r}: closed_loop needs both feet's final rests inside their common span "
@@ -275,14 +314,4 @@ def fuse_on_common_span(
         feet.append(imu.slice(cut.start_index, cut.stop_index))
         stances.append(st_cut)
     result = fuse_span(estimator, feet[0], stances[0], feet[1], stances[1])
-    out, infos = [], {}
-    for (imu, st), cut, fused, name in zip(pairs, cuts, (result.left, result.right), ("left", "right")):
-        if not cut.cut:
-            out.append(fused)
-            continue
-        alone = estimator.estimate(imu, st)
-        traj, infos[name] = _continue_alone(fused, alone, cut)
-        out.append(traj)
-    meta = {**result.meta, "span": {**span.as_meta(), "outside": OUTSIDE_SPAN, **{f"{k}_samples": v for k, v in infos.items()}}}
-    path = result.path
-    return FusionResult(left=out[0], right=out[1], path=type(path)(t=path.t, position=path.position, meta={**path.meta, "span": [span.start_s, span.stop_s]}), meta=meta)
+    return on_whole_span(fusion, result, span, lambda foot: estimator.estimate(*pairs[foot]))

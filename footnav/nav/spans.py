@@ -37,6 +37,7 @@ __all__ = [
     "MIN_COMMON_S",
     "CommonSpan",
     "FootCut",
+    "common_bounds",
     "common_span",
     "slice_stance",
     "span_difference",
@@ -166,6 +167,23 @@ def common_span(left: ImuData, right: ImuData, *, min_common_s: float = MIN_COMM
     tl, tr = np.asarray(left.t, float), np.asarray(right.t, float)
     if len(tl) == 0 or len(tr) == 0:
         raise InvalidInputError("a foot has no samples", field="t")
+    start, stop = common_bounds((tl[0], tl[-1]), (tr[0], tr[-1]), min_common_s=min_common_s, fusion=fusion)
+    return CommonSpan(
+        start_s=float(start),
+        stop_s=float(stop),
+        left=_foot_cut(tl, start, stop),
+        right=_foot_cut(tr, start, stop),
+        left_span_s=(float(tl[0]), float(tl[-1])),
+        right_span_s=(float(tr[0]), float(tr[-1])),
+    )
+
+
+def common_bounds(
+    left_s: tuple[float, float], right_s: tuple[float, float], *, min_common_s: float = MIN_COMMON_S, fusion: str = ""
+) -> tuple[float, float]:
+    """The common span (start, stop), s, of two feet's spans (first and last time, s), as
+    :func:`common_span` finds and refuses it (an online stream knows only the ends)."""
+    tl, tr = np.asarray(left_s, float), np.asarray(right_s, float)
     start, stop = max(tl[0], tr[0]), min(tl[-1], tr[-1])
     who = f"fusion {fusion!r} uses both feet at the same instants, but " if fusion else ""
     if stop < start + min_common_s:
@@ -178,14 +196,7 @@ def common_span(left: ImuData, right: ImuData, *, min_common_s: float = MIN_COMM
             "or use the 'independent' fusion, which estimates each foot alone",
             field="t",
         )
-    return CommonSpan(
-        start_s=float(start),
-        stop_s=float(stop),
-        left=_foot_cut(tl, start, stop),
-        right=_foot_cut(tr, start, stop),
-        left_span_s=(float(tl[0]), float(tl[-1])),
-        right_span_s=(float(tr[0]), float(tr[-1])),
-    )
+    return start, stop
 
 
 def span_difference(left: ImuData, right: ImuData) -> dict[str, Any]:

@@ -50,21 +50,25 @@ from typing import Any
 from footnav.nav.clock_sync import ClockMap
 from footnav.errors import CompositionError, InvalidInputError, InvalidParameterError
 from footnav.pipeline.online_foot import FootStream
+from footnav.pipeline.online_joint import JointStream
 from footnav.pipeline.online_io import ClosedStep, FootUpdate, ForwardEstimate, as_chunk
 from footnav.pipeline.result import PipelineResult
 from footnav.warning_log import recording
 
-__all__ = ["OFFLINE_ONLY_FUSIONS", "ONLINE_FUSIONS", "ClosedStep", "FootUpdate", "ForwardEstimate", "OnlineStream", "OnlineUpdate"]
+__all__ = ["COUPLED_ONLINE_FUSIONS", "OFFLINE_ONLY_FUSIONS", "ONLINE_FUSIONS", "ClosedStep", "FootUpdate", "ForwardEstimate", "OnlineStream", "OnlineUpdate"]
 
 
-#: Fusions whose output at a step end needs no later sample: they run online.
+#: Fusions of each foot alone: they run online on per-foot filters.
 ONLINE_FUSIONS = ("independent",)
+#: Built-in coupled fusions that run online, on a joint filter fed by both feet (their
+#: ``session``, :class:`footnav.component.FusionSession`; a plugin's fusion runs online the same
+#: way when it offers one).
+COUPLED_ONLINE_FUSIONS = ("range",)
 #: Why the other built-in fusions are offline only.
 OFFLINE_ONLY_FUSIONS = {
     "dtw": "it averages the feet's whole walks (dynamic time warping needs both sequences complete)",
-    "range": "it fuses the feet on their common time span, known only when both recordings end",
-    "step-vector": "it fuses the feet on their common time span, known only when both recordings end",
-    "particle": "it fuses the feet on their common time span, known only when both recordings end",
+    "step-vector": "its session is not written yet (its step length is fitted on each foot's whole walk by default)",
+    "particle": "its session is not written yet",
 }
 
 _FEET = ("left", "right")
@@ -149,6 +153,8 @@ class OnlineStream:
         self.max_wait_s = float(max_wait_s)
         self.keep = bool(keep)
         self.feet = [FootStream(self, foot, offsets.get(foot, 0.0)) for foot in _FEET[:feet]]
+        #: both feet in the coupled fusion's joint filter (None for 'independent')
+        self.joint = JointStream(self, self.feet) if pipeline.fusion.name not in ONLINE_FUSIONS else None
         self._held: list[ClosedStep] = []
         self._closed = False
         self._t0 = time.perf_counter()
@@ -171,14 +177,21 @@ class OnlineStream:
                 t, acc, gyr = as_chunk(chunk, foot.foot)
                 clock = self.clocks.get(foot.foot)
                 foot.push(t if clock is None else clock(t), acc, gyr)
+        if self.joint is not None:
+            self.joint.advance()
         out = self._update(final=False)
         self._push_s += time.perf_counter() - t0
         self.n_pushes += 1
         return out
 
     def _update(self, final: bool) -> OnlineUpdate:
-        updates = [f.take() for f in self.feet]
-        for f in self.feet:
+        if self.joint is None:
+            sources: list[Any] = self.feet
+            updates = [f.take() for f in self.feet]
+        else:
+            sources = self.joint.feet
+            updates = self.joint.take(final)
+        for f in sources:
             self._held.extend(f.steps.pending)
             f.steps.pending.clear()
         self._held.sort(key=lambda s: (s.t, s.foot))
@@ -188,8 +201,8 @@ class OnlineStream:
         else:
             keep = []
             for step in self._held:
-                other = self.feet[1 - _FEET.index(step.foot)]
-                own = self.feet[_FEET.index(step.foot)]
+                other = sources[1 - _FEET.index(step.foot)]
+                own = sources[_FEET.index(step.foot)]
                 if other.closed_until() >= step.t or other.finished:
                     released.append(step)
                 elif own.t_last - step.t > self.max_wait_s:
@@ -209,6 +222,8 @@ class OnlineStream:
         with recording() as caught:
             for f in self.feet:
                 f.finish()
+            if self.joint is not None:
+                self.joint.finish()
         self.last_update = self._update(final=True)
         if not self.keep:
             return None
@@ -216,20 +231,26 @@ class OnlineStream:
         from footnav.fusion.independent import midpoint_path
 
         trajs = [f.trajectory() for f in self.feet]
-        left, stance_left = trajs[0]
-        right, stance_right = trajs[1] if self.n_feet == 2 else (None, None)
+        if self.joint is None:
+            left, right = trajs[0][0], trajs[1][0] if self.n_feet == 2 else None
+            path, fusion_meta = midpoint_path(left, right), {"fusion": self.pipeline.fusion.describe()}
+        else:
+            with recording() as caught_span:
+                fused = self.joint.result([tr[0] for tr in trajs])
+            caught = [*caught, *caught_span]
+            left, right, path, fusion_meta = fused.left, fused.right, fused.path, dict(fused.meta)
         meta = {
             "pipeline": self.pipeline.config(),
             "footnav_version": __version__,
             "warnings": [str(w) for w in caught],
             "stance_check": {},
-            "fusion": {"fusion": self.pipeline.fusion.describe()},
+            "fusion": fusion_meta,
             "runtime_s": self._push_s,
             "input": {foot.foot: {"online": True, "samples": foot.input.end} for foot in self.feet},
             "online": self.stats(),
         }
-        return PipelineResult(left=left, right=right, path=midpoint_path(left, right), stance_left=stance_left,
-                              stance_right=stance_right, meta=meta)
+        return PipelineResult(left=left, right=right, path=path, stance_left=trajs[0][1],
+                              stance_right=trajs[1][1] if self.n_feet == 2 else None, meta=meta)
 
     def stats(self) -> dict[str, Any]:
         """Samples received and final per foot, the detector's latency, time spent in push."""
@@ -254,10 +275,11 @@ def check_online(pipeline: Any, feet: int) -> float:
         )
     if fus.needs_two_feet and feet < 2:
         raise CompositionError(f"fusion {fus.name!r} needs both feet (feet=2)")
-    if fus.name not in ONLINE_FUSIONS:
-        why = OFFLINE_ONLY_FUSIONS.get(fus.name, "it is not known to give its result at a step end from the samples so far")
+    if fus.name not in ONLINE_FUSIONS and not callable(getattr(fus, "session", None)):
+        why = OFFLINE_ONLY_FUSIONS.get(fus.name, "it offers no session (footnav.component.FusionSession) to run as samples arrive")
+        online = [*ONLINE_FUSIONS, *COUPLED_ONLINE_FUSIONS]
         raise CompositionError(
-            f"fusion {fus.name!r} is offline only: {why}; online mode runs {', '.join(repr(n) for n in ONLINE_FUSIONS)}"
+            f"fusion {fus.name!r} is offline only: {why}; online mode runs {', '.join(repr(n) for n in online)}"
         )
     if not callable(getattr(est, "start", None)):
         raise CompositionError(f"estimator {est.name!r} has no step-able filter (start(imus, stances)); online mode needs one, such as 'ekf'")

@@ -31,10 +31,29 @@ from footnav.estimators.ekf.smoother import StepSmoother
 from footnav.pipeline.online_io import ClosedStep, FootUpdate, ForwardEstimate, as_chunk, empty_update
 from footnav.pipeline.online_steps import StepTracker
 
-__all__ = ["SEGMENT_SAMPLES", "ClosedStep", "FootStream", "FootUpdate", "ForwardEstimate", "as_chunk"]
+__all__ = ["SEGMENT_SAMPLES", "ClosedStep", "FootStream", "FootUpdate", "ForwardEstimate", "as_chunk", "filter_segment"]
 
 #: Samples a filter segment holds at first (grown when a stance or swing outlasts it).
 SEGMENT_SAMPLES = 16384
+
+
+def filter_segment(samples: list[tuple], size: list[int], like: InsFilter, state: FilterState, base: list[int], step_smoother: bool) -> InsFilter:
+    """A filter with room for ``size[f]`` samples of each foot over its fed ``samples[f]`` (t,
+    acc, gyr, stance), resumed from ``state`` at its sample ``base[f]``, with a checkpoint at
+    every step end (where a new segment can start) and optionally a step-wise smoother;
+    ``like`` (the aligned filter, or the old segment) gives the noise, and the outputs up to
+    ``base`` until the caller copies its own."""
+    n = like.n_states
+    filt = InsFilter(
+        [x[0] for x in samples], [x[1] for x in samples], [x[2] for x in samples], [x[3] for x in samples], list(base),
+        [like.quaternion(f) for f in range(like.n_feet)], [like.position(f) for f in range(like.n_feet)],
+        [like.biases(f)[1] for f in range(like.n_feet)], np.diag(like.covariance)[:n], like.noise, n, capacity=list(size),
+    )
+    filt.step_stops = True
+    if step_smoother:
+        filt.step_smoother = StepSmoother(filt)
+    filt.resume(state, list(base))
+    return filt
 
 
 class _Grow:
@@ -114,6 +133,9 @@ class FootStream:
         self.input = _Grow([((), np.float64), ((3,), np.float64), ((3,), np.float64), ((), np.bool_)])
         self.n_final = 0  # samples whose stance decision is final
         self.n_fed = 0  # final samples copied into the filter segment
+        #: the first sample another reader still needs (a joint filter, :mod:`.online_joint`)
+        self.hold: float = math.inf
+        self.first_t = math.nan  # the first sample's time, s
         self.rate_hz: float | None = None
         self.lag = 0  # detection latency, samples
         self.margin = 0  # final samples re-detected before the frontier, samples
@@ -176,6 +198,8 @@ class FootStream:
                 field=self.foot,
                 index=self.input.end + i,
             )
+        if self.input.end == 0:
+            self.first_t = float(t[0])
         self.input.append(t, acc, gyr, False)  # the stance decision, once final
         self._detect(final=False)
         self._filter(final=False)
@@ -251,7 +275,7 @@ class FootStream:
         self.n_fed = self.n_final
         self._run(final)
         self._harvest(final)
-        self.input.drop_before(min(self.n_final - self.margin, self.n_fed))
+        self.input.drop_before(min(self.n_final - self.margin, self.n_fed, self.hold))
 
     def _run(self, final: bool) -> None:
         """Filter the fed samples: all at the end; else up to the one before the newest final
@@ -283,19 +307,7 @@ class FootStream:
         return True
 
     def _segment(self, samples: tuple, size: int, like: InsFilter, state: FilterState, base: int) -> InsFilter:
-        """A filter with room for ``size`` samples over the fed ``samples`` (t, acc, gyr, stance),
-        resumed from ``state`` at its sample ``base``; ``like`` (the aligned filter, or the old
-        segment) gives the noise and the outputs up to ``base`` until the caller copies its own."""
-        t, acc, gyr, mask = samples
-        filt = InsFilter(
-            [t], [acc], [gyr], [mask], [base], [like.quaternion(0)], [like.position(0)], [like.biases(0)[1]],
-            np.diag(like.covariance), like.noise, like.n_states, capacity=[size],
-        )
-        filt.step_stops = True  # a checkpoint at every step end: where a new segment can start
-        if self.stream.pipeline.estimator.smoother == "step":
-            filt.step_smoother = StepSmoother(filt)
-        filt.resume(state, [base])
-        return filt
+        return filter_segment([samples], [size], like, state, [base], self.stream.pipeline.estimator.smoother == "step")
 
     def _restart(self) -> None:
         """A new segment from the old one's last checkpoint (a step end, or a full smoother
@@ -379,7 +391,7 @@ class FootStream:
         forward = self.forward()
         if self.psi is None or self.emitted >= self.n_out:
             return empty_update(forward)
-        t, q, v, p, pcov, _ = self.out.rows(self.emitted, self.n_out)
+        t, q, v, p, pcov, stance = self.out.rows(self.emitted, self.n_out)
         t, q, v, p = t.copy(), q.copy(), v.copy(), p.copy()
         if self.psi:
             # the covariance is turned too (rotate_about_z turns all four), into a scratch copy:
@@ -388,7 +400,7 @@ class FootStream:
         self.emitted = self.n_out
         if not self.stream.keep:
             self.out.drop_before(self.n_out)
-        return FootUpdate(t, p, v, q, forward)
+        return FootUpdate(t, p, v, q, forward, stance.copy())
 
     def forward(self) -> ForwardEstimate | None:
         """The forward filter's state at its newest sample, in the output frame."""

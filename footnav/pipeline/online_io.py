@@ -59,13 +59,15 @@ class ClosedStep:
 @dataclass(frozen=True)
 class FootUpdate:
     """One foot's samples that became final in a push (smoothed per step, nav frame), and the
-    forward estimate at its newest sample (None before the filter is aligned)."""
+    forward estimate at its newest sample (None before the filter is aligned); ``stance`` is
+    each sample's stance decision."""
 
     t: NDArray[np.float64]
     position: NDArray[np.float64]
     velocity: NDArray[np.float64]
     quaternion: NDArray[np.float64]
     forward: ForwardEstimate | None
+    stance: NDArray[np.bool_] | None = None
 
     @property
     def n_samples(self) -> int:
@@ -74,7 +76,7 @@ class FootUpdate:
 
 def empty_update(forward: ForwardEstimate | None) -> FootUpdate:
     z3 = np.empty((0, 3))
-    return FootUpdate(np.empty(0), z3, z3.copy(), np.empty((0, 4)), forward)
+    return FootUpdate(np.empty(0), z3, z3.copy(), np.empty((0, 4)), forward, np.empty(0, dtype=bool))
 
 
 # -- chunks -------------------------------------------------------------------------------------

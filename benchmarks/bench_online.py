@@ -16,6 +16,9 @@ foot, both feet in each push. Reported:
   and the newest sample pushed when it became final, against the detector's declared
   ``latency_s`` (chunks of one sample, on the first minutes: a longer chunk only adds its length);
 * the offline causal run of the first loop against the online one (largest position difference).
+
+``--fusion range`` runs both feet in the range fusion's joint filter instead
+(:mod:`footnav.pipeline.online_joint`; the per-foot streams run beside it).
 """
 
 from __future__ import annotations
@@ -84,8 +87,10 @@ def main() -> None:
     ap.add_argument("--minutes", type=float, default=60.0)
     ap.add_argument("--chunk-s", type=float, default=1.0, help="chunk length per foot and push, s")
     ap.add_argument("--repeat", type=int, default=1, help="throughput replays; their median is reported")
+    ap.add_argument("--fusion", default="independent", choices=["independent", "range"],
+                    help="independent feet, or both in the range fusion's joint filter")
     args = ap.parse_args()
-    pipe = footnav.make_pipeline("threshold", "ekf", "independent", estimator_params={"smoother": "step"})
+    pipe = footnav.make_pipeline("threshold", "ekf", args.fusion, estimator_params={"smoother": "step"})
     left, right, loop = tiled_walk(args.minutes)
     chunk = max(1, round(args.chunk_s * RATE_HZ))
     print(f"machine: {cpu_name()}, {platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()}")
@@ -108,18 +113,24 @@ def main() -> None:
     print(f"memory (tracemalloc peak): {early / 1e6:.2f} MB after 10 min, {end / 1e6:.2f} MB after "
           f"{left.duration_s / 60:.0f} min ({100 * (end / early - 1):+.1f} %)")
 
-    # latency, chunks of one sample, on the first loop
+    # latency, chunks of one sample, on the first loop (both feet in lockstep for a coupled fusion)
     first = loop.left
-    one = pipe.online(feet=1)
+    coupled = args.fusion != "independent"
+    one = pipe.online(feet=2 if coupled else 1)
     for a in range(first.n_samples):
-        one.push(left=(first.t[a : a + 1], first.acc[a : a + 1], first.gyr[a : a + 1]))
+        chunks = {"left": (first.t[a : a + 1], first.acc[a : a + 1], first.gyr[a : a + 1])}
+        if coupled:
+            chunks["right"] = (loop.right.t[a : a + 1], loop.right.acc[a : a + 1], loop.right.gyr[a : a + 1])
+        one.push(**chunks)
     result = one.close()
-    lag = np.array([newest - end for end, newest in one.feet[0].step_final_at])
+    lag = np.array([newest - end for end, newest in (one.joint.feet[0] if coupled else one.feet[0]).step_final_at])
     declared = pipe.detector.latency_s
     print(f"latency: a step is final {lag.min()}-{lag.max()} samples ({lag.max() / RATE_HZ * 1e3:.0f} ms at most) "
           f"after its stance's last sample arrives; declared latency_s = {declared:.3f} s "
           f"({math.ceil(declared * RATE_HZ)} samples) + 3 samples of the stream's margin")
-    off = pipe.run(first, None)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        off = pipe.run(first, loop.right if coupled else None)
     print(f"offline causal run vs online (chunks of 1): largest position difference "
           f"{np.abs(off.left.position - result.left.position).max():.1e} m")
 

@@ -29,6 +29,7 @@ forward estimate still moves with the joint filter as far as both feet have arri
 from __future__ import annotations
 
 import math
+from collections import deque
 from typing import Any
 
 import numpy as np
@@ -39,6 +40,7 @@ from footnav.estimators.ekf.filter import InsFilter
 from footnav.estimators.ekf.records import Record
 from footnav.fusion.independent import midpoint_path
 from footnav.fusion.joint import OUTSIDE_SPAN, continue_rigidly, forward_only, fused_start, on_whole_span, start_filter
+from footnav.nav.heading import rotate_about_z
 from footnav.nav.spans import CommonSpan, FootCut, common_bounds
 from footnav.pipeline.online_foot import SEGMENT_SAMPLES, FootStream, _Grow, filter_segment
 from footnav.pipeline.online_io import FootUpdate, ForwardEstimate, empty_update
@@ -62,8 +64,6 @@ class JointFoot:
         # fused final samples: t, q, v, p, position covariance (xx, xy, yy, zz), stance
         self.out = _Grow([((), _F8), ((4,), _F8), ((3,), _F8), ((3,), _F8), ((4,), _F8), ((), np.bool_)])
         self.n_out = 0  # fused samples final before this global index
-        # the foot alone, turned (alone.take()), where the result may need it: t, q, v, p, stance
-        self.spare = _Grow([((), _F8), ((4,), _F8), ((3,), _F8), ((3,), _F8), ((), np.bool_)])
         self.emitted = 0  # samples returned so far
         self.t_emitted = -math.inf  # the last one's time, s
         self.front_done = False
@@ -78,6 +78,9 @@ class JointFoot:
         self.runs_seen = 0  # stance runs begun in the common span (the first is no landing)
         self.anchor: tuple | None = None  # fused (position, quaternion) at `first` (the start state)
         self.finished = False
+        #: (global index of a step end, newest received sample's global index when it became
+        #: final) of the latest steps: the latency, measured
+        self.step_final_at: deque[tuple[int, int]] = deque(maxlen=256)
 
     @property
     def t_last(self) -> float:
@@ -176,7 +179,7 @@ class JointStream:
             return
         mask = jf.alone.input.rows(jf.i0, n)[3]
         closed = [e for _, e in stance_runs(mask) if e < len(mask)]
-        if len(closed) < max(4, 2 * jf.tries):
+        if len(closed) < max(2, 2 * jf.tries):
             return
         jf.tries = len(closed)
         with recording(quiet=True):  # its warnings are the start's, given there
@@ -286,6 +289,7 @@ class JointStream:
             for i in range(self.n_checkpoints, len(cps)):
                 if cps[i].step_end:
                     ends = [int(cps[i].k[f]) - int(filt.global_index(f, 0)) for f in range(2)]
+                    self._note_latency(ends)
             self.n_checkpoints = len(cps)
             if ends is None:
                 return
@@ -299,6 +303,15 @@ class JointStream:
             fed = filt.samples(f)
             jf.out.append(fed.t[a:b], q[a:b], v[a:b], p[a:b], pcov[a:b], fed.stance[a:b])
             jf.n_out = jf.seg0 + b
+
+    def _note_latency(self, ends: list[int]) -> None:
+        """For the foot whose stance ends at a step-end checkpoint (segment indices ``ends``):
+        (global index of the step end, the foot's newest sample received), in
+        ``JointFoot.step_final_at``."""
+        for f, (jf, k) in enumerate(zip(self.feet, ends)):
+            stance = self.filt.samples(f).stance
+            if k + 1 < len(stance) and stance[k] and not stance[k + 1]:
+                jf.step_final_at.append((jf.seg0 + k, jf.alone.input.end - 1))
 
     def _restart(self, need: list[int]) -> None:
         """A new segment where the filter stands, holding each foot's samples not yet final (and
@@ -351,31 +364,28 @@ class JointStream:
         forward = self.forward_estimates()
         updates = []
         for f, jf in enumerate(self.feet):
-            u = jf.alone.take()
-            if u.n_samples:
-                jf.spare.append(u.t, u.quaternion, u.velocity, u.position, u.stance)
+            alone = jf.alone
             rows: list[tuple] = []
             if not jf.front_done and self.filt is not None:
                 if jf.first == 0:
                     jf.front_done = True
-                    jf.emitted = jf.first
-                elif jf.spare.end > jf.first:
+                elif alone.psi is not None and alone.n_out > jf.first:
                     rows.append(self._alone_rows(jf, 0, jf.first, jf.first, jf.anchor))
                     jf.front_done = True
-                    jf.emitted = jf.first
+                jf.emitted = jf.first if jf.front_done else 0
             if jf.front_done and jf.n_out > jf.emitted:
                 t, q, v, p, _, stance = jf.out.rows(jf.emitted, jf.n_out)
                 rows.append((t.copy(), q.copy(), v.copy(), p.copy(), stance.copy()))
                 jf.emitted = jf.n_out
-            if final and jf.front_done and jf.spare.end > jf.n_out:
+            if final and jf.front_done and alone.n_out > jf.n_out:
                 k = jf.n_out - 1
                 _, q, _, p, _, _ = jf.out.rows(k, k + 1)
-                rows.append(self._alone_rows(jf, jf.n_out, jf.spare.end, k, (p[0].copy(), q[0].copy())))
-                jf.emitted = jf.spare.end
+                rows.append(self._alone_rows(jf, jf.n_out, alone.n_out, k, (p[0].copy(), q[0].copy())))
+                jf.emitted = alone.n_out
             if not self.stream.keep:
                 jf.out.drop_before(jf.emitted - 1)
-            if jf.front_done:
-                jf.spare.drop_before(min(jf.n_out - 1, jf.spare.end))
+                if jf.front_done:  # the foot alone is needed from the fused end's anchor on
+                    alone.out.drop_before(min(jf.n_out - 1, alone.n_out))
             if not rows:
                 updates.append(empty_update(forward[f]))
                 continue
@@ -387,12 +397,17 @@ class JointStream:
         return updates
 
     def _alone_rows(self, jf: JointFoot, a: int, b: int, anchor: int, fused: tuple) -> tuple:
-        """The foot alone, samples ``a:b``, continued rigidly so that its sample ``anchor`` meets
-        the ``fused`` (position, quaternion) there."""
-        t, q, v, p, stance = (x.copy() for x in jf.spare.rows(a, b))
-        _, qa, _, pa, _ = jf.spare.rows(anchor, anchor + 1)
-        p, v, q = continue_rigidly((p, v, q), (pa[0], qa[0]), fused)
-        return t, q, v, p, stance
+        """The foot alone, samples ``a:b``, turned into its first step's frame as the per-foot
+        stream turns them, then continued rigidly so that its sample ``anchor`` meets the
+        ``fused`` (position, quaternion) there."""
+        lo, hi = min(a, anchor), max(b, anchor + 1)
+        t, q, v, p, pcov, stance = (x.copy() for x in jf.alone.out.rows(lo, hi))
+        if jf.alone.psi:
+            rotate_about_z(-jf.alone.psi, p, v, q, pcov)
+        i = anchor - lo
+        p, v, q = continue_rigidly((p, v, q), (p[i].copy(), q[i].copy()), fused)
+        keep = slice(a - lo, b - lo)
+        return t[keep], q[keep], v[keep], p[keep], stance[keep]
 
     def _next_stance(self, jf: JointFoot) -> bool:
         """The stance decision of the sample after the last one returned (True when unknown: a

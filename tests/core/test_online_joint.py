@@ -1,0 +1,152 @@
+"""Online coupled fusion (footnav.pipeline.online_joint): both feet in one joint filter as samples
+arrive give the offline fusion's result, common span and all."""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import pytest
+
+import footnav
+from footnav.errors import CompositionError, InvalidInputError
+from footnav.pipeline import online_joint
+from online_replay import STEP, _check_equal, _replay  # tests/online_replay.py
+
+#: A bound the simulated walk crosses often: the constraint acts (about 250 updates).
+TIGHT = {"max_separation_m": 0.6}
+
+
+@pytest.fixture(scope="module")
+def walk():
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return footnav.simulate("rectangle", seed=3, width_m=12, height_m=6)
+
+
+def _pipe(smoother="step", **fusion_params):
+    return footnav.make_pipeline("threshold", "ekf", "range", estimator_params={"smoother": smoother}, fusion_params={**TIGHT, **fusion_params})
+
+
+def _offline(pipe, left, right):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return pipe.run(left, right)
+
+
+def _check_fusion(off, result, got):
+    _check_equal(off, got, result)
+    np.testing.assert_allclose(result.path.position, off.path.position, atol=1e-9, rtol=0)
+    for key in ("constraint_updates", "checks"):
+        assert result.meta["fusion"][key] == off.meta["fusion"][key]
+    assert result.meta["fusion"]["span"] == off.meta["fusion"]["span"]
+
+
+@pytest.mark.parametrize("size_left, size_right", [(1, 1), (7, 13), (1000, 1000)])
+def test_chunks_give_the_offline_fusion(walk, size_left, size_right):
+    pipe = _pipe()
+    off = _offline(pipe, walk.left, walk.right)
+    assert off.meta["fusion"]["constraint_updates"] > 100  # the constraint acts throughout
+    got, steps, result, _ = _replay(pipe, walk.left, walk.right, size_left, size_right)
+    _check_fusion(off, result, got)
+    for foot in ("left", "right"):
+        mine = [s for s in steps if s.foot == foot]
+        np.testing.assert_allclose([s.position for s in mine], getattr(off, foot).footprints, atol=1e-9, rtol=0)
+    assert [s.t for s in steps] == sorted(s.t for s in steps)
+
+
+def test_feet_on_different_spans_are_each_alone_outside_the_common_one(walk):
+    """The right foot starts 0.3 s before the left and stops 1.5 s before it: its first samples
+    and the left foot's last ones are each foot alone, continued from the fused edge."""
+    left, right = walk.left.slice(30, walk.left.n_samples), walk.right.slice(0, walk.right.n_samples - 150)
+    pipe = _pipe()
+    off = _offline(pipe, left, right)
+    span = off.meta["fusion"]["span"]
+    assert span["right"]["start_index"] == 30 and span["left"]["stop_index"] < left.n_samples
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        got, _, result, _ = _replay(pipe, left, right, 7, 5)
+    _check_fusion(off, result, got)
+    assert any("do not share their whole time span" in str(w.message) for w in caught)
+
+
+def test_segments_restart_where_the_filter_stands(walk, monkeypatch):
+    """Small segments: many restarts, each carrying the smoother's open step and the samples not
+    yet final; nothing is filtered twice and the result is the offline one."""
+    monkeypatch.setattr(online_joint, "SEGMENT_SAMPLES", 300)
+    restarts = []
+    original = online_joint.JointStream._restart
+    monkeypatch.setattr(online_joint.JointStream, "_restart", lambda self, need: (restarts.append(need), original(self, need)))
+    pipe = _pipe()
+    off = _offline(pipe, walk.left, walk.right)
+    got, _, result, stream = _replay(pipe, walk.left, walk.right, 7, 5)
+    _check_fusion(off, result, got)
+    assert len(restarts) >= 5
+    assert max(stream.joint.filt.capacity(f) for f in range(2)) < 1000
+
+
+def test_forward_filter_without_smoothing(walk):
+    pipe = _pipe(smoother="none")
+    off = _offline(pipe, walk.left, walk.right)
+    got, _, result, _ = _replay(pipe, walk.left, walk.right, 7, 5)
+    _check_fusion(off, result, got)
+
+
+def test_forward_estimate_is_the_joint_filters(walk):
+    stream = _pipe().online(feet=2)
+    update = stream.push(left=walk.left.slice(0, 1500), right=walk.right.slice(0, 1500))
+    for f, foot in enumerate(("left", "right")):
+        fwd = getattr(update, foot).forward
+        assert fwd is not None and fwd.position_cov.shape == (3, 3)
+        np.testing.assert_array_equal(fwd.position, stream.joint.filt.position(f))
+    assert update.left.n_samples > 0 and update.left.stance is not None
+
+
+def test_memory_is_bounded_without_keep():
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        rec = footnav.simulate("rectangle", seed=4, width_m=40, height_m=20)
+    stream = _pipe().online(feet=2, keep=False)
+    n = 0
+    for a in range(0, rec.left.n_samples, 100):
+        update = stream.push(left=rec.left.slice(a, a + 100), right=rec.right.slice(a, a + 100))
+        n += update.left.n_samples
+        for foot, jf in zip(stream.feet, stream.joint.feet):
+            assert foot.input.n < 800 and jf.out.n < 500 and foot.out.n < 800
+    assert stream.close() is None
+    assert n + stream.last_update.left.n_samples == rec.left.n_samples
+
+
+def test_shared_recordings(shared_data):
+    from footnav.data.datasets import load_dataset
+
+    pipe = footnav.make_pipeline("glrt", "ekf", "range", estimator_params=STEP, fusion_params=TIGHT)
+    seen = 0
+    for name in ("azure_fgo", "ipol_1-1"):
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                rec = load_dataset(name, shared_data)
+        except footnav.DataNotFoundError:
+            continue
+        off = _offline(pipe, rec.left, rec.right)
+        for size in (7, 1000):
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                got, _, result, _ = _replay(pipe, rec.left, rec.right, size, rate_hz=rec.left.rate_hz)
+            _check_fusion(off, result, got)
+        seen += 1
+    if not seen:
+        pytest.skip("no shared two-foot recording found")
+
+
+def test_what_cannot_run_online_is_refused(walk):
+    with pytest.raises(CompositionError, match="needs both feet"):
+        _pipe().online(feet=1)
+    whole = footnav.make_pipeline("threshold", "ekf", "range")
+    with pytest.raises(CompositionError, match="smoother='whole' is offline only"):
+        whole.online(feet=2)
+    stream = _pipe().online(feet=2)
+    stream.push(left=walk.left.slice(0, 200), right=walk.right.slice(2900, 3106))
+    with pytest.raises(InvalidInputError, match="share no time span"):
+        stream.close()

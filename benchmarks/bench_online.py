@@ -128,6 +128,10 @@ def main() -> None:
     print(f"latency: a step is final {lag.min()}-{lag.max()} samples ({lag.max() / RATE_HZ * 1e3:.0f} ms at most) "
           f"after its stance's last sample arrives; declared latency_s = {declared:.3f} s "
           f"({math.ceil(declared * RATE_HZ)} samples) + 3 samples of the stream's margin")
+    if coupled:
+        later = lag[5:]
+        print(f"  (the first steps wait for both feet's first-step headings: the first 5 steps {lag[:5].tolist()}, "
+              f"the {len(later)} after them {later.min()}-{later.max()} samples)")
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         off = pipe.run(first, loop.right if coupled else None)

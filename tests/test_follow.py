@@ -111,6 +111,21 @@ def test_standard_input_with_a_foot_column(walk_csv, tmp_path):
     assert (tmp_path / "out" / "right.csv").is_file()
 
 
+def test_a_coupled_fusion_follows_both_feet(walk_csv, tmp_path):
+    """--fusion range: both feet in one joint filter; the result folder holds the offline run."""
+    done = subprocess.run([sys.executable, "-m", "footnav.cli", "follow", "--left", str(walk_csv / "left.csv"), "--right",
+                           str(walk_csv / "right.csv"), "--fusion", "range", "--idle-s", "1", "--out", str(tmp_path / "out")],
+                          capture_output=True, text=True, timeout=120, check=False)
+    assert done.returncode == 0, done.stderr
+    assert {s[1] for s in _step_lines(done.stdout)} == {"left", "right"}
+    pipe = footnav.make_pipeline("threshold", "ekf", "range", estimator_params={"smoother": "step"})
+    off = pipe.run(footnav.load(str(walk_csv / "left.csv")).left, footnav.load(str(walk_csv / "right.csv")).left)
+    got = np.load(tmp_path / "out" / "trajectories.npz")
+    for foot in ("left", "right"):
+        np.testing.assert_allclose(got[f"{foot}_position"], getattr(off, foot).position, atol=1e-9, rtol=0)
+    assert "range" in (tmp_path / "out" / "pipeline.toml").read_text()
+
+
 def test_offline_only_pipeline_is_refused(walk_csv, tmp_path):
     done = subprocess.run([sys.executable, "-m", "footnav.cli", "follow", "--left", str(walk_csv / "left.csv"),
                            "--detector", "adaptive", "--out", str(tmp_path / "out")], capture_output=True, text=True,

@@ -35,9 +35,11 @@ Memory: the input buffer, the detection buffer and the filter segment are bounde
 ``keep=False`` nothing grows with the walk (``close`` then returns None). ``keep=True`` keeps every
 final sample for ``close``'s result, as the offline run would.
 
-Fusions: only those whose result at a step end does not depend on later samples run online
-(``independent``); the others fuse on the feet's common time span, known only at the end, or
-average the whole walk (DTW), and are refused with a message.
+Fusions: ``independent`` runs on the per-foot filters. A coupled fusion that offers a session
+(:class:`footnav.component.FusionSession`: ``range``) runs on one joint filter fed by both feet
+as far as both have arrived (:mod:`footnav.pipeline.online_joint`), with the offline run's
+common-span rules; the others (DTW averages the whole walk; step-vector and particle have no
+session yet) are refused with a message.
 """
 
 from __future__ import annotations

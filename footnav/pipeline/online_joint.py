@@ -112,6 +112,7 @@ class JointStream:
         self.feet = [JointFoot(f) for f in feet]
         for f in feet:
             f.hold = 0  # every sample, until the joint filter has taken it
+            f.steps.collect = False  # the steps are the fused feet's (JointFoot.steps)
         self.start_s: float | None = None
         self.session: Any = None
         self.filt: InsFilter | None = None
@@ -277,22 +278,23 @@ class JointStream:
         """Move the samples up to the last closed step (all of them at the end; with no
         smoother, every filtered sample) to the outputs."""
         filt = self.filt
-        if final:
-            if filt.step_smoother is not None:
+        cps = filt.checkpoints
+        ends = None
+        if final or filt.step_smoother is None:
+            if final and filt.step_smoother is not None:
                 filt.close_step(filt.step_smoother)
             ends = [filt.index(f) for f in range(2)]
-        elif filt.step_smoother is None:
-            ends = [filt.index(f) for f in range(2)]
         else:
-            ends = None
-            cps = filt.checkpoints
             for i in range(self.n_checkpoints, len(cps)):
                 if cps[i].step_end:
                     ends = [int(cps[i].k[f]) - int(filt.global_index(f, 0)) for f in range(2)]
                     self._note_latency(ends)
-            self.n_checkpoints = len(cps)
-            if ends is None:
-                return
+        # seen checkpoints serve nothing more (a restart starts where the filter stands, the step
+        # smoother needs none): without this they would pile up with the fusion's updates
+        del cps[:-1]
+        self.n_checkpoints = 1
+        if ends is None:
+            return
         for f, jf in enumerate(self.feet):
             a, b = jf.n_out - jf.seg0, ends[f] + 1
             if b <= a:

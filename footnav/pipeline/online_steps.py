@@ -46,12 +46,16 @@ class StepTracker:
     ----------
     pending
         The closed steps not yet taken by the stream, in order.
+    collect
+        Keep the closed steps in :attr:`pending` (False: only the heading is found, for a foot
+        whose steps someone else reports).
     """
 
     def __init__(self, foot: str, psi: float | None) -> None:
         self.foot = foot
         self.psi = psi
         self.pending: list[ClosedStep] = []
+        self.collect = True
         self._sum = np.zeros(3)
         self._n = 0
         self._unturned: list[NDArray] = []  # footprints before the heading is known
@@ -101,6 +105,9 @@ class StepTracker:
                 return
 
     def _release(self) -> None:
+        if not self.collect:
+            self._waiting.clear()
+            return
         c, s = math.cos(-self.psi), math.sin(-self.psi)
         for t_end, idx, fp in self._waiting:
             p = np.array([c * fp[0] - s * fp[1], s * fp[0] + c * fp[1], fp[2]])

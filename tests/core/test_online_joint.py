@@ -113,6 +113,8 @@ def test_memory_is_bounded_without_keep():
         n += update.left.n_samples
         for foot, jf in zip(stream.feet, stream.joint.feet):
             assert foot.input.n < 800 and jf.out.n < 500 and foot.out.n < 800
+            assert not foot.steps.pending  # the per-foot streams report no steps of their own
+        assert stream.joint.filt is None or len(stream.joint.filt.checkpoints) < 1000
     assert stream.close() is None
     assert n + stream.last_update.left.n_samples == rec.left.n_samples
 

@@ -2,7 +2,11 @@
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
+
+import footnav
 
 #: Step-wise smoothing: the offline run the online one must reproduce.
 STEP = {"smoother": "step"}
@@ -60,3 +64,16 @@ def _check_equal(off, got, result, feet=("left", "right")):
         np.testing.assert_allclose(getattr(result, foot).position, ref.position, atol=1e-9, rtol=0)
         np.testing.assert_allclose(getattr(result, foot).position_std, ref.position_std, atol=1e-9, rtol=0)
         np.testing.assert_array_equal(getattr(result, f"stance_{foot}").mask, getattr(off, f"stance_{foot}").mask)
+
+
+def shared_recordings(shared_data, names):
+    """The shared recordings of ``names`` that are present (loaded quietly), in order."""
+    from footnav.data.datasets import load_dataset
+
+    for name in names:
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                yield load_dataset(name, shared_data)
+        except footnav.DataNotFoundError:
+            continue

@@ -11,7 +11,7 @@ import pytest
 import footnav
 from footnav.pipeline import online_foot, online_steps
 from footnav.errors import CompositionError, InvalidInputError
-from online_replay import STEP, _check_equal, _chunks, _replay  # tests/online_replay.py
+from online_replay import STEP, _check_equal, _chunks, _replay, shared_recordings  # tests/online_replay.py
 
 
 @pytest.fixture(scope="module")
@@ -98,16 +98,8 @@ def test_a_silent_foot_holds_steps_at_most_max_wait(walk):
 
 
 def test_shared_recordings(shared_data):
-    from footnav.data.datasets import load_dataset
-
     pipe = footnav.make_pipeline("glrt", "ekf", "independent", estimator_params=STEP)
-    for name in ("azure_fgo", "gaitmap", "ipol_1-1", "pyshoe_2017-11-22-11-22-03"):
-        try:
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore")
-                rec = load_dataset(name, shared_data)
-        except footnav.DataNotFoundError:
-            continue
+    for rec in shared_recordings(shared_data, ("azure_fgo", "gaitmap", "ipol_1-1", "pyshoe_2017-11-22-11-22-03")):
         off = pipe.run(rec.left, rec.right)
         for size in (7, 1000):
             got, _, result, _ = _replay(pipe, rec.left, rec.right, size, rate_hz=rec.left.rate_hz)

@@ -444,20 +444,27 @@ class FusionSession(Protocol):
     """
 
     step_width_m: float
+    #: s: the session's measurement at a time t is known once both feet's stance decisions are
+    #: final up to t + horizon_s (online, the joint filter stays that far behind them).
+    horizon_s: float
+    #: s: the session reads the filter's per-sample outputs back to this long before the start
+    #: of each foot's latest stance (online, a new segment keeps them).
+    history_s: float
 
     def advance(
         self,
         filt: JointFilter,
         until_s: float,
         landings: Sequence[NDArray[np.float64]],
-        standing: Any,
+        view: Any,
         *,
         stop_s: float | None = None,
     ) -> None:
         """Apply every measurement of the fusion at times <= ``until_s`` (s); ``landings`` are
         each foot's stance starts (s) that became known since the last call (after the foot's
-        first stance), ``standing(foot)`` whether a foot is in stance at its current sample, and
-        ``stop_s`` the feet's common end (s) once it is known (the last call)."""
+        first stance), ``view`` the feet's times and stance in the filter's sample indexing
+        (:class:`footnav.fusion.joint.FeetView`), and ``stop_s`` the feet's common end (s) once
+        it is known (the last call)."""
         ...
 
     def finish(self) -> dict[str, Any]:

@@ -30,12 +30,12 @@ from footnav.component import JOINT_FILTER_MEMBERS, JointFilter, require_stepabl
 from footnav.errors import CompositionError, DataQualityWarning, InvalidInputError
 from footnav.nav.final_rest import final_rest
 from footnav.nav.spans import CommonSpan, FootCut, common_span, slice_stance
-from footnav.types import FootTrajectory, FusionResult, ImuData, StanceResult
+from footnav.types import FootTrajectory, FusionResult, ImuData, StanceResult, stance_intervals
 from footnav.warning_log import warn
 from footnav.fusion.independent import midpoint_path
 
 __all__ = [
-    "check_two_feet", "close_loops", "closing_time", "continue_rigidly", "finish_joint", "first_step_yaw", "forward_only",
+    "FeetView", "check_two_feet", "close_loops", "closing_time", "continue_rigidly", "finish_joint", "first_step_yaw", "forward_only",
     "fuse_on_common_span", "fused_start", "on_whole_span", "require_stepable", "start_joint",
 ]
 
@@ -44,6 +44,37 @@ OUTSIDE_SPAN = "each foot's samples outside it are that foot estimated alone, co
 
 #: Feet indices in the joint filter.
 LEFT, RIGHT = 0, 1
+
+
+class FeetView:
+    """What a fusion's session (:class:`footnav.component.FusionSession`) reads of the feet besides
+    the joint filter, in the filter's own sample indexing: each foot's times (s), stance mask,
+    sampling rate (Hz) and heel strikes (sample indices; none online). Offline the whole feet;
+    online the samples the joint filter holds."""
+
+    def __init__(self, times, masks, rates, heel_strikes=None) -> None:
+        self.times = list(times)
+        self.masks = [np.asarray(m, dtype=bool) for m in masks]
+        self.rates = [float(r) for r in rates]
+        self.heel_strikes = list(heel_strikes) if heel_strikes is not None else [np.zeros(0, dtype=np.int64)] * len(self.times)
+        self._runs: list = [None] * len(self.times)
+
+    @classmethod
+    def of(cls, imus: Sequence[ImuData], stances: Sequence[StanceResult]) -> FeetView:
+        """The view of whole recordings and their stance results."""
+        return cls([imu.t for imu in imus], [st.mask for st in stances], [imu.rate_hz for imu in imus],
+                   [np.asarray(st.events.get("heel_strike", []), dtype=np.int64) for st in stances])
+
+    def runs(self, foot: int) -> np.ndarray:
+        """The foot's stance intervals, (K, 2) [start, stop) (computed once)."""
+        if self._runs[foot] is None:
+            self._runs[foot] = stance_intervals(self.masks[foot])
+        return self._runs[foot]
+
+    def standing(self, foot: int, k: int) -> bool:
+        """Whether the foot is in stance at its sample ``k`` (the last one past the end)."""
+        mask = self.masks[foot]
+        return bool(mask[min(k, len(mask) - 1)])
 
 
 def check_two_feet(fusion: Any, estimator: Any, right: Any, stance_right: Any) -> None:

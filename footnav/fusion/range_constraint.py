@@ -20,7 +20,7 @@ import numpy as np
 
 from footnav.component import MAX_DURATION_S, MAX_LENGTH_M, Fusion, is_number, require, require_positive
 from footnav.types import FusionResult
-from footnav.fusion.joint import LEFT, RIGHT, closing_time, finish_joint, fuse_on_common_span, start_joint
+from footnav.fusion.joint import LEFT, RIGHT, FeetView, closing_time, finish_joint, fuse_on_common_span, start_joint
 
 __all__ = ["RangeConstraintFusion", "RangeSession"]
 
@@ -98,13 +98,8 @@ class RangeConstraintFusion(Fusion):
         filt = start_joint(estimator, left, stance_left, right, stance_right, self.step_width_m)
         session = RangeSession(self, max(left.t[0], right.t[0]), closing_time(estimator, imus, stances))
         landings = [imu.t[stance.intervals[1:, 0]] for imu, stance in zip(imus, stances)]
-        masks = [np.asarray(st.mask, dtype=bool) for st in stances]
-
-        def standing(foot: int) -> bool:
-            return bool(masks[foot][min(filt.index(foot), len(masks[foot]) - 1)])
-
         stop = min(left.t[-1], right.t[-1])
-        session.advance(filt, stop, landings, standing, stop_s=stop)
+        session.advance(filt, stop, landings, FeetView.of(imus, stances), stop_s=stop)
         meta = session.finish()
         return finish_joint(estimator, filt, stance_left, stance_right, meta, imus)
 
@@ -161,9 +156,15 @@ class RangeSession:
         times = np.unique(np.array(checks + now, dtype=float))
         return times[times <= self.closing_s]
 
-    def advance(self, filt, until_s: float, landings, standing, *, stop_s: float | None = None) -> None:
+    #: The constraint at a time needs nothing later (no wait behind the final samples), and reads
+    #: no past sample.
+    horizon_s = 0.0
+    history_s = 0.0
+
+    def advance(self, filt, until_s: float, landings, view, *, stop_s: float | None = None) -> None:
         """Check and project at every time <= ``until_s`` (s); ``landings``: each foot's newly
-        known stance starts, s; ``stop_s``: the feet's common end, once known."""
+        known stance starts, s; ``view``: the feet's stance (:class:`footnav.fusion.joint.FeetView`);
+        ``stop_s``: the feet's common end, once known."""
         for new in landings:
             self._landings.extend(float(t) for t in np.asarray(new, dtype=float).ravel())
         times = self._times(until_s, stop_s)
@@ -189,7 +190,7 @@ class RangeSession:
                 i += 1
                 continue
             u = d / dist
-            feet_standing = [standing(LEFT), standing(RIGHT)]
+            feet_standing = [view.standing(f, filt.index(f)) for f in (LEFT, RIGHT)]
             if fusion.projection == "moving" and feet_standing[LEFT] != feet_standing[RIGHT]:
                 anchor = LEFT if feet_standing[LEFT] else RIGHT
                 mover = 1 - anchor

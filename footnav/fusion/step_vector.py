@@ -56,7 +56,7 @@ References
 from __future__ import annotations
 
 import math
-from typing import ClassVar
+from typing import Any, ClassVar
 
 import numpy as np
 
@@ -77,6 +77,7 @@ from footnav.warning_log import warn
 from footnav.fusion.joint import (
     LEFT,
     RIGHT,
+    FeetView,
     check_two_feet,
     closing_time,
     finish_joint,
@@ -84,7 +85,7 @@ from footnav.fusion.joint import (
     start_joint,
 )
 
-__all__ = ["LEG_LENGTH_PER_HEIGHT", "StepVectorFusion", "leg_length_from_height", "pendulum_step_length"]
+__all__ = ["LEG_LENGTH_PER_HEIGHT", "StepVectorFusion", "StepVectorSession", "leg_length_from_height", "pendulum_step_length"]
 
 #: Leg length (floor to greater trochanter, the hip's pivot) per body height: 0.530 H in Winter
 #: (2009), Fig. 4.1, after Drillis and Contini (1966).
@@ -274,51 +275,52 @@ class StepVectorFusion(Fusion):
         require_in_range(self, "step_elevation_m", low=-MAX_LENGTH_M, high=MAX_LENGTH_M)
 
     # -- the steps ------------------------------------------------------------------------------
-    def _heel_strike(self, imu: ImuData, stance: StanceResult, start: int) -> int:
-        """Heel strike that opened the stance run starting at ``start`` (sample index)."""
-        hs = np.asarray(stance.events.get("heel_strike", []), dtype=np.int64)
-        window = int(round(0.5 * imu.rate_hz))
+    def _heel_strike(self, view: FeetView, foot: int, start: int) -> int:
+        """Heel strike that opened the foot's stance run starting at sample ``start`` (the
+        view's indexing)."""
+        hs = view.heel_strikes[foot]
+        rate = view.rates[foot]
+        window = int(round(0.5 * rate))
         earlier = hs[(hs <= start) & (hs >= start - window)]
         if len(earlier):
             return int(earlier[-1])
-        return max(0, start - int(round(self.heel_strike_before_stance_s * imu.rate_hz)))
+        return max(0, start - int(round(self.heel_strike_before_stance_s * rate)))
 
-    def _landings(self, imus, stances) -> list[tuple[float, int, int, int]]:
+    def _landings(self, view: FeetView) -> list[tuple[float, int, int, int]]:
         """(time of the heel strike, front foot, its sample, stance-run index) of every landing
         after the first stance of each foot, in time order: the step ends at the front foot's heel
         strike, both feet on the ground."""
         out = []
-        for foot, (imu, stance) in enumerate(zip(imus, stances)):
-            runs = stance.intervals
+        for foot in (LEFT, RIGHT):
+            runs = view.runs(foot)
             for j in range(1, len(runs)):
-                hs = self._heel_strike(imu, stance, int(runs[j, 0]))
-                out.append((float(imu.t[hs]), foot, hs, j))
+                hs = self._heel_strike(view, foot, int(runs[j, 0]))
+                out.append((float(view.times[foot][hs]), foot, hs, j))
         out.sort()
         return out
 
-    def _support(self, imu_r: ImuData, stance_r: StanceResult, t: float, runs: np.ndarray) -> tuple[int, int] | None:
+    def _support(self, view: FeetView, rear: int, t: float) -> tuple[int, int] | None:
         """(heel strike, sample at time t) of the rear foot if it supported the step ending at t
-        (its last stance ended at most ``heel_strike_before_stance_s`` + 0.1 s before t);
-        ``runs`` its stance intervals."""
-        k = int(np.searchsorted(imu_r.t, t, side="right")) - 1
+        (its last stance ended at most ``heel_strike_before_stance_s`` + 0.1 s before t)."""
+        times, runs = view.times[rear], view.runs(rear)
+        k = int(np.searchsorted(times, t, side="right")) - 1
         j = int(np.searchsorted(runs[:, 0], k, side="right")) - 1
-        if k < 0 or j < 0 or imu_r.t[runs[j, 1] - 1] < t - self.heel_strike_before_stance_s - 0.1:
+        if k < 0 or j < 0 or times[runs[j, 1] - 1] < t - self.heel_strike_before_stance_s - 0.1:
             return None
-        hs = self._heel_strike(imu_r, stance_r, int(runs[j, 0]))
+        hs = self._heel_strike(view, rear, int(runs[j, 0]))
         return hs, max(hs, k)
 
-    def _fit_leg_length(self, imus, stances, singles) -> float:
+    def _fit_leg_length(self, view: FeetView, singles) -> float:
         """Median of (half the front foot's stride) / (2 sin(theta/2)) over the straight steps,
         theta measured exactly as :meth:`fuse` does (module docstring)."""
         ratios = []
         turn = np.radians(self.turn_threshold_deg)
-        runs = [st.intervals for st in stances]
-        for t, front, hs_front, j in self._landings(imus, stances):
+        for t, front, hs_front, j in self._landings(view):
             rear = 1 - front
-            support = self._support(imus[rear], stances[rear], t, runs[rear])
+            support = self._support(view, rear, t)
             if support is None:
                 continue
-            runs_f, traj_f = runs[front], singles[front]
+            runs_f, traj_f = view.runs(front), singles[front]
             a0, a1 = runs_f[j - 1, 0], runs_f[j, 0]
             stride = np.linalg.norm(traj_f.position[a1, :2] - traj_f.position[a0, :2])
             if stride < 0.2 or abs(quat.wrap_angle(quat.yaw_of(traj_f.quaternion[a1]) - quat.yaw_of(traj_f.quaternion[a0]))) > turn:
@@ -390,62 +392,145 @@ class StepVectorFusion(Fusion):
         meta = {**res.meta, "calibration": {"left": cal_left, "right": cal_right}}
         return FusionResult(left=res.left, right=res.right, path=res.path, meta=meta)
 
+    def session(self, estimator: Any, start_s: float) -> StepVectorSession:
+        """The step updates on a joint filter that grows as samples arrive (online mode;
+        :class:`footnav.component.FusionSession`), from the feet's common start ``start_s`` (s).
+
+        Raises
+        ------
+        CompositionError
+            With ``step_length="fitted"`` (the leg length is fitted to each foot's whole walk) or
+            ``calibration="standstill"`` (each whole recording is calibrated before fusing): offline
+            only.
+        """
+        self.validate_params()
+        for name, online in (("step_length", "pendulum"), ("calibration", "none")):
+            if getattr(self, name) != online:
+                why = ("the leg length is fitted to each foot's whole walk" if name == "step_length"
+                       else "each whole recording is calibrated before fusing")
+                raise CompositionError(
+                    f"fusion {self.name!r} with {name}={getattr(self, name)!r} is offline only: {why}; "
+                    f"{name}={online!r} runs online (step_length='pendulum' is Zhao et al. (2019), eq. 6, as published)"
+                )
+        return StepVectorSession(self, float(self.leg_length_m))
+
     def _fuse_span(self, estimator, left, stance_left, right, stance_right) -> FusionResult:
-        """:meth:`fuse` on feet that share their whole time span."""
+        """:meth:`fuse` on feet that share their whole time span: one session over the whole walk."""
         imus, stances = (left, right), (stance_left, stance_right)
-        filt, singles = start_joint(estimator, left, stance_left, right, stance_right, self.step_width_m, return_singles=True)
-        leg = self.leg_length_m if self.step_length == "pendulum" else self._fit_leg_length(imus, stances, singles)
-        # the yaw each sensor has when its foot faces the walking direction (+x at the start)
-        yaw0 = [quat.yaw_of(filt.quaternion(f)) for f in (LEFT, RIGHT)]
-        big = filt.covariance.shape[0]
-        turn = np.radians(self.turn_threshold_deg)
-        r = np.array([self.step_length_std_m, self.step_width_std_m, self.step_elevation_std_m]) ** 2
-        last_stance_yaw: dict[int, float] = {}
-        runs = [st.intervals for st in stances]
-        applied = suspended = skipped = 0
-        lengths = []
-        closing = closing_time(estimator, imus, stances)
-        for t, front, _, _ in self._landings(imus, stances):
-            if t > closing:
+        view = FeetView.of(imus, stances)
+        if self.step_length == "fitted":
+            filt, singles = start_joint(estimator, left, stance_left, right, stance_right, self.step_width_m, return_singles=True)
+            leg = self._fit_leg_length(view, singles)
+        else:
+            filt, leg = start_joint(estimator, left, stance_left, right, stance_right, self.step_width_m), self.leg_length_m
+        session = StepVectorSession(self, leg, closing_time(estimator, imus, stances))
+        landings = [imu.t[stance.intervals[1:, 0]] for imu, stance in zip(imus, stances)]
+        stop = min(left.t[-1], right.t[-1])
+        session.advance(filt, stop, landings, view, stop_s=stop)
+        return finish_joint(estimator, filt, stance_left, stance_right, session.finish(), imus)
+
+
+class StepVectorSession:
+    """The step-vector updates on one joint filter (:class:`StepVectorFusion`;
+    :class:`footnav.component.FusionSession`): at every landing (the front foot's heel strike,
+    in time order), the relative position of the feet from the rear foot's pendulum, unless the
+    rear foot was not on the ground or is turning.
+
+    Parameters
+    ----------
+    fusion
+        The step-vector fusion (its parameters).
+    leg_length_m
+        The pendulum length l, m (eq. 6).
+    closing_s
+        No update after this time, s (the estimator's closed loop takes over there).
+    """
+
+    def __init__(self, fusion: StepVectorFusion, leg_length_m: float, closing_s: float = math.inf) -> None:
+        self.fusion = fusion
+        self.leg_length_m = float(leg_length_m)
+        self.step_width_m = float(fusion.step_width_m)
+        self.closing_s = float(closing_s)
+        #: a landing is known once its stance start is: at most heel_strike_before_stance_s
+        #: after its heel strike (plus rounding to a sample)
+        self.horizon_s = float(fusion.heel_strike_before_stance_s) + 0.05
+        #: the rear foot's attitude at its own heel strike, before its latest stance
+        self.history_s = float(fusion.heel_strike_before_stance_s) + 0.1
+        self._pending: list[tuple[float, int]] = []  # (heel strike time, front foot), known, not yet applied
+        self._yaw0: list[float] | None = None
+        self._last_stance_yaw: dict[int, float] = {}
+        self._r = np.array([fusion.step_length_std_m, fusion.step_width_std_m, fusion.step_elevation_std_m]) ** 2
+        self._turn = np.radians(fusion.turn_threshold_deg)
+        self.applied = self.suspended = self.skipped = 0
+        self.lengths: list[float] = []
+        self._closed = False
+
+    def advance(self, filt, until_s: float, landings, view: FeetView, *, stop_s: float | None = None) -> None:
+        """Apply the update of every landing with its heel strike at or before ``until_s`` (s; all
+        of them with ``stop_s``, the feet's common end); ``landings``: each foot's newly known
+        stance starts, s; ``view``: the feet in the filter's sample indexing."""
+        fusion = self.fusion
+        if self._yaw0 is None:  # the yaw each sensor has when its foot faces the walking direction (+x at the start)
+            self._yaw0 = [quat.yaw_of(filt.quaternion(f)) for f in (LEFT, RIGHT)]
+            self._big = filt.covariance.shape[0]
+        for foot, new in enumerate(landings):
+            times = view.times[foot]
+            for start_s in np.asarray(new, dtype=float).ravel():
+                hs = fusion._heel_strike(view, foot, int(np.searchsorted(times, start_s)))
+                self._pending.append((float(times[hs]), foot))
+        self._pending.sort()
+        n = len(self._pending) if stop_s is not None else sum(1 for t, _ in self._pending if t <= until_s)
+        due, self._pending = self._pending[:n], self._pending[n:]
+        for t, front in due:
+            if self._closed or t > self.closing_s:
+                self._closed = True
                 break
-            rear = 1 - front
-            filt.run_until(t)
-            support = self._support(imus[rear], stances[rear], t, runs[rear])
-            if support is None:
-                skipped += 1  # the rear foot was not on the ground: no pendulum to read
-                continue
-            hs_rear, k_q2 = support
-            q_out = filt.outputs(rear)[0]
-            yaw_r = quat.yaw_of(q_out[hs_rear]) - yaw0[rear]
-            prev = last_stance_yaw.get(rear)
-            last_stance_yaw[rear] = yaw_r  # heading of the rear foot's footprint
-            if prev is not None and abs(quat.wrap_angle(yaw_r - prev)) > turn:
-                suspended += 1  # Sec. V-C: no update while curving or turning
-                continue
-            s = pendulum_step_length(q_out[hs_rear], q_out[k_q2], leg)  # S = 2 l sin(theta/2)  (eq. 5-6)
-            lengths.append(s)
-            side = 1.0 if front == LEFT else -1.0
-            if self.relative_frame == "attitude":
-                rot = quat.as_matrix(q_out[k_q2])  # C_b^n of the rear foot at the update (Sec. IV-B)
-            else:
-                c, sn = np.cos(yaw_r), np.sin(yaw_r)
-                rot = np.array([[c, -sn, 0.0], [sn, c, 0.0], [0.0, 0.0, 1.0]])  # rear-heading frame -> nav
-            dp_n = rot @ np.array([s, side * self.step_width_m, self.step_elevation_m])  # dp^n = C dp^b
-            h = np.zeros((3, big))
-            h[:, filt.block(front, "pos")] = np.eye(3)  # H_p = [0 0 I]_front - [0 0 I]_rear  (eq. 7)
-            h[:, filt.block(rear, "pos")] = -np.eye(3)
-            y = (filt.position(front) - filt.position(rear)) - dp_n  # z_p = (p^_1 - p^_2) - dp^n  (eq. 7)
-            # in the rear foot's frame the three components are independent
-            filt.update(rot.T @ h, rot.T @ y, r)
-            applied += 1
-        meta = {
-            "fusion": self.describe(),
-            "step_length": self.step_length,
-            "relative_frame": self.relative_frame,
-            "leg_length_m": leg,
-            "updates": applied,
-            "suspended_turning": suspended,
-            "skipped_rear_foot_moving": skipped,
-            "step_length_m": {"median": float(np.median(lengths)) if lengths else None, "n": len(lengths)},
+            self._update(filt, view, t, front)
+
+    def _update(self, filt, view: FeetView, t: float, front: int) -> None:
+        """The step vector at the front foot's heel strike at ``t`` (s) (Zhao et al. (2019), Sec. III-B, IV-B)."""
+        fusion = self.fusion
+        rear = 1 - front
+        filt.run_until(t)
+        support = fusion._support(view, rear, t)
+        if support is None:
+            self.skipped += 1  # the rear foot was not on the ground: no pendulum to read
+            return
+        hs_rear, k_q2 = support
+        q_out = filt.outputs(rear)[0]
+        yaw_r = quat.yaw_of(q_out[hs_rear]) - self._yaw0[rear]
+        prev = self._last_stance_yaw.get(rear)
+        self._last_stance_yaw[rear] = yaw_r  # heading of the rear foot's footprint
+        if prev is not None and abs(quat.wrap_angle(yaw_r - prev)) > self._turn:
+            self.suspended += 1  # Sec. V-C: no update while curving or turning
+            return
+        s = pendulum_step_length(q_out[hs_rear], q_out[k_q2], self.leg_length_m)  # S = 2 l sin(theta/2)  (eq. 5-6)
+        self.lengths.append(s)
+        side = 1.0 if front == LEFT else -1.0
+        if fusion.relative_frame == "attitude":
+            rot = quat.as_matrix(q_out[k_q2])  # C_b^n of the rear foot at the update (Sec. IV-B)
+        else:
+            c, sn = np.cos(yaw_r), np.sin(yaw_r)
+            rot = np.array([[c, -sn, 0.0], [sn, c, 0.0], [0.0, 0.0, 1.0]])  # rear-heading frame -> nav
+        dp_n = rot @ np.array([s, side * fusion.step_width_m, fusion.step_elevation_m])  # dp^n = C dp^b
+        h = np.zeros((3, self._big))
+        h[:, filt.block(front, "pos")] = np.eye(3)  # H_p = [0 0 I]_front - [0 0 I]_rear  (eq. 7)
+        h[:, filt.block(rear, "pos")] = -np.eye(3)
+        y = (filt.position(front) - filt.position(rear)) - dp_n  # z_p = (p^_1 - p^_2) - dp^n  (eq. 7)
+        # in the rear foot's frame the three components are independent
+        filt.update(rot.T @ h, rot.T @ y, self._r)
+        self.applied += 1
+
+    def finish(self) -> dict:
+        """The fusion's meta, after the last :meth:`advance`."""
+        fusion = self.fusion
+        return {
+            "fusion": fusion.describe(),
+            "step_length": fusion.step_length,
+            "relative_frame": fusion.relative_frame,
+            "leg_length_m": self.leg_length_m,
+            "updates": self.applied,
+            "suspended_turning": self.suspended,
+            "skipped_rear_foot_moving": self.skipped,
+            "step_length_m": {"median": float(np.median(self.lengths)) if self.lengths else None, "n": len(self.lengths)},
         }
-        return finish_joint(estimator, filt, stance_left, stance_right, meta, imus)

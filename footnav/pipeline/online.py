@@ -65,11 +65,10 @@ ONLINE_FUSIONS = ("independent",)
 #: Built-in coupled fusions that run online, on a joint filter fed by both feet (their
 #: ``session``, :class:`footnav.component.FusionSession`; a plugin's fusion runs online the same
 #: way when it offers one).
-COUPLED_ONLINE_FUSIONS = ("range",)
+COUPLED_ONLINE_FUSIONS = ("range", "step-vector")
 #: Why the other built-in fusions are offline only.
 OFFLINE_ONLY_FUSIONS = {
     "dtw": "it averages the feet's whole walks (dynamic time warping needs both sequences complete)",
-    "step-vector": "its session is not written yet (its step length is fitted on each foot's whole walk by default)",
     "particle": "its session is not written yet",
 }
 
@@ -283,6 +282,8 @@ def check_online(pipeline: Any, feet: int) -> float:
         raise CompositionError(
             f"fusion {fus.name!r} is offline only: {why}; online mode runs {', '.join(repr(n) for n in online)}"
         )
+    if fus.name not in ONLINE_FUSIONS:
+        fus.session(est, 0.0)  # refuses parameters that need the whole walk (CompositionError)
     if not callable(getattr(est, "start", None)):
         raise CompositionError(f"estimator {est.name!r} has no step-able filter (start(imus, stances)); online mode needs one, such as 'ekf'")
     est.validate_params()

@@ -39,7 +39,7 @@ from footnav.errors import CompositionError, DataQualityWarning
 from footnav.estimators.ekf.filter import InsFilter
 from footnav.estimators.ekf.records import Record
 from footnav.fusion.independent import midpoint_path
-from footnav.fusion.joint import OUTSIDE_SPAN, continue_rigidly, forward_only, fused_start, on_whole_span, start_filter
+from footnav.fusion.joint import OUTSIDE_SPAN, FeetView, continue_rigidly, forward_only, fused_start, on_whole_span, start_filter
 from footnav.nav.heading import rotate_about_z
 from footnav.nav.spans import CommonSpan, FootCut, common_bounds
 from footnav.pipeline.online_foot import SEGMENT_SAMPLES, FootStream, _Grow, filter_segment
@@ -76,6 +76,7 @@ class JointFoot:
         self.seg0 = 0  # the segment's sample 0
         self.in_run = False  # the last fed sample is in stance
         self.runs_seen = 0  # stance runs begun in the common span (the first is no landing)
+        self.run_starts: deque[int] = deque(maxlen=4)  # the latest stance starts fed, global
         self.anchor: tuple | None = None  # fused (position, quaternion) at `first` (the start state)
         self.finished = False
         #: (global index of a step end, newest received sample's global index when it became
@@ -214,15 +215,17 @@ class JointStream:
             jf.n_fed = jf.i0 + len(samples[f][0])
             jf.first = fused_start(first.meta[f], FootCut(jf.i0, 0, 0, 0.0, 0.0))
             jf.anchor = (first.position(f), first.quaternion(f))
-            self._landings(f, samples[f][3], samples[f][0])  # (the session takes them at its first run)
+            self._landings(f, samples[f][3], samples[f][0], jf.i0)  # (the session takes them at its first run)
         self.n_checkpoints = 1
         return True
 
-    def _landings(self, f: int, mask: NDArray[np.bool_], t: NDArray[np.float64]) -> None:
-        """Stance starts among foot ``f``'s newly fed samples, after its first stance in the span
-        (the offline run's ``t[intervals[1:, 0]]``), queued for the session."""
+    def _landings(self, f: int, mask: NDArray[np.bool_], t: NDArray[np.float64], g0: int) -> None:
+        """Stance starts among foot ``f``'s newly fed samples (the first at global index ``g0``),
+        after its first stance in the span (the offline run's ``t[intervals[1:, 0]]``), queued
+        for the session; every stance start's global index in ``JointFoot.run_starts``."""
         jf = self.feet[f]
         starts = [s for s, _ in stance_runs(mask) if s > 0 or not jf.in_run]
+        jf.run_starts.extend(g0 + s for s in starts)
         if len(mask):
             jf.in_run = bool(mask[-1])
         skip = max(0, 1 - jf.runs_seen)
@@ -242,7 +245,7 @@ class JointStream:
                 continue
             rows = jf.alone.input.rows(jf.n_fed, stop)
             self.filt.extend(*rows, foot=f)
-            self._landings(f, rows[3], rows[0])
+            self._landings(f, rows[3], rows[0], jf.n_fed)
             jf.n_fed = stop
 
     def _span_of(self, jf: JointFoot) -> tuple[float, float]:
@@ -256,11 +259,9 @@ class JointStream:
         for p in self._pending:
             p.clear()
 
-        def standing(foot: int) -> bool:
-            return bool(self.filt.samples(foot).stance[self.filt.index(foot)])
-
+        view = self._view()
         if final:
-            self.session.advance(filt, self.span_end, landings, standing, stop_s=self.span_end)
+            self.session.advance(filt, self.span_end, landings, view, stop_s=self.span_end)
             filt.run_until()
             self.result_meta = self.session.finish()
             return
@@ -268,11 +269,16 @@ class JointStream:
         for f, jf in enumerate(self.feet):
             last = jf.n_fed - jf.seg0 - 1  # a step end needs the next sample's decision
             ends.append(float(filt.samples(f).t[last - 1]) if last >= 1 else -math.inf)
-        until = min(ends)
-        self.session.advance(filt, until, landings, standing)
+        until = min(ends) - self.session.horizon_s
+        self.session.advance(filt, until, landings, view)
         if until > self.until:
             filt.run_until(until)
             self.until = until
+
+    def _view(self) -> FeetView:
+        """The feet as the session reads them: the segment's samples (its own indexing)."""
+        fed = [self.filt.samples(f) for f in range(2)]
+        return FeetView([x.t for x in fed], [x.stance for x in fed], [jf.alone.rate_hz for jf in self.feet])
 
     def _harvest(self, final: bool) -> None:
         """Move the samples up to the last closed step (all of them at the end; with no
@@ -325,7 +331,12 @@ class JointStream:
         shift, samples, size, base = [], [], [], []
         for f, jf in enumerate(self.feet):
             k_now = old.index(f)
-            s = min(jf.n_out - jf.seg0 - 1, k_now)
+            # the session reads back to history_s before the foot's latest stance start
+            back = math.ceil(self.session.history_s * jf.alone.rate_hz) + 1 if self.session.history_s > 0 else 0
+            s = min(jf.n_out - jf.seg0 - 1, k_now - back)
+            started = [g for g in jf.run_starts if g <= jf.seg0 + k_now]
+            if back and started:
+                s = min(s, started[-1] - jf.seg0 - back)
             if fill:
                 rec = ss.record
                 mine = (rec.foot[:fill] == f) & (rec.nu[:fill] >= 0)

@@ -13,8 +13,11 @@ from footnav.errors import CompositionError, InvalidInputError
 from footnav.pipeline import online_joint
 from online_replay import STEP, _check_equal, _replay, shared_recordings  # tests/online_replay.py
 
-#: A bound the simulated walk crosses often: the constraint acts (about 250 updates).
-TIGHT = {"max_separation_m": 0.6}
+#: The coupled fusions that run online, with parameters under which they act often on the
+#: simulated walk: range with a bound it crosses (about 250 updates), step-vector as published
+#: (the pendulum step length; about 30 updates, 20 suspended while turning).
+FUSIONS = {"range": {"max_separation_m": 0.6}, "step-vector": {"step_length": "pendulum"}}
+TIGHT = FUSIONS["range"]
 
 
 @pytest.fixture(scope="module")
@@ -24,8 +27,8 @@ def walk():
         return footnav.simulate("rectangle", seed=3, width_m=12, height_m=6)
 
 
-def _pipe(smoother="step", **fusion_params):
-    return footnav.make_pipeline("threshold", "ekf", "range", estimator_params={"smoother": smoother}, fusion_params={**TIGHT, **fusion_params})
+def _pipe(smoother="step", fusion="range", detector="threshold"):
+    return footnav.make_pipeline(detector, "ekf", fusion, estimator_params={"smoother": smoother}, fusion_params=FUSIONS[fusion])
 
 
 def _offline(pipe, left, right):
@@ -37,16 +40,22 @@ def _offline(pipe, left, right):
 def _check_fusion(off, result, got):
     _check_equal(off, got, result)
     np.testing.assert_allclose(result.path.position, off.path.position, atol=1e-9, rtol=0)
-    for key in ("constraint_updates", "checks"):
-        assert result.meta["fusion"][key] == off.meta["fusion"][key]
-    assert result.meta["fusion"]["span"] == off.meta["fusion"]["span"]
+    for key in ("constraint_updates", "checks", "updates", "suspended_turning", "skipped_rear_foot_moving", "step_length_m", "span"):
+        assert result.meta["fusion"].get(key) == off.meta["fusion"].get(key)
 
 
+def _acts(off):
+    """The fusion changed something: updates applied."""
+    meta = off.meta["fusion"]
+    return meta.get("constraint_updates", 0) + meta.get("updates", 0)
+
+
+@pytest.mark.parametrize("fusion", FUSIONS)
 @pytest.mark.parametrize("size_left, size_right", [(1, 1), (7, 13), (1000, 1000)])
-def test_chunks_give_the_offline_fusion(walk, size_left, size_right):
-    pipe = _pipe()
+def test_chunks_give_the_offline_fusion(walk, size_left, size_right, fusion):
+    pipe = _pipe(fusion=fusion)
     off = _offline(pipe, walk.left, walk.right)
-    assert off.meta["fusion"]["constraint_updates"] > 100  # the constraint acts throughout
+    assert _acts(off) > 20
     got, steps, result, _ = _replay(pipe, walk.left, walk.right, size_left, size_right)
     _check_fusion(off, result, got)
     for foot in ("left", "right"):
@@ -55,11 +64,12 @@ def test_chunks_give_the_offline_fusion(walk, size_left, size_right):
     assert [s.t for s in steps] == sorted(s.t for s in steps)
 
 
-def test_feet_on_different_spans_are_each_alone_outside_the_common_one(walk):
+@pytest.mark.parametrize("fusion", FUSIONS)
+def test_feet_on_different_spans_are_each_alone_outside_the_common_one(walk, fusion):
     """The right foot starts 0.3 s before the left and stops 1.5 s before it: its first samples
     and the left foot's last ones are each foot alone, continued from the fused edge."""
     left, right = walk.left.slice(30, walk.left.n_samples), walk.right.slice(0, walk.right.n_samples - 150)
-    pipe = _pipe()
+    pipe = _pipe(fusion=fusion)
     off = _offline(pipe, left, right)
     span = off.meta["fusion"]["span"]
     assert span["right"]["start_index"] == 30 and span["left"]["stop_index"] < left.n_samples
@@ -70,14 +80,16 @@ def test_feet_on_different_spans_are_each_alone_outside_the_common_one(walk):
     assert any("do not share their whole time span" in str(w.message) for w in caught)
 
 
-def test_segments_restart_where_the_filter_stands(walk, monkeypatch):
-    """Small segments: many restarts, each carrying the smoother's open step and the samples not
-    yet final; nothing is filtered twice and the result is the offline one."""
+@pytest.mark.parametrize("fusion", FUSIONS)
+def test_segments_restart_where_the_filter_stands(walk, monkeypatch, fusion):
+    """Small segments: many restarts, each carrying the smoother's open step, the samples not yet
+    final and the past the fusion reads (step-vector: the rear foot's heel strike); nothing is
+    filtered twice and the result is the offline one."""
     monkeypatch.setattr(online_joint, "SEGMENT_SAMPLES", 300)
     restarts = []
     original = online_joint.JointStream._restart
     monkeypatch.setattr(online_joint.JointStream, "_restart", lambda self, need: (restarts.append(need), original(self, need)))
-    pipe = _pipe()
+    pipe = _pipe(fusion=fusion)
     off = _offline(pipe, walk.left, walk.right)
     got, _, result, stream = _replay(pipe, walk.left, walk.right, 7, 5)
     _check_fusion(off, result, got)
@@ -119,8 +131,9 @@ def test_memory_is_bounded_without_keep():
     assert n + stream.last_update.left.n_samples == rec.left.n_samples
 
 
-def test_shared_recordings(shared_data):
-    pipe = footnav.make_pipeline("glrt", "ekf", "range", estimator_params=STEP, fusion_params=TIGHT)
+@pytest.mark.parametrize("fusion", FUSIONS)
+def test_shared_recordings(shared_data, fusion):
+    pipe = _pipe(fusion=fusion, detector="glrt")
     seen = 0
     for rec in shared_recordings(shared_data, ("azure_fgo", "ipol_1-1")):
         off = _offline(pipe, rec.left, rec.right)
@@ -140,6 +153,10 @@ def test_what_cannot_run_online_is_refused(walk):
     whole = footnav.make_pipeline("threshold", "ekf", "range")
     with pytest.raises(CompositionError, match="smoother='whole' is offline only"):
         whole.online(feet=2)
+    for params, what in (({}, "step_length='fitted' is offline only"), ({"step_length": "pendulum", "calibration": "standstill"}, "calibration='standstill' is offline only")):
+        pipe = footnav.make_pipeline("threshold", "ekf", "step-vector", estimator_params=STEP, fusion_params=params)
+        with pytest.raises(CompositionError, match=what):
+            pipe.online(feet=2)
     stream = _pipe().online(feet=2)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # the right foot does not start at standstill

@@ -139,7 +139,7 @@ def _project(monkeypatch, projection, p_left, p_right, left_standing, right_stan
     monkeypatch.setattr(range_constraint, "start_joint", lambda *a, **k: stub)
     monkeypatch.setattr(range_constraint, "closing_time", lambda *a, **k: np.inf)
     monkeypatch.setattr(range_constraint, "finish_joint", lambda *a, **k: stub.updates)
-    imu = SimpleNamespace(t=np.arange(10) * 0.1)
+    imu = SimpleNamespace(t=np.arange(10) * 0.1, rate_hz=10.0)
     masks = []
     for standing in (left_standing, right_standing):
         m = np.zeros(10, bool)

@@ -23,6 +23,7 @@ import pytest
 from footnav.types import FootTrajectory, ImuData, StanceResult
 from footnav.estimators.ekf.filter import InsFilter
 from footnav.estimators.ekf.records import POS, FilterNoise
+from footnav.fusion.joint import FeetView
 from footnav.fusion.step_vector import StepVectorFusion
 
 RATE_HZ = 100.0
@@ -227,6 +228,6 @@ def test_landing_and_support_at_heel_strikes_on_the_stance_start():
     assert filt.stops == [t[HS_RIGHT], t[HS_LEFT], np.inf]
     fusion = StepVectorFusion()
     imu = ImuData(t, np.tile([0.0, 0.0, 9.80665], (N, 1)), np.zeros((N, 3)))
-    assert fusion._heel_strike(imu, _stance(RIGHT_STANCE, [HS_RIGHT]), 120) == 120
+    assert fusion._heel_strike(FeetView.of([imu], [_stance(RIGHT_STANCE, [HS_RIGHT])]), 0, 120) == 120
     # one sample later is outside the run's past: the fallback 0.1 s before the stance start
-    assert fusion._heel_strike(imu, _stance(RIGHT_STANCE, [121]), 120) == 110
+    assert fusion._heel_strike(FeetView.of([imu], [_stance(RIGHT_STANCE, [121])]), 0, 120) == 110

@@ -17,7 +17,8 @@ foot, both feet in each push. Reported:
   ``latency_s`` (chunks of one sample, on the first minutes: a longer chunk only adds its length);
 * the offline causal run of the first loop against the online one (largest position difference).
 
-``--fusion range`` runs both feet in the range fusion's joint filter instead
+``--fusion range`` (or ``step-vector``, with the pendulum step length) runs both feet in the
+coupled fusion's joint filter instead
 (:mod:`footnav.pipeline.online_joint`; the per-foot streams run beside it).
 """
 
@@ -87,10 +88,11 @@ def main() -> None:
     ap.add_argument("--minutes", type=float, default=60.0)
     ap.add_argument("--chunk-s", type=float, default=1.0, help="chunk length per foot and push, s")
     ap.add_argument("--repeat", type=int, default=1, help="throughput replays; their median is reported")
-    ap.add_argument("--fusion", default="independent", choices=["independent", "range"],
-                    help="independent feet, or both in the range fusion's joint filter")
+    ap.add_argument("--fusion", default="independent", choices=["independent", "range", "step-vector"],
+                    help="independent feet, or both in a coupled fusion's joint filter (step-vector: the pendulum step length)")
     args = ap.parse_args()
-    pipe = footnav.make_pipeline("threshold", "ekf", args.fusion, estimator_params={"smoother": "step"})
+    params = {"step_length": "pendulum"} if args.fusion == "step-vector" else {}
+    pipe = footnav.make_pipeline("threshold", "ekf", args.fusion, estimator_params={"smoother": "step"}, fusion_params=params)
     left, right, loop = tiled_walk(args.minutes)
     chunk = max(1, round(args.chunk_s * RATE_HZ))
     print(f"machine: {cpu_name()}, {platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()}")

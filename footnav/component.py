@@ -444,12 +444,15 @@ class FusionSession(Protocol):
     """
 
     step_width_m: float
-    #: s: the session's measurement at a time t is known once both feet's stance decisions are
-    #: final up to t + horizon_s (online, the joint filter stays that far behind them).
-    horizon_s: float
     #: s: the session reads the filter's per-sample outputs back to this long before the start
     #: of each foot's latest stance (online, a new segment keeps them).
     history_s: float
+
+    def known_until(self, view: Any, final_s: float) -> float:
+        """The latest time (s) up to which every measurement of the session is known when both
+        feet's samples (``view``) are final up to ``final_s`` (s): online, the joint filter runs
+        no further."""
+        ...
 
     def advance(
         self,

@@ -111,7 +111,7 @@ All randomness comes from ``seed`` (``numpy.random.default_rng``).
 from __future__ import annotations
 
 import math
-from typing import ClassVar
+from typing import Any, ClassVar
 
 import numpy as np
 
@@ -122,7 +122,7 @@ from footnav.nav.initial_alignment import align_first_stance
 from footnav.types import FootTrajectory, FusionResult
 from footnav.fusion.independent import midpoint_path
 from footnav.fusion.joint import (
-    LEFT, RIGHT, closing_time, finish_joint, first_step_yaw, forward_only, fuse_on_common_span, start_joint,
+    LEFT, RIGHT, FeetView, closing_time, finish_joint, first_step_yaw, forward_only, fuse_on_common_span, start_joint,
 )
 from footnav.fusion.particle_cloud import (
     _MIN_VAR_M2,
@@ -139,7 +139,7 @@ from footnav.fusion.particle_cloud import (
 )
 from footnav.fusion.particle_ekf import N_STATES, PaperFoot, drift_scales
 
-__all__ = ["ParticleFusion", "MODES"]
+__all__ = ["MODES", "ParticleFusion", "ParticleSession"]
 
 #: Values of ``ParticleFusion(mode=...)``.
 MODES = ("paper", "footnav")
@@ -318,79 +318,170 @@ class ParticleFusion(Fusion):
         meta = {"fusion": self.describe(), "pf_updates": len(events), "n_particles": n}
         return FusionResult(left=out[0], right=out[1], path=midpoint_path(out[0], out[1]), meta=meta)
 
+    def session(self, estimator: Any, start_s: float) -> ParticleSession:
+        """mode="footnav"'s particle updates on a joint filter that grows as samples arrive
+        (online mode; :class:`footnav.component.FusionSession`), from the feet's common start
+        ``start_s`` (s).
+
+        Raises
+        ------
+        CompositionError
+            With ``mode="paper"``: it runs its own per-foot filters (Lee, Cho & Park 2022, eq. 3),
+            not the joint filter an online stream feeds.
+        """
+        self.validate_params()
+        if self.mode != "footnav":
+            raise CompositionError(
+                f"fusion {self.name!r} with mode={self.mode!r} is offline only: it runs its own per-foot filters "
+                "(Lee, Cho & Park 2022, eq. 3), not the joint filter an online stream feeds; mode='footnav' runs online"
+            )
+        return ParticleSession(self)
+
     def _fuse_footnav(self, estimator, left, stance_left, right, stance_right) -> FusionResult:
-        """footnav's variant (module docstring, points 1-5)."""
-        rng = np.random.default_rng(self.seed)
-        n = int(self.n_particles)
+        """footnav's variant (module docstring, points 1-5): one session over the whole walk."""
+        imus, stances = (left, right), (stance_left, stance_right)
         filt = start_joint(estimator, left, stance_left, right, stance_right, self.step_width_m)
+        session = ParticleSession(self, closing_time(estimator, imus, stances))
+        landings = [imu.t[st.intervals[1:, 0]] for imu, st in zip(imus, stances)]
+        stop = min(left.t[-1], right.t[-1])
+        session.advance(filt, stop, landings, FeetView.of(imus, stances), stop_s=stop)
+        return finish_joint(estimator, filt, stance_left, stance_right, session.finish(), imus)
+
+
+class ParticleSession:
+    """mode="footnav"'s work on one joint filter (:class:`ParticleFusion`, module docstring points
+    1-5; :class:`footnav.component.FusionSession`): at the end of each zero-velocity phase of a
+    foot but its last, that foot's cloud is moved, weighed by the feet's Gaussian sum and
+    resampled, and the joint filter follows the cloud.
+
+    A phase's end is an update only when another phase of the foot follows, so the update at a
+    foot's latest phase end is known once the foot lands again: online, the joint filter waits
+    there (:meth:`known_until`).
+
+    Parameters
+    ----------
+    fusion
+        The particle fusion (its parameters; the random draws from its ``seed``).
+    closing_s
+        No update after this time, s (the estimator's closed loop takes over there).
+    """
+
+    #: Only the phase end before each landing is read back (a new segment keeps the foot's
+    #: latest stance from its start).
+    history_s = 0.0
+
+    def __init__(self, fusion: ParticleFusion, closing_s: float = math.inf) -> None:
+        self.fusion = fusion
+        self.step_width_m = float(fusion.step_width_m)
+        self.closing_s = float(closing_s)
+        self.rng = np.random.default_rng(fusion.seed)
+        self.n = int(fusion.n_particles)
+        self._pending: list[tuple[float, int]] = []  # (end of a zero-velocity phase, foot), known, not yet applied
+        self.n_events = 0
+        self._started = False
+        self._closed = False
+
+    def known_until(self, view: FeetView, final_s: float) -> float:
+        """Up to (not at) the end of a foot's latest zero-velocity phase that no landing follows
+        yet; else every final sample's time."""
+        until = final_s
+        for mask, times in zip(view.masks, view.times):
+            if len(mask) and not mask[-1]:
+                back = mask[::-1]
+                k = len(mask) - 1 - int(np.argmax(back)) if back.any() else 0
+                until = min(until, float(np.nextafter(times[k], -np.inf)))
+        return until
+
+    def _begin(self, filt) -> None:
+        """The clouds where the EKF starts, spread as it is (before the filter runs)."""
         feet = (LEFT, RIGHT)
-        pos = [filt.block(f, "pos").start for f in feet]  # x, y of the foot's position error
-        h_pos = [filt.selection(np.array([o, o + 1])) for o in pos]
+        self.pos = [filt.block(f, "pos").start for f in feet]  # x, y of the foot's position error
+        self.h_pos = [filt.selection(np.array([o, o + 1])) for o in self.pos]
         # the yaw each sensor has when its foot faces the first step (+x)
-        yaw0 = [quat.yaw_of(filt.quaternion(f)) for f in feet]
+        self.yaw0 = [quat.yaw_of(filt.quaternion(f)) for f in feet]
         cov = filt.covariance
         # per foot: the EKF's horizontal position and its covariance at the foot's last PF update
-        last_p = [filt.position(f)[:2] for f in feet]
-        last_cov = [cov[o : o + 2, o : o + 2].copy() for o in pos]
+        self.last_p = [filt.position(f)[:2] for f in feet]
+        self.last_cov = [cov[o : o + 2, o : o + 2].copy() for o in self.pos]
         # the clouds start where the EKF starts, spread as it is; means: each cloud's at its last update
-        clouds, means = [], []
-        sqrt_t = np.empty((2, 2))
+        self.clouds, self.means = [], []
+        self.sqrt_t = np.empty((2, 2))
         for f in feet:
-            _psd_sqrt_t(last_cov[f], sqrt_t)
-            clouds.append(last_p[f] + rng.standard_normal((n, 2)) @ sqrt_t)
+            _psd_sqrt_t(self.last_cov[f], self.sqrt_t)
+            self.clouds.append(self.last_p[f] + self.rng.standard_normal((self.n, 2)) @ self.sqrt_t)
             mean, cov_c = np.empty(2), np.empty((2, 2))
-            _moments(clouds[f], mean, cov_c)
-            means.append(mean)
-        resampled, logw = np.empty((n, 2)), np.empty(n)
-        a, y, r = np.empty((2, 2)), np.empty(2), np.empty(2)
-        events = sorted(
-            (float(imu.t[stop - 1]), foot)
-            for foot, (imu, st) in enumerate(((left, stance_left), (right, stance_right)))
-            for _, stop in st.intervals[:-1]  # the end of each zero-velocity phase but the last
-        )
-        half_width = 0.5 * float(self.step_width_m)
-        closing = closing_time(estimator, (left, right), (stance_left, stance_right))
-        for t, foot in events:
-            if t > closing:
+            _moments(self.clouds[f], mean, cov_c)
+            self.means.append(mean)
+        self.resampled, self.logw = np.empty((self.n, 2)), np.empty(self.n)
+        self.a, self.y, self.r = np.empty((2, 2)), np.empty(2), np.empty(2)
+
+    def advance(self, filt, until_s: float, landings, view: FeetView, *, stop_s: float | None = None) -> None:
+        """Apply the update of every phase end at or before ``until_s`` (s; all of them with
+        ``stop_s``, the feet's common end) whose foot has landed again; ``landings``: each foot's
+        newly known stance starts, s; ``view``: the feet in the filter's sample indexing."""
+        if not self._started:
+            self._started = True
+            self._begin(filt)
+        for foot, new in enumerate(landings):
+            times, mask = view.times[foot], view.masks[foot]
+            for start_s in np.asarray(new, dtype=float).ravel():
+                s = int(np.searchsorted(times, start_s))
+                end = s - 1 - int(np.argmax(mask[s - 1 :: -1]))  # the phase the landing follows: its last sample
+                self._pending.append((float(times[end]), foot))
+                self.n_events += 1
+        self._pending.sort()
+        n = len(self._pending) if stop_s is not None else sum(1 for t, _ in self._pending if t <= until_s)
+        due, self._pending = self._pending[:n], self._pending[n:]
+        for t, foot in due:
+            if self._closed or t > self.closing_s:
+                self._closed = True
                 break
-            filt.run_until(t)
-            other = 1 - foot
-            o = pos[foot]
-            cov = filt.covariance
-            p, cov_p = filt.position(foot)[:2], cov[o : o + 2, o : o + 2]
-            side = 1.0 if foot == LEFT else -1.0
-            heading = quat.yaw_of(filt.quaternion(foot)) - yaw0[foot]
-            lateral = np.array([-math.sin(heading), math.cos(heading)])  # the foot's +y, nav frame
-            # eq. 10-12: the cloud of the foot that stood moves with its EKF, spread by the EKF's
-            # position covariance growth since its last update (the sum of P_vel dt^2, eq. 11)
-            # and by the lateral drift, its tail to the left for the right foot and mirrored
-            if self.sigma_sys_m > 0:
-                drift = -side * offset_rayleigh(self.sigma_sys_m, n, rng)
-            else:
-                drift = np.zeros(n)
-            _psd_sqrt_t(cov_p - last_cov[foot], sqrt_t)
-            mean_f, cov_f = np.empty(2), np.empty((2, 2))
-            normals = rng.standard_normal((n, 2))
-            _propagate(clouds[foot], p - last_p[foot], sqrt_t, normals, drift, lateral, mean_f, cov_f)
-            # the other foot's cloud enters the sum only by its mean, which moves with its EKF
-            # without drawing
-            mean_o = means[other] + (filt.position(other)[:2] - last_p[other])
-            # eq. 13-14: the pedestrian is the Gaussian sum of the two clouds; eq. 15 uses its
-            # mean only, so the sum's covariance (and the other cloud's) is never formed
-            z = mixture_mean(np.array([mean_f, mean_o]), _EQUAL)
-            # eq. 15-16: L = N(p_fused | x_n, Sigma_i) across the foot's heading, with the foot
-            # half a step width to its side of the pedestrian; systematic resampling
-            var = max(float(lateral @ cov_f @ lateral), _MIN_VAR_M2)
-            mean, cov_c = np.empty(2), np.empty((2, 2))
-            z_foot = z + side * half_width * lateral
-            _weigh_and_resample(clouds[foot], z_foot, lateral, var, rng.random(), resampled, logw, mean, cov_c)
-            clouds[foot], resampled = resampled, clouds[foot]
-            # the EKF's horizontal position := the cloud's N(mean, cov) by Jeffrey's rule: only
-            # what the PF added enters the EKF (module docstring, point 5)
-            equivalent_measurement(p, cov_p + _MIN_VAR_M2 * np.eye(2), mean, cov_c, a, y, r)
-            filt.update(a @ h_pos[foot], y, r)
-            cov = filt.covariance
-            last_p[foot], last_cov[foot] = filt.position(foot)[:2], cov[o : o + 2, o : o + 2].copy()
-            means[foot] = mean
-        meta = {"fusion": self.describe(), "pf_updates": len(events), "n_particles": n}
-        return finish_joint(estimator, filt, stance_left, stance_right, meta, (left, right))
+            self._update(filt, t, foot)
+
+    def _update(self, filt, t: float, foot: int) -> None:
+        """The foot's cloud moved, weighed and resampled at the end of its zero-velocity phase at
+        ``t`` (s); the joint filter follows it (module docstring, points 1-5)."""
+        fusion, rng = self.fusion, self.rng
+        filt.run_until(t)
+        other = 1 - foot
+        o = self.pos[foot]
+        cov = filt.covariance
+        p, cov_p = filt.position(foot)[:2], cov[o : o + 2, o : o + 2]
+        side = 1.0 if foot == LEFT else -1.0
+        heading = quat.yaw_of(filt.quaternion(foot)) - self.yaw0[foot]
+        lateral = np.array([-math.sin(heading), math.cos(heading)])  # the foot's +y, nav frame
+        # eq. 10-12: the cloud of the foot that stood moves with its EKF, spread by the EKF's
+        # position covariance growth since its last update (the sum of P_vel dt^2, eq. 11)
+        # and by the lateral drift, its tail to the left for the right foot and mirrored
+        if fusion.sigma_sys_m > 0:
+            drift = -side * offset_rayleigh(fusion.sigma_sys_m, self.n, rng)
+        else:
+            drift = np.zeros(self.n)
+        _psd_sqrt_t(cov_p - self.last_cov[foot], self.sqrt_t)
+        mean_f, cov_f = np.empty(2), np.empty((2, 2))
+        normals = rng.standard_normal((self.n, 2))
+        _propagate(self.clouds[foot], p - self.last_p[foot], self.sqrt_t, normals, drift, lateral, mean_f, cov_f)
+        # the other foot's cloud enters the sum only by its mean, which moves with its EKF
+        # without drawing
+        mean_o = self.means[other] + (filt.position(other)[:2] - self.last_p[other])
+        # eq. 13-14: the pedestrian is the Gaussian sum of the two clouds; eq. 15 uses its
+        # mean only, so the sum's covariance (and the other cloud's) is never formed
+        z = mixture_mean(np.array([mean_f, mean_o]), _EQUAL)
+        # eq. 15-16: L = N(p_fused | x_n, Sigma_i) across the foot's heading, with the foot
+        # half a step width to its side of the pedestrian; systematic resampling
+        var = max(float(lateral @ cov_f @ lateral), _MIN_VAR_M2)
+        mean, cov_c = np.empty(2), np.empty((2, 2))
+        z_foot = z + side * 0.5 * self.step_width_m * lateral
+        _weigh_and_resample(self.clouds[foot], z_foot, lateral, var, rng.random(), self.resampled, self.logw, mean, cov_c)
+        self.clouds[foot], self.resampled = self.resampled, self.clouds[foot]
+        # the EKF's horizontal position := the cloud's N(mean, cov) by Jeffrey's rule: only
+        # what the PF added enters the EKF (module docstring, point 5)
+        equivalent_measurement(p, cov_p + _MIN_VAR_M2 * np.eye(2), mean, cov_c, self.a, self.y, self.r)
+        filt.update(self.a @ self.h_pos[foot], self.y, self.r)
+        cov = filt.covariance
+        self.last_p[foot], self.last_cov[foot] = filt.position(foot)[:2], cov[o : o + 2, o : o + 2].copy()
+        self.means[foot] = mean
+
+    def finish(self) -> dict:
+        """The fusion's meta, after the last :meth:`advance`."""
+        return {"fusion": self.fusion.describe(), "pf_updates": self.n_events, "n_particles": self.n}

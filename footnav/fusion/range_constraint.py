@@ -156,10 +156,12 @@ class RangeSession:
         times = np.unique(np.array(checks + now, dtype=float))
         return times[times <= self.closing_s]
 
-    #: The constraint at a time needs nothing later (no wait behind the final samples), and reads
-    #: no past sample.
-    horizon_s = 0.0
+    #: The constraint reads no past sample.
     history_s = 0.0
+
+    def known_until(self, view, final_s: float) -> float:
+        """A check at a time needs nothing later: every final sample's time."""
+        return final_s
 
     def advance(self, filt, until_s: float, landings, view, *, stop_s: float | None = None) -> None:
         """Check and project at every time <= ``until_s`` (s); ``landings``: each foot's newly

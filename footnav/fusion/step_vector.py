@@ -451,9 +451,6 @@ class StepVectorSession:
         self.leg_length_m = float(leg_length_m)
         self.step_width_m = float(fusion.step_width_m)
         self.closing_s = float(closing_s)
-        #: a landing is known once its stance start is: at most heel_strike_before_stance_s
-        #: after its heel strike (plus rounding to a sample)
-        self.horizon_s = float(fusion.heel_strike_before_stance_s) + 0.05
         #: the rear foot's attitude at its own heel strike, before its latest stance
         self.history_s = float(fusion.heel_strike_before_stance_s) + 0.1
         self._pending: list[tuple[float, int]] = []  # (heel strike time, front foot), known, not yet applied
@@ -464,6 +461,21 @@ class StepVectorSession:
         self.applied = self.suspended = self.skipped = 0
         self.lengths: list[float] = []
         self._closed = False
+
+    def known_until(self, view: FeetView, final_s: float) -> float:
+        """Up to (not at) the earliest heel strike a landing not yet known could have: a landing is
+        known once its stance start is final, and its heel strike is some samples before that
+        (counted in samples: time stamps may jitter or jump)."""
+        until = final_s
+        for foot, times in enumerate(view.times):
+            back = max(int(round(self.fusion.heel_strike_before_stance_s * view.rates[foot])), 0)
+            if len(view.heel_strikes[foot]):
+                back = max(back, int(round(0.5 * view.rates[foot])))
+            k = len(times) - back  # the first sample not final is a stance start at the earliest
+            if k <= 0:
+                return -math.inf
+            until = min(until, float(np.nextafter(times[k], -np.inf)) if k < len(times) else until)
+        return until
 
     def advance(self, filt, until_s: float, landings, view: FeetView, *, stop_s: float | None = None) -> None:
         """Apply the update of every landing with its heel strike at or before ``until_s`` (s; all

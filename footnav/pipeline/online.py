@@ -66,11 +66,10 @@ ONLINE_FUSIONS = ("independent",)
 #: Built-in coupled fusions that run online, on a joint filter fed by both feet (their
 #: ``session``, :class:`footnav.component.FusionSession`; a plugin's fusion runs online the same
 #: way when it offers one).
-COUPLED_ONLINE_FUSIONS = ("range", "step-vector")
+COUPLED_ONLINE_FUSIONS = ("range", "step-vector", "particle")
 #: Why the other built-in fusions are offline only.
 OFFLINE_ONLY_FUSIONS = {
     "dtw": "it averages the feet's whole walks (dynamic time warping needs both sequences complete)",
-    "particle": "its session is not written yet",
 }
 
 _FEET = ("left", "right")

@@ -269,7 +269,7 @@ class JointStream:
         for f, jf in enumerate(self.feet):
             last = jf.n_fed - jf.seg0 - 1  # a step end needs the next sample's decision
             ends.append(float(filt.samples(f).t[last - 1]) if last >= 1 else -math.inf)
-        until = min(ends) - self.session.horizon_s
+        until = self.session.known_until(view, min(ends))
         self.session.advance(filt, until, landings, view)
         if until > self.until:
             filt.run_until(until)

@@ -207,7 +207,6 @@ def test_declared_latencies():
         ({"detector": "adaptive", "estimator_params": STEP}, "latency_s = None"),
         ({"detector": "threshold"}, "smoother='whole' is offline only"),
         ({"detector": "threshold", "estimator_params": STEP, "fusion": "dtw"}, "offline only: it averages"),
-        ({"detector": "threshold", "estimator_params": STEP, "fusion": "particle"}, "offline only: its session"),
         ({"detector": "threshold", "estimator": "madgwick"}, "step-able filter"),
     ],
 )

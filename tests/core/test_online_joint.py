@@ -15,8 +15,9 @@ from online_replay import STEP, _check_equal, _replay, shared_recordings  # test
 
 #: The coupled fusions that run online, with parameters under which they act often on the
 #: simulated walk: range with a bound it crosses (about 250 updates), step-vector as published
-#: (the pendulum step length; about 30 updates, 20 suspended while turning).
-FUSIONS = {"range": {"max_separation_m": 0.6}, "step-vector": {"step_length": "pendulum"}}
+#: (the pendulum step length; about 30 updates, 20 suspended while turning), particle
+#: (mode="footnav": about 50 updates, each with random draws from its seed).
+FUSIONS = {"range": {"max_separation_m": 0.6}, "step-vector": {"step_length": "pendulum"}, "particle": {}}
 TIGHT = FUSIONS["range"]
 
 
@@ -40,14 +41,14 @@ def _offline(pipe, left, right):
 def _check_fusion(off, result, got):
     _check_equal(off, got, result)
     np.testing.assert_allclose(result.path.position, off.path.position, atol=1e-9, rtol=0)
-    for key in ("constraint_updates", "checks", "updates", "suspended_turning", "skipped_rear_foot_moving", "step_length_m", "span"):
+    for key in ("constraint_updates", "checks", "updates", "suspended_turning", "skipped_rear_foot_moving", "step_length_m", "pf_updates", "span"):
         assert result.meta["fusion"].get(key) == off.meta["fusion"].get(key)
 
 
 def _acts(off):
     """The fusion changed something: updates applied."""
     meta = off.meta["fusion"]
-    return meta.get("constraint_updates", 0) + meta.get("updates", 0)
+    return meta.get("constraint_updates", 0) + meta.get("updates", 0) + meta.get("pf_updates", 0)
 
 
 @pytest.mark.parametrize("fusion", FUSIONS)
@@ -135,7 +136,7 @@ def test_memory_is_bounded_without_keep():
 def test_shared_recordings(shared_data, fusion):
     pipe = _pipe(fusion=fusion, detector="glrt")
     seen = 0
-    for rec in shared_recordings(shared_data, ("azure_fgo", "ipol_1-1")):
+    for rec in shared_recordings(shared_data, ("azure_fgo", "ipol_1-1", "ipol_3-3")):  # 3-3: its time stamps jump
         off = _offline(pipe, rec.left, rec.right)
         for size in (7, 1000):
             with warnings.catch_warnings():
@@ -153,8 +154,12 @@ def test_what_cannot_run_online_is_refused(walk):
     whole = footnav.make_pipeline("threshold", "ekf", "range")
     with pytest.raises(CompositionError, match="smoother='whole' is offline only"):
         whole.online(feet=2)
-    for params, what in (({}, "step_length='fitted' is offline only"), ({"step_length": "pendulum", "calibration": "standstill"}, "calibration='standstill' is offline only")):
-        pipe = footnav.make_pipeline("threshold", "ekf", "step-vector", estimator_params=STEP, fusion_params=params)
+    for fusion, params, what in (
+        ("step-vector", {}, "step_length='fitted' is offline only"),
+        ("step-vector", {"step_length": "pendulum", "calibration": "standstill"}, "calibration='standstill' is offline only"),
+        ("particle", {"mode": "paper"}, "mode='paper' is offline only"),
+    ):
+        pipe = footnav.make_pipeline("threshold", "ekf", fusion, estimator_params=STEP, fusion_params=params)
         with pytest.raises(CompositionError, match=what):
             pipe.online(feet=2)
     stream = _pipe().online(feet=2)

@@ -17,7 +17,7 @@ foot, both feet in each push. Reported:
   ``latency_s`` (chunks of one sample, on the first minutes: a longer chunk only adds its length);
 * the offline causal run of the first loop against the online one (largest position difference).
 
-``--fusion range`` (or ``step-vector``, with the pendulum step length) runs both feet in the
+``--fusion range`` (or ``step-vector``, with the pendulum step length, or ``particle``) runs both feet in the
 coupled fusion's joint filter instead
 (:mod:`footnav.pipeline.online_joint`; the per-foot streams run beside it).
 """
@@ -88,7 +88,7 @@ def main() -> None:
     ap.add_argument("--minutes", type=float, default=60.0)
     ap.add_argument("--chunk-s", type=float, default=1.0, help="chunk length per foot and push, s")
     ap.add_argument("--repeat", type=int, default=1, help="throughput replays; their median is reported")
-    ap.add_argument("--fusion", default="independent", choices=["independent", "range", "step-vector"],
+    ap.add_argument("--fusion", default="independent", choices=["independent", "range", "step-vector", "particle"],
                     help="independent feet, or both in a coupled fusion's joint filter (step-vector: the pendulum step length)")
     args = ap.parse_args()
     params = {"step_length": "pendulum"} if args.fusion == "step-vector" else {}

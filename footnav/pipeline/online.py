@@ -37,10 +37,10 @@ final sample for ``close``'s result, as the offline run would.
 
 Fusions: ``independent`` runs on the per-foot filters. A coupled fusion that offers a session
 (:class:`footnav.component.FusionSession`: ``range``, ``step-vector`` with the pendulum step
-length) runs on one joint filter fed by both feet as far as both have arrived
-(:mod:`footnav.pipeline.online_joint`), with the offline run's common-span rules; the others
-(DTW averages the whole walk; particle has no session yet; step-vector's fitted leg length needs
-the whole walk) are refused with a message.
+length, ``particle`` in footnav's mode) runs on one joint filter fed by both feet as far as both
+have arrived (:mod:`footnav.pipeline.online_joint`), with the offline run's common-span rules;
+the others (DTW averages the whole walk; step-vector's fitted leg length needs the whole walk;
+the particle fusion's paper mode runs its own filters) are refused with a message.
 """
 
 from __future__ import annotations

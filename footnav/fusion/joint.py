@@ -244,7 +244,7 @@ def _continue_alone(fused: FootTrajectory, alone: FootTrajectory, cut: FootCut) 
     i0, i1 = cut.start_index, cut.stop_index
     pos, vel, q = alone.position.copy(), alone.velocity.copy(), alone.quaternion.copy()
     std = alone.position_std.copy()
-    first = fused_start(fused, cut)  # the first fused sample kept
+    first = fused_start(fused.meta, i0)  # the first fused sample kept
     s0 = first - i0
     pos[first:i1], vel[first:i1] = fused.position[s0:], fused.velocity[s0:]
     q[first:i1], std[first:i1] = fused.quaternion[s0:], fused.position_std[s0:]
@@ -268,12 +268,12 @@ def _continue_alone(fused: FootTrajectory, alone: FootTrajectory, cut: FootCut) 
     return traj, info
 
 
-def fused_start(fused: FootTrajectory | dict, cut: FootCut) -> int:
+def fused_start(meta: dict, start_index: int) -> int:
     """The foot's first sample (its own index) that a coupled fusion's result takes from the
-    fused estimate: the span's start, or, when the span cuts the foot's start, the fused
-    estimate's first stance (``meta["estimate_start_index"]``; a FootTrajectory or its meta)."""
-    meta = fused.meta if isinstance(fused, FootTrajectory) else fused
-    return cut.start_index + (int(meta.get("estimate_start_index", 0)) if cut.start_index > 0 else 0)
+    fused estimate, the common span starting at the foot's sample ``start_index``: the span's
+    start, or, when the span cuts the foot's start, the fused estimate's first stance (its
+    ``meta["estimate_start_index"]``)."""
+    return start_index + (int(meta.get("estimate_start_index", 0)) if start_index > 0 else 0)
 
 
 def on_whole_span(fusion: Any, result: FusionResult, span: CommonSpan, alone: Callable[[int], FootTrajectory]) -> FusionResult:

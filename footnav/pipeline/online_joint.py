@@ -213,7 +213,7 @@ class JointStream:
         self.filt.meta = first.meta
         for f, jf in enumerate(self.feet):
             jf.n_fed = jf.i0 + len(samples[f][0])
-            jf.first = fused_start(first.meta[f], FootCut(jf.i0, 0, 0, 0.0, 0.0))
+            jf.first = fused_start(first.meta[f], jf.i0)
             jf.anchor = (first.position(f), first.quaternion(f))
             self._landings(f, samples[f][3], samples[f][0], jf.i0)  # (the session takes them at its first run)
         self.n_checkpoints = 1

@@ -98,6 +98,17 @@ def test_segments_restart_where_the_filter_stands(walk, monkeypatch, fusion):
     assert max(stream.joint.filt.capacity(f) for f in range(2)) < 1000
 
 
+def test_a_clock_offset_puts_the_feet_on_one_clock_before_they_are_fused(walk):
+    """The right sensor's clock runs 12.3 ms behind: with clock_offset_s the stream fuses what
+    the offline run fuses on the corrected times."""
+    skew = 0.0123
+    right = footnav.ImuData(t=walk.right.t - skew, acc=walk.right.acc, gyr=walk.right.gyr)
+    pipe = _pipe()
+    off = _offline(pipe, walk.left, footnav.ImuData(t=right.t + skew, acc=right.acc, gyr=right.gyr))
+    got, _, result, _ = _replay(pipe, walk.left, right, 7, 13, clock_offset_s={"right": skew})
+    _check_fusion(off, result, got)
+
+
 def test_forward_filter_without_smoothing(walk):
     pipe = _pipe(smoother="none")
     off = _offline(pipe, walk.left, walk.right)

@@ -160,6 +160,9 @@ class OnlineStream:
         self._closed = False
         self._t0 = time.perf_counter()
         self._push_s = 0.0
+        #: the warnings raised so far, each message once, in order (``close``'s ``meta["warnings"]``)
+        self.warnings: list[str] = []
+        self._seen_warnings: set[str] = set()
         self.n_pushes = 0
 
     def __repr__(self) -> str:
@@ -173,17 +176,28 @@ class OnlineStream:
         if right is not None and self.n_feet == 1:
             raise InvalidInputError("a one-foot stream (feet=1) takes left=... only", field="right")
         t0 = time.perf_counter()
-        for foot, chunk in zip(self.feet, (left, right)):
-            if chunk is not None:
-                t, acc, gyr = as_chunk(chunk, foot.foot)
-                clock = self.clocks.get(foot.foot)
-                foot.push(t if clock is None else clock(t), acc, gyr)
-        if self.joint is not None:
-            self.joint.advance()
+        with recording() as caught:
+            for foot, chunk in zip(self.feet, (left, right)):
+                if chunk is not None:
+                    t, acc, gyr = as_chunk(chunk, foot.foot)
+                    clock = self.clocks.get(foot.foot)
+                    foot.push(t if clock is None else clock(t), acc, gyr)
+            if self.joint is not None:
+                self.joint.advance()
+        self._note(caught)
         out = self._update(final=False)
         self._push_s += time.perf_counter() - t0
         self.n_pushes += 1
         return out
+
+    def _note(self, caught: list) -> None:
+        """Keep the warnings a push raised (each message once) for :meth:`close`'s ``meta``:
+        they were shown when they happened, and the result records them as the offline run's does."""
+        for w in caught:
+            text = str(w)
+            if text not in self._seen_warnings:
+                self._seen_warnings.add(text)
+                self.warnings.append(text)
 
     def _update(self, final: bool) -> OnlineUpdate:
         if self.joint is None:
@@ -225,6 +239,7 @@ class OnlineStream:
                 f.finish()
             if self.joint is not None:
                 self.joint.finish()
+        self._note(caught)
         self.last_update = self._update(final=True)
         if not self.keep:
             return None
@@ -236,14 +251,14 @@ class OnlineStream:
             left, right = trajs[0][0], trajs[1][0] if self.n_feet == 2 else None
             path, fusion_meta = midpoint_path(left, right), {"fusion": self.pipeline.fusion.describe()}
         else:
-            with recording() as caught_span:
+            with recording() as caught:
                 fused = self.joint.result([tr[0] for tr in trajs])
-            caught = [*caught, *caught_span]
+            self._note(caught)
             left, right, path, fusion_meta = fused.left, fused.right, fused.path, dict(fused.meta)
         meta = {
             "pipeline": self.pipeline.config(),
             "footnav_version": __version__,
-            "warnings": [str(w) for w in caught],
+            "warnings": list(self.warnings),
             "stance_check": {},
             "fusion": fusion_meta,
             "runtime_s": self._push_s,

@@ -214,3 +214,14 @@ def test_offline_only_components_are_refused(kwargs, match):
     pipe = footnav.make_pipeline(**kwargs)
     with pytest.raises(CompositionError, match=match):
         pipe.online(feet=2)
+
+
+def test_warnings_raised_while_pushing_are_in_the_result(walk):
+    """A warning raised by a push (here the filter's start: the foot is walking when the
+    recording starts) is shown then and recorded in close()'s meta, once."""
+    pipe = footnav.make_pipeline("threshold", "ekf", "independent", estimator_params=STEP)
+    left = walk.left.slice(800, walk.left.n_samples)
+    with pytest.warns(footnav.DataQualityWarning, match="does not start at standstill"):
+        _, _, result, stream = _replay(pipe, left, None, 50)
+    texts = [w for w in result.meta["warnings"] if "does not start at standstill" in w]
+    assert len(texts) == 1 and stream.warnings == result.meta["warnings"]

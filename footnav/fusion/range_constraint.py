@@ -135,25 +135,28 @@ class RangeSession:
         self._t0 = float(start_s)
         self._delta = (self._t0 + self._step) - self._t0  # numpy's arange: start + i * (the second value - start)
 
-    def _check_time(self, i: int) -> float:
-        return self._t0 if i == 0 else self._t0 + self._step if i == 1 else self._t0 + i * self._delta
+    def _checks(self, a: int, b: int) -> np.ndarray:
+        """Check times ``a:b`` as ``np.arange`` makes them: the start, the start plus the step,
+        then ``start + i * delta`` (delta: the second value minus the start)."""
+        i = np.arange(a, b)
+        t = self._t0 + i * self._delta
+        t[i == 0] = self._t0
+        t[i == 1] = self._t0 + self._step
+        return t
 
     def _times(self, until_s: float, stop_s: float | None) -> np.ndarray:
         """The check and landing times <= ``until_s`` not done yet (checks before ``stop_s``,
         as arange stops), sorted and unique, and at most ``closing_s``."""
         n_max = math.inf if stop_s is None else max(math.ceil((stop_s - self._t0) / self._step), 0)
-        checks = []
-        i = self._i
-        while i < n_max:
-            t = self._check_time(i)
-            if t > until_s:
-                break
-            checks.append(t)
-            i += 1
-        self._i = i
+        # every check <= until_s lies below this index (delta rounds the step by far less than one)
+        reach = math.floor((until_s - self._t0) / self._delta) + 2 if until_s < math.inf else n_max
+        b = int(min(n_max, max(reach, self._i)))
+        checks = self._checks(self._i, b)
+        checks = checks[: int(np.searchsorted(checks, until_s, side="right"))]
+        self._i += len(checks)
         now = [t for t in self._landings if t <= until_s]
         self._landings = [t for t in self._landings if t > until_s]
-        times = np.unique(np.array(checks + now, dtype=float))
+        times = np.unique(np.concatenate([checks, np.array(now, dtype=float)]))
         return times[times <= self.closing_s]
 
     #: The constraint reads no past sample.

@@ -35,7 +35,7 @@ from footnav.warning_log import warn
 from footnav.fusion.independent import midpoint_path
 
 __all__ = [
-    "FeetView", "check_two_feet", "close_loops", "closing_time", "continue_rigidly", "finish_joint", "first_step_yaw", "forward_only",
+    "EventQueue", "FeetView", "check_two_feet", "close_loops", "closing_time", "continue_rigidly", "finish_joint", "first_step_yaw", "forward_only",
     "fuse_on_common_span", "fused_start", "on_whole_span", "require_stepable", "start_joint",
 ]
 
@@ -75,6 +75,32 @@ class FeetView:
         """Whether the foot is in stance at its sample ``k`` (the last one past the end)."""
         mask = self.masks[foot]
         return bool(mask[min(k, len(mask) - 1)])
+
+
+class EventQueue:
+    """A session's known events, ``(time s, foot)``, handed out in time order up to a time; none
+    after ``closing_s`` (where the estimator's closed loop takes over), as the offline loops break."""
+
+    def __init__(self, closing_s: float = np.inf) -> None:
+        self.closing_s = float(closing_s)
+        self._pending: list[tuple[float, int]] = []
+        self._closed = False
+
+    def add(self, t: float, foot: int) -> None:
+        self._pending.append((float(t), foot))
+
+    def due(self, until_s: float, everything: bool = False) -> list[tuple[float, int]]:
+        """The events at or before ``until_s`` (all of them with ``everything``), in order, removed."""
+        self._pending.sort()
+        n = len(self._pending) if everything else sum(1 for t, _ in self._pending if t <= until_s)
+        due, self._pending = self._pending[:n], self._pending[n:]
+        if self._closed:
+            return []
+        for i, (t, _) in enumerate(due):
+            if t > self.closing_s:
+                self._closed = True
+                return due[:i]
+        return due
 
 
 def check_two_feet(fusion: Any, estimator: Any, right: Any, stance_right: Any) -> None:

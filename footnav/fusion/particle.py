@@ -122,7 +122,7 @@ from footnav.nav.initial_alignment import align_first_stance
 from footnav.types import FootTrajectory, FusionResult
 from footnav.fusion.independent import midpoint_path
 from footnav.fusion.joint import (
-    LEFT, RIGHT, FeetView, closing_time, finish_joint, first_step_yaw, forward_only, fuse_on_common_span, start_joint,
+    LEFT, RIGHT, EventQueue, FeetView, closing_time, finish_joint, first_step_yaw, forward_only, fuse_on_common_span, start_joint,
 )
 from footnav.fusion.particle_cloud import (
     _MIN_VAR_M2,
@@ -373,13 +373,11 @@ class ParticleSession:
     def __init__(self, fusion: ParticleFusion, closing_s: float = math.inf) -> None:
         self.fusion = fusion
         self.step_width_m = float(fusion.step_width_m)
-        self.closing_s = float(closing_s)
         self.rng = np.random.default_rng(fusion.seed)
         self.n = int(fusion.n_particles)
-        self._pending: list[tuple[float, int]] = []  # (end of a zero-velocity phase, foot), known, not yet applied
+        self._events = EventQueue(closing_s)  # (end of a zero-velocity phase, foot), known, not yet applied
         self.n_events = 0
         self._started = False
-        self._closed = False
 
     def known_until(self, view: FeetView, final_s: float) -> float:
         """Up to (not at) the end of a foot's latest zero-velocity phase that no landing follows
@@ -427,15 +425,9 @@ class ParticleSession:
             for start_s in np.asarray(new, dtype=float).ravel():
                 s = int(np.searchsorted(times, start_s))
                 end = s - 1 - int(np.argmax(mask[s - 1 :: -1]))  # the phase the landing follows: its last sample
-                self._pending.append((float(times[end]), foot))
+                self._events.add(times[end], foot)
                 self.n_events += 1
-        self._pending.sort()
-        n = len(self._pending) if stop_s is not None else sum(1 for t, _ in self._pending if t <= until_s)
-        due, self._pending = self._pending[:n], self._pending[n:]
-        for t, foot in due:
-            if self._closed or t > self.closing_s:
-                self._closed = True
-                break
+        for t, foot in self._events.due(until_s, stop_s is not None):
             self._update(filt, t, foot)
 
     def _update(self, filt, t: float, foot: int) -> None:

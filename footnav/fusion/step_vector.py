@@ -77,6 +77,7 @@ from footnav.warning_log import warn
 from footnav.fusion.joint import (
     LEFT,
     RIGHT,
+    EventQueue,
     FeetView,
     check_two_feet,
     closing_time,
@@ -450,17 +451,15 @@ class StepVectorSession:
         self.fusion = fusion
         self.leg_length_m = float(leg_length_m)
         self.step_width_m = float(fusion.step_width_m)
-        self.closing_s = float(closing_s)
         #: the rear foot's attitude at its own heel strike, before its latest stance
         self.history_s = float(fusion.heel_strike_before_stance_s) + 0.1
-        self._pending: list[tuple[float, int]] = []  # (heel strike time, front foot), known, not yet applied
+        self._events = EventQueue(closing_s)  # (heel strike time, front foot), known, not yet applied
         self._yaw0: list[float] | None = None
         self._last_stance_yaw: dict[int, float] = {}
         self._r = np.array([fusion.step_length_std_m, fusion.step_width_std_m, fusion.step_elevation_std_m]) ** 2
         self._turn = np.radians(fusion.turn_threshold_deg)
         self.applied = self.suspended = self.skipped = 0
         self.lengths: list[float] = []
-        self._closed = False
 
     def known_until(self, view: FeetView, final_s: float) -> float:
         """Up to (not at) the earliest heel strike a landing not yet known could have: a landing is
@@ -489,14 +488,8 @@ class StepVectorSession:
             times = view.times[foot]
             for start_s in np.asarray(new, dtype=float).ravel():
                 hs = fusion._heel_strike(view, foot, int(np.searchsorted(times, start_s)))
-                self._pending.append((float(times[hs]), foot))
-        self._pending.sort()
-        n = len(self._pending) if stop_s is not None else sum(1 for t, _ in self._pending if t <= until_s)
-        due, self._pending = self._pending[:n], self._pending[n:]
-        for t, front in due:
-            if self._closed or t > self.closing_s:
-                self._closed = True
-                break
+                self._events.add(times[hs], foot)
+        for t, front in self._events.due(until_s, stop_s is not None):
             self._update(filt, view, t, front)
 
     def _update(self, filt, view: FeetView, t: float, front: int) -> None:

@@ -436,11 +436,12 @@ class FusionSession(Protocol):
     """A coupled fusion's own work on a joint filter whose samples arrive as a walk goes on.
 
     A fusion's ``session(estimator, start_s)`` returns one for the feet's common start
-    ``start_s`` (s); online mode
-    (:mod:`footnav.pipeline.online`) starts the joint filter with both feet ``step_width_m``
-    apart (as the fusion's offline run does), then calls :meth:`advance` whenever both feet's
-    samples up to a time are final, and :meth:`finish` at the end. The fusion's offline ``fuse``
-    runs the same session once over the whole walk, so the two give the same numbers.
+    ``start_s`` (s). Online mode (:mod:`footnav.pipeline.online_joint`) starts the joint filter
+    with both feet ``step_width_m`` apart (as the fusion's offline run does); whenever more of
+    both feet's samples are final it asks :meth:`known_until` how far the session's measurements
+    are known and calls :meth:`advance` up to there; :meth:`finish` at the end. The fusion's
+    offline ``fuse`` runs the same session once over the whole walk, so the two give the same
+    numbers.
     """
 
     step_width_m: float

@@ -298,6 +298,8 @@ def check_online(pipeline: Any, feet: int) -> float:
             f"fusion {fus.name!r} is offline only: {why}; online mode runs {', '.join(repr(n) for n in online)}"
         )
     if fus.name not in ONLINE_FUSIONS:
+        if feet < 2:
+            raise CompositionError(f"fusion {fus.name!r} fuses both feet in one filter online: it needs feet=2")
         fus.session(est, 0.0)  # refuses parameters that need the whole walk (CompositionError)
     if not callable(getattr(est, "start", None)):
         raise CompositionError(f"estimator {est.name!r} has no step-able filter (start(imus, stances)); online mode needs one, such as 'ekf'")

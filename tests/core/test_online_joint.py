@@ -179,3 +179,15 @@ def test_what_cannot_run_online_is_refused(walk):
         stream.push(left=walk.left.slice(0, 200), right=walk.right.slice(2900, 3106))
         with pytest.raises(InvalidInputError, match="share no time span"):
             stream.close()
+
+
+def test_a_plugin_coupled_fusion_without_needs_two_feet_is_refused_on_one_foot():
+    from footnav.fusion.range_constraint import RangeConstraintFusion
+
+    class OneFootRange(RangeConstraintFusion):
+        name = "one-foot-range"
+        needs_two_feet = False
+
+    pipe = footnav.make_pipeline("threshold", footnav.make_estimator("ekf", smoother="step"), OneFootRange())
+    with pytest.raises(CompositionError, match="needs feet=2"):
+        pipe.online(feet=1)

@@ -17,9 +17,10 @@ foot, both feet in each push. Reported:
   ``latency_s`` (chunks of one sample, on the first minutes: a longer chunk only adds its length);
 * the offline causal run of the first loop against the online one (largest position difference).
 
-``--fusion range`` (or ``step-vector``, with the pendulum step length, or ``particle``) runs both feet in the
-coupled fusion's joint filter instead
-(:mod:`footnav.pipeline.online_joint`; the per-foot streams run beside it).
+``--fusion range`` (or ``step-vector``, with the pendulum step length, or ``particle``) runs both
+feet in the coupled fusion's joint filter instead (:mod:`footnav.pipeline.online_joint`; the
+per-foot streams run beside it), and the same pipeline with ``independent`` in turn, round by
+round in the same process, for the ratio of their times.
 """
 
 from __future__ import annotations
@@ -100,7 +101,15 @@ def main() -> None:
           f"chunks of {chunk} samples per foot")
 
     replay(pipe, loop.left.slice(0, 2000), loop.right.slice(0, 2000), chunk)  # compile and warm up
-    runs = [replay(pipe, left, right, chunk) for _ in range(max(1, args.repeat))]
+    coupled = args.fusion != "independent"
+    base = footnav.make_pipeline("threshold", "ekf", "independent", estimator_params={"smoother": "step"}) if coupled else None
+    if coupled:
+        replay(base, loop.left.slice(0, 2000), loop.right.slice(0, 2000), chunk)
+    runs, base_runs = [], []
+    for _ in range(max(1, args.repeat)):  # the fusion and independent in turn, in this process
+        runs.append(replay(pipe, left, right, chunk))
+        if coupled:
+            base_runs.append(replay(base, left, right, chunk)[0])
     spent = float(np.median([r[0] for r in runs]))
     cpu = float(np.median([r[4] for r in runs]))
     pushes = math.ceil(left.n_samples / chunk)
@@ -108,6 +117,10 @@ def main() -> None:
     print(f"throughput: {left.duration_s / spent:,.0f}x real time{each} ({spent:.2f} s for {left.duration_s / 60:.1f} min, "
           f"{spent / (2 * left.n_samples) * 1e6:.2f} us per sample, {spent / pushes * 1e6:.0f} us per push of both feet); CPU time: {left.duration_s / cpu:,.0f}x "
           f"({cpu / pushes * 1e6:.0f} us per push)")
+    if coupled:
+        ratios = [r[0] / b for r, b in zip(runs, base_runs)]
+        print(f"  against independent in this process, replayed in turn: {float(np.median(ratios)):.2f}x its time "
+              f"(rounds: {', '.join(f'{x:.2f}x' for x in ratios)}; independent {left.duration_s / float(np.median(base_runs)):,.0f}x real time)")
 
     tracemalloc.start()
     _, _, early, end, _ = replay(pipe, left, right, chunk, trace_at_s=min(600.0, left.duration_s / 2))
@@ -117,7 +130,6 @@ def main() -> None:
 
     # latency, chunks of one sample, on the first loop (both feet in lockstep for a coupled fusion)
     first = loop.left
-    coupled = args.fusion != "independent"
     one = pipe.online(feet=2 if coupled else 1)
     for a in range(first.n_samples):
         chunks = {"left": (first.t[a : a + 1], first.acc[a : a + 1], first.gyr[a : a + 1])}

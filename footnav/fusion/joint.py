@@ -302,7 +302,7 @@ def fused_start(meta: dict, start_index: int) -> int:
     return start_index + (int(meta.get("estimate_start_index", 0)) if start_index > 0 else 0)
 
 
-def on_whole_span(fusion: Any, result: FusionResult, span: CommonSpan, alone: Callable[[int], FootTrajectory]) -> FusionResult:
+def on_whole_span(result: FusionResult, span: CommonSpan, alone: Callable[[int], FootTrajectory] | None) -> FusionResult:
     """A coupled fusion's ``result`` on the common ``span`` put on each foot's whole sample grid:
     outside the span, ``alone(foot)`` (0 left, 1 right; the foot estimated alone) continued
     rigidly from the fused edge; ``meta["span"]`` says which samples are which. (The caller
@@ -348,7 +348,7 @@ def fuse_on_common_span(
         return fuse_span(estimator, left, stance_left, right, stance_right)  # the estimator names the bad mask
     span = common_span(left, right, fusion=fusion.name)
     if not span.cut:
-        return on_whole_span(fusion, fuse_span(estimator, left, stance_left, right, stance_right), span, None)
+        return on_whole_span(fuse_span(estimator, left, stance_left, right, stance_right), span, None)
     if getattr(estimator, "closed_loop", False) and (span.left.stop_index < span.left.n_samples or span.right.stop_index < span.right.n_samples):
         raise InvalidInputError(
             f"fusion {fusion.name!r}: closed_loop needs both feet's final rests inside their common span "
@@ -371,4 +371,4 @@ def fuse_on_common_span(
         feet.append(imu.slice(cut.start_index, cut.stop_index))
         stances.append(st_cut)
     result = fuse_span(estimator, feet[0], stances[0], feet[1], stances[1])
-    return on_whole_span(fusion, result, span, lambda foot: estimator.estimate(*pairs[foot]))
+    return on_whole_span(result, span, lambda foot: estimator.estimate(*pairs[foot]))

@@ -109,9 +109,9 @@ class RangeSession:
     the feet's common start and at every landing, each a projection when the feet are too far
     apart (:class:`RangeConstraintFusion`; :class:`footnav.component.FusionSession`).
 
-    The check times are ``np.arange(start_s, stop_s, check_interval_s)``, made one at a time with
-    numpy's own arithmetic (the first two values, then ``start + i * delta``), so a walk whose end
-    is not yet known gets the very times its offline run gets.
+    The check times are ``np.arange(start_s, stop_s, check_interval_s)``, made a block at a time
+    with numpy's own arithmetic (the first two values, then ``start + i * delta``), so a walk whose
+    end is not yet known gets the very times its offline run gets.
 
     Parameters
     ----------
@@ -122,6 +122,9 @@ class RangeSession:
     closing_s
         No check after this time, s (the estimator's closed loop takes over there).
     """
+
+    #: The constraint reads no past sample.
+    history_s = 0.0
 
     def __init__(self, fusion: RangeConstraintFusion, start_s: float, closing_s: float = math.inf) -> None:
         self.fusion = fusion
@@ -158,9 +161,6 @@ class RangeSession:
         self._landings = [t for t in self._landings if t > until_s]
         times = np.unique(np.concatenate([checks, np.array(now, dtype=float)]))
         return times[times <= self.closing_s]
-
-    #: The constraint reads no past sample.
-    history_s = 0.0
 
     def known_until(self, view, final_s: float) -> float:
         """A check at a time needs nothing later: every final sample's time."""

@@ -435,10 +435,11 @@ class JointStream:
         filt = self.filt
         if filt is None:
             return [None, None]
+        cov = filt.covariance
         out = []
         for f in range(2):
             sl = filt.block(f, "pos")
-            out.append(ForwardEstimate(filt.time(f), filt.position(f), filt.velocity(f), filt.quaternion(f), filt.covariance[sl, sl]))
+            out.append(ForwardEstimate(filt.time(f), filt.position(f), filt.velocity(f), filt.quaternion(f), cov[sl, sl].copy()))
         return out
 
     # -- the end --------------------------------------------------------------------------------------
@@ -475,4 +476,4 @@ class JointStream:
         if span.warn:
             warn(span.message(self.fusion.name, OUTSIDE_SPAN), DataQualityWarning, stacklevel=4)
         joint = FusionResult(left=fused[0], right=fused[1], path=midpoint_path(fused[0], fused[1]), meta=self.result_meta)
-        return on_whole_span(self.fusion, joint, span, lambda foot: alone[foot])
+        return on_whole_span(joint, span, lambda foot: alone[foot])

@@ -238,12 +238,14 @@ RECORD_PLACE = 8
 SMOOTHED_PLACE = RECORD_PLACE + 10
 
 
-def empty_record(big: int, n: int = 0, columns: int = 6, *, zero: bool = True) -> Record:
+def empty_record(big: int, n: int = 0, columns: int = 6, *, zero: bool = True, bias_states: bool = True) -> Record:
     """Buffers of the compiled loop's :class:`Record` for ``n`` events of a filter with ``big``
     error states and ``columns`` gain columns: 3 per update at a sample (3 for a ZUPT, 6 with the
     ZARU), 2 m for a caller's update of m rows (K and H'). Narrow rows keep the backward pass's
     reads of K contiguous. ``zero=False`` leaves them uninitialised (the loop writes an event
-    before the backward pass reads it)."""
+    before the backward pass reads it). ``bias_states=False`` (9 states): no room for C, which
+    only the bias columns of F read; 72 of a joint filter's 624 bytes per event, so the
+    whole-walk smoother's budget keeps more of the run (:mod:`.smoother`)."""
     i8, f8 = np.int64, np.float64
     cols = max(3, columns)
     return Record(*staggered([
@@ -251,7 +253,7 @@ def empty_record(big: int, n: int = 0, columns: int = 6, *, zero: bool = True) -
         ((n,), i8),  # global sample index
         ((n, 3), f8),  # f^n dt at the start of the interval
         ((n,), f8),  # dt
-        ((n, 3, 3), f8),  # C at the start of the interval (bias states only)
+        ((n if bias_states else 0, 3, 3), f8),  # C at the start of the interval (bias states only)
         ((n,), i8),  # updates at the sample: 0, 1 (ZUPT), 2 (and ZARU); -m a caller's
         ((n, 2), i8),  # first error state of each update's 3-block
         ((n, big, cols), f8),  # K, three columns per update; a caller's: K then H'

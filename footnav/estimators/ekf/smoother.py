@@ -77,7 +77,8 @@ class SegmentRecords:
         self.columns = filt.record_columns
         self.budget_bytes = int(budget_mb * 1e6)
         self.capacity = ekf_filter.MAX_SEGMENT_EVENTS  # the longest segment the filter makes
-        self.record = empty_record(self.big, self.capacity, self.columns, zero=False)
+        self.bias_states = filt.n_states == 15
+        self.record = empty_record(self.big, self.capacity, self.columns, zero=False, bias_states=self.bias_states)
         #: events recorded of the open segment
         self.fill = np.zeros(1, dtype=np.int64)
         #: checkpoint index -> (record, events, covariance after the segment's last sample, bytes)
@@ -100,7 +101,7 @@ class SegmentRecords:
             nbytes = _nbytes(rec)
         else:  # the views hold the whole buffer
             rec, nbytes = self.record.head(used), _nbytes(self.record)
-            self.record = empty_record(self.big, self.capacity, self.columns, zero=False)
+            self.record = empty_record(self.big, self.capacity, self.columns, zero=False, bias_states=self.bias_states)
         nbytes += cov.nbytes
         self.kept[checkpoint] = (rec, used, cov.copy(), nbytes)
         self.nbytes += nbytes
@@ -144,7 +145,8 @@ class StepSmoother:
     def __init__(self, filt: InsFilter, capacity: int | None = None) -> None:
         big = filt.n_states * filt.n_feet
         self.capacity = int(ekf_filter.MAX_SEGMENT_EVENTS if capacity is None else capacity)
-        self.record = empty_record(big, self.capacity, filt.record_columns)
+        self.bias_states = filt.n_states == 15
+        self.record = empty_record(big, self.capacity, filt.record_columns, bias_states=self.bias_states)
         #: events recorded of the open step (one entry: an array the compiled loop updates)
         self.fill = np.zeros(1, dtype=np.int64)
         self.mu = np.zeros(big)
@@ -157,7 +159,7 @@ class StepSmoother:
         if self.fill[0] == self.capacity:
             filt.close_step(self)
         if 2 * m > self.record.gain.shape[2]:  # more rows than any update so far: widen the record
-            wide = empty_record(len(self.mu), self.capacity, 2 * m)
+            wide = empty_record(len(self.mu), self.capacity, 2 * m, bias_states=self.bias_states)
             for old, new in zip(self.record, wide):
                 new[tuple(slice(0, s) for s in old.shape)] = old
             self.record = wide
@@ -214,7 +216,8 @@ def smooth(filt: InsFilter, mode: Literal["whole", "step"] = "whole") -> Smoothe
     sr = filt.segment_records
     kept = set() if sr is None else set(sr.kept)
     longest = max((cps[b].n_events - cps[b - 1].n_events for b in range(1, len(cps)) if b not in kept), default=0)
-    record, fill = empty_record(big, longest, filt.record_columns), np.zeros(1, dtype=np.int64)
+    record = empty_record(big, longest, filt.record_columns, bias_states=filt.n_states == 15)
+    fill = np.zeros(1, dtype=np.int64)
     mu, d = np.zeros(big), np.zeros(big)
     for b in range(len(cps) - 1, 0, -1):  # one segment at a time, last first
         for h, gain, sy, _ in reversed(cps[b].updates):  # the caller's updates at the segment's end

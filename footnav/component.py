@@ -267,9 +267,10 @@ class JointFilter(Protocol):
     ``start`` (0 left, 1 right); positions in m and velocities in m/s in the nav frame (z up),
     quaternions [w, x, y, z] body to nav, times in s. Coupled fusions use these members and no
     others; :class:`footnav.estimators.ekf.InsFilter` is the reference implementation. (One
-    optional extra: a filter with ``run_until_apart(times, bound_m, start)`` lets the ``range``
-    fusion check the feet's distance inside it, as InsFilter does; without it the fusion checks
-    in Python, to the same result.)
+    optional extra: a filter with ``run_range_constrained(times, bound_m, std_m, symmetric,
+    start)`` lets the ``range`` fusion check the feet's distance and project them inside it, as
+    InsFilter does; without it the fusion does both in Python, to the same result within
+    rounding.)
     """
 
     @property

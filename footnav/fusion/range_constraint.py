@@ -176,12 +176,14 @@ class RangeSession:
         self.n_times += len(times)
         fusion = self.fusion
         bound = float(fusion.max_separation_m)
-        # footnav's filter checks the times in its compiled loop; any other JointFilter here
-        watch = getattr(filt, "run_until_apart", None)
+        # footnav's filter checks and projects in its compiled loop, all but a distance that is
+        # not a number (reported below); any other JointFilter here, to the same arithmetic
+        inside = getattr(filt, "run_range_constrained", None)
         i = 0
         while i < len(times):
-            if watch is not None:
-                found = watch(times, bound, i)
+            if inside is not None:
+                found, applied = inside(times, bound, fusion.constraint_std_m, fusion.projection == "symmetric", i)
+                self.applied += applied
                 if found is None:
                     break
                 i = found
@@ -190,8 +192,8 @@ class RangeSession:
             p = [filt.position(LEFT), filt.position(RIGHT)]
             d = p[LEFT] - p[RIGHT]
             dx, dy, dz = float(d[0]), float(d[1]), float(d[2])
-            dist = math.sqrt(dx * dx + dy * dy + dz * dz)  # as InsFilter.run_until_apart, to the bit
-            if dist <= bound:  # (never after run_until_apart's stop)
+            dist = math.sqrt(dx * dx + dy * dy + dz * dz)  # as InsFilter.run_range_constrained, to the bit
+            if dist <= bound:  # (never after run_range_constrained stopped: not a number)
                 i += 1
                 continue
             u = d / dist

@@ -339,7 +339,7 @@ class JointStream:
                 s = min(s, started[-1] - jf.seg0 - back)
             if fill:
                 rec = ss.record
-                mine = (rec.foot[:fill] == f) & (rec.nu[:fill] >= 0)
+                mine = (rec.foot[:fill] == f) & (rec.nu[:fill] >= 0) & (rec.k[:fill] >= 0)  # samples (k -1: an update between them)
                 if mine.any():
                     s = min(s, int(rec.k[:fill][mine].min()) - old.global_index(f, 0) - 1)
             s = max(s, 0)
@@ -359,7 +359,7 @@ class JointStream:
         if fill:
             rec = Record(*(np.array(x) for x in ss.record))
             for f in range(2):
-                mine = rec.foot[:fill] == f
+                mine = (rec.foot[:fill] == f) & (rec.k[:fill] >= 0)
                 rec.k[:fill][mine] += new.global_index(f, 0) - old.global_index(f, 0) - shift[f]
             new.step_smoother.record = rec
             new.step_smoother.fill[0] = fill

@@ -83,8 +83,8 @@ def smooth_back(used, chain, cov, mu, d, n, n_feet, q_diag, rec, out, sm, ws):
     for e in range(used - 1, -1, -1):
         nu = ev_nu[e]
         o = ev_foot[e] * n
-        if nu >= 0:  # a sample: its smoothed output, then back through its updates and transition
-            k = ev_k[e]
+        k = ev_k[e]  # -1: the loop's own update between samples, no sample and no transition
+        if nu >= 0 and k >= 0:  # a sample: its smoothed output, then back through its updates and transition
             from_rotvec_nb(d[o], d[o + 1], d[o + 2], dq)
             multiply_nb(dq, out_q[k], q_tmp)
             normalize_nb(q_tmp)
@@ -118,7 +118,7 @@ def smooth_back(used, chain, cov, mu, d, n, n_feet, q_diag, rec, out, sm, ws):
             else:
                 for a in range(m):
                     mu[ev_base[e, u] + a] += kt[a]
-        if nu < 0:
+        if nu < 0 or k < 0:
             continue
         dt = ev_dt[e]
         for i in range(n):
@@ -133,13 +133,13 @@ def smooth_back(used, chain, cov, mu, d, n, n_feet, q_diag, rec, out, sm, ws):
             seen[f] = 0.0
         for e in range(used):
             f = ev_foot[e]
-            if ev_nu[e] >= 0 and seen[f] == 0.0:
+            if ev_nu[e] >= 0 and ev_k[e] >= 0 and seen[f] == 0.0:
                 seen[f] = 1.0
                 k0 = ev_k[e] - 1
                 for i in range(3):
                     offset[f, i] = d[f * n + 6 + i] + sm_p[k0, i] - out_p[k0, i]
         for e in range(used):
-            if ev_nu[e] >= 0:
+            if ev_nu[e] >= 0 and ev_k[e] >= 0:
                 f, k = ev_foot[e], ev_k[e]
                 for i in range(3):
                     sm_p[k, i] += offset[f, i]

@@ -93,9 +93,10 @@ class EkfEstimator(FootEstimator):
         RTS smoothing over the whole walk (Chistyakov et al. (2021), Alg. 1), within each step during the forward
         pass (memory independent of the recording's length), or none.
     smoother_cache_mb : float
-        Memory the whole-walk smoother may keep of the forward run's record, MB: segments beyond
+        Memory the whole-walk smoother may keep of the forward run's record, MB per foot (a joint
+        filter of two feet keeps twice as much, as two filters of one foot do): segments beyond
         it (the oldest) are re-run from their checkpoints, which costs a second forward pass over
-        them. About 400 bytes per sample with 9 states, so the default holds 26 minutes at 100
+        them. About 340 bytes per sample with 9 states, so the default holds 31 minutes at 100
         Hz; 0 keeps nothing (least memory, every segment re-run).
     closed_loop : bool
         The walk ends where it started: the final standstill gets the start position as a
@@ -265,7 +266,7 @@ class EkfEstimator(FootEstimator):
         if self.smoother == "step":
             filt.step_smoother = StepSmoother(filt)
         elif self.smoother == "whole":
-            filt.segment_records = SegmentRecords(filt, float(self.smoother_cache_mb))
+            filt.segment_records = SegmentRecords(filt, float(self.smoother_cache_mb) * n_feet)
         return filt
 
     def _align(self, imu: ImuData, stance: StanceResult):

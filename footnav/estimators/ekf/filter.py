@@ -25,7 +25,9 @@ from footnav.nav.kalman import DENSE_BAD_INPUT, DENSE_NOT_PD, update_dense
 from footnav.nav.quaternion import as_matrix_nb
 from footnav.estimators.ekf.buffers import staggered
 from footnav.estimators.ekf.kernels import feedback
-from footnav.estimators.ekf.loop import APART, DONE, MODE_BACK, MODE_CLOSE, MODE_FILTER, MODE_RECORD, MODE_STEP, STEP_END, run
+from footnav.estimators.ekf.loop import (
+    APART, DONE, FULL, MODE_BACK, MODE_CLOSE, MODE_FILTER, MODE_RECORD, MODE_STEP, NOT_PD, STEP_END, W_APPLIED, W_NEXT, run,
+)
 from footnav.estimators.ekf.records import (
     ACC_BIAS,
     ATT,
@@ -40,7 +42,9 @@ from footnav.estimators.ekf.records import (
     Record,
     Samples,
     Smoothed,
+    UpdateLog,
     Work,
+    empty_log,
     empty_record,
     work,
 )
@@ -173,6 +177,9 @@ class InsFilter:
             self._out_pcov[a : k + 1] = [self._cov[o, o], self._cov[o, o + 1], self._cov[o + 1, o + 1], self._cov[o + 2, o + 2]]
         self._n_events = 0
         self._since_checkpoint = 0
+        # the loop's own updates (run_range_constrained), for replays; entries so far
+        self._log: UpdateLog = empty_log()
+        self._n_log = 0
         # the record and smoother arguments of a plain filtering call (not used by it; of the
         # same types as a smoother's, so that numba compiles the loop once)
         self._no_record = empty_record(big)
@@ -296,16 +303,25 @@ class InsFilter:
         self._k[:] = self._offsets[:-1] + np.asarray(index, dtype=np.int64)
         self._n_events = 0
         self._since_checkpoint = 0
+        self._n_log = 0
         self.checkpoints = [self._checkpoint(step_end=False)]
 
     # -- acting --------------------------------------------------------------------------------
-    def _call(self, mode, k, stop_at, t_stop, max_events, step_stops, state, rec, sm, fill, mu, d, watch_times=_NO_WATCH, watch=_NO_WATCH):
-        """One call of the compiled loop from ``state`` (a :class:`FilterState`)."""
-        return run(
+    def _call(self, mode, k, stop_at, t_stop, max_events, step_stops, state, rec, sm, fill, mu, d, watch_times=_NO_WATCH, watch=_NO_WATCH, cursor=None):
+        """One call of the compiled loop from ``state`` (a :class:`FilterState`); ``cursor``:
+        the loop's (samples before, next log entry, end of the entries to replay), default the
+        forward run's (nothing to replay; new entries after the filter's)."""
+        forward = cursor is None
+        if forward:
+            cursor = np.array([self._n_events, self._n_log, self._n_log], dtype=np.int64)
+        out = run(
             self._in, stop_at, k, float(t_stop), int(max_events), bool(step_stops), state, self.n_states, self._q_diag,
             self.noise.zupt_std_mps**2, self.noise.zaru_std_radps**2, self._out, mode, rec, sm, fill, mu, d,
-            self._scratch(rec), watch_times, watch,
+            self._scratch(rec), watch_times, watch, self._log, cursor,
         )
+        if forward:
+            self._n_log = int(cursor[1])
+        return out
 
     @property
     def record_columns(self) -> int:
@@ -343,10 +359,55 @@ class InsFilter:
         times = np.ascontiguousarray(times, dtype=np.float64)
         if start >= len(times):
             return None
-        watch = np.array([float(bound_m), float(start)])
+        watch = np.array([float(bound_m), float(start), 0.0, 0.0, 0.0])  # no projection: stop
         if self._run(float(times[-1]), times, watch) == APART:
-            return int(watch[1])
+            return int(watch[W_NEXT])
         return None
+
+    def run_range_constrained(
+        self, times: NDArray[np.float64], bound_m: float, std_m: float, symmetric: bool = False, start: int = 0,
+    ) -> tuple[int | None, int]:
+        """Run through ``times`` (s, increasing) from index ``start``, enforcing a range
+        constraint at each: where the feet are more than ``bound_m`` apart, their positions are
+        measured on the bound (std ``std_m`` per axis, m) inside the compiled loop.
+
+        The projection is the ``range`` fusion's (:class:`footnav.fusion.range_constraint.RangeSession`):
+        the moving foot onto the sphere around the standing one (``symmetric=False``, one foot
+        standing), else both feet about their centroid. Each measurement is fed back into both
+        feet and kept for the smoothers like the filter's own updates; a replay from a
+        checkpoint applies it again (:class:`~footnav.estimators.ekf.records.UpdateLog`), so the
+        run needs no checkpoint at each, and no return to Python.
+
+        Returns
+        -------
+        tuple of (int or None, int)
+            The index of a time at which the feet's distance is not a number (the filter standing
+            at it, nothing applied there; the caller's to report), or None when every time is
+            done; and the number of times at which the constraint was applied.
+
+        Raises
+        ------
+        InvalidInputError
+            When a projection's innovation covariance is not positive definite.
+        """
+        if self.n_feet != 2:
+            raise ValueError("run_range_constrained needs a filter of two feet")
+        if not std_m > 0:
+            raise InvalidInputError(f"run_range_constrained needs std_m > 0; got {std_m!r}", field="std_m")
+        times = np.ascontiguousarray(times, dtype=np.float64)
+        if start >= len(times):
+            return None, 0
+        room = self._n_log + 2 * (len(times) - start)  # at most two measurements per time
+        if len(self._log.event) < room:
+            grown = empty_log(max(room, 2 * len(self._log.event)))
+            for old, new in zip(self._log, grown):
+                new[: self._n_log] = old[: self._n_log]
+            self._log = grown
+        watch = np.array([float(bound_m), float(start), float(std_m) ** 2, 1.0 if symmetric else 0.0, 0.0])
+        reason = self._run(float(times[-1]), times, watch)
+        if reason == NOT_PD:
+            raise InvalidInputError("range constraint: innovation covariance is not positive definite", field="std_m")
+        return (int(watch[W_NEXT]) if reason == APART else None), int(watch[W_APPLIED])
 
     def _run(self, t_stop: float, watch_times: NDArray[np.float64], watch: NDArray[np.float64]) -> int:
         """:meth:`run_until` with the loop's watch (:func:`footnav.estimators.ekf.loop.run`);
@@ -369,15 +430,15 @@ class InsFilter:
             self._since_checkpoint += events
             # checkpoints where a step ends or a segment is full; a stop for the caller needs one
             # only if the caller then updates (see update): memory grows with steps, not with stops
-            if reason == DONE or reason == APART:
+            if reason == DONE or reason == APART or reason == NOT_PD:
                 return reason
-            if events:
+            if events or reason == FULL:  # (FULL without events: the loop's own updates filled the record)
                 self._add_checkpoint(step_end=reason == STEP_END)
 
     def _add_checkpoint(self, step_end: bool, state: bool = True) -> None:
         """A checkpoint here; ``state=False`` leaves its state to the caller (an update sets it
         after changing the state: a copy now would be thrown away)."""
-        cp = self._checkpoint(step_end=step_end) if state else Checkpoint(self._n_events, self._k.copy(), None, step_end=step_end)
+        cp = self._checkpoint(step_end=step_end) if state else Checkpoint(self._n_events, self._k.copy(), None, step_end=step_end, n_log=self._n_log)
         self.checkpoints.append(cp)
         self._since_checkpoint = 0
         if self.segment_records is not None:  # before any update at this instant changes P
@@ -385,7 +446,7 @@ class InsFilter:
 
     def close(self) -> None:
         """Leave a checkpoint at the current state (the smoother needs one after the last sample)."""
-        if self._since_checkpoint:
+        if self._since_checkpoint or self._n_log > self.checkpoints[-1].n_log:
             self._add_checkpoint(step_end=False)
 
     def close_step(self, smoother) -> None:
@@ -486,7 +547,7 @@ class InsFilter:
 
     # -- checkpoints and outputs ------------------------------------------------------------------
     def _checkpoint(self, step_end: bool) -> Checkpoint:
-        return Checkpoint(self._n_events, self._k.copy(), self._state.copy(), step_end=step_end)
+        return Checkpoint(self._n_events, self._k.copy(), self._state.copy(), step_end=step_end, n_log=self._n_log)
 
     def replay(self, a: int, b: int, mode: int, record: Record, smoothed: Smoothed, fill, mu, d) -> None:
         """Re-run from checkpoint ``a`` to checkpoint ``b`` in ``mode`` (``MODE_STEP`` or
@@ -495,7 +556,10 @@ class InsFilter:
         run's (the loop is deterministic)."""
         ca, cb = self.checkpoints[a], self.checkpoints[b]
         n_ev = cb.n_events - ca.n_events
-        _, events = self._call(mode, ca.k.copy(), cb.k.copy(), np.inf, n_ev, False, ca.state.copy(), record, smoothed, fill, mu, d)
+        cursor = np.array([ca.n_events, ca.n_log, cb.n_log], dtype=np.int64)  # the loop's own updates again
+        _, events = self._call(
+            mode, ca.k.copy(), cb.k.copy(), np.inf, n_ev, False, ca.state.copy(), record, smoothed, fill, mu, d, cursor=cursor,
+        )
         if events != n_ev:  # pragma: no cover - the checkpoints come from this very loop
             raise RuntimeError("replay did not reproduce the forward run")
 

@@ -22,14 +22,23 @@ from footnav.estimators.ekf.backward import smooth_back
 from footnav.estimators.ekf.kernels import feedback, predict_cov
 from footnav.estimators.ekf.records import GYR_BIAS, POS, VEL
 
-__all__ = ["APART", "DONE", "FULL", "MODE_BACK", "MODE_CLOSE", "MODE_FILTER", "MODE_RECORD", "MODE_STEP", "MODE_WHOLE", "STEP_END", "ZARU_GATE", "run"]
+__all__ = [
+    "APART", "DONE", "FULL", "MODE_BACK", "MODE_CLOSE", "MODE_FILTER", "MODE_RECORD", "MODE_STEP", "MODE_WHOLE", "NOT_PD", "STEP_END",
+    "W_APPLIED", "W_BOUND", "W_NEXT", "W_SYMMETRIC", "W_VAR", "ZARU_GATE", "run",
+]
 
 #: Chi-square gate of the zero-angular-rate update: 3 degrees of freedom, 99.9 %.
 ZARU_GATE = 16.27
 
-#: Why :func:`run` returned: nothing left before t_stop, a foot's stance ended, max_events done,
-#: the feet were found farther apart than the watched bound.
-DONE, STEP_END, FULL, APART = 0, 1, 2, 3
+#: Why :func:`run` returned: nothing left before t_stop, a foot's stance ended, max_events done
+#: (or the record full), the feet were found farther apart than the watched bound (and not
+#: projected), a projection's innovation covariance was not positive definite.
+DONE, STEP_END, FULL, APART, NOT_PD = 0, 1, 2, 3, 4
+
+#: The entries of :func:`run`'s ``watch``: the bound (m), the next watched time's index, the
+#: projection's variance per axis (m^2; 0: none, the loop stops instead), 1.0 for symmetric
+#: projections (0.0: the moving foot onto the sphere around the standing one), projections made.
+W_BOUND, W_NEXT, W_VAR, W_SYMMETRIC, W_APPLIED = 0, 1, 2, 3, 4
 
 
 @njit(cache=True, error_model="numpy")
@@ -53,15 +62,97 @@ def _apart(watch_times, watch, p, t_next, t_stop):
     """Check the watched times before ``t_next`` (and not after ``t_stop``) from index
     ``watch[1]`` on: True at the first where feet 0 and 1 are more than ``watch[0]`` m apart,
     ``watch[1]`` left there; else False, ``watch[1]`` past the checked times."""
-    i = int(watch[1])
+    i = int(watch[W_NEXT])
     while i < len(watch_times) and watch_times[i] < t_next and watch_times[i] <= t_stop:
         dx, dy, dz = p[0, 0] - p[1, 0], p[0, 1] - p[1, 1], p[0, 2] - p[1, 2]
-        if not np.sqrt(dx * dx + dy * dy + dz * dz) <= watch[0]:  # a NaN distance stops too
-            watch[1] = i
+        if not np.sqrt(dx * dx + dy * dy + dz * dz) <= watch[W_BOUND]:  # a NaN distance stops too
+            watch[W_NEXT] = i
             return True
         i += 1
-    watch[1] = i
+    watch[W_NEXT] = i
     return False
+
+
+@njit(cache=True, error_model="numpy")
+def _position_update(foot, y0, y1, y2, r, state, n, ws, record, rec, fill, log, cursor, event, write):
+    """The loop's own measurement of ``foot``'s position (innovation y = p^ - z, m; variance
+    ``r`` per axis, m^2) after ``event`` samples of the run, fed back into every foot (the joint
+    covariance links them), recorded as an event without a sample (``rec.k`` -1) and logged at
+    ``cursor[1]`` (``write``: a new entry; else a replay of the entry there). False (nothing
+    changed) when S is not positive definite."""
+    q, v, p, ba, bg, f_n, cov = state
+    dx, gain, sy = ws.dx, ws.gain, ws.sy
+    o = foot * n
+    if not update3(cov, dx, o + POS, y0, y1, y2, r, np.inf, gain, sy, ws.hp):
+        return False
+    for g in range(len(p)):
+        feedback(q, v, p, ba, bg, g, dx, g * n, n, ws.dq, ws.q_tmp)
+    if record:
+        e = fill[0]
+        rec.foot[e] = foot
+        rec.k[e] = -1
+        rec.nu[e] = 1
+        rec.base[e, 0] = o + POS
+        rec.y[e, 0], rec.y[e, 1], rec.y[e, 2] = y0, y1, y2
+        for a in range(3):
+            rec.sy[e, a] = sy[a]
+            for i in range(cov.shape[0]):
+                rec.gain[e, i, a] = gain[i, a]
+        fill[0] = e + 1
+    j = cursor[1]
+    if write:
+        log.event[j] = event
+        log.foot[j] = foot
+        log.y[j, 0], log.y[j, 1], log.y[j, 2] = y0, y1, y2
+        log.r[j] = r
+    cursor[1] = j + 1
+    return True
+
+
+@njit(cache=True, error_model="numpy")
+def _project(watch, stance, k, state, n, ws, record, rec, fill, log, cursor, event):
+    """The range constraint's projection where the feet are farther apart than ``watch``'s
+    bound (the ``range`` fusion, :mod:`footnav.fusion.range_constraint`; the same arithmetic):
+    the moving foot measured on the sphere around the standing one, or both feet about their
+    centroid. Returns DONE, APART (a distance that is not a number: the caller's to report) or
+    NOT_PD."""
+    p = state.p
+    dx, dy, dz = p[0, 0] - p[1, 0], p[0, 1] - p[1, 1], p[0, 2] - p[1, 2]
+    dist = np.sqrt(dx * dx + dy * dy + dz * dz)
+    if not np.isfinite(dist):
+        return APART
+    bound, r = watch[W_BOUND], watch[W_VAR]
+    ux, uy, uz = dx / dist, dy / dist, dz / dist
+    left_stands, right_stands = stance[k[0]], stance[k[1]]
+    if watch[W_SYMMETRIC] == 0.0 and left_stands != right_stands:
+        mover = 1 if left_stands else 0
+        anchor = 1 - mover
+        s = (1.0 if mover == 0 else -1.0) * bound  # d points from the right foot to the left
+        y0 = p[mover, 0] - (p[anchor, 0] + s * ux)
+        y1 = p[mover, 1] - (p[anchor, 1] + s * uy)
+        y2 = p[mover, 2] - (p[anchor, 2] + s * uz)
+        if not _position_update(mover, y0, y1, y2, r, state, n, ws, record, rec, fill, log, cursor, event, True):
+            return NOT_PD
+    else:
+        cx, cy, cz = 0.5 * (p[0, 0] + p[1, 0]), 0.5 * (p[0, 1] + p[1, 1]), 0.5 * (p[0, 2] + p[1, 2])
+        h = 0.5 * bound
+        for foot in range(2):  # the second innovation from the state the first left
+            s = h if foot == 0 else -h
+            y0 = p[foot, 0] - (cx + s * ux)
+            y1 = p[foot, 1] - (cy + s * uy)
+            y2 = p[foot, 2] - (cz + s * uz)
+            if not _position_update(foot, y0, y1, y2, r, state, n, ws, record, rec, fill, log, cursor, event, True):
+                return NOT_PD
+    watch[W_APPLIED] += 1.0
+    return DONE
+
+
+@njit(cache=True, error_model="numpy")
+def _replay_log(cursor, events, state, n, ws, record, rec, fill, log):
+    """Apply again the logged updates made after ``cursor[0] + events`` samples (a replay)."""
+    while cursor[1] < cursor[2] and log.event[cursor[1]] == cursor[0] + events:
+        j = cursor[1]
+        _position_update(log.foot[j], log.y[j, 0], log.y[j, 1], log.y[j, 2], log.r[j], state, n, ws, record, rec, fill, log, cursor, cursor[0] + events, False)
 
 
 #: What a call of :func:`run` does besides filtering.
@@ -71,7 +162,7 @@ MODE_FILTER, MODE_STEP, MODE_WHOLE, MODE_CLOSE, MODE_RECORD, MODE_BACK = 0, 1, 2
 @njit(cache=True, error_model="numpy")
 def run(
     samples, stop_at, k, t_stop, max_events, step_stops, state, n, q_diag, r_zupt, r_zaru, out,
-    mode, rec, sm, fill, mu, d, ws, watch_times, watch,
+    mode, rec, sm, fill, mu, d, ws, watch_times, watch, log, cursor,
 ):
     """Advance the feet through their samples with t <= t_stop, in time order.
 
@@ -94,15 +185,21 @@ def run(
     * ``MODE_BACK``: no filtering; ``d = P mu`` with the given covariance and the backward pass
       over the ``fill[0]`` recorded events (a kept segment of the whole-walk smoother).
 
-    ``watch_times`` (s, increasing) and ``watch`` ([bound in m, index of the next time]): at
-    each of those times from ``watch[1]`` on (once every sample at or before it is processed)
-    the distance between the two feet is checked, and the loop stops at the first where it
-    exceeds the bound, ``watch[1]`` left at that time's index. No watch: an empty
-    ``watch_times``. (A fusion's check at every few samples costs a Python round trip each
-    otherwise; :meth:`footnav.estimators.ekf.filter.InsFilter.run_until_apart`.)
+    ``watch_times`` (s, increasing) and ``watch`` (entries ``W_*``): at each of those times
+    from ``watch[W_NEXT]`` on (once every sample at or before it is processed) the distance
+    between the two feet is checked. Where it exceeds the bound, the loop projects the feet
+    back (:func:`_project`, with ``watch[W_VAR]`` > 0) or stops, ``watch[W_NEXT]`` left at that
+    time's index. No watch: an empty ``watch_times``. (A fusion's check at every few samples,
+    and its update at every step, cost a Python round trip each otherwise;
+    :meth:`footnav.estimators.ekf.filter.InsFilter.run_range_constrained`.)
+
+    ``log`` (:class:`UpdateLog`) and ``cursor`` ([samples of the run before this call, next
+    entry, end of the entries to replay]): the loop's own updates are logged from ``cursor[1]``
+    on; a replay (``cursor[1] < cursor[2]``) applies the logged ones again at their instants.
 
     Returns (reason, events): reason 0 nothing left before t_stop, 1 a foot's stance just ended
-    (only with ``step_stops``), 2 ``max_events`` processed, 3 the feet apart at a watched time.
+    (only with ``step_stops``), 2 ``max_events`` processed or ``rec`` full, 3 the feet apart at
+    a watched time, 4 a projection found S not positive definite.
     """
     t, acc, gyr, stance = samples
     q, v, p, ba, bg, f_n, cov = state
@@ -126,13 +223,27 @@ def run(
     reason = FULL
     n_watch = len(watch_times)
     while events < max_events:
+        if cursor[1] < cursor[2]:
+            _replay_log(cursor, events, state, n, ws, record, rec, fill, log)
+        if mode == MODE_RECORD and fill[0] >= capacity:  # the loop's own updates filled it
+            return FULL, events
         f = _next_foot(t, k, stop_at, t_stop)
         if n_watch:
             # the watched times before the next sample (all of them at the end): every sample
             # at or before each is processed now
             t_next = t[k[f] + 1] if f >= 0 else np.inf
-            if _apart(watch_times, watch, p, t_next, t_stop):
-                return APART, events
+            while _apart(watch_times, watch, p, t_next, t_stop):
+                if not watch[W_VAR] > 0.0:
+                    return APART, events
+                if record and fill[0] + 3 > capacity:  # room for two projections and the next sample
+                    if not step:
+                        return FULL, events
+                    smooth_back(fill[0], step, cov, mu, d, n, n_feet, q_diag, rec, out, sm, ws)
+                    fill[0] = 0
+                status = _project(watch, stance, k, state, n, ws, record, rec, fill, log, cursor, cursor[0] + events)
+                if status != DONE:
+                    return status, events
+                watch[W_NEXT] += 1.0
         if f < 0:
             reason = DONE
             break
@@ -216,6 +327,8 @@ def run(
             if step_stops:
                 reason = STEP_END
                 break
+    if cursor[1] < cursor[2]:  # a replay's updates at its last instant, before its checkpoint
+        _replay_log(cursor, events, state, n, ws, record, rec, fill, log)
     if mode == MODE_WHOLE:
         smooth_back(fill[0], step, cov, mu, d, n, n_feet, q_diag, rec, out, sm, ws)
     return reason, events

@@ -36,7 +36,9 @@ __all__ = [
     "Record",
     "Samples",
     "Smoothed",
+    "UpdateLog",
     "Work",
+    "empty_log",
     "empty_record",
     "work",
 ]
@@ -146,6 +148,9 @@ class Checkpoint:
         The :class:`FilterState` there.
     step_end
         A foot's stance ended here (with ``InsFilter.step_stops``).
+    n_log
+        Entries of the filter's :class:`UpdateLog` made before this checkpoint (a replay of the
+        segment after it applies the entries from there on).
     updates
         Measurement updates the caller applied at this instant after the per-sample ones, in
         order: what the smoother needs to undo them backwards.
@@ -156,6 +161,7 @@ class Checkpoint:
     state: FilterState
     step_end: bool
     updates: list[CallerUpdate] = field(default_factory=list)
+    n_log: int = 0
 
 
 class Samples(NamedTuple):
@@ -196,7 +202,8 @@ class Record(NamedTuple):
     foot
         (n,) the event's foot.
     k
-        (n,) its sample, an index of the concatenated samples.
+        (n,) its sample, an index of the concatenated samples; -1 for the loop's own position
+        update between samples (:class:`UpdateLog`), which has no sample and no transition.
     fdt
         (n, 3) f^n dt at the start of the interval.
     dt
@@ -204,7 +211,8 @@ class Record(NamedTuple):
     c
         (n, 3, 3) C at the start of the interval (bias states only).
     nu
-        (n,) updates at the sample: 0, 1 (ZUPT), 2 (and ZARU); -m for a caller's update of m rows.
+        (n,) updates at the sample: 0, 1 (ZUPT), 2 (and ZARU); -m for a caller's update of m rows;
+        1 for the loop's own position update (``k`` -1).
     base
         (n, 2) first error state of each update's 3-block.
     gain
@@ -260,6 +268,25 @@ def empty_record(big: int, n: int = 0, columns: int = 6, *, zero: bool = True, b
         ((n, cols), f8),  # S^-1 y (two updates of 3 at a sample, or a caller's)
         ((n, cols), f8),  # y
     ], zero=zero, first=RECORD_PLACE))
+
+
+class UpdateLog(NamedTuple):
+    """Position updates the compiled loop made itself (a range constraint's projections,
+    :meth:`footnav.estimators.ekf.filter.InsFilter.run_range_constrained`), in order: what a
+    replay from a checkpoint applies again at the same instants, so that the loop needs no
+    checkpoint at each of them. Entry j: after ``event[j]`` samples of the run, foot
+    ``foot[j]``'s position measured with innovation ``y[j]`` (m) and variance ``r[j]`` (m^2) per
+    axis."""
+
+    event: NDArray[np.int64]
+    foot: NDArray[np.int64]
+    y: NDArray[np.float64]
+    r: NDArray[np.float64]
+
+
+def empty_log(n: int = 0) -> UpdateLog:
+    """An :class:`UpdateLog` with room for ``n`` entries."""
+    return UpdateLog(np.zeros(n, dtype=np.int64), np.zeros(n, dtype=np.int64), np.zeros((n, 3)), np.zeros(n))
 
 
 class Work(NamedTuple):

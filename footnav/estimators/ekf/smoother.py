@@ -21,8 +21,9 @@ and at its caller's updates. The whole-walk smoother needs each segment's record
 segment first: the forward run keeps the records of its latest segments up to
 ``KEEP_RECORD_MB`` (:class:`SegmentRecords`), and the smoother re-runs from its checkpoint each
 segment whose record was not kept. So memory is O(steps) plus at most that budget, and a
-recording whose record fits in it is filtered once (about 400 bytes per sample and foot with 9
-error states: 64 MB hold 26 minutes at 100 Hz).
+recording whose record fits in it is filtered once (about 340 bytes per sample and foot with 9
+error states, 550 per sample in a joint filter of two feet: 64 MB per foot hold 31 minutes of
+one foot at 100 Hz, 19 of a joint filter's two).
 The step-wise smoother records each step as the filter runs and smooths it at its end, inside
 the same compiled loop: two buffers' worth of memory whatever the length of the recording, and
 no sample is run twice.
@@ -215,7 +216,10 @@ def smooth(filt: InsFilter, mode: Literal["whole", "step"] = "whole") -> Smoothe
     sm = _copy_outputs(filt)
     sr = filt.segment_records
     kept = set() if sr is None else set(sr.kept)
-    longest = max((cps[b].n_events - cps[b - 1].n_events for b in range(1, len(cps)) if b not in kept), default=0)
+    # a segment's record: its samples and the loop's own updates between them
+    longest = max(
+        (cps[b].n_events - cps[b - 1].n_events + cps[b].n_log - cps[b - 1].n_log for b in range(1, len(cps)) if b not in kept), default=0,
+    )
     record = empty_record(big, longest, filt.record_columns, bias_states=filt.n_states == 15)
     fill = np.zeros(1, dtype=np.int64)
     mu, d = np.zeros(big), np.zeros(big)

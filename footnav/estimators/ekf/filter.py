@@ -411,7 +411,7 @@ class InsFilter:
 
     def _run(self, t_stop: float, watch_times: NDArray[np.float64], watch: NDArray[np.float64]) -> int:
         """:meth:`run_until` with the loop's watch (:func:`footnav.estimators.ekf.loop.run`);
-        returns why it stopped: ``DONE`` or ``APART``."""
+        returns why it stopped: ``DONE``, ``APART`` or ``NOT_PD``."""
         ss, sr = self.step_smoother, self.segment_records
         while True:
             # the buffers anew at each call: a checkpoint may hand the segment records a new one

@@ -60,8 +60,8 @@ def _next_foot(t, k, stop_at, t_stop):
 @njit(cache=True, error_model="numpy")
 def _apart(watch_times, watch, p, t_next, t_stop):
     """Check the watched times before ``t_next`` (and not after ``t_stop``) from index
-    ``watch[1]`` on: True at the first where feet 0 and 1 are more than ``watch[0]`` m apart,
-    ``watch[1]`` left there; else False, ``watch[1]`` past the checked times."""
+    ``watch[W_NEXT]`` on: True at the first where feet 0 and 1 are more than ``watch[W_BOUND]`` m
+    apart, ``watch[W_NEXT]`` left there; else False, ``watch[W_NEXT]`` past the checked times."""
     i = int(watch[W_NEXT])
     while i < len(watch_times) and watch_times[i] < t_next and watch_times[i] <= t_stop:
         dx, dy, dz = p[0, 0] - p[1, 0], p[0, 1] - p[1, 1], p[0, 2] - p[1, 2]

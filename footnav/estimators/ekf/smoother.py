@@ -79,7 +79,7 @@ class SegmentRecords:
         self.budget_bytes = int(budget_mb * 1e6)
         self.capacity = ekf_filter.MAX_SEGMENT_EVENTS  # the longest segment the filter makes
         self.bias_states = filt.n_states == 15
-        self.record = empty_record(self.big, self.capacity, self.columns, zero=False, bias_states=self.bias_states)
+        self.record = self._empty()
         #: events recorded of the open segment
         self.fill = np.zeros(1, dtype=np.int64)
         #: checkpoint index -> (record, events, covariance after the segment's last sample, bytes)
@@ -102,12 +102,16 @@ class SegmentRecords:
             nbytes = _nbytes(rec)
         else:  # the views hold the whole buffer
             rec, nbytes = self.record.head(used), _nbytes(self.record)
-            self.record = empty_record(self.big, self.capacity, self.columns, zero=False, bias_states=self.bias_states)
+            self.record = self._empty()
         nbytes += cov.nbytes
         self.kept[checkpoint] = (rec, used, cov.copy(), nbytes)
         self.nbytes += nbytes
         while self.nbytes > self.budget_bytes:
             self._drop(next(iter(self.kept)))  # the oldest: segments are kept in time order
+
+    def _empty(self) -> Record:
+        """A new, uninitialised buffer for the open segment."""
+        return empty_record(self.big, self.capacity, self.columns, zero=False, bias_states=self.bias_states)
 
     def take(self, checkpoint: int) -> tuple[Record, int, NDArray[np.float64]] | None:
         """The kept segment ending at ``checkpoint`` (record, events, covariance), released; or None."""

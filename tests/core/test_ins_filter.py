@@ -49,6 +49,20 @@ def test_structured_predict_equals_dense_predict(n, n_feet, foot):
     assert np.array_equal(fast, fast.T)  # the lower triangle is the upper one, exactly
 
 
+def _nominal_step(imu, k, q, v, p, f_prev, ba, bg):
+    """The strapdown step from sample k - 1 to k written in numpy: Simpson's rule with the
+    mid-interval attitude (mechanization.strapdown_step). Returns q, v, p and f^n at k."""
+    dt = imu.t[k] - imu.t[k - 1]
+    w = 0.5 * ((imu.gyr[k - 1] - bg) + (imu.gyr[k] - bg)) * dt
+    q_mid = quat.normalize(quat.multiply(q, quat.from_rotvec(0.5 * w)))
+    q = quat.normalize(quat.multiply(q, quat.from_rotvec(w)))
+    f_new = quat.as_matrix(q) @ (imu.acc[k] - ba)
+    f_mid = quat.as_matrix(q_mid) @ (0.5 * (imu.acc[k - 1] + imu.acc[k]) - ba)
+    a_mean = (f_prev + 4 * f_mid + f_new) / 6 - [0, 0, footnav.GRAVITY_MPS2]
+    v_new = v + a_mean * dt
+    return q, v_new, p + 0.5 * (v + v_new) * dt, f_new
+
+
 def _reference_forward(est, imu, stance):
     """Closed-loop error-state filter written densely in numpy: per sample k > k0 (P_pred, P_filt,
     F, dx) in ``hist[k - k0 - 1]``, the nominal state after the update in ``out[k]``."""
@@ -67,18 +81,8 @@ def _reference_forward(est, imu, stance):
     for k in range(k0 + 1, imu.n_samples):
         dt = imu.t[k] - imu.t[k - 1]
         c = quat.as_matrix(q)
-        w = 0.5 * ((imu.gyr[k - 1] - bg) + (imu.gyr[k] - bg)) * dt
-        q_mid = quat.normalize(quat.multiply(q, quat.from_rotvec(0.5 * w)))
-        q = quat.normalize(quat.multiply(q, quat.from_rotvec(w)))
-        f_new = quat.as_matrix(q) @ (imu.acc[k] - ba)
-        f_mid = quat.as_matrix(q_mid) @ (0.5 * (imu.acc[k - 1] + imu.acc[k]) - ba)
-        # Simpson's rule with the mid-interval attitude (mechanization.strapdown_step)
-        a_mean = (f_prev + 4 * f_mid + f_new) / 6 - [0, 0, footnav.GRAVITY_MPS2]
-        v_new = v + a_mean * dt
-        p = p + 0.5 * (v + v_new) * dt
-        v = v_new
         f = _dense_f(n, f_prev, c, dt)
-        f_prev = f_new
+        q, v, p, f_prev = _nominal_step(imu, k, q, v, p, f_prev, ba, bg)
         p_pred = f @ cov @ f.T + np.diag(q_diag * dt)
         dx = np.zeros(n)
         cov = p_pred
@@ -227,6 +231,53 @@ def test_joint_filter_of_two_independent_feet_equals_two_single_filters():
         np.testing.assert_allclose(joint.outputs(foot)[2], single.outputs(0)[2], atol=1e-10)
     cov = joint.covariance
     assert np.abs(cov[:15, 15:]).max() == 0.0  # nothing links the feet yet
+
+
+@pytest.mark.parametrize("bias_states", [False, True])
+def test_a_zupt_of_one_foot_corrects_the_other_once_a_measurement_links_them(bias_states):
+    # closed loop: the update moves all of P (P - K H P), so all of dx = K y is fed back. With
+    # the feet linked (cross-covariance), a ZUPT of the left foot moves the right one too; fed
+    # back into the left foot alone, the right foot stayed where P says it no longer is
+    rec = footnav.simulate("straight", seed=7, distance_m=6.0, standstill_s=1.0)
+    left = rec.left
+    dt = left.t[1] - left.t[0]
+    # the right foot half a sample later: the left's next sample is processed alone
+    right = footnav.ImuData(t=rec.right.t + 0.5 * dt, acc=rec.right.acc, gyr=rec.right.gyr)
+    stances = [StanceResult(rec.truth_left.stance), StanceResult(rec.truth_right.stance)]
+    est = EkfEstimator(smoother="none", heading="sensor", bias_states=bias_states)
+    filt = est.start([left, right], stances)
+    mask = rec.truth_left.stance
+    k = next(i for i in range(len(mask) // 2, len(mask) - 1) if mask[i] and mask[i + 1] and not mask[i - 1])
+    filt.run_until(right.t[k])
+    n = filt.n_states
+    h = np.zeros((3, 2 * n))
+    h[:, filt.block(0, "pos")] = np.eye(3)
+    h[:, filt.block(1, "pos")] = -np.eye(3)
+    filt.update(h, filt.position(0) - filt.position(1) - [0.05, 0.3, 0.0], 0.02**2)  # links the feet
+    before = filt.state()
+    assert np.abs(before.cov[:n, n:]).max() > 1e-6
+    # the reference: the left foot's sample k + 1 written densely, the whole dx fed back
+    q, v, p, _ = _nominal_step(left, k + 1, before.q[0], before.v[0], before.p[0], before.f_n[0], before.ba[0], before.bg[0])
+    big_f = np.eye(2 * n)
+    big_f[:n, :n] = _dense_f(n, before.f_n[0], quat.as_matrix(before.q[0]), dt)
+    q_cov = np.zeros((2 * n, 2 * n))
+    q_cov[:n, :n] = np.diag(filt.noise.q_diag(n) * dt)
+    p_pred = big_f @ before.cov @ big_f.T + q_cov
+    hz = np.zeros((3, 2 * n))
+    hz[:, filt.block(0, "vel")] = np.eye(3)
+    gain = p_pred @ hz.T @ np.linalg.inv(hz @ p_pred @ hz.T + np.eye(3) * filt.noise.zupt_std_mps**2)
+    dx = gain @ v
+    expect_q = [quat.normalize(quat.multiply(quat.from_rotvec(dx[:3]), q)), quat.normalize(quat.multiply(quat.from_rotvec(dx[n : n + 3]), before.q[1]))]
+    expect_v = [v - dx[3:6], before.v[1] - dx[n + 3 : n + 6]]
+    expect_p = [p - dx[6:9], before.p[1] - dx[n + 6 : n + 9]]
+    filt.run_until(left.t[k + 1])
+    assert filt.index(0) == k + 1 and filt.index(1) == k  # one sample of the left foot
+    assert np.abs(dx[n + 6 : n + 9]).max() > 1e-6  # the right foot has something to take
+    for foot in range(2):
+        np.testing.assert_allclose(filt.position(foot), expect_p[foot], rtol=0, atol=1e-12)
+        np.testing.assert_allclose(filt.velocity(foot), expect_v[foot], rtol=0, atol=1e-12)
+        np.testing.assert_allclose(filt.quaternion(foot), expect_q[foot], rtol=0, atol=1e-12)
+    np.testing.assert_allclose(filt.covariance, p_pred - gain @ hz @ p_pred, rtol=0, atol=1e-12)
 
 
 @pytest.mark.parametrize("bias_states", [False, True])

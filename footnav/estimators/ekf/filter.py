@@ -24,7 +24,7 @@ from footnav.errors import InvalidInputError
 from footnav.nav.kalman import DENSE_BAD_INPUT, DENSE_NOT_PD, update_dense
 from footnav.nav.quaternion import as_matrix_nb
 from footnav.estimators.ekf.buffers import staggered
-from footnav.estimators.ekf.kernels import feedback
+from footnav.estimators.ekf.kernels import feedback_all
 from footnav.estimators.ekf.loop import (
     APART, DONE, FULL, MODE_BACK, MODE_CLOSE, MODE_FILTER, MODE_RECORD, MODE_STEP, NOT_PD, STEP_END, W_APPLIED, W_NEXT, run,
 )
@@ -541,9 +541,7 @@ class InsFilter:
         return self.update(h, innov, np.full(axes, float(var)) if var.ndim == 0 else var)
 
     def _apply(self, dx: NDArray[np.float64]) -> None:
-        dq, q_tmp = np.zeros(4), np.zeros(4)
-        for f in range(self.n_feet):
-            feedback(self._q, self._v, self._p, self._ba, self._bg, f, dx, f * self.n_states, self.n_states, dq, q_tmp)
+        feedback_all(self._q, self._v, self._p, self._ba, self._bg, dx, self.n_states, np.zeros(4), np.zeros(4))
 
     # -- checkpoints and outputs ------------------------------------------------------------------
     def _checkpoint(self, step_end: bool) -> Checkpoint:

@@ -19,7 +19,7 @@ from footnav.nav.kalman import update3
 from footnav.nav.mechanization import strapdown_step
 from footnav.nav.quaternion import as_matrix_nb
 from footnav.estimators.ekf.backward import smooth_back
-from footnav.estimators.ekf.kernels import feedback, predict_cov
+from footnav.estimators.ekf.kernels import feedback_all, predict_cov
 from footnav.estimators.ekf.records import GYR_BIAS, POS, VEL
 
 __all__ = [
@@ -85,8 +85,7 @@ def _position_update(foot, y0, y1, y2, r, state, n, ws, record, rec, fill, log, 
     o = foot * n
     if not update3(cov, dx, o + POS, y0, y1, y2, r, np.inf, gain, sy, ws.hp):
         return False
-    for g in range(len(p)):
-        feedback(q, v, p, ba, bg, g, dx, g * n, n, ws.dq, ws.q_tmp)
+    feedback_all(q, v, p, ba, bg, dx, n, ws.dq, ws.q_tmp)
     if record:
         e = fill[0]
         rec.foot[e] = foot
@@ -269,7 +268,7 @@ def run(
             # ZUPT: z = v^ - 0 = dv + noise
             y[0], y[1], y[2] = v[f, 0], v[f, 1], v[f, 2]
             if update3(cov, dx, o + VEL, y[0], y[1], y[2], r_zupt, np.inf, gain, sy, hp):
-                feedback(q, v, p, ba, bg, f, dx, o, n, dq, q_tmp)
+                feedback_all(q, v, p, ba, bg, dx, n, dq, q_tmp)
                 nu = 1
             # zero angular rate, after the ZUPT (sequential updates with R block-diagonal equal
             # the joint one): w^ = w - bg^, so -w^ = dbg + noise. Skipped when the rate is
@@ -279,7 +278,7 @@ def run(
                 for i in range(3):
                     y[3 + i] = bg[f, i] - gyr[kn, i]
                 if update3(cov, dx, o + GYR_BIAS, y[3], y[4], y[5], r_zaru, ZARU_GATE, gain_z, sy_z, hp):
-                    feedback(q, v, p, ba, bg, f, dx, o, n, dq, q_tmp)
+                    feedback_all(q, v, p, ba, bg, dx, n, dq, q_tmp)
                     nu = 2
         if record:
             e = fill[0]

@@ -362,7 +362,7 @@ class JointStream:
                 mine = (rec.foot[:fill] == f) & (rec.k[:fill] >= 0)
                 rec.k[:fill][mine] += new.global_index(f, 0) - old.global_index(f, 0) - shift[f]
             new.step_smoother.record = rec
-            new.step_smoother.fill[0] = fill
+            new.step_smoother.fill[:] = ss.fill
         new.meta = old.meta
         self.filt = new
         for f, jf in enumerate(self.feet):

@@ -11,7 +11,7 @@ from footnav.estimators.ekf import EkfEstimator
 from footnav.estimators.ekf import filter as ekf_filter
 from footnav.estimators.ekf.kernels import predict_cov
 from footnav.estimators.ekf.records import FilterNoise
-from footnav.estimators.ekf.smoother import smooth
+from footnav.estimators.ekf.smoother import SegmentRecords, smooth
 
 
 def _dense_f(n, f_n, c, dt):
@@ -314,7 +314,6 @@ def test_in_pass_step_smoothing_with_a_tiny_buffer_still_smooths_every_sample():
 def _whole_with_updates(est, rec, stances, keep_mb):
     """A two-foot joint run with a caller's position update every 2 s, smoothed over the whole
     walk, the forward run keeping ``keep_mb`` MB of its record (None: nothing kept)."""
-    from footnav.estimators.ekf.smoother import SegmentRecords
 
     filt = est.start([rec.left, rec.right], stances)
     filt.segment_records = None if keep_mb is None else SegmentRecords(filt, keep_mb)
@@ -325,6 +324,31 @@ def _whole_with_updates(est, rec, stances, keep_mb):
     filt.close()
     kept = 0 if filt.segment_records is None else len(filt.segment_records.kept)
     return smooth(filt, "whole"), kept, len(filt.checkpoints) - 1
+
+
+def test_a_kept_segment_holds_gains_only_for_the_samples_with_updates():
+    # most of a record's bytes are the gain K, and a sample in swing has none: the kept
+    # segments hold one update row per sample with a ZUPT, so the smoother's budget keeps more
+    rec = footnav.simulate("straight", seed=10, distance_m=15.0, standstill_s=1.0)
+    est = EkfEstimator(smoother="whole", heading="sensor")
+    filt = est.start([rec.left], [StanceResult(rec.truth_left.stance)])
+    filt.segment_records = SegmentRecords(filt, 1000.0)
+    filt.run_until()
+    filt.close()
+    kept = list(filt.segment_records.kept.values())
+    assert len(kept) == len(filt.checkpoints) - 1 >= 1
+    for record, (events, rows), _, _ in kept:
+        assert len(record.k) == events and len(record.gain) == rows == np.count_nonzero(record.nu)
+    k0 = filt.start_index(0)
+    events = sum(int(f[0]) for _, f, _, _ in kept)
+    rows = sum(int(f[1]) for _, f, _, _ in kept)
+    assert events == rec.left.n_samples - 1 - k0
+    assert rows == np.count_nonzero(rec.truth_left.stance[k0 + 1 :])  # a ZUPT at every stance sample
+    assert rows < 0.8 * events  # the walk has swings
+    per_event = 8 + 8 + 24 + 8 + 8  # foot, k, f^n dt, dt, nu (9 states: no C)
+    per_row = 16 + 9 * 3 * 8 + 24 + 24  # base, K, S^-1 y, y
+    nbytes = sum(nb for *_, nb in kept)
+    assert nbytes == events * per_event + rows * per_row + len(kept) * 9 * 9 * 8  # and each segment's P
 
 
 @pytest.mark.parametrize("bias_states", [False, True])

@@ -50,8 +50,9 @@ def _finv_apply(d, o, n, x, y, z, c, e, dt):
 
 
 @njit(cache=True, error_model="numpy")
-def smooth_back(used, chain, cov, mu, d, n, n_feet, q_diag, rec, out, sm, ws):
-    """Bryson-Frazier backward pass over the recorded events ``used - 1`` down to 0.
+def smooth_back(fill, chain, cov, mu, d, n, n_feet, q_diag, rec, out, sm, ws):
+    """Bryson-Frazier backward pass over the recorded events ``fill[0] - 1`` down to 0 (and
+    their ``fill[1]`` update rows, :class:`~footnav.estimators.ekf.records.Record`).
 
     Each event's smoothed sample is its filtered output corrected by ``-d``, where ``d = P mu``
     is the smoothed minus the filtered error state. Going back through an update (K, y,
@@ -70,6 +71,7 @@ def smooth_back(used, chain, cov, mu, d, n, n_feet, q_diag, rec, out, sm, ws):
     out_q, out_v, out_p = out.q, out.v, out.p  # the filter's Outputs
     sm_q, sm_v, sm_p = sm  # Smoothed, written
     big = len(mu)
+    used, row = fill[0], fill[1]
     kt, dq, q_tmp = ws.kt, ws.dq, ws.q_tmp
     for i in range(big):
         if chain:
@@ -95,29 +97,31 @@ def smooth_back(used, chain, cov, mu, d, n, n_feet, q_diag, rec, out, sm, ws):
                 sm_p[k, i] = out_p[k, i] - d[o + 6 + i]
         # the updates, last first: a sample's nu 3-state selections (none when nu = 0; K in
         # columns 3u:3u+3), or a caller's update between samples of m = -nu rows (K in columns
-        # 0:m, H' in m:2m). Rows of an event without updates hold stale values: never read.
+        # 0:m, H' in m:2m); an event with updates has the row before the next such event's
         m = 3 if nu >= 0 else -nu
+        if nu != 0:
+            row -= 1
         for u in range((nu if nu >= 0 else 1) - 1, -1, -1):
             col = 3 * u
             for a in range(m):
-                acc = ev_sy[e, col + a]
+                acc = ev_sy[row, col + a]
                 for i in range(big):
-                    acc -= ev_gain[e, i, col + a] * mu[i]
+                    acc -= ev_gain[row, i, col + a] * mu[i]
                 kt[a] = acc
             for i in range(big):
                 acc = 0.0
                 for a in range(m):
-                    acc += ev_gain[e, i, col + a] * ev_y[e, col + a]
+                    acc += ev_gain[row, i, col + a] * ev_y[row, col + a]
                 d[i] += acc
             if nu < 0:
                 for i in range(big):
                     acc = 0.0
                     for a in range(m):
-                        acc += ev_gain[e, i, m + a] * kt[a]
+                        acc += ev_gain[row, i, m + a] * kt[a]
                     mu[i] += acc
             else:
                 for a in range(m):
-                    mu[ev_base[e, u] + a] += kt[a]
+                    mu[ev_base[row, u] + a] += kt[a]
         if nu < 0 or k < 0:
             continue
         dt = ev_dt[e]

@@ -184,7 +184,7 @@ class InsFilter:
         # same types as a smoother's, so that numba compiles the loop once)
         self._no_record = empty_record(big)
         self._no_sm = Smoothed(np.zeros((0, 4)), np.zeros((0, 3)), np.zeros((0, 3)))
-        self._no_fill = np.zeros(1, dtype=np.int64)
+        self._no_fill = np.zeros(2, dtype=np.int64)
         self._no_vec = np.zeros(big)
         self._work = work(big, nf)
         self.step_smoother = None
@@ -561,10 +561,10 @@ class InsFilter:
         if events != n_ev:  # pragma: no cover - the checkpoints come from this very loop
             raise RuntimeError("replay did not reproduce the forward run")
 
-    def smooth_kept(self, record: Record, used: int, cov: NDArray[np.float64], smoothed: Smoothed, mu, d) -> None:
-        """The whole-walk smoother's backward pass over a kept segment (``MODE_BACK``): ``used``
-        events of ``record``, ``cov`` the covariance after its last sample."""
-        fill = np.array([used], dtype=np.int64)
+    def smooth_kept(self, record: Record, fill: NDArray[np.int64], cov: NDArray[np.float64], smoothed: Smoothed, mu, d) -> None:
+        """The whole-walk smoother's backward pass over a kept segment (``MODE_BACK``): the
+        ``fill`` (events, update rows) of ``record``, ``cov`` the covariance after its last sample."""
+        fill = np.array(fill, dtype=np.int64)
         state = self._state._replace(cov=cov)  # only cov is read
         self._call(MODE_BACK, self._k, self._stop_at, -np.inf, 0, False, state, record, smoothed, fill, mu, d)
 

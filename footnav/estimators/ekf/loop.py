@@ -87,17 +87,18 @@ def _position_update(foot, y0, y1, y2, r, state, n, ws, record, rec, fill, log, 
         return False
     feedback_all(q, v, p, ba, bg, dx, n, ws.dq, ws.q_tmp)
     if record:
-        e = fill[0]
+        e, row = fill[0], fill[1]
         rec.foot[e] = foot
         rec.k[e] = -1
         rec.nu[e] = 1
-        rec.base[e, 0] = o + POS
-        rec.y[e, 0], rec.y[e, 1], rec.y[e, 2] = y0, y1, y2
+        rec.base[row, 0] = o + POS
+        rec.y[row, 0], rec.y[row, 1], rec.y[row, 2] = y0, y1, y2
         for a in range(3):
-            rec.sy[e, a] = sy[a]
+            rec.sy[row, a] = sy[a]
             for i in range(cov.shape[0]):
-                rec.gain[e, i, a] = gain[i, a]
+                rec.gain[row, i, a] = gain[i, a]
         fill[0] = e + 1
+        fill[1] = row + 1
     j = cursor[1]
     if write:
         log.event[j] = event
@@ -169,7 +170,7 @@ def run(
     (``k[f]`` is its last processed sample); ``state`` (a :class:`FilterState`) is advanced in
     place and each sample's result written to ``out`` (:class:`Outputs`). ``n`` states per foot,
     ``q_diag`` Q / dt of one foot, ``r_zupt`` and ``r_zaru`` the update variances (0: no ZARU).
-    ``rec`` (:class:`Record`), ``sm`` (:class:`Smoothed`), ``fill`` (events recorded, one entry),
+    ``rec`` (:class:`Record`), ``sm`` (:class:`Smoothed`), ``fill`` (events and update rows recorded),
     ``mu`` and ``d`` are the smoother's, ``ws`` the :class:`Work` scratch. ``mode``:
 
     * ``MODE_FILTER``: filter only.
@@ -212,12 +213,14 @@ def run(
     y, sy, sy_z, dx, gain, gain_z, hp = ws.y, ws.sy, ws.sy_z, ws.dx, ws.gain, ws.gain_z, ws.hp
     step = mode == MODE_STEP or mode == MODE_CLOSE  # a variable, not a literal: one compiled pass
     if mode == MODE_CLOSE or mode == MODE_BACK:
-        smooth_back(fill[0], step, cov, mu, d, n, n_feet, q_diag, rec, out, sm, ws)
+        smooth_back(fill, step, cov, mu, d, n, n_feet, q_diag, rec, out, sm, ws)
         fill[0] = 0
+        fill[1] = 0
         return DONE, 0
     record = mode == MODE_STEP or mode == MODE_WHOLE or mode == MODE_RECORD
     if mode == MODE_WHOLE:
         fill[0] = 0
+        fill[1] = 0
     events = 0
     reason = FULL
     n_watch = len(watch_times)
@@ -237,8 +240,9 @@ def run(
                 if record and fill[0] + 3 > capacity:  # room for two projections and the next sample
                     if not step:
                         return FULL, events
-                    smooth_back(fill[0], step, cov, mu, d, n, n_feet, q_diag, rec, out, sm, ws)
+                    smooth_back(fill, step, cov, mu, d, n, n_feet, q_diag, rec, out, sm, ws)
                     fill[0] = 0
+                    fill[1] = 0
                 status = _project(watch, stance, k, state, n, ws, record, rec, fill, log, cursor, cursor[0] + events)
                 if status != DONE:
                     return status, events
@@ -281,10 +285,11 @@ def run(
                     feedback_all(q, v, p, ba, bg, dx, n, dq, q_tmp)
                     nu = 2
         if record:
+            if fill[0] == capacity:  # a full buffer: the step is cut here (MODE_STEP only)
+                smooth_back(fill, step, cov, mu, d, n, n_feet, q_diag, rec, out, sm, ws)
+                fill[0] = 0
+                fill[1] = 0
             e = fill[0]
-            if e == capacity:  # a full buffer: the step is cut here (MODE_STEP only)
-                smooth_back(e, step, cov, mu, d, n, n_feet, q_diag, rec, out, sm, ws)
-                e = 0
             ev_foot[e] = f
             ev_k[e] = kn
             ev_dt[e] = dt
@@ -294,21 +299,23 @@ def run(
                     for j in range(3):
                         ev_c[e, i, j] = c[i, j]
             ev_nu[e] = nu
-            for u in range(nu):
-                ev_base[e, u] = o + (VEL if u == 0 else GYR_BIAS)
-            for a in range(3 * nu):
-                ev_y[e, a] = y[a]
-            if nu > 0:
-                for a in range(3):
-                    ev_sy[e, a] = sy[a]
-                    for i in range(big):
-                        ev_gain[e, i, a] = gain[i, a]
-            if nu > 1:
-                for a in range(3):
-                    ev_sy[e, 3 + a] = sy_z[a]
-                    for i in range(big):
-                        ev_gain[e, i, 3 + a] = gain_z[i, a]
             fill[0] = e + 1
+            if nu > 0:  # an update row (a sample in swing has none)
+                row = fill[1]
+                for u in range(nu):
+                    ev_base[row, u] = o + (VEL if u == 0 else GYR_BIAS)
+                for a in range(3 * nu):
+                    ev_y[row, a] = y[a]
+                for a in range(3):
+                    ev_sy[row, a] = sy[a]
+                    for i in range(big):
+                        ev_gain[row, i, a] = gain[i, a]
+                if nu > 1:
+                    for a in range(3):
+                        ev_sy[row, 3 + a] = sy_z[a]
+                        for i in range(big):
+                            ev_gain[row, i, 3 + a] = gain_z[i, a]
+                fill[1] = row + 1
         for i in range(4):
             out_q[kn, i] = q[f, i]
         for i in range(3):
@@ -321,14 +328,15 @@ def run(
         events += 1
         if stance[kn] and kn < stop_at[f] and not stance[kn + 1]:  # the foot's stance ends: a step
             if mode == MODE_STEP:
-                smooth_back(fill[0], step, cov, mu, d, n, n_feet, q_diag, rec, out, sm, ws)
+                smooth_back(fill, step, cov, mu, d, n, n_feet, q_diag, rec, out, sm, ws)
                 fill[0] = 0
+                fill[1] = 0
             if step_stops:
                 reason = STEP_END
                 break
     if cursor[1] < cursor[2]:  # a replay's updates at its last instant, before its checkpoint
         _replay_log(cursor, events, state, n, ws, record, rec, fill, log)
     if mode == MODE_WHOLE:
-        smooth_back(fill[0], step, cov, mu, d, n, n_feet, q_diag, rec, out, sm, ws)
+        smooth_back(fill, step, cov, mu, d, n, n_feet, q_diag, rec, out, sm, ws)
     return reason, events
 

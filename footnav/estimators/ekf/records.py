@@ -197,6 +197,12 @@ class Record(NamedTuple):
     """What the backward pass needs of each event (a sample, or a caller's update between
     samples), filled by the compiled loop: never the covariance.
 
+    The first six arrays have a row per event. The last four (``base``, ``gain``, ``sy``,
+    ``y``) have a row per event *with updates* (``nu`` not 0), in the events' order: a sample
+    in swing has none, so a walk's record takes about 60 % of the bytes of one with a gain per
+    sample, and the whole-walk smoother's budget holds more of the walk (:mod:`.smoother`).
+    The backward pass finds an event's row by counting down from the rows used.
+
     Attributes
     ----------
     foot
@@ -214,13 +220,13 @@ class Record(NamedTuple):
         (n,) updates at the sample: 0, 1 (ZUPT), 2 (and ZARU); -m for a caller's update of m rows;
         1 for the loop's own position update (``k`` -1).
     base
-        (n, 2) first error state of each update's 3-block.
+        (rows, 2) first error state of each update's 3-block.
     gain
-        (n, N, cols) K, three columns per update at a sample; a caller's: K (m columns), then H'.
+        (rows, N, cols) K, three columns per update at a sample; a caller's: K (m columns), then H'.
     sy
-        (n, cols) S^-1 y (two updates of 3 at a sample, or a caller's).
+        (rows, cols) S^-1 y (two updates of 3 at a sample, or a caller's).
     y
-        (n, cols) the innovations y.
+        (rows, cols) the innovations y.
     """
 
     foot: NDArray[np.int64]
@@ -234,9 +240,21 @@ class Record(NamedTuple):
     sy: NDArray[np.float64]
     y: NDArray[np.float64]
 
-    def head(self, n: int) -> Record:
-        """Views of the first ``n`` events."""
-        return Record(*(a[:n] for a in self))
+    def head(self, n: int, rows: int) -> Record:
+        """Views of the first ``n`` events and their first ``rows`` update rows."""
+        return Record(*(a[:n] for a in self[:6]), *(a[:rows] for a in self[6:]))
+
+    def copy_head(self, n: int, rows: int, *, stagger: bool = False) -> Record:
+        """Copies of :meth:`head`, sharing nothing with this record; ``stagger``: in one buffer
+        at staggered page offsets (:mod:`.buffers`; worth its up to ten pages for a long
+        segment that the backward pass reads, not for a short one)."""
+        head = self.head(n, rows)
+        if not stagger:
+            return Record(*(np.array(a) for a in head))
+        copies = staggered([(a.shape, a.dtype) for a in head], first=RECORD_PLACE)
+        for dst, src in zip(copies, head):
+            dst[...] = src
+        return Record(*copies)
 
 
 #: Place of the record's arrays in :func:`footnav.estimators.ekf.buffers.staggered`'s pattern,
@@ -247,13 +265,12 @@ SMOOTHED_PLACE = RECORD_PLACE + 10
 
 
 def empty_record(big: int, n: int = 0, columns: int = 6, *, zero: bool = True, bias_states: bool = True) -> Record:
-    """Buffers of the compiled loop's :class:`Record` for ``n`` events of a filter with ``big``
-    error states and ``columns`` gain columns: 3 per update at a sample (3 for a ZUPT, 6 with the
-    ZARU), 2 m for a caller's update of m rows (K and H'). Narrow rows keep the backward pass's
-    reads of K contiguous. ``zero=False`` leaves them uninitialised (the loop writes an event
-    before the backward pass reads it). ``bias_states=False`` (9 states): no room for C, which
-    only the bias columns of F read; 72 of a joint filter's 624 bytes per event, so the
-    whole-walk smoother's budget keeps more of the run (:mod:`.smoother`)."""
+    """Buffers of the compiled loop's :class:`Record` for ``n`` events (and as many update rows)
+    of a filter with ``big`` error states and ``columns`` gain columns: 3 per update at a sample
+    (3 for a ZUPT, 6 with the ZARU), 2 m for a caller's update of m rows (K and H'). Narrow rows
+    keep the backward pass's reads of K contiguous. ``zero=False`` leaves them uninitialised (the
+    loop writes an event before the backward pass reads it). ``bias_states=False`` (9 states):
+    no room for C, which only the bias columns of F read."""
     i8, f8 = np.int64, np.float64
     cols = max(3, columns)
     return Record(*staggered([
@@ -263,7 +280,7 @@ def empty_record(big: int, n: int = 0, columns: int = 6, *, zero: bool = True, b
         ((n,), f8),  # dt
         ((n if bias_states else 0, 3, 3), f8),  # C at the start of the interval (bias states only)
         ((n,), i8),  # updates at the sample: 0, 1 (ZUPT), 2 (and ZARU); -m a caller's
-        ((n, 2), i8),  # first error state of each update's 3-block
+        ((n, 2), i8),  # per update row: first error state of each update's 3-block
         ((n, big, cols), f8),  # K, three columns per update; a caller's: K then H'
         ((n, cols), f8),  # S^-1 y (two updates of 3 at a sample, or a caller's)
         ((n, cols), f8),  # y

@@ -21,9 +21,11 @@ and at its caller's updates. The whole-walk smoother needs each segment's record
 segment first: the forward run keeps the records of its latest segments up to
 ``KEEP_RECORD_MB`` (:class:`SegmentRecords`), and the smoother re-runs from its checkpoint each
 segment whose record was not kept. So memory is O(steps) plus at most that budget, and a
-recording whose record fits in it is filtered once (about 340 bytes per sample and foot with 9
-error states, 550 per sample in a joint filter of two feet: 64 MB per foot hold 31 minutes of
-one foot at 100 Hz, 19 of a joint filter's two).
+recording whose record fits in it is filtered once. A sample of one foot with 9 error states
+takes 56 bytes, and 280 more when it has an update (the gain K is most of it; the
+:class:`~footnav.estimators.ekf.records.Record` keeps one only for samples with updates): on a
+walk with half its samples in stance, about 200 bytes, so 64 MB per foot hold about 53 minutes
+of one foot at 100 Hz.
 The step-wise smoother records each step as the filter runs and smooths it at its end, inside
 the same compiled loop: two buffers' worth of memory whatever the length of the recording, and
 no sample is run twice.
@@ -80,31 +82,28 @@ class SegmentRecords:
         self.capacity = ekf_filter.MAX_SEGMENT_EVENTS  # the longest segment the filter makes
         self.bias_states = filt.n_states == 15
         self.record = self._empty()
-        #: events recorded of the open segment
-        self.fill = np.zeros(1, dtype=np.int64)
-        #: checkpoint index -> (record, events, covariance after the segment's last sample, bytes)
-        self.kept: dict[int, tuple[Record, int, NDArray[np.float64], int]] = {}
+        #: events and update rows recorded of the open segment
+        self.fill = np.zeros(2, dtype=np.int64)
+        #: checkpoint index -> (record, (events, update rows), covariance after the segment's
+        #: last sample, bytes)
+        self.kept: dict[int, tuple[Record, NDArray[np.int64], NDArray[np.float64], int]] = {}
         self.nbytes = 0
 
     def keep(self, checkpoint: int, cov: NDArray[np.float64]) -> None:
         """Keep the open segment, which ends at ``checkpoint``, and start the next one.
 
-        A segment that fills at least half the buffer is kept by handing the buffer over; a
-        shorter one (a fusion's update at every step ends one) by copying what it used: the copy
-        costs a fraction of re-running the segment, which would filter its samples a second time.
+        The segment is kept as a copy of what it used, its update rows only for the samples
+        with updates, and the buffer serves the next one: the copy costs a fraction of
+        re-running the segment, which would filter its samples a second time.
         """
-        used = int(self.fill[0])
-        self.fill[0] = 0
+        used, rows = (int(x) for x in self.fill)
+        fill = self.fill.copy()
+        self.fill[:] = 0
         if used == 0 or self.budget_bytes <= 0:
             return
-        if 2 * used < self.capacity:
-            rec = Record(*(np.array(a) for a in self.record.head(used)))
-            nbytes = _nbytes(rec)
-        else:  # the views hold the whole buffer
-            rec, nbytes = self.record.head(used), _nbytes(self.record)
-            self.record = self._empty()
-        nbytes += cov.nbytes
-        self.kept[checkpoint] = (rec, used, cov.copy(), nbytes)
+        rec = self.record.copy_head(used, rows, stagger=2 * used >= self.capacity)
+        nbytes = _nbytes(rec) + cov.nbytes
+        self.kept[checkpoint] = (rec, fill, cov.copy(), nbytes)
         self.nbytes += nbytes
         while self.nbytes > self.budget_bytes:
             self._drop(next(iter(self.kept)))  # the oldest: segments are kept in time order
@@ -113,8 +112,9 @@ class SegmentRecords:
         """A new, uninitialised buffer for the open segment."""
         return empty_record(self.big, self.capacity, self.columns, zero=False, bias_states=self.bias_states)
 
-    def take(self, checkpoint: int) -> tuple[Record, int, NDArray[np.float64]] | None:
-        """The kept segment ending at ``checkpoint`` (record, events, covariance), released; or None."""
+    def take(self, checkpoint: int) -> tuple[Record, NDArray[np.int64], NDArray[np.float64]] | None:
+        """The kept segment ending at ``checkpoint`` (record, (events, update rows), covariance),
+        released; or None."""
         if checkpoint not in self.kept:
             return None
         rec, used, cov, _ = self.kept[checkpoint]
@@ -152,8 +152,8 @@ class StepSmoother:
         self.capacity = int(ekf_filter.MAX_SEGMENT_EVENTS if capacity is None else capacity)
         self.bias_states = filt.n_states == 15
         self.record = empty_record(big, self.capacity, filt.record_columns, bias_states=self.bias_states)
-        #: events recorded of the open step (one entry: an array the compiled loop updates)
-        self.fill = np.zeros(1, dtype=np.int64)
+        #: events and update rows recorded of the open step (an array the compiled loop updates)
+        self.fill = np.zeros(2, dtype=np.int64)
         self.mu = np.zeros(big)
         self.d = np.zeros(big)
         self.smoothed = _copy_outputs(filt)
@@ -168,14 +168,14 @@ class StepSmoother:
             for old, new in zip(self.record, wide):
                 new[tuple(slice(0, s) for s in old.shape)] = old
             self.record = wide
-        e = int(self.fill[0])
+        e, row = (int(x) for x in self.fill)
         rec = self.record
         rec.nu[e] = -m
-        rec.gain[e, :, :m] = gain
-        rec.gain[e, :, m : 2 * m] = h.T
-        rec.sy[e, :m] = sy
-        rec.y[e, :m] = y
-        self.fill[0] = e + 1
+        rec.gain[row, :, :m] = gain
+        rec.gain[row, :, m : 2 * m] = h.T
+        rec.sy[row, :m] = sy
+        rec.y[row, :m] = y
+        self.fill[:] = e + 1, row + 1
 
     def result(self, filt: InsFilter) -> Smoothed:
         """Smoothed attitude, velocity, position of all samples (the open step is smoothed now)."""
@@ -225,7 +225,7 @@ def smooth(filt: InsFilter, mode: Literal["whole", "step"] = "whole") -> Smoothe
         (cps[b].n_events - cps[b - 1].n_events + cps[b].n_log - cps[b - 1].n_log for b in range(1, len(cps)) if b not in kept), default=0,
     )
     record = empty_record(big, longest, filt.record_columns, bias_states=filt.n_states == 15)
-    fill = np.zeros(1, dtype=np.int64)
+    fill = np.zeros(2, dtype=np.int64)
     mu, d = np.zeros(big), np.zeros(big)
     for b in range(len(cps) - 1, 0, -1):  # one segment at a time, last first
         for h, gain, sy, _ in reversed(cps[b].updates):  # the caller's updates at the segment's end

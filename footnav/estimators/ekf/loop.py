@@ -74,12 +74,11 @@ def _apart(watch_times, watch, p, t_next, t_stop):
 
 
 @njit(cache=True, error_model="numpy")
-def _position_update(foot, y0, y1, y2, r, state, n, ws, record, rec, fill, log, cursor, event, write):
+def _position_update(foot, y0, y1, y2, r, state, n, ws, record, rec, fill):
     """The loop's own measurement of ``foot``'s position (innovation y = p^ - z, m; variance
-    ``r`` per axis, m^2) after ``event`` samples of the run, fed back into every foot (the joint
-    covariance links them), recorded as an event without a sample (``rec.k`` -1) and logged at
-    ``cursor[1]`` (``write``: a new entry; else a replay of the entry there). False (nothing
-    changed) when S is not positive definite."""
+    ``r`` per axis, m^2), fed back into every foot (the joint covariance links them) and
+    recorded as an event without a sample (``rec.k`` -1). False (nothing changed) when S is not
+    positive definite. One signature for every caller: each would compile its own otherwise."""
     q, v, p, ba, bg, f_n, cov = state
     dx, gain, sy = ws.dx, ws.gain, ws.sy
     o = foot * n
@@ -99,12 +98,20 @@ def _position_update(foot, y0, y1, y2, r, state, n, ws, record, rec, fill, log, 
                 rec.gain[row, i, a] = gain[i, a]
         fill[0] = e + 1
         fill[1] = row + 1
+    return True
+
+
+@njit(cache=True, error_model="numpy")
+def _logged_update(foot, y0, y1, y2, r, state, n, ws, record, rec, fill, log, cursor, event):
+    """:func:`_position_update`, logged at ``cursor[1]`` as made after ``event`` samples of the
+    run (for a replay, :func:`_replay_log`)."""
+    if not _position_update(foot, y0, y1, y2, r, state, n, ws, record, rec, fill):
+        return False
     j = cursor[1]
-    if write:
-        log.event[j] = event
-        log.foot[j] = foot
-        log.y[j, 0], log.y[j, 1], log.y[j, 2] = y0, y1, y2
-        log.r[j] = r
+    log.event[j] = event
+    log.foot[j] = foot
+    log.y[j, 0], log.y[j, 1], log.y[j, 2] = y0, y1, y2
+    log.r[j] = r
     cursor[1] = j + 1
     return True
 
@@ -131,7 +138,7 @@ def _project(watch, stance, k, state, n, ws, record, rec, fill, log, cursor, eve
         y0 = p[mover, 0] - (p[anchor, 0] + s * ux)
         y1 = p[mover, 1] - (p[anchor, 1] + s * uy)
         y2 = p[mover, 2] - (p[anchor, 2] + s * uz)
-        if not _position_update(mover, y0, y1, y2, r, state, n, ws, record, rec, fill, log, cursor, event, True):
+        if not _logged_update(mover, y0, y1, y2, r, state, n, ws, record, rec, fill, log, cursor, event):
             return NOT_PD
     else:
         cx, cy, cz = 0.5 * (p[0, 0] + p[1, 0]), 0.5 * (p[0, 1] + p[1, 1]), 0.5 * (p[0, 2] + p[1, 2])
@@ -141,18 +148,19 @@ def _project(watch, stance, k, state, n, ws, record, rec, fill, log, cursor, eve
             y0 = p[foot, 0] - (cx + s * ux)
             y1 = p[foot, 1] - (cy + s * uy)
             y2 = p[foot, 2] - (cz + s * uz)
-            if not _position_update(foot, y0, y1, y2, r, state, n, ws, record, rec, fill, log, cursor, event, True):
+            if not _logged_update(foot, y0, y1, y2, r, state, n, ws, record, rec, fill, log, cursor, event):
                 return NOT_PD
     watch[W_APPLIED] += 1.0
     return DONE
 
 
 @njit(cache=True, error_model="numpy")
-def _replay_log(cursor, events, state, n, ws, record, rec, fill, log):
-    """Apply again the logged updates made after ``cursor[0] + events`` samples (a replay)."""
-    while cursor[1] < cursor[2] and log.event[cursor[1]] == cursor[0] + events:
+def _replay_log(cursor, event, state, n, ws, record, rec, fill, log):
+    """Apply again the logged updates made after ``event`` samples of the run (a replay)."""
+    while cursor[1] < cursor[2] and log.event[cursor[1]] == event:
         j = cursor[1]
-        _position_update(log.foot[j], log.y[j, 0], log.y[j, 1], log.y[j, 2], log.r[j], state, n, ws, record, rec, fill, log, cursor, cursor[0] + events, False)
+        _position_update(log.foot[j], log.y[j, 0], log.y[j, 1], log.y[j, 2], log.r[j], state, n, ws, record, rec, fill)
+        cursor[1] = j + 1
 
 
 #: What a call of :func:`run` does besides filtering.
@@ -226,7 +234,7 @@ def run(
     n_watch = len(watch_times)
     while events < max_events:
         if cursor[1] < cursor[2]:
-            _replay_log(cursor, events, state, n, ws, record, rec, fill, log)
+            _replay_log(cursor, cursor[0] + events, state, n, ws, record, rec, fill, log)
         if mode == MODE_RECORD and fill[0] >= capacity:  # the loop's own updates filled it
             return FULL, events
         f = _next_foot(t, k, stop_at, t_stop)
@@ -335,7 +343,7 @@ def run(
                 reason = STEP_END
                 break
     if cursor[1] < cursor[2]:  # a replay's updates at its last instant, before its checkpoint
-        _replay_log(cursor, events, state, n, ws, record, rec, fill, log)
+        _replay_log(cursor, cursor[0] + events, state, n, ws, record, rec, fill, log)
     if mode == MODE_WHOLE:
         smooth_back(fill, step, cov, mu, d, n, n_feet, q_diag, rec, out, sm, ws)
     return reason, events

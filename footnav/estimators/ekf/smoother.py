@@ -23,9 +23,9 @@ segment first: the forward run keeps the records of its latest segments up to
 segment whose record was not kept. So memory is O(steps) plus at most that budget, and a
 recording whose record fits in it is filtered once. A sample of one foot with 9 error states
 takes 56 bytes, and 280 more when it has an update (the gain K is most of it; the
-:class:`~footnav.estimators.ekf.records.Record` keeps one only for samples with updates): on a
-walk with half its samples in stance, about 200 bytes, so 64 MB per foot hold about 53 minutes
-of one foot at 100 Hz.
+:class:`~footnav.estimators.ekf.records.Record` keeps one only for samples with updates): on the
+simulator's walks (42 % of the samples in stance) about 175 bytes, so 64 MB per foot hold about
+an hour of one foot at 100 Hz (31 minutes when every sample held a gain).
 The step-wise smoother records each step as the filter runs and smooths it at its end, inside
 the same compiled loop: two buffers' worth of memory whatever the length of the recording, and
 no sample is run twice.

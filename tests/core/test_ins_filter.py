@@ -3,6 +3,7 @@
 import numpy as np
 import pytest
 import reference_kalman as kalman  # tests/reference_kalman.py, the dense reference
+from reference_ins import nominal_step  # tests/reference_ins.py
 
 import footnav
 from footnav import StanceResult
@@ -49,20 +50,6 @@ def test_structured_predict_equals_dense_predict(n, n_feet, foot):
     assert np.array_equal(fast, fast.T)  # the lower triangle is the upper one, exactly
 
 
-def _nominal_step(imu, k, q, v, p, f_prev, ba, bg):
-    """The strapdown step from sample k - 1 to k written in numpy: Simpson's rule with the
-    mid-interval attitude (mechanization.strapdown_step). Returns q, v, p and f^n at k."""
-    dt = imu.t[k] - imu.t[k - 1]
-    w = 0.5 * ((imu.gyr[k - 1] - bg) + (imu.gyr[k] - bg)) * dt
-    q_mid = quat.normalize(quat.multiply(q, quat.from_rotvec(0.5 * w)))
-    q = quat.normalize(quat.multiply(q, quat.from_rotvec(w)))
-    f_new = quat.as_matrix(q) @ (imu.acc[k] - ba)
-    f_mid = quat.as_matrix(q_mid) @ (0.5 * (imu.acc[k - 1] + imu.acc[k]) - ba)
-    a_mean = (f_prev + 4 * f_mid + f_new) / 6 - [0, 0, footnav.GRAVITY_MPS2]
-    v_new = v + a_mean * dt
-    return q, v_new, p + 0.5 * (v + v_new) * dt, f_new
-
-
 def _reference_forward(est, imu, stance):
     """Closed-loop error-state filter written densely in numpy: per sample k > k0 (P_pred, P_filt,
     F, dx) in ``hist[k - k0 - 1]``, the nominal state after the update in ``out[k]``."""
@@ -82,7 +69,7 @@ def _reference_forward(est, imu, stance):
         dt = imu.t[k] - imu.t[k - 1]
         c = quat.as_matrix(q)
         f = _dense_f(n, f_prev, c, dt)
-        q, v, p, f_prev = _nominal_step(imu, k, q, v, p, f_prev, ba, bg)
+        q, v, p, f_prev = nominal_step(imu, k, q, v, p, f_prev, ba, bg)
         p_pred = f @ cov @ f.T + np.diag(q_diag * dt)
         dx = np.zeros(n)
         cov = p_pred
@@ -257,7 +244,7 @@ def test_a_zupt_of_one_foot_corrects_the_other_once_a_measurement_links_them(bia
     before = filt.state()
     assert np.abs(before.cov[:n, n:]).max() > 1e-6
     # the reference: the left foot's sample k + 1 written densely, the whole dx fed back
-    q, v, p, _ = _nominal_step(left, k + 1, before.q[0], before.v[0], before.p[0], before.f_n[0], before.ba[0], before.bg[0])
+    q, v, p, _ = nominal_step(left, k + 1, before.q[0], before.v[0], before.p[0], before.f_n[0], before.ba[0], before.bg[0])
     big_f = np.eye(2 * n)
     big_f[:n, :n] = _dense_f(n, before.f_n[0], quat.as_matrix(before.q[0]), dt)
     q_cov = np.zeros((2 * n, 2 * n))

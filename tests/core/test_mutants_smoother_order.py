@@ -34,6 +34,7 @@ import pytest
 
 import footnav
 from footnav import StanceResult
+from reference_ins import nominal_step  # tests/reference_ins.py
 from footnav.nav import quaternion as quat
 from footnav.estimators.ekf import EkfEstimator
 from footnav.estimators.ekf.smoother import smooth
@@ -62,7 +63,6 @@ def _reference(est, imu, stance, k_fix, fixes):
     k0 = filt.index(0)
     f_prev = quat.as_matrix(q) @ (imu.acc[k0] - ba)
     hist, out, seen = [], {k0: p.copy()}, {k0: p.copy()}
-    g = np.array([0.0, 0.0, footnav.GRAVITY_MPS2])
 
     def correct(dx):
         nonlocal q, v, p
@@ -71,16 +71,8 @@ def _reference(est, imu, stance, k_fix, fixes):
 
     for k in range(k0 + 1, imu.n_samples):
         dt = imu.t[k] - imu.t[k - 1]
-        w = 0.5 * ((imu.gyr[k - 1] - bg) + (imu.gyr[k] - bg)) * dt
-        q_mid = quat.normalize(quat.multiply(q, quat.from_rotvec(0.5 * w)))
-        q = quat.normalize(quat.multiply(q, quat.from_rotvec(w)))
-        f_new = quat.as_matrix(q) @ (imu.acc[k] - ba)
-        f_mid = quat.as_matrix(q_mid) @ (0.5 * (imu.acc[k - 1] + imu.acc[k]) - ba)
-        v_new = v + ((f_prev + 4 * f_mid + f_new) / 6 - g) * dt
-        p = p + 0.5 * (v + v_new) * dt
-        v = v_new
         f = _dense_f(f_prev, dt)
-        f_prev = f_new
+        q, v, p, f_prev = nominal_step(imu, k, q, v, p, f_prev, ba, bg)
         p_pred = f @ cov @ f.T + np.diag(q_diag * dt)
         cov = p_pred
         total = np.zeros(9)

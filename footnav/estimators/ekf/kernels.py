@@ -122,14 +122,8 @@ def feedback(q, v, p, ba, bg, f, dx, o, n, dq, q_tmp):
 
 @njit(cache=True, error_model="numpy")
 def feedback_all(q, v, p, ba, bg, dx, n, dq, q_tmp):
-    """Feed the whole error state ``dx`` of an update back into every foot. The update has moved
-    the whole covariance (P - K H P): once a measurement has linked the feet (a fusion's), a ZUPT
-    of one foot corrects the other as well, and leaving that part of ``dx`` out would leave the
-    nominal state where P says it is not (Sola (2017), sec. 6.2). A foot whose block of ``dx`` is
-    zero (nothing links it yet) is left as it is, not renormalised."""
+    """Feed the whole error state ``dx`` of an update back into every foot (Sola (2017),
+    sec. 6.2): a fusion's measurement of the joint state, which moves the whole covariance
+    (P - K H P)."""
     for g in range(len(p)):
-        o = g * n
-        for i in range(o, o + n):
-            if dx[i] != 0.0:
-                feedback(q, v, p, ba, bg, g, dx, o, n, dq, q_tmp)
-                break
+        feedback(q, v, p, ba, bg, g, dx, g * n, n, dq, q_tmp)

@@ -306,7 +306,8 @@ def test_in_pass_step_smoothing_with_a_tiny_buffer_still_smooths_every_sample():
 
 def _whole_with_updates(est, rec, stances, keep_mb):
     """A two-foot joint run with a caller's position update every 2 s, smoothed over the whole
-    walk, the forward run keeping ``keep_mb`` MB of its record (None: nothing kept)."""
+    walk, the forward run keeping ``keep_mb`` MB of its record in chunks (None: no chunks, each
+    segment re-run on its own). Returns the smoothed arrays, the chunks kept and the chunks."""
 
     filt = est.start([rec.left, rec.right], stances)
     filt.segment_records = None if keep_mb is None else SegmentRecords(filt, keep_mb)
@@ -315,48 +316,59 @@ def _whole_with_updates(est, rec, stances, keep_mb):
         filt.update_position(0, filt.position(0) + [0.01, -0.01, 0.0], std_m=0.05, axes=2)
     filt.run_until()
     filt.close()
-    kept = 0 if filt.segment_records is None else len(filt.segment_records.kept)
-    return smooth(filt, "whole"), kept, len(filt.checkpoints) - 1
+    sr = filt.segment_records
+    if sr is not None:
+        sr.finish()
+    kept, chunks = (0, 0) if sr is None else (len(sr.kept), len(sr.chunks))
+    return smooth(filt, "whole"), kept, chunks
 
 
-def test_a_kept_segment_holds_gains_only_for_the_samples_with_updates():
-    # most of a record's bytes are the gain K, and a sample in swing has none: the kept
-    # segments hold one update row per sample with a ZUPT, so the smoother's budget keeps more
+def test_a_kept_chunk_holds_gains_only_for_the_samples_with_updates(monkeypatch):
+    # most of a record's bytes are the gain K, and a sample in swing has none: a kept chunk
+    # holds one update row per sample with a ZUPT, so the smoother's budget keeps more
+    monkeypatch.setattr(ekf_filter, "MAX_SEGMENT_EVENTS", 300)  # several chunks
     rec = footnav.simulate("straight", seed=10, distance_m=15.0, standstill_s=1.0)
     est = EkfEstimator(smoother="whole", heading="sensor")
     filt = est.start([rec.left], [StanceResult(rec.truth_left.stance)])
     filt.segment_records = SegmentRecords(filt, 1000.0)
     filt.run_until()
     filt.close()
-    kept = list(filt.segment_records.kept.values())
-    assert len(kept) == len(filt.checkpoints) - 1 >= 1
-    for record, (events, rows), _, _ in kept:
-        assert len(record.k) == events and len(record.gain) == rows == np.count_nonzero(record.nu)
+    sr = filt.segment_records
+    sr.finish()  # the open chunk kept in place
+    assert len(sr.kept) == len(sr.chunks) >= 3
+    per_event = 8 + 8 + 24 + 8 + 8  # foot, k, f^n dt, dt, nu (9 states: no C)
+    per_row = 16 + 9 * 3 * 8 + 24 + 24  # base, K, S^-1 y, y
+    *closed, last = sr.kept
+    for b, (record, (events, rows), nbytes) in sr.kept.items():
+        head = record.head(events, rows)
+        assert rows == np.count_nonzero(head.nu)
+        assert nbytes == events * per_event + rows * per_row
+        if b != last:  # a closed chunk is a copy of what it used
+            assert len(record.k) == events == 300 and len(record.gain) == rows
     k0 = filt.start_index(0)
-    events = sum(int(f[0]) for _, f, _, _ in kept)
-    rows = sum(int(f[1]) for _, f, _, _ in kept)
+    events = sum(int(f[0]) for _, f, _ in sr.kept.values())
+    rows = sum(int(f[1]) for _, f, _ in sr.kept.values())
     assert events == rec.left.n_samples - 1 - k0
     assert rows == np.count_nonzero(rec.truth_left.stance[k0 + 1 :])  # a ZUPT at every stance sample
     assert rows < 0.8 * events  # the walk has swings
-    per_event = 8 + 8 + 24 + 8 + 8  # foot, k, f^n dt, dt, nu (9 states: no C)
-    per_row = 16 + 9 * 3 * 8 + 24 + 24  # base, K, S^-1 y, y
-    nbytes = sum(nb for *_, nb in kept)
-    assert nbytes == events * per_event + rows * per_row + len(kept) * 9 * 9 * 8  # and each segment's P
 
 
 @pytest.mark.parametrize("bias_states", [False, True])
-def test_kept_segments_smooth_exactly_as_replayed_ones(bias_states, monkeypatch):
-    monkeypatch.setattr(ekf_filter, "MAX_SEGMENT_EVENTS", 300)  # many segments besides the updates
+def test_kept_chunks_smooth_exactly_as_re_run_ones(bias_states, monkeypatch):
+    monkeypatch.setattr(ekf_filter, "MAX_SEGMENT_EVENTS", 300)  # many chunks besides the updates
     rec = footnav.simulate("straight", seed=10, distance_m=15.0, standstill_s=1.0)
     stances = [StanceResult(rec.truth_left.stance), StanceResult(rec.truth_right.stance)]
     est = EkfEstimator(smoother="whole", heading="sensor", bias_states=bias_states, zaru_std_radps=0.01 if bias_states else 0.0)
-    replayed, kept_none, segments = _whole_with_updates(est, rec, stances, None)
+    re_run, kept_none, chunks = _whole_with_updates(est, rec, stances, 0.0)
     all_kept, kept_all, _ = _whole_with_updates(est, rec, stances, 1000.0)
-    some_kept, kept_some, _ = _whole_with_updates(est, rec, stances, 1.2 if bias_states else 0.3)  # a few segments
-    assert 0 == kept_none < kept_some < kept_all == segments  # within the budget every one, short ones copied
-    for a, b, c in zip(replayed, all_kept, some_kept):
+    some_kept, kept_some, _ = _whole_with_updates(est, rec, stances, 1.2 if bias_states else 0.3)  # a few chunks
+    per_segment, _, _ = _whole_with_updates(est, rec, stances, None)
+    assert 0 == kept_none < kept_some < kept_all == chunks
+    for a, b, c, d in zip(re_run, all_kept, some_kept, per_segment):
         np.testing.assert_array_equal(a, b)  # the same arithmetic on the same record
         np.testing.assert_array_equal(a, c)
+        # each segment on its own: d = P mu at every checkpoint, the caller's updates in numpy
+        np.testing.assert_allclose(a, d, rtol=0, atol=1e-9)
 
 
 @pytest.mark.parametrize("bias_states", [False, True])

@@ -97,10 +97,13 @@ def smooth_back(fill, chain, cov, mu, d, n, n_feet, q_diag, rec, out, sm, ws):
                 sm_p[k, i] = out_p[k, i] - d[o + 6 + i]
         # the updates, last first: a sample's nu 3-state selections (none when nu = 0; K in
         # columns 3u:3u+3), or a caller's update between samples of m = -nu rows (K in columns
-        # 0:m, H' in m:2m); an event with updates has the row before the next such event's
+        # 0:m of its first row, H' in those of its second); an event's rows come before the
+        # next event's
         m = 3 if nu >= 0 else -nu
-        if nu != 0:
+        if nu > 0:
             row -= 1
+        elif nu < 0:
+            row -= 2
         for u in range((nu if nu >= 0 else 1) - 1, -1, -1):
             col = 3 * u
             for a in range(m):
@@ -117,7 +120,7 @@ def smooth_back(fill, chain, cov, mu, d, n, n_feet, q_diag, rec, out, sm, ws):
                 for i in range(big):
                     acc = 0.0
                     for a in range(m):
-                        acc += ev_gain[row, i, m + a] * kt[a]
+                        acc += ev_gain[row + 1, i, a] * kt[a]
                     mu[i] += acc
             else:
                 for a in range(m):

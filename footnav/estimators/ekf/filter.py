@@ -187,6 +187,7 @@ class InsFilter:
         self._no_fill = np.zeros(2, dtype=np.int64)
         self._no_vec = np.zeros(big)
         self._work = work(big, nf)
+        self._dense: dict[int, tuple] = {}  # update's scratch by rows
         self.step_smoother = None
         self.segment_records = None
         self.step_stops = False
@@ -305,6 +306,8 @@ class InsFilter:
         self._since_checkpoint = 0
         self._n_log = 0
         self.checkpoints = [self._checkpoint(step_end=False)]
+        if self.segment_records is not None:  # its chunks end at the checkpoints thrown away
+            self.segment_records = type(self.segment_records)(self, self.segment_records.budget_bytes / 1e6)
 
     # -- acting --------------------------------------------------------------------------------
     def _call(self, mode, k, stop_at, t_stop, max_events, step_stops, state, rec, sm, fill, mu, d, watch_times=_NO_WATCH, watch=_NO_WATCH, cursor=None):
@@ -499,8 +502,11 @@ class InsFilter:
                 field="innovation",
             )
         r = np.ascontiguousarray(r)
-        gain, sy, dx, cov = np.empty((big, m)), np.empty(m), np.empty(big), np.empty((big, big))
-        status, nis = update_dense(self._cov, hm, y, r, np.zeros((m, m)), np.empty((big, m)), gain, sy, dx, cov)
+        if m not in self._dense:  # scratch by rows: Cholesky factor and P H'
+            self._dense[m] = (np.zeros((m, m)), np.empty((big, m)), np.empty((big, big)))
+        chol, ph, cov = self._dense[m]
+        gain, sy, dx = np.empty((big, m)), np.empty(m), np.empty(big)  # kept by the checkpoint
+        status, nis = update_dense(self._cov, hm, y, r, chol, ph, gain, sy, dx, cov)
         if status == DENSE_BAD_INPUT:
             raise InvalidInputError(
                 f"measurement update needs finite H and innovations and positive variances; got innovation {y!r}, r {r!r}",
@@ -523,6 +529,8 @@ class InsFilter:
         cp.state = self._state.copy()
         if self.step_smoother is not None:
             self.step_smoother.add_update(self, hm, gain, sy, y)
+        if self.segment_records is not None:
+            self.segment_records.add_update(len(self.checkpoints) - 1, hm, gain, sy, y, self._cov)
         return dx
 
     def selection(self, indices: NDArray[np.int64]) -> NDArray[np.float64]:
@@ -541,7 +549,7 @@ class InsFilter:
         return self.update(h, innov, np.full(axes, float(var)) if var.ndim == 0 else var)
 
     def _apply(self, dx: NDArray[np.float64]) -> None:
-        feedback_all(self._q, self._v, self._p, self._ba, self._bg, dx, self.n_states, np.zeros(4), np.zeros(4))
+        feedback_all(self._q, self._v, self._p, self._ba, self._bg, dx, self.n_states, self._work.dq, self._work.q_tmp)
 
     # -- checkpoints and outputs ------------------------------------------------------------------
     def _checkpoint(self, step_end: bool) -> Checkpoint:
@@ -562,8 +570,9 @@ class InsFilter:
             raise RuntimeError("replay did not reproduce the forward run")
 
     def smooth_kept(self, record: Record, fill: NDArray[np.int64], cov: NDArray[np.float64], smoothed: Smoothed, mu, d) -> None:
-        """The whole-walk smoother's backward pass over a kept segment (``MODE_BACK``): the
-        ``fill`` (events, update rows) of ``record``, ``cov`` the covariance after its last sample."""
+        """The whole-walk smoother's backward pass over a chunk of segments (``MODE_BACK``;
+        :class:`~footnav.estimators.ekf.smoother.SegmentRecords`): the ``fill`` (events, update
+        rows) of ``record``, ``cov`` the covariance after its last event."""
         fill = np.array(fill, dtype=np.int64)
         state = self._state._replace(cov=cov)  # only cov is read
         self._call(MODE_BACK, self._k, self._stop_at, -np.inf, 0, False, state, record, smoothed, fill, mu, d)

@@ -222,7 +222,8 @@ class Record(NamedTuple):
     base
         (rows, 2) first error state of each update's 3-block.
     gain
-        (rows, N, cols) K, three columns per update at a sample; a caller's: K (m columns), then H'.
+        (rows, N, cols) K, three columns per update at a sample. A caller's update takes two
+        rows: K (m columns), then H' in the next (so m up to ``cols`` needs no wider rows).
     sy
         (rows, cols) S^-1 y (two updates of 3 at a sample, or a caller's).
     y
@@ -264,15 +265,19 @@ RECORD_PLACE = 8
 SMOOTHED_PLACE = RECORD_PLACE + 10
 
 
-def empty_record(big: int, n: int = 0, columns: int = 6, *, zero: bool = True, bias_states: bool = True) -> Record:
-    """Buffers of the compiled loop's :class:`Record` for ``n`` events (and as many update rows)
-    of a filter with ``big`` error states and ``columns`` gain columns: 3 per update at a sample
-    (3 for a ZUPT, 6 with the ZARU), 2 m for a caller's update of m rows (K and H'). Narrow rows
-    keep the backward pass's reads of K contiguous. ``zero=False`` leaves them uninitialised (the
-    loop writes an event before the backward pass reads it). ``bias_states=False`` (9 states):
-    no room for C, which only the bias columns of F read."""
+def empty_record(
+    big: int, n: int = 0, columns: int = 6, *, rows: int | None = None, zero: bool = True, bias_states: bool = True,
+) -> Record:
+    """Buffers of the compiled loop's :class:`Record` for ``n`` events and ``rows`` update rows
+    (default ``n``) of a filter with ``big`` error states and ``columns`` gain columns: 3 per
+    update at a sample (3 for a ZUPT, 6 with the ZARU), m for a caller's update of m rows (which
+    takes two rows, K and H'). Narrow rows keep the backward pass's reads of K contiguous.
+    ``zero=False`` leaves them uninitialised (the loop writes an event before the backward pass
+    reads it). ``bias_states=False`` (9 states): no room for C, which only the bias columns of F
+    read."""
     i8, f8 = np.int64, np.float64
     cols = max(3, columns)
+    r = n if rows is None else int(rows)
     return Record(*staggered([
         ((n,), i8),  # foot
         ((n,), i8),  # global sample index
@@ -280,10 +285,10 @@ def empty_record(big: int, n: int = 0, columns: int = 6, *, zero: bool = True, b
         ((n,), f8),  # dt
         ((n if bias_states else 0, 3, 3), f8),  # C at the start of the interval (bias states only)
         ((n,), i8),  # updates at the sample: 0, 1 (ZUPT), 2 (and ZARU); -m a caller's
-        ((n, 2), i8),  # per update row: first error state of each update's 3-block
-        ((n, big, cols), f8),  # K, three columns per update; a caller's: K then H'
-        ((n, cols), f8),  # S^-1 y (two updates of 3 at a sample, or a caller's)
-        ((n, cols), f8),  # y
+        ((r, 2), i8),  # per update row: first error state of each update's 3-block
+        ((r, big, cols), f8),  # K, three columns per update; a caller's: K, then H' in the next row
+        ((r, cols), f8),  # S^-1 y (two updates of 3 at a sample, or a caller's)
+        ((r, cols), f8),  # y
     ], zero=zero, first=RECORD_PLACE))
 
 

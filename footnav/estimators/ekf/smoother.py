@@ -17,11 +17,13 @@ filter's closed-loop resets only move the linearisation point: the recursion run
 relative to each sample's predicted nominal state.
 
 Memory: the filter keeps a checkpoint (state, covariance) every ``MAX_SEGMENT_EVENTS`` samples
-and at its caller's updates. The whole-walk smoother needs each segment's record backwards, last
-segment first: the forward run keeps the records of its latest segments up to
-``KEEP_RECORD_MB`` (:class:`SegmentRecords`), and the smoother re-runs from its checkpoint each
-segment whose record was not kept. So memory is O(steps) plus at most that budget, and a
-recording whose record fits in it is filtered once. A sample of one foot with 9 error states
+and at its caller's updates. The whole-walk smoother needs the record backwards, last event
+first: the forward run records into chunks of up to ``MAX_SEGMENT_EVENTS`` events, the caller's
+updates between the samples, and keeps its latest chunks up to ``KEEP_RECORD_MB``
+(:class:`SegmentRecords`); the smoother runs the backward pass over a kept chunk in one go and
+re-runs the segments of a chunk that was not kept from their checkpoints into the same events.
+So memory is O(steps) plus at most that budget, a recording whose record fits in it is filtered
+once, and a fusion's update at every step costs no pass of its own. A sample of one foot with 9 error states
 takes 56 bytes, and 280 more when it has an update (the gain K is most of it; the
 :class:`~footnav.estimators.ekf.records.Record` keeps one only for samples with updates): on the
 simulator's walks (42 % of the samples in stance) about 175 bytes, so 64 MB per foot hold about
@@ -44,7 +46,7 @@ from footnav.nav import quaternion as quat
 from footnav.estimators.ekf import filter as ekf_filter  # MAX_SEGMENT_EVENTS read at run time
 from footnav.estimators.ekf.buffers import staggered
 from footnav.estimators.ekf.filter import InsFilter
-from footnav.estimators.ekf.loop import MODE_STEP, MODE_WHOLE
+from footnav.estimators.ekf.loop import MODE_RECORD, MODE_STEP, MODE_WHOLE
 from footnav.estimators.ekf.records import SMOOTHED_PLACE, Record, Smoothed, empty_record
 
 __all__ = ["KEEP_RECORD_MB", "SMOOTHERS", "SegmentRecords", "StepSmoother", "smooth"]
@@ -58,71 +60,154 @@ KEEP_RECORD_MB = 64.0
 
 
 class SegmentRecords:
-    """The forward run's record of its latest segments, for the whole-walk smoother.
+    """The forward run's record in chunks of consecutive segments, for the whole-walk smoother.
 
     Attach it as ``filt.segment_records`` before the filter runs: the compiled loop then records
-    every sample (``MODE_RECORD``), and at each checkpoint the segment just finished is kept
-    with the covariance after its last sample, before any caller's update at that instant (if
-    it is long enough to be worth it, see :meth:`keep`). When the kept records exceed
-    ``budget_mb`` the oldest are dropped; :func:`smooth` re-runs those segments instead. The
-    backward pass starts at the end, so the latest segments are the ones worth keeping.
+    every sample (``MODE_RECORD``) into the open chunk, and the caller's updates
+    (:meth:`InsFilter.update`) are recorded there too, between the samples, as the step-wise
+    smoother records them. A segment (from one checkpoint to the next) thus needs no record of
+    its own: the filter tells :meth:`keep` where each ends, and the backward pass runs over a
+    whole chunk at once (:func:`smooth`), through every segment and update in it. A chunk closes
+    when it is full, or at a caller's update it has no room for (that update, and any later one
+    at the same instant, is then undone in Python, after the chunk's end). A closed chunk is kept
+    as a copy of what it used (its update rows only for the samples with updates) and the buffer
+    serves the next one. When the kept chunks exceed ``budget_mb`` the oldest are dropped, and
+    :func:`smooth` re-runs their segments from their checkpoints into a chunk of the same events,
+    so the smoothed result does not depend on the budget. The backward pass starts at the end,
+    so the latest chunks are the ones worth keeping.
 
     Parameters
     ----------
     filt
         The filter, before it runs.
     budget_mb
-        Largest memory of the kept records, MB (0: keep none; every segment is re-run).
+        Largest memory of the kept chunks, MB (0: keep none; every segment is re-run).
     """
 
     def __init__(self, filt: InsFilter, budget_mb: float = KEEP_RECORD_MB) -> None:
         self.big = filt.n_states * filt.n_feet
         self.columns = filt.record_columns
         self.budget_bytes = int(budget_mb * 1e6)
-        self.capacity = ekf_filter.MAX_SEGMENT_EVENTS  # the longest segment the filter makes
+        self.capacity = ekf_filter.MAX_SEGMENT_EVENTS  # a segment never outgrows a chunk
         self.bias_states = filt.n_states == 15
-        self.record = self._empty()
-        #: events and update rows recorded of the open segment
+        self.record = self.empty(zero=False)
+        #: events and update rows recorded in the open chunk
         self.fill = np.zeros(2, dtype=np.int64)
-        #: checkpoint index -> (record, (events, update rows), covariance after the segment's
-        #: last sample, bytes)
-        self.kept: dict[int, tuple[Record, NDArray[np.int64], NDArray[np.float64], int]] = {}
+        #: the open chunk's first and last checkpoint (None before its first) and the
+        #: covariance after its last event
+        self._first: int | None = None
+        self._last: int | None = None
+        self._cov = np.zeros((self.big, self.big))
+        #: every closed chunk by its last checkpoint: (first checkpoint, covariance after its
+        #: last event)
+        self.chunks: dict[int, tuple[int, NDArray[np.float64]]] = {}
+        #: the kept ones: (record, (events, update rows), bytes)
+        self.kept: dict[int, tuple[Record, NDArray[np.int64], int]] = {}
+        #: caller's updates at a checkpoint's instant that its chunk holds (the first ones);
+        #: -1 - n once the chunk closed there
+        self._recorded: dict[int, int] = {}
         self.nbytes = 0
 
+    def empty(self, zero: bool = True) -> Record:
+        """A buffer for one chunk: its events, a row for each and rows for caller's updates."""
+        return empty_record(
+            self.big, self.capacity, self.columns, rows=self.capacity + caller_rows(self.capacity), zero=zero, bias_states=self.bias_states,
+        )
+
     def keep(self, checkpoint: int, cov: NDArray[np.float64]) -> None:
-        """Keep the open segment, which ends at ``checkpoint``, and start the next one.
+        """The open chunk's segments now end at ``checkpoint``, ``cov`` the covariance after its
+        last sample (before any caller's update at that instant); a full chunk closes here."""
+        if self._first is None:
+            self._first = checkpoint
+        self._last = checkpoint
+        self._cov[...] = cov
+        if self.fill[0] >= self.capacity:
+            self._close()
 
-        The segment is kept as a copy of what it used, its update rows only for the samples
-        with updates, and the buffer serves the next one: the copy costs a fraction of
-        re-running the segment, which would filter its samples a second time.
-        """
-        used, rows = (int(x) for x in self.fill)
-        fill = self.fill.copy()
-        self.fill[:] = 0
-        if used == 0 or self.budget_bytes <= 0:
+    def add_update(self, checkpoint: int, h: NDArray, gain: NDArray, sy: NDArray, y: NDArray, cov: NDArray[np.float64]) -> None:
+        """Record a caller's update at ``checkpoint``'s instant (``cov``: the covariance after
+        it) in the open chunk when that chunk ends at ``checkpoint`` and has room; else the chunk
+        closes there."""
+        if self._last != checkpoint or self._recorded.get(checkpoint, 0) < 0:
+            return  # its chunk closed at this instant: undone in Python, as the updates after it
+        if len(y) > self.record.gain.shape[2] or not has_room(self.record, self.fill):
+            self._recorded[checkpoint] = -1 - self._recorded.get(checkpoint, 0)
+            self._close()
             return
-        rec = self.record.copy_head(used, rows, stagger=2 * used >= self.capacity)
-        nbytes = _nbytes(rec) + cov.nbytes
-        self.kept[checkpoint] = (rec, fill, cov.copy(), nbytes)
-        self.nbytes += nbytes
-        while self.nbytes > self.budget_bytes:
-            self._drop(next(iter(self.kept)))  # the oldest: segments are kept in time order
+        write_caller_update(self.record, self.fill, h, gain, sy, y)
+        self._recorded[checkpoint] = self._recorded.get(checkpoint, 0) + 1
+        self._cov[...] = cov
 
-    def _empty(self) -> Record:
-        """A new, uninitialised buffer for the open segment."""
-        return empty_record(self.big, self.capacity, self.columns, zero=False, bias_states=self.bias_states)
+    def recorded(self, checkpoint: int) -> int:
+        """How many of the caller's updates at ``checkpoint`` (the first ones) its chunk holds."""
+        n = self._recorded.get(checkpoint, 0)
+        return n if n >= 0 else -1 - n
 
-    def take(self, checkpoint: int) -> tuple[Record, NDArray[np.int64], NDArray[np.float64]] | None:
-        """The kept segment ending at ``checkpoint`` (record, (events, update rows), covariance),
-        released; or None."""
-        if checkpoint not in self.kept:
+    def _close(self, copy: bool = True) -> None:
+        """Close the open chunk: keep a copy of what it used (within the budget) and start the
+        next in the same buffer; ``copy=False`` keeps the buffer itself (the run is over)."""
+        if self._last is None:
+            self.fill[:] = 0
+            return
+        self.chunks[self._last] = (self._first, self._cov.copy())
+        used, rows = (int(x) for x in self.fill)
+        if used and self.budget_bytes > 0:
+            rec = self.record.copy_head(used, rows, stagger=True) if copy else self.record
+            nbytes = _nbytes(rec.head(used, rows))
+            self.kept[self._last] = (rec, self.fill.copy(), nbytes)
+            self.nbytes += nbytes
+            while self.nbytes > self.budget_bytes:
+                self._drop(next(iter(self.kept)))  # the oldest: chunks are kept in time order
+        self.fill[:] = 0
+        self._first = self._last = None
+
+    def finish(self) -> None:
+        """Close the open chunk in place: the run is over (:func:`smooth`)."""
+        self._close(copy=False)
+
+    def take(self, checkpoint: int) -> tuple[int, NDArray[np.float64], tuple[Record, NDArray[np.int64]] | None] | None:
+        """The chunk ending at ``checkpoint``: (its first checkpoint, the covariance after its last
+        event, (record, (events, update rows)) if kept, else None), the record released; None
+        when no chunk ends there."""
+        if checkpoint not in self.chunks:
             return None
-        rec, fill, cov, _ = self.kept[checkpoint]
-        self._drop(checkpoint)
-        return rec, fill, cov
+        first, cov = self.chunks[checkpoint]
+        kept = self.kept.get(checkpoint)
+        if kept is not None:
+            self._drop(checkpoint)
+            kept = kept[:2]
+        return first, cov, kept
 
     def _drop(self, checkpoint: int) -> None:
-        self.nbytes -= self.kept.pop(checkpoint)[3]
+        self.nbytes -= self.kept.pop(checkpoint)[2]
+
+
+def caller_rows(capacity: int) -> int:
+    """Update rows a record of ``capacity`` events holds beyond one per event, for the caller's
+    updates (two rows each)."""
+    return capacity // 4 + 2
+
+
+def has_room(record: Record, fill: NDArray[np.int64]) -> bool:
+    """Whether ``record``, filled up to ``fill`` (events, rows), holds one more caller's update
+    and still a row for each event left (the loop's events take at most one row each)."""
+    events_left = len(record.k) - int(fill[0])
+    return events_left >= 1 and len(record.gain) - int(fill[1]) - 2 >= events_left - 1
+
+
+def write_caller_update(record: Record, fill: NDArray[np.int64], h: NDArray, gain: NDArray, sy: NDArray, y: NDArray) -> None:
+    """Record a caller's update of m rows as the event at ``fill[0]`` (``nu`` = -m): K, S^-1 y
+    and y in row ``fill[1]``, H' in the next (:func:`footnav.estimators.ekf.backward.smooth_back`
+    reads them); ``fill`` is advanced."""
+    m = len(y)
+    e, row = int(fill[0]), int(fill[1])
+    record.nu[e] = -m
+    record.k[e] = -1  # no sample
+    record.gain[row, :, :m] = gain
+    record.gain[row + 1, :, :m] = h.T
+    record.sy[row, :m] = sy
+    record.y[row, :m] = y
+    fill[0], fill[1] = e + 1, row + 2
 
 
 def _nbytes(record: Record) -> int:
@@ -151,7 +236,9 @@ class StepSmoother:
         big = filt.n_states * filt.n_feet
         self.capacity = int(ekf_filter.MAX_SEGMENT_EVENTS if capacity is None else capacity)
         self.bias_states = filt.n_states == 15
-        self.record = empty_record(big, self.capacity, filt.record_columns, bias_states=self.bias_states)
+        self.record = empty_record(
+            big, self.capacity, filt.record_columns, rows=self.capacity + caller_rows(self.capacity), bias_states=self.bias_states,
+        )
         #: events and update rows recorded of the open step (an array the compiled loop updates)
         self.fill = np.zeros(2, dtype=np.int64)
         self.mu = np.zeros(big)
@@ -161,21 +248,14 @@ class StepSmoother:
     def add_update(self, filt: InsFilter, h: NDArray, gain: NDArray, sy: NDArray, y: NDArray) -> None:
         """Record a caller's update (H, K, S^-1 y, y) after the open step's last sample."""
         m = len(y)
-        if self.fill[0] == self.capacity:
+        if not has_room(self.record, self.fill):
             filt.close_step(self)
-        if 2 * m > self.record.gain.shape[2]:  # more rows than any update so far: widen the record
-            wide = empty_record(len(self.mu), self.capacity, 2 * m, bias_states=self.bias_states)
+        if m > self.record.gain.shape[2]:  # more rows than any update so far: widen the record
+            wide = empty_record(len(self.mu), self.capacity, m, rows=len(self.record.gain), bias_states=self.bias_states)
             for old, new in zip(self.record, wide):
                 new[tuple(slice(0, s) for s in old.shape)] = old
             self.record = wide
-        e, row = (int(x) for x in self.fill)
-        rec = self.record
-        rec.nu[e] = -m
-        rec.gain[row, :, :m] = gain
-        rec.gain[row, :, m : 2 * m] = h.T
-        rec.sy[row, :m] = sy
-        rec.y[row, :m] = y
-        self.fill[:] = e + 1, row + 1
+        write_caller_update(self.record, self.fill, h, gain, sy, y)
 
     def result(self, filt: InsFilter) -> Smoothed:
         """Smoothed attitude, velocity, position of all samples (the open step is smoothed now)."""
@@ -219,22 +299,35 @@ def smooth(filt: InsFilter, mode: Literal["whole", "step"] = "whole") -> Smoothe
     big = filt.n_states * filt.n_feet
     sm = _copy_outputs(filt)
     sr = filt.segment_records
-    kept = set() if sr is None else set(sr.kept)
-    # a segment's record: its samples and the loop's own updates between them
-    longest = max(
-        (cps[b].n_events - cps[b - 1].n_events + cps[b].n_log - cps[b - 1].n_log for b in range(1, len(cps)) if b not in kept), default=0,
-    )
-    record = empty_record(big, longest, filt.record_columns, bias_states=filt.n_states == 15)
-    fill = np.zeros(2, dtype=np.int64)
+    if sr is not None:
+        sr.finish()
     mu, d = np.zeros(big), np.zeros(big)
-    for b in range(len(cps) - 1, 0, -1):  # one segment at a time, last first
-        for h, gain, sy, _ in reversed(cps[b].updates):  # the caller's updates at the segment's end
+    record, fill = None, np.zeros(2, dtype=np.int64)  # for re-runs, made at the first
+    b = len(cps) - 1
+    while b > 0:  # last first: a chunk of segments at once, or (without chunks) one segment
+        chunk = None if sr is None else sr.take(b)
+        # the caller's updates at the segment's end that its chunk does not hold
+        for h, gain, sy, _ in reversed(cps[b].updates[0 if chunk is None else sr.recorded(b) :]):
             mu += h.T @ (sy - gain.T @ mu)
-        seg = None if sr is None else sr.take(b)
-        if seg is None:  # not kept: re-run it from its checkpoint to record it
+        if chunk is None:  # a filter without chunks: re-run the segment to record it
+            if record is None:
+                longest = max(cps[c].n_events - cps[c - 1].n_events + cps[c].n_log - cps[c - 1].n_log for c in range(1, len(cps)))
+                record = empty_record(big, longest, filt.record_columns, bias_states=filt.n_states == 15)
             filt.replay(b - 1, b, MODE_WHOLE, record, sm, fill, mu, d)
-        else:
-            filt.smooth_kept(seg[0], seg[1], seg[2], sm, mu, d)
+            b -= 1
+            continue
+        first, cov, kept = chunk
+        if kept is None:  # dropped: re-run its segments and updates into a chunk of the same events
+            if record is None or len(record.k) < sr.capacity:
+                record = sr.empty()
+            fill[:] = 0
+            for c in range(first, b + 1):
+                filt.replay(c - 1, c, MODE_RECORD, record, sm, fill, mu, d)
+                for h, gain, sy, y in cps[c].updates[: sr.recorded(c)]:
+                    write_caller_update(record, fill, h, gain, sy, y)
+            kept = record, fill
+        filt.smooth_kept(kept[0], kept[1], cov, sm, mu, d)
+        b = first - 1
     _correct_initial(filt, d.reshape(filt.n_feet, filt.n_states)[:, :9], sm)
     return sm
 

@@ -276,16 +276,18 @@ class StepVectorFusion(Fusion):
         require_in_range(self, "step_elevation_m", low=-MAX_LENGTH_M, high=MAX_LENGTH_M)
 
     # -- the steps ------------------------------------------------------------------------------
-    def _heel_strike(self, view: FeetView, foot: int, start: int) -> int:
-        """Heel strike that opened the foot's stance run starting at sample ``start`` (the
-        view's indexing)."""
-        hs = view.heel_strikes[foot]
+    def _heel_strikes(self, view: FeetView, foot: int, starts: np.ndarray) -> np.ndarray:
+        """Heel strikes that opened the foot's stance runs starting at samples ``starts`` (the
+        view's indexing): the detector's latest within 0.5 s before each, else
+        ``heel_strike_before_stance_s`` before it."""
+        starts = np.asarray(starts, dtype=np.int64)
+        hs = np.sort(np.asarray(view.heel_strikes[foot], dtype=np.int64))
         rate = view.rates[foot]
         window = int(round(0.5 * rate))
-        earlier = hs[(hs <= start) & (hs >= start - window)]
-        if len(earlier):
-            return int(earlier[-1])
-        return max(0, start - int(round(self.heel_strike_before_stance_s * rate)))
+        j = np.searchsorted(hs, starts, side="right") - 1  # the latest at or before each start
+        latest = hs[np.maximum(j, 0)] if len(hs) else np.zeros_like(starts)
+        found = (j >= 0) & (latest >= starts - window)
+        return np.where(found, latest, np.maximum(0, starts - int(round(self.heel_strike_before_stance_s * rate))))
 
     def _landings(self, view: FeetView) -> list[tuple[float, int, int, int]]:
         """(time of the heel strike, front foot, its sample, stance-run index) of every landing
@@ -294,31 +296,42 @@ class StepVectorFusion(Fusion):
         out = []
         for foot in (LEFT, RIGHT):
             runs = view.runs(foot)
-            for j in range(1, len(runs)):
-                hs = self._heel_strike(view, foot, int(runs[j, 0]))
-                out.append((float(view.times[foot][hs]), foot, hs, j))
+            hs = self._heel_strikes(view, foot, runs[1:, 0])
+            times = view.times[foot][hs]
+            out.extend((float(t), foot, int(h), j) for j, (t, h) in enumerate(zip(times, hs), start=1))
         out.sort()
         return out
 
-    def _support(self, view: FeetView, rear: int, t: float) -> tuple[int, int] | None:
-        """(heel strike, sample at time t) of the rear foot if it supported the step ending at t
-        (its last stance ended at most ``heel_strike_before_stance_s`` + 0.1 s before t)."""
-        times, runs = view.times[rear], view.runs(rear)
-        k = int(np.searchsorted(times, t, side="right")) - 1
-        j = int(np.searchsorted(runs[:, 0], k, side="right")) - 1
-        if k < 0 or j < 0 or times[runs[j, 1] - 1] < t - self.heel_strike_before_stance_s - 0.1:
-            return None
-        hs = self._heel_strike(view, rear, int(runs[j, 0]))
-        return hs, max(hs, k)
+    def _supports(self, view: FeetView, rear: np.ndarray, t: np.ndarray) -> list[tuple[int, int] | None]:
+        """For each step ending at ``t[i]`` (s), (heel strike, sample at t[i]) of the rear foot
+        ``rear[i]`` if it supported the step (its last stance ended at most
+        ``heel_strike_before_stance_s`` + 0.1 s before t[i]), else None."""
+        rear, t = np.asarray(rear, dtype=np.int64), np.asarray(t, dtype=float)
+        out: list[tuple[int, int] | None] = [None] * len(t)
+        for foot in (LEFT, RIGHT):
+            idx = np.flatnonzero(rear == foot)
+            if not len(idx):
+                continue
+            times, runs = view.times[foot], view.runs(foot)
+            k = np.searchsorted(times, t[idx], side="right") - 1
+            j = np.searchsorted(runs[:, 0], k, side="right") - 1
+            ok = (k >= 0) & (j >= 0)
+            last = runs[np.maximum(j, 0), 1] - 1 if len(runs) else np.zeros_like(j)
+            ok[ok] = ~(times[last[ok]] < t[idx[ok]] - self.heel_strike_before_stance_s - 0.1)
+            hs = self._heel_strikes(view, foot, runs[j[ok], 0]) if len(runs) else np.zeros(0, dtype=np.int64)
+            for i, h, kk in zip(idx[ok], hs, k[ok]):
+                out[i] = (int(h), max(int(h), int(kk)))
+        return out
 
     def _fit_leg_length(self, view: FeetView, singles) -> float:
         """Median of (half the front foot's stride) / (2 sin(theta/2)) over the straight steps,
         theta measured exactly as :meth:`fuse` does (module docstring)."""
         ratios = []
         turn = np.radians(self.turn_threshold_deg)
-        for t, front, hs_front, j in self._landings(view):
+        landings = self._landings(view)
+        supports = self._supports(view, np.array([1 - front for _, front, _, _ in landings]), np.array([t for t, _, _, _ in landings]))
+        for (t, front, hs_front, j), support in zip(landings, supports):
             rear = 1 - front
-            support = self._support(view, rear, t)
             if support is None:
                 continue
             runs_f, traj_f = view.runs(front), singles[front]
@@ -455,6 +468,7 @@ class StepVectorSession:
         self.history_s = float(fusion.heel_strike_before_stance_s) + 0.1
         self._events = EventQueue(closing_s)  # (heel strike time, front foot), known, not yet applied
         self._yaw0: list[float] | None = None
+        self._h: dict[int, np.ndarray] = {}  # H of eq. 7 by front foot
         self._last_stance_yaw: dict[int, float] = {}
         self._r = np.array([fusion.step_length_std_m, fusion.step_width_std_m, fusion.step_elevation_std_m]) ** 2
         self._turn = np.radians(fusion.turn_threshold_deg)
@@ -486,18 +500,21 @@ class StepVectorSession:
             self._big = filt.covariance.shape[0]
         for foot, new in enumerate(landings):
             times = view.times[foot]
-            for start_s in np.asarray(new, dtype=float).ravel():
-                hs = fusion._heel_strike(view, foot, int(np.searchsorted(times, start_s)))
+            starts = np.searchsorted(times, np.asarray(new, dtype=float).ravel())
+            for hs in fusion._heel_strikes(view, foot, starts):
                 self._events.add(times[hs], foot)
-        for t, front in self._events.due(until_s, stop_s is not None):
-            self._update(filt, view, t, front)
+        due = self._events.due(until_s, stop_s is not None)
+        supports = fusion._supports(view, np.array([1 - front for _, front in due]), np.array([t for t, _ in due]))
+        for (t, front), support in zip(due, supports):
+            self._update(filt, t, front, support)
 
-    def _update(self, filt, view: FeetView, t: float, front: int) -> None:
-        """The step vector at the front foot's heel strike at ``t`` (s) (Zhao et al. (2019), Sec. III-B, IV-B)."""
+    def _update(self, filt, t: float, front: int, support: tuple[int, int] | None) -> None:
+        """The step vector at the front foot's heel strike at ``t`` (s) (Zhao et al. (2019), Sec.
+        III-B, IV-B); ``support``: the rear foot's heel strike and its sample at ``t``
+        (:meth:`StepVectorFusion._supports`), None when it was not on the ground."""
         fusion = self.fusion
         rear = 1 - front
         filt.run_until(t)
-        support = fusion._support(view, rear, t)
         if support is None:
             self.skipped += 1  # the rear foot was not on the ground: no pendulum to read
             return
@@ -518,9 +535,11 @@ class StepVectorSession:
             c, sn = np.cos(yaw_r), np.sin(yaw_r)
             rot = np.array([[c, -sn, 0.0], [sn, c, 0.0], [0.0, 0.0, 1.0]])  # rear-heading frame -> nav
         dp_n = rot @ np.array([s, side * fusion.step_width_m, fusion.step_elevation_m])  # dp^n = C dp^b
-        h = np.zeros((3, self._big))
-        h[:, filt.block(front, "pos")] = np.eye(3)  # H_p = [0 0 I]_front - [0 0 I]_rear  (eq. 7)
-        h[:, filt.block(rear, "pos")] = -np.eye(3)
+        h = self._h.get(front)
+        if h is None:
+            h = self._h[front] = np.zeros((3, self._big))
+            h[:, filt.block(front, "pos")] = np.eye(3)  # H_p = [0 0 I]_front - [0 0 I]_rear  (eq. 7)
+            h[:, filt.block(rear, "pos")] = -np.eye(3)
         y = (filt.position(front) - filt.position(rear)) - dp_n  # z_p = (p^_1 - p^_2) - dp^n  (eq. 7)
         # in the rear foot's frame the three components are independent
         filt.update(rot.T @ h, rot.T @ y, self._r)

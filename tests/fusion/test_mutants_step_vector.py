@@ -228,6 +228,9 @@ def test_landing_and_support_at_heel_strikes_on_the_stance_start():
     assert filt.stops == [t[HS_RIGHT], t[HS_LEFT], np.inf]
     fusion = StepVectorFusion()
     imu = ImuData(t, np.tile([0.0, 0.0, 9.80665], (N, 1)), np.zeros((N, 3)))
-    assert fusion._heel_strike(FeetView.of([imu], [_stance(RIGHT_STANCE, [HS_RIGHT])]), 0, 120) == 120
+    assert fusion._heel_strikes(FeetView.of([imu], [_stance(RIGHT_STANCE, [HS_RIGHT])]), 0, [120]).tolist() == [120]
     # one sample later is outside the run's past: the fallback 0.1 s before the stance start
-    assert fusion._heel_strike(FeetView.of([imu], [_stance(RIGHT_STANCE, [121])]), 0, 120) == 110
+    assert fusion._heel_strikes(FeetView.of([imu], [_stance(RIGHT_STANCE, [121])]), 0, [120]).tolist() == [110]
+    # unsorted heel strikes, one too early (0.5 s window), none at all
+    assert fusion._heel_strikes(FeetView.of([imu], [_stance(RIGHT_STANCE, [118, 60, 115])]), 0, [120, 116, 200]).tolist() == [118, 115, 190]
+    assert fusion._heel_strikes(FeetView.of([imu], [_stance(RIGHT_STANCE, [])]), 0, [120, 5]).tolist() == [110, 0]

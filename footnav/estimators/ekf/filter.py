@@ -436,16 +436,17 @@ class InsFilter:
             if reason == DONE or reason == APART or reason == NOT_PD:
                 return reason
             if events or reason == FULL:  # (FULL without events: the loop's own updates filled the record)
-                self._add_checkpoint(step_end=reason == STEP_END)
+                self._add_checkpoint(step_end=reason == STEP_END, full=reason == FULL)
 
-    def _add_checkpoint(self, step_end: bool, state: bool = True) -> None:
+    def _add_checkpoint(self, step_end: bool, state: bool = True, full: bool = False) -> None:
         """A checkpoint here; ``state=False`` leaves its state to the caller (an update sets it
-        after changing the state: a copy now would be thrown away)."""
+        after changing the state: a copy now would be thrown away); ``full``: the loop stopped
+        for room (the record's chunk closes here)."""
         cp = self._checkpoint(step_end=step_end) if state else Checkpoint(self._n_events, self._k.copy(), None, step_end=step_end, n_log=self._n_log)
         self.checkpoints.append(cp)
         self._since_checkpoint = 0
         if self.segment_records is not None:  # before any update at this instant changes P
-            self.segment_records.keep(len(self.checkpoints) - 1, self._cov)
+            self.segment_records.keep(len(self.checkpoints) - 1, self._cov, full=full)
 
     def close(self) -> None:
         """Leave a checkpoint at the current state (the smoother needs one after the last sample)."""

@@ -114,14 +114,16 @@ class SegmentRecords:
             self.big, self.capacity, self.columns, rows=self.capacity + caller_rows(self.capacity), zero=zero, bias_states=self.bias_states,
         )
 
-    def keep(self, checkpoint: int, cov: NDArray[np.float64]) -> None:
+    def keep(self, checkpoint: int, cov: NDArray[np.float64], *, full: bool = False) -> None:
         """The open chunk's segments now end at ``checkpoint``, ``cov`` the covariance after its
-        last sample (before any caller's update at that instant); a full chunk closes here."""
+        last sample (before any caller's update at that instant); the chunk closes here when
+        ``full`` (the loop stopped for room: its own updates need more than one row per event)
+        or when it is."""
         if self._first is None:
             self._first = checkpoint
         self._last = checkpoint
         self._cov[...] = cov
-        if self.fill[0] >= self.capacity:
+        if full or self.fill[0] >= self.capacity:
             self._close()
 
     def add_update(self, checkpoint: int, h: NDArray, gain: NDArray, sy: NDArray, y: NDArray, cov: NDArray[np.float64]) -> None:

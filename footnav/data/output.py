@@ -14,8 +14,9 @@ Nothing a user owns is deleted or overwritten. An output (a result folder, a fig
 
 The claimed output is written under a temporary name beside it (:meth:`OutputClaim.staged`) and
 appears only when the work succeeded. A folder replaces its predecessor by two renames: the old
-one aside, the new one in, then the old one deleted; a run killed between the two leaves the old
-result whole beside the target, and the next claim of that output puts it back and says so.
+one aside, the new one in, then the old one renamed to a temporary name and deleted; a run
+killed between the two renames leaves the old result whole beside the target, and the next claim
+of that output puts it back and says so.
 Temporary names left by killed runs (``.NAME.*.partial``) are removed by the next claim, which
 says so too (under the lock nothing beside the target can belong to a live run). New folders and files follow the user's umask.
 """
@@ -144,8 +145,13 @@ class OutputClaim:
         if self.target.exists():
             os.rename(self.target, aside)
             os.rename(new, self.target)
+            # deleted under a temporary name: a run killed while deleting (the marker perhaps
+            # gone, other files not) leaves a .partial for the next claim to remove, never a
+            # half-deleted .old it would take for a whole result
+            doomed = aside.with_name(aside.name[: -len(_OLD)] + _PARTIAL + "-old")
+            os.rename(aside, doomed)
             # the claim allowed only an empty folder or one footnav wrote
-            shutil.rmtree(aside) if (aside / MARKER).exists() else os.rmdir(aside)
+            shutil.rmtree(doomed) if (doomed / MARKER).exists() else os.rmdir(doomed)
         else:
             os.rename(new, self.target)
 

@@ -158,6 +158,37 @@ def test_a_kill_during_replacement_leaves_a_whole_result(tmp_path, monkeypatch):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["res"]
 
 
+def test_a_replaced_result_is_deleted_under_a_temporary_name(tmp_path, monkeypatch):
+    # a run killed while deleting the replaced result (its marker perhaps already gone) must
+    # leave nothing the next claim takes for a whole result: the deletion runs on a .partial
+    from footnav.data import output
+
+    target = tmp_path / "res"
+    target.mkdir()
+    (target / MARKER).write_text("{}\n")
+    (target / "result.txt").write_text("old\n")
+    deleted = []
+    real_rmtree = output.shutil.rmtree
+
+    def killed(path, *args, **kwargs):
+        deleted.append(path.name)
+        (path / MARKER).unlink()  # the deletion got this far
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(output.shutil, "rmtree", killed)
+    claim = claim_output(target, force=True)
+    with pytest.raises(KeyboardInterrupt), claim.staged() as tmp:
+        (tmp / "result.txt").write_text("new\n")
+    claim.release()
+    monkeypatch.setattr(output.shutil, "rmtree", real_rmtree)
+    assert len(deleted) == 1 and deleted[0].endswith(".partial-old")
+    assert (target / "result.txt").read_text() == "new\n"
+    with pytest.warns(DataQualityWarning, match="left by an interrupted run"):
+        claim_output(target, force=True).release()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["res"]
+    assert (target / "result.txt").read_text() == "new\n"
+
+
 def test_partial_folders_of_killed_runs_are_removed_and_named(tmp_path):
     target = tmp_path / "res"
     leftover = tmp_path / ".res.deadbeef.partial"

@@ -191,7 +191,7 @@ def run(
     * ``MODE_RECORD``: record each event at ``fill[0]`` of ``rec``, nothing more (the forward
       run keeps its segments for the whole-walk smoother; ``max_events`` keeps within ``rec``).
     * ``MODE_BACK``: no filtering; ``d = P mu`` with the given covariance and the backward pass
-      over the ``fill[0]`` recorded events (a kept segment of the whole-walk smoother).
+      over the ``fill[0]`` recorded events (a chunk of segments of the whole-walk smoother).
 
     ``watch_times`` (s, increasing) and ``watch`` (entries ``W_*``): at each of those times
     from ``watch[W_NEXT]`` on (once every sample at or before it is processed) the distance

@@ -109,10 +109,8 @@ class SegmentRecords:
         self.nbytes = 0
 
     def empty(self, zero: bool = True) -> Record:
-        """A buffer for one chunk: its events, a row for each and rows for caller's updates."""
-        return empty_record(
-            self.big, self.capacity, self.columns, rows=self.capacity + caller_rows(self.capacity), zero=zero, bias_states=self.bias_states,
-        )
+        """A buffer for one chunk (:func:`buffer_record`)."""
+        return buffer_record(self.big, self.capacity, self.columns, zero=zero, bias_states=self.bias_states)
 
     def keep(self, checkpoint: int, cov: NDArray[np.float64], *, full: bool = False) -> None:
         """The open chunk's segments now end at ``checkpoint``, ``cov`` the covariance after its
@@ -184,10 +182,10 @@ class SegmentRecords:
         self.nbytes -= self.kept.pop(checkpoint)[2]
 
 
-def caller_rows(capacity: int) -> int:
-    """Update rows a record of ``capacity`` events holds beyond one per event, for the caller's
-    updates (two rows each)."""
-    return capacity // 4 + 2
+def buffer_record(big: int, capacity: int, columns: int, *, zero: bool = True, bias_states: bool = True) -> Record:
+    """A record buffer the loop fills (a step, or a chunk of segments): ``capacity`` events, a
+    row for each and rows for the caller's updates between them (two rows each)."""
+    return empty_record(big, capacity, columns, rows=capacity + capacity // 4 + 2, zero=zero, bias_states=bias_states)
 
 
 def has_room(record: Record, fill: NDArray[np.int64]) -> bool:
@@ -238,9 +236,7 @@ class StepSmoother:
         big = filt.n_states * filt.n_feet
         self.capacity = int(ekf_filter.MAX_SEGMENT_EVENTS if capacity is None else capacity)
         self.bias_states = filt.n_states == 15
-        self.record = empty_record(
-            big, self.capacity, filt.record_columns, rows=self.capacity + caller_rows(self.capacity), bias_states=self.bias_states,
-        )
+        self.record = buffer_record(big, self.capacity, filt.record_columns, bias_states=self.bias_states)
         #: events and update rows recorded of the open step (an array the compiled loop updates)
         self.fill = np.zeros(2, dtype=np.int64)
         self.mu = np.zeros(big)

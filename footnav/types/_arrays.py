@@ -20,7 +20,13 @@ def _readonly(a: NDArray) -> NDArray:
     return a
 
 
-def _as_float_array(value: Any, name: str, ncols: int | None, path: str | None) -> NDArray[np.float64]:
+def _as_float_array(
+    value: Any, name: str, ncols: int | None, path: str | None, *, offset: int = 0
+) -> NDArray[np.float64]:
+    """``value`` as float64 of shape (N,) (``ncols`` None) or (N, ncols), every value finite.
+
+    The error names the field, the file and the first bad sample; ``offset`` is added to the
+    index (a chunk of a stream: its first sample's index in the stream)."""
     try:
         arr = np.asarray(value, dtype=np.float64)
     except (TypeError, ValueError) as exc:
@@ -29,15 +35,16 @@ def _as_float_array(value: Any, name: str, ncols: int | None, path: str | None) 
         if arr.ndim != 1:
             raise InvalidInputError(f"expected shape (N,), got {arr.shape}", field=name, path=path)
     elif arr.ndim != 2 or arr.shape[1] != ncols:
-        raise InvalidInputError(f"expected shape (N, {ncols}), got {arr.shape}", field=name, path=path)
-    bad = ~np.isfinite(arr)
-    if bad.any():
+        transposed = arr.ndim == 2 and arr.shape[0] == ncols and arr.shape[1] != ncols
+        raise InvalidInputError(
+            f"expected shape (N, {ncols}), got {arr.shape}" + ("; transposed? one row per sample" if transposed else ""),
+            field=name,
+            path=path,
+        )
+    if not np.isfinite(arr).all():  # one flat reduction first: the per-row one only to name the row
+        bad = ~np.isfinite(arr)
         first = int(np.argmax(bad.reshape(len(arr), -1).any(axis=1)))
         raise InvalidInputError(
-            f"non-finite value {arr[first]!r}; every sample must be finite", field=name, index=first, path=path
+            f"non-finite value {arr[first]!r}; every sample must be finite", field=name, index=offset + first, path=path
         )
     return arr
-
-
-def _first_true(mask: NDArray[np.bool_]) -> int:
-    return int(np.argmax(mask))

@@ -11,17 +11,12 @@ import numpy as np
 from numpy.typing import NDArray
 
 from footnav.errors import DataQualityWarning, InvalidInputError
-from footnav.types._arrays import _as_float_array, _first_true, _readonly
-from footnav.types.imu_checks import _check_data
+from footnav.types._arrays import _as_float_array, _readonly
+from footnav.types.imu_checks import GAP_FACTOR, _check_data, check_time_order, find_gaps, gap_message
 from footnav.types.units import _ACC_SCALE, _GYR_SCALE, _MAG_SCALE, _T_SCALE, _time_seconds
 from footnav.warning_log import warn
 
 __all__ = ["GAP_FACTOR", "ImuData", "ReadOnlyMeta"]
-
-#: A sampling interval longer than GAP_FACTOR x the median interval is reported as a gap. One lost
-#: sample makes an interval of about 2 x the median, which time-stamp rounding puts on either side
-#: of 2.0; logger jitter without loss stays below ~1.75 x (pyshoe VICON trials: 8.6 ms at 5 ms).
-GAP_FACTOR = 1.9
 
 
 class ReadOnlyMeta(dict):
@@ -106,36 +101,12 @@ class ImuData:
                     field=name,
                     path=path,
                 )
-        dt = np.diff(t)
-        if (dt == 0).any():
-            i = _first_true(dt == 0) + 1
-            raise InvalidInputError(
-                f"duplicate time stamp t={t[i]!r} s (same as sample {i - 1}); "
-                "drop duplicate rows explicitly (drop_duplicates=True)",
-                field="t",
-                index=i,
-                path=path,
-            )
-        if (dt < 0).any():
-            i = _first_true(dt < 0) + 1
-            raise InvalidInputError(
-                f"time goes backwards: t[{i}]={t[i]!r} s < t[{i - 1}]={t[i - 1]!r} s; "
-                "t must be strictly increasing",
-                field="t",
-                index=i,
-                path=path,
-            )
+        dt = check_time_order(t, path=path)
         median_dt = float(np.median(dt))
-        gap_idx = np.flatnonzero(dt > GAP_FACTOR * median_dt)
-        if len(gap_idx) and "gaps" not in meta:
-            meta["gaps"] = [(int(i + 1), float(dt[i])) for i in gap_idx]
-            warn(
-                f"{path or 'ImuData'}: {len(gap_idx)} sampling gap(s) longer than {GAP_FACTOR:g} x the "
-                f"median interval {median_dt * 1e3:.3g} ms (first at index {gap_idx[0] + 1}, "
-                f"{dt[gap_idx[0]] * 1e3:.3g} ms); listed in meta['gaps']",
-                DataQualityWarning,
-                stacklevel=3,
-            )
+        gaps = find_gaps(dt, median_dt)
+        if gaps and "gaps" not in meta:
+            meta["gaps"] = gaps
+            warn(gap_message(path or "ImuData", gaps, median_dt), DataQualityWarning, stacklevel=3)
         object.__setattr__(self, "t", _readonly(t))
         object.__setattr__(self, "acc", _readonly(acc))
         object.__setattr__(self, "gyr", _readonly(gyr))

@@ -21,6 +21,7 @@ from footnav.types.units import _T_SCALE, GRAVITY_MPS2
 
 __all__ = [
     "ACC_FULL_SCALES_G",
+    "ACC_MAX_MPS2",
     "ACC_MEDIAN_BOUNDS_MPS2",
     "ACC_MOVING_FRACTION",
     "ACC_MOVING_MPS2",
@@ -31,7 +32,9 @@ __all__ = [
     "CLIP_MIN_GYR_RADPS",
     "CLIP_MIN_REPEATS",
     "FULL_SCALE_RATIO",
+    "GAP_FACTOR",
     "GYR_FULL_SCALES_DPS",
+    "GYR_MAX_RADPS",
     "GYR_PEAK_MAX_RADPS",
     "GYR_PEAK_MIN_RADPS",
     "PEAK_HOLD_S",
@@ -41,7 +44,13 @@ __all__ = [
     "REST_GYR_RADPS",
     "REST_MIN_S",
     "REST_WINDOW_S",
+    "check_extremes",
+    "check_time_base",
+    "check_time_order",
+    "data_label",
     "detect_clipping",
+    "find_gaps",
+    "gap_message",
 ]
 
 #: A foot-mounted IMU reads about 1 g of specific force over a recording (the foot stands still
@@ -89,6 +98,19 @@ RATE_BOUNDS_HZ = (20.0, 2000.0)
 #: 1 Hz, 100 Hz in us read as s 1e-4 Hz; 100 Hz in s declared ms 100 kHz. InvalidInputError
 #: naming the unit that gives a plausible rate.
 RATE_ERROR_HZ = (1.5, 100_000.0)
+
+#: No foot-mounted IMU reads a specific force above this (m/s^2, 100 g: the largest
+#: accelerometer ranges on shoes are +-16 g to +-200 g high-g parts, and a heel strike peaks at
+#: 5-30 g) nor an angular rate above ``GYR_MAX_RADPS`` (100 rad/s = 5730 deg/s, beyond the largest
+#: MEMS range of 4000 deg/s). A sample beyond either is a corrupt record or a wrong unit:
+#: InvalidInputError naming its index (one such sample integrates into a 1e29 m walk).
+ACC_MAX_MPS2 = 100.0 * GRAVITY_MPS2
+GYR_MAX_RADPS = 100.0
+
+#: A sampling interval longer than GAP_FACTOR x the median interval is reported as a gap. One lost
+#: sample makes an interval of about 2 x the median, which time-stamp rounding puts on either side
+#: of 2.0; logger jitter without loss stays below ~1.75 x (pyshoe VICON trials: 8.6 ms at 5 ms).
+GAP_FACTOR = 1.9
 
 #: Common full scales of MEMS gyroscopes (deg/s) and accelerometers (g).
 GYR_FULL_SCALES_DPS = (250.0, 500.0, 1000.0, 2000.0)
@@ -282,6 +304,133 @@ def detect_clipping(
     }
 
 
+# -- per-sample checks: ImuData and the online stream's chunks (footnav.pipeline.online_checks) ----
+
+
+def check_time_order(
+    t: NDArray[np.float64], *, path: str | None = None, offset: int = 0, previous: float | None = None
+) -> NDArray[np.float64]:
+    """Refuse time stamps that do not increase strictly; returns the intervals (s).
+
+    ``offset`` is the stream index of ``t[0]`` and ``previous`` the time of the sample before it
+    (a stream's chunk), so the error names the sample as the whole recording would. With
+    ``previous`` the first interval is ``t[0] - previous``.
+
+    Raises
+    ------
+    InvalidInputError
+        ``field="t"``, ``index`` the first sample whose time equals (a duplicate row: drop
+        duplicates explicitly) or precedes the one before it.
+    """
+    full = t if previous is None else np.concatenate(([previous], t))
+    dt = np.diff(full)
+    first = offset - (0 if previous is None else 1)  # stream index of full[0]
+    if not (dt > 0).all():
+        j = int(np.argmax(~(dt > 0)))
+        i = first + j + 1
+        if dt[j] == 0:
+            message = (f"duplicate time stamp t={full[j + 1]!r} s (same as sample {i - 1}); "
+                       "drop duplicate rows explicitly (drop_duplicates=True)")
+        else:
+            message = (f"time goes backwards: t[{i}]={full[j + 1]!r} s < t[{i - 1}]={full[j]!r} s; "
+                       "t must be strictly increasing")
+        raise InvalidInputError(message, field="t", index=i, path=path)
+    return dt
+
+
+def find_gaps(dt: NDArray[np.float64], median_dt: float, first_index: int = 1) -> list[tuple[int, float]]:
+    """``(index, interval_s)`` of every interval longer than ``GAP_FACTOR`` x ``median_dt``,
+    ``index`` the first sample after the gap; ``dt[0]`` ends at sample ``first_index``."""
+    idx = np.flatnonzero(dt > GAP_FACTOR * median_dt)
+    return [(int(first_index + i), float(dt[i])) for i in idx]
+
+
+def gap_message(label: str, gaps: list[tuple[int, float]], median_dt: float) -> str:
+    """The warning of sampling gaps (:func:`find_gaps`), the same offline and online."""
+    return (
+        f"{label}: {len(gaps)} sampling gap(s) longer than {GAP_FACTOR:g} x the median interval "
+        f"{median_dt * 1e3:.3g} ms (first at index {gaps[0][0]}, {gaps[0][1] * 1e3:.3g} ms); listed in meta['gaps']"
+    )
+
+
+def _acc_median_error(f: float, path: str | None) -> InvalidInputError:
+    lo_a = ACC_MEDIAN_BOUNDS_MPS2[0]
+    hint = "the data look like g: read them with acc_unit='g'" if 0.5 <= f < lo_a else (
+        "is the accelerometer in another unit, or is its column mapping wrong?")
+    return InvalidInputError(
+        f"implausible specific force: median |acc| = {f:.3g} m/s^2, but a foot-mounted IMU reads gravity "
+        f"({GRAVITY_MPS2:g} m/s^2) whenever the foot stands still; {hint}",
+        field="acc",
+        path=path,
+    )
+
+
+def _gyr_unit_error(w_peak: float, index: int, path: str | None) -> InvalidInputError:
+    return InvalidInputError(
+        f"implausible angular rate: |gyr| held above {w_peak:.3g} rad/s, beyond any MEMS gyroscope's range "
+        f"(~{GYR_PEAK_MAX_RADPS:g} rad/s = 4000 deg/s); the data look like deg/s: read them with gyr_unit='deg/s'",
+        field="gyr",
+        index=index,
+        path=path,
+    )
+
+
+def check_extremes(
+    acc: NDArray[np.float64],
+    gyr: NDArray[np.float64],
+    *,
+    path: str | None = None,
+    offset: int = 0,
+    hold: int = 3,
+    acc_norm: NDArray[np.float64] | None = None,
+    gyr_norm: NDArray[np.float64] | None = None,
+) -> None:
+    """Refuse samples beyond what any foot-mounted IMU reads (``ACC_MAX_MPS2``, ``GYR_MAX_RADPS``).
+
+    Where the values say why, the message is the unit check's (a median |acc| that is not
+    gravity: another unit; |gyr| held above ``GYR_PEAK_MAX_RADPS`` for ``hold`` samples: deg/s
+    read as rad/s); else the sample is a corrupt record. ``offset`` is the stream index of the
+    first row (a stream's chunk).
+
+    Raises
+    ------
+    InvalidInputError
+        ``field`` ``"acc"`` or ``"gyr"``, ``index`` the first sample beyond the bound.
+    """
+    if len(acc) == 0:
+        return
+    gyr_norm = row_norms(gyr) if gyr_norm is None else gyr_norm
+    if gyr_norm.max() > GYR_MAX_RADPS:
+        w_peak = _held_peak(gyr_norm, hold)
+        if w_peak > GYR_PEAK_MAX_RADPS:
+            raise _gyr_unit_error(w_peak, offset + int(np.argmax(gyr_norm > GYR_PEAK_MAX_RADPS)), path)
+        beyond = gyr_norm > GYR_MAX_RADPS
+        i = int(np.argmax(beyond))
+        raise InvalidInputError(
+            f"|gyr| = {gyr_norm[i]:.3g} rad/s ({np.degrees(gyr_norm[i]):.3g} deg/s), beyond any gyroscope on a foot "
+            f"(bound {GYR_MAX_RADPS:g} rad/s; {int(beyond.sum())} sample(s) beyond it, this the first): a corrupt "
+            "record; remove or repair it",
+            field="gyr",
+            index=offset + i,
+            path=path,
+        )
+    acc_norm = row_norms(acc) if acc_norm is None else acc_norm
+    if acc_norm.max() > ACC_MAX_MPS2:
+        f = float(np.median(acc_norm))
+        if not ACC_MEDIAN_BOUNDS_MPS2[0] <= f <= ACC_MEDIAN_BOUNDS_MPS2[1]:
+            raise _acc_median_error(f, path)
+        beyond = acc_norm > ACC_MAX_MPS2
+        i = int(np.argmax(beyond))
+        raise InvalidInputError(
+            f"|acc| = {acc_norm[i]:.3g} m/s^2 ({acc_norm[i] / GRAVITY_MPS2:.3g} g), beyond what an accelerometer on "
+            f"a foot reads (bound {ACC_MAX_MPS2 / GRAVITY_MPS2:g} g; {int(beyond.sum())} sample(s) beyond it, this "
+            "the first): a corrupt record; remove or repair it",
+            field="acc",
+            index=offset + i,
+            path=path,
+        )
+
+
 def _unit_hint(raw_dt: float) -> str:
     """Which time unit would make a median interval of ``raw_dt`` (in the file's numbers) a rate
     inside ``RATE_BOUNDS_HZ``."""
@@ -293,29 +442,22 @@ def _unit_hint(raw_dt: float) -> str:
     return ""
 
 
-def _check_data(
-    t: NDArray[np.float64],
-    acc: NDArray[np.float64],
-    gyr: NDArray[np.float64],
-    meta: Mapping[str, Any],
-    *,
-    acc_full_scale_mps2: float | None = None,
-    clipping: bool = True,
-    median_dt: float | None = None,
-) -> list[tuple[str, Any, str]]:
-    """Check units, time base, rate, at-rest magnitude and (``clipping``) saturation of SI data.
+def data_label(meta: Mapping[str, Any]) -> str:
+    """How warnings name a sensor's data: its file and foot."""
+    path = meta.get("source")
+    return (path or "ImuData") + (f" ({meta['foot']} foot)" if meta.get("foot") in ("left", "right") else "")
 
-    Raises InvalidInputError where the data cannot be what they are declared to be; returns the
-    findings to warn about as ``(meta key, record, message)``. ``median_dt`` is the median of
-    ``np.diff(t)`` when the caller has it (ImuData keeps it), saving a sort of the intervals.
+
+def check_time_base(median_dt: float, meta: Mapping[str, Any]) -> list[tuple[str, Any, str]]:
+    """Check the time base and rate of data whose median sampling interval is ``median_dt`` (s).
+
+    Raises InvalidInputError outside ``RATE_ERROR_HZ`` (the time stamps are not in the declared
+    unit, ``meta["units_in"]["t"]``; the message names the unit that fits); returns the finding
+    ``("rate_check", record, message)`` outside ``RATE_BOUNDS_HZ``.
     """
     path = meta.get("source")
-    label = (path or "ImuData") + (f" ({meta['foot']} foot)" if meta.get("foot") in ("left", "right") else "")
     t_unit = str((meta.get("units_in") or {}).get("t", "s"))
-    findings: list[tuple[str, Any, str]] = []
-
-    # -- time base and rate ------------------------------------------------------------------
-    dt = float(np.median(np.diff(t))) if median_dt is None else median_dt
+    dt = median_dt
     rate = 1.0 / dt
     raw_dt = dt / _T_SCALE.get(t_unit, 1.0)
     if not RATE_ERROR_HZ[0] <= rate <= RATE_ERROR_HZ[1]:
@@ -328,16 +470,42 @@ def _check_data(
             path=path,
         )
     lo, hi = RATE_BOUNDS_HZ
-    if not lo <= rate <= hi:
-        findings.append((
-            "rate_check",
-            {"rate_hz": rate, "bounds_hz": [lo, hi]},
-            (
-                f"{label}: sampling rate {rate:.4g} Hz is {'below' if rate < lo else 'above'} the "
-                f"{lo:g}-{hi:g} Hz footnav's detectors and filters are made for; results may be wrong"
-                + _unit_hint(raw_dt) + "; recorded in meta['rate_check']"
-            ),
-        ))
+    if lo <= rate <= hi:
+        return []
+    return [(
+        "rate_check",
+        {"rate_hz": rate, "bounds_hz": [lo, hi]},
+        (
+            f"{data_label(meta)}: sampling rate {rate:.4g} Hz is {'below' if rate < lo else 'above'} the "
+            f"{lo:g}-{hi:g} Hz footnav's detectors and filters are made for; results may be wrong"
+            + _unit_hint(raw_dt) + "; recorded in meta['rate_check']"
+        ),
+    )]
+
+
+def _check_data(
+    t: NDArray[np.float64],
+    acc: NDArray[np.float64],
+    gyr: NDArray[np.float64],
+    meta: Mapping[str, Any],
+    *,
+    acc_full_scale_mps2: float | None = None,
+    clipping: bool = True,
+    median_dt: float | None = None,
+    time_base: bool = True,
+) -> list[tuple[str, Any, str]]:
+    """Check units, (``time_base``) time base and rate, at-rest magnitude and (``clipping``)
+    saturation of SI data.
+
+    Raises InvalidInputError where the data cannot be what they are declared to be; returns the
+    findings to warn about as ``(meta key, record, message)``. ``median_dt`` is the median of
+    ``np.diff(t)`` when the caller has it (ImuData keeps it), saving a sort of the intervals.
+    """
+    path = meta.get("source")
+    dt = float(np.median(np.diff(t))) if median_dt is None else median_dt
+    rate = 1.0 / dt
+    findings = check_time_base(dt, meta) if time_base else []
+    label = data_label(meta)
 
     # -- units -----------------------------------------------------------------------------------
     # shared with the detectors within a pipeline run (the same bits as np.linalg.norm)
@@ -346,25 +514,13 @@ def _check_data(
     f = float(np.median(acc_norm))
     lo_a, hi_a = ACC_MEDIAN_BOUNDS_MPS2
     if not lo_a <= f <= hi_a:
-        hint = "the data look like g: read them with acc_unit='g'" if 0.5 <= f < lo_a else (
-            "is the accelerometer in another unit, or is its column mapping wrong?")
-        raise InvalidInputError(
-            f"implausible specific force: median |acc| = {f:.3g} m/s^2, but a foot-mounted IMU reads gravity "
-            f"({GRAVITY_MPS2:g} m/s^2) whenever the foot stands still; {hint}",
-            field="acc",
-            path=path,
-        )
+        raise _acc_median_error(f, path)
     hold = max(3, round(PEAK_HOLD_S * rate))
     w_peak = _held_peak(gyr_norm, hold)
     if w_peak > GYR_PEAK_MAX_RADPS:
-        i = int(np.argmax(gyr_norm > GYR_PEAK_MAX_RADPS))
-        raise InvalidInputError(
-            f"implausible angular rate: |gyr| held above {w_peak:.3g} rad/s, beyond any MEMS gyroscope's range "
-            f"(~{GYR_PEAK_MAX_RADPS:g} rad/s = 4000 deg/s); the data look like deg/s: read them with gyr_unit='deg/s'",
-            field="gyr",
-            index=i,
-            path=path,
-        )
+        raise _gyr_unit_error(w_peak, int(np.argmax(gyr_norm > GYR_PEAK_MAX_RADPS)), path)
+    # single absurd samples (a corrupt record): the median and the held peak do not see them
+    check_extremes(acc, gyr, path=path, hold=hold, acc_norm=acc_norm, gyr_norm=gyr_norm)
     n_moving = _count_beyond(acc_norm, f, ACC_MOVING_MPS2)
     moving = n_moving / len(acc_norm)
     # at least a swing's worth (0.2 s) of motion: a few rows of a test file are no walk

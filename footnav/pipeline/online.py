@@ -52,9 +52,10 @@ from typing import Any
 
 from footnav.nav.clock_sync import ClockMap
 from footnav.errors import CompositionError, InvalidInputError, InvalidParameterError
+from footnav.fusion.independent import midpoint_path
 from footnav.pipeline.online_foot import FootStream
 from footnav.pipeline.online_joint import JointStream
-from footnav.pipeline.online_io import ClosedStep, FootUpdate, ForwardEstimate, as_chunk
+from footnav.pipeline.online_io import ClosedStep, FootUpdate, ForwardEstimate, as_chunk, empty_update
 from footnav.pipeline.result import PipelineResult
 from footnav.warning_log import recording
 
@@ -114,6 +115,19 @@ class OnlineStream:
         interval of the first second. The offline run takes the whole recording's median
         interval: with jittered sampling, a window on the edge of rounding to another number of
         samples differs unless this is the same (``recording.left.rate_hz``).
+    input_meta
+        Per foot, where its samples come from, as a recording's meta says it: ``"source"`` (a
+        file or device: named in errors, warnings and the result) and ``"units_in"`` (the units
+        the caller converted from, for the unit checks' hints), e.g. ``{"left": {"source":
+        "left.csv", "units_in": {"t": "ms"}}}``.
+
+    Notes
+    -----
+    Every chunk passes the input checks of a recording (:mod:`footnav.pipeline.online_checks`:
+    the same errors and warnings as offline) before it is taken, both feet's chunks of a push
+    before either is: a push that raises InvalidInputError took nothing, and can be retried with
+    good data. A component that fails inside a push ends the stream: later pushes are refused,
+    and :meth:`close` returns what was final before (see there).
     """
 
     def __init__(
@@ -126,6 +140,7 @@ class OnlineStream:
         clocks: Mapping[str, ClockMap] | None = None,
         keep: bool = True,
         rate_hz: float | None = None,
+        input_meta: Mapping[str, Mapping[str, Any]] | None = None,
     ) -> None:
         if feet not in (1, 2):
             raise InvalidParameterError(f"online: feet={feet!r} is invalid; expected 1 or 2")
@@ -153,11 +168,18 @@ class OnlineStream:
         self.n_feet = feet
         self.max_wait_s = float(max_wait_s)
         self.keep = bool(keep)
-        self.feet = [FootStream(self, foot, offsets.get(foot, 0.0)) for foot in _FEET[:feet]]
+        inputs = dict(input_meta or {})
+        unknown = set(inputs) - set(_FEET[:feet])
+        if unknown:
+            raise InvalidParameterError(f"online: input_meta names {sorted(unknown)}; expected {list(_FEET[:feet])}")
+        self.feet = [FootStream(self, foot, offsets.get(foot, 0.0), inputs.get(foot)) for foot in _FEET[:feet]]
         #: both feet in the coupled fusion's joint filter (None for 'independent')
         self.joint = JointStream(self, self.feet) if pipeline.fusion.name not in ONLINE_FUSIONS else None
         self._held: list[ClosedStep] = []
         self._closed = False
+        #: the exception that ended the stream inside a push (a component's failure), if any
+        self.failure: BaseException | None = None
+        self._outcome: tuple[PipelineResult | None, BaseException | None] | None = None
         self._t0 = time.perf_counter()
         self._push_s = 0.0
         #: the warnings raised so far, each message once, in order (``close``'s ``meta["warnings"]``)
@@ -170,21 +192,40 @@ class OnlineStream:
         return f"OnlineStream(feet={self.n_feet}, samples={n}, final={[f.n_out for f in self.feet]}, latency_s={self.latency_s:.3g})"
 
     def push(self, left: Any = None, right: Any = None) -> OnlineUpdate:
-        """Add samples of either foot or both; returns what became final since the last push."""
+        """Add samples of either foot or both; returns what became final since the last push.
+
+        Both chunks are checked before either is taken (:mod:`footnav.pipeline.online_checks`):
+        on InvalidInputError the stream is as before the push.
+        """
         if self._closed:
             raise InvalidInputError("the stream is closed; start a new one with pipeline.online()", field="push")
+        if self.failure is not None:
+            raise InvalidInputError(
+                f"the stream ended when a push failed ({type(self.failure).__name__}: {self.failure}); close() "
+                "returns what was final before it",
+                field="push",
+            )
         if right is not None and self.n_feet == 1:
             raise InvalidInputError("a one-foot stream (feet=1) takes left=... only", field="right")
         t0 = time.perf_counter()
         with recording() as caught:
+            checked = []
             for foot, chunk in zip(self.feet, (left, right)):
                 if chunk is not None:
-                    t, acc, gyr = as_chunk(chunk, foot.foot)
+                    checked.append((foot, *foot.checks.check(*as_chunk(chunk, foot.foot))))
+            try:
+                for foot, t, acc, gyr, pending in checked:
+                    foot.checks.accept(t, acc, gyr, pending)
                     clock = self.clocks.get(foot.foot)
                     foot.push(t if clock is None else clock(t), acc, gyr)
-            if self.joint is not None:
-                self.joint.advance()
-        self._note(caught)
+                if self.joint is not None:
+                    self.joint.advance()
+            except BaseException as exc:
+                # the feet may have taken part of the push: the stream cannot go on consistently
+                self.failure = exc
+                raise
+            finally:
+                self._note(caught)
         out = self._update(final=False)
         self._push_s += time.perf_counter() - t0
         self.n_pushes += 1
@@ -230,43 +271,115 @@ class OnlineStream:
     def close(self) -> PipelineResult | None:
         """End the stream: every remaining sample becomes final (the last step is closed as the
         offline run closes it). Returns the whole :class:`PipelineResult` (``keep=True``) or None;
-        :attr:`last_update` holds what the end made final."""
-        if self._closed:
-            raise InvalidInputError("the stream is already closed", field="close")
-        self._closed = True
-        with recording() as caught:
-            for f in self.feet:
-                f.finish()
-            if self.joint is not None:
-                self.joint.finish()
-        self._note(caught)
-        self.last_update = self._update(final=True)
-        if not self.keep:
-            return None
-        from footnav._version import __version__
-        from footnav.fusion.independent import midpoint_path
+        :attr:`last_update` holds what the end made final.
 
+        The result's ``meta["complete"]`` is True and ``meta["ended_by"]`` ``"close"``. When the
+        end cannot be made (a foot never sent a sample, a component fails, the stream had failed
+        in a push), close raises that failure (its own type and message) carrying what could be
+        made as attributes: ``partial``, a PipelineResult of each foot's own estimate up to where it
+        was final (the left foot's required; ``meta["complete"]`` False, ``meta["ended_by"]``
+        the reason), ``feet``, each foot's ``(trajectory, stance)`` or None, and ``reason``.
+        Closing again returns (or raises) the same.
+        """
+        if self._outcome is not None:
+            result, error = self._outcome
+            if error is not None:
+                raise error
+            return result
+        self._closed = True
+        failures: dict[str, BaseException] = {}
+        with recording() as caught:
+            try:
+                if self.failure is None:
+                    for f in self.feet:
+                        try:
+                            f.checks.finish()
+                            f.finish()
+                        except Exception as exc:  # noqa: BLE001 - kept with the foot's partial result
+                            failures[f.foot] = exc
+                    if self.joint is not None and not failures:
+                        try:
+                            self.joint.finish()
+                        except Exception as exc:  # noqa: BLE001
+                            failures["both feet"] = exc
+            finally:
+                self._note(caught)
+        if self.failure is None and not failures:
+            self.last_update = self._update(final=True)
+            try:
+                result = self._result() if self.keep else None
+            except Exception as exc:  # noqa: BLE001 - the fusion's result: each foot's own is still there
+                failures["both feet"] = exc
+            else:
+                self._outcome = (result, None)
+                return result
+        try:  # what the end made final for the feet that could finish (the steps a live user sees)
+            self.last_update = self._update(final=True)
+        except Exception:  # noqa: BLE001 - the error below says why the stream could not end whole
+            self.last_update = OnlineUpdate(empty_update(None), None if self.n_feet == 1 else empty_update(None), [])
+        error = self._incomplete(failures)
+        self._outcome = (None, error)
+        raise error
+
+    def _result(self) -> PipelineResult:
         trajs = [f.trajectory() for f in self.feet]
         if self.joint is None:
             left, right = trajs[0][0], trajs[1][0] if self.n_feet == 2 else None
             path, fusion_meta = midpoint_path(left, right), {"fusion": self.pipeline.fusion.describe()}
         else:
             with recording() as caught:
-                fused = self.joint.result([tr[0] for tr in trajs])
-            self._note(caught)
+                try:
+                    fused = self.joint.result([tr[0] for tr in trajs])
+                finally:
+                    self._note(caught)
             left, right, path, fusion_meta = fused.left, fused.right, fused.path, dict(fused.meta)
-        meta = {
+        meta = self._meta(fusion_meta, complete=True, ended_by="close")
+        return PipelineResult(left=left, right=right, path=path, stance_left=trajs[0][1],
+                              stance_right=trajs[1][1] if self.n_feet == 2 else None, meta=meta)
+
+    def _meta(self, fusion_meta: dict, complete: bool, ended_by: str) -> dict[str, Any]:
+        from footnav._version import __version__
+
+        return {
             "pipeline": self.pipeline.config(),
             "footnav_version": __version__,
             "warnings": list(self.warnings),
             "stance_check": {},
             "fusion": fusion_meta,
             "runtime_s": self._push_s,
-            "input": {foot.foot: {"online": True, "samples": foot.input.end} for foot in self.feet},
+            "input": {foot.foot: {**foot.checks.meta, **foot.checks.records, "online": True, "samples": foot.input.end}
+                      for foot in self.feet},
             "online": self.stats(),
+            "complete": complete,
+            "ended_by": ended_by,
         }
-        return PipelineResult(left=left, right=right, path=path, stance_left=trajs[0][1],
-                              stance_right=trajs[1][1] if self.n_feet == 2 else None, meta=meta)
+
+    def _incomplete(self, failures: dict[str, BaseException]) -> BaseException:
+        """The error of a close that could not make the whole result, with each foot's own."""
+        causes = ([("a push", self.failure)] if self.failure is not None else []) + list(failures.items())
+        reason = "; ".join(f"{where}: {type(exc).__name__}: {exc}" for where, exc in causes)
+        feet: dict[str, Any] = {}
+        for f in self.feet:
+            try:
+                feet[f.foot] = f.trajectory() if f.n_out > 1 and f.filt is not None else None
+            except Exception:  # noqa: BLE001 - nothing of this foot can be made
+                feet[f.foot] = None
+        partial = None
+        if self.keep and feet.get("left") is not None:
+            (left, stance_left), right_pair = feet["left"], feet.get("right")
+            right, stance_right = right_pair if right_pair is not None else (None, None)
+            partial = PipelineResult(
+                left=left, right=right, path=midpoint_path(left, right), stance_left=stance_left,
+                stance_right=stance_right,
+                meta=self._meta({"fusion": "none: the stream ended before the feet could be fused"}, False, reason),
+            )
+        # the cause itself, its type and message as they were: a caller catching it gets the
+        # partial result on it
+        error = causes[0][1]
+        error.partial = partial  # type: ignore[union-attr]
+        error.feet = feet  # type: ignore[union-attr]
+        error.reason = reason  # type: ignore[union-attr]
+        return error
 
     def stats(self) -> dict[str, Any]:
         """Samples received and final per foot, the detector's latency, time spent in push."""

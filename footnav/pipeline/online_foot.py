@@ -28,6 +28,7 @@ from footnav.warning_log import recording
 from footnav.estimators.ekf.filter import InsFilter
 from footnav.estimators.ekf.records import FilterState
 from footnav.estimators.ekf.smoother import StepSmoother
+from footnav.pipeline.online_checks import ChunkChecks
 from footnav.pipeline.online_io import ClosedStep, FootUpdate, ForwardEstimate, as_chunk, empty_update
 from footnav.pipeline.online_steps import StepTracker
 
@@ -125,10 +126,13 @@ class FootStream:
     local index ``k`` is global ``seg0 + k``.
     """
 
-    def __init__(self, stream: Any, foot: str, offset_s: float) -> None:
+    def __init__(self, stream: Any, foot: str, offset_s: float, input_meta: Any = None) -> None:
         self.stream = stream
         self.foot = foot
         self.offset_s = float(offset_s)
+        meta = dict(input_meta or {})
+        #: the recording's input checks, run on each chunk before the stream takes it
+        self.checks = ChunkChecks(foot, meta.get("source"), meta.get("units_in"))
         # input not yet dropped: t, acc, gyr and the final stance decision
         self.input = _Grow([((), np.float64), ((3,), np.float64), ((3,), np.float64), ((), np.bool_)])
         self.n_final = 0  # samples whose stance decision is final
@@ -187,17 +191,7 @@ class FootStream:
             return
         if self.offset_s:
             t = t + self.offset_s
-        # the common case checked without building the joined times; the error names the first bad one
-        if (self.input.n and not t[0] > self.input.last()) or (len(t) > 1 and not (t[1:] > t[:-1]).all()):
-            full = np.concatenate(([self.t_last], t)) if self.input.n else t
-            bad = np.flatnonzero(np.diff(full) <= 0)
-            i = int(bad[0]) + (0 if self.input.n else 1)
-            raise InvalidInputError(
-                f"the {self.foot} foot's time stamps must increase strictly; its sample {self.input.end + i} at "
-                f"t={t[i]!r} s does not (previous {full[i + (1 if self.input.n else 0) - 1]!r} s)",
-                field=self.foot,
-                index=self.input.end + i,
-            )
+        # checked by self.checks (the stream's push): shapes, values, time order across chunks
         if self.input.end == 0:
             self.first_t = float(t[0])
         self.input.append(t, acc, gyr, False)  # the stance decision, once final
@@ -244,7 +238,7 @@ class FootStream:
         """The detection window as an ImuData (the arrays are the caller's fresh copies).
 
         The first window goes through ImuData's checks; later ones take its fields with their
-        own arrays, unchecked: the checks would find nothing (as_chunk checked the values and
+        own arrays, unchecked: the checks would find nothing (the stream's ChunkChecks checked the values and
         shapes, ``t`` is a grid: strictly increasing, without gaps) and cost as much as a
         threshold detector's work on a one-second window."""
         if self._imu is None:

@@ -85,7 +85,8 @@ def empty_update(forward: ForwardEstimate | None) -> FootUpdate:
 def as_chunk(chunk: Any, foot: str) -> tuple[NDArray, NDArray, NDArray]:
     """``(t, acc, gyr)`` arrays (SI) of a chunk: an ImuData, a pandas DataFrame with columns ``t,
     acc_x..gyr_z``, a mapping with ``t``, ``acc``, ``gyr``, or a tuple ``(t, acc, gyr)``; one
-    sample may be given as scalars and 3-vectors."""
+    sample may be given as scalars and 3-vectors. Not yet checked: :class:`~footnav.pipeline.
+    online_checks.ChunkChecks` checks shapes, values and time order."""
     if isinstance(chunk, ImuData):
         t, acc, gyr = chunk.t, chunk.acc, chunk.gyr
     elif hasattr(chunk, "columns") and hasattr(chunk, "iloc"):
@@ -108,14 +109,11 @@ def as_chunk(chunk: Any, foot: str) -> tuple[NDArray, NDArray, NDArray]:
             "a mapping {'t', 'acc', 'gyr'} or a tuple (t, acc, gyr)",
             field=foot,
         )
-    t = np.atleast_1d(np.asarray(t, dtype=np.float64))
-    acc = np.asarray(acc, dtype=np.float64).reshape(-1, 3)
-    gyr = np.asarray(gyr, dtype=np.float64).reshape(-1, 3)
-    if t.ndim != 1 or len(acc) != len(t) or len(gyr) != len(t):
-        raise InvalidInputError(
-            f"the {foot} foot's chunk has {len(t)} times, {len(acc)} acc and {len(gyr)} gyr rows; one row per sample",
-            field=foot,
-        )
-    if not (np.isfinite(t).all() and np.isfinite(acc).all() and np.isfinite(gyr).all()):
-        raise InvalidInputError(f"the {foot} foot's chunk has non-finite values", field=foot)
+    # one sample as scalars and 3-vectors; shapes, values and time order are checked by the
+    # stream's input checks (footnav.pipeline.online_checks), which name the sample's index
+    t = np.atleast_1d(np.asarray(t))
+    acc, gyr = np.asarray(acc), np.asarray(gyr)
+    if t.shape == (1,):
+        acc = acc.reshape(1, 3) if acc.shape == (3,) else acc
+        gyr = gyr.reshape(1, 3) if gyr.shape == (3,) else gyr
     return t, acc, gyr

@@ -11,6 +11,7 @@ import pytest
 import footnav
 from footnav.pipeline import online_foot, online_steps
 from footnav.errors import CompositionError, InvalidInputError
+from footnav.types import ImuData
 from online_replay import STEP, _check_equal, _chunks, _replay, shared_recordings  # tests/online_replay.py
 
 
@@ -172,9 +173,13 @@ def test_time_stamps_within_a_chunk_are_checked(walk):
     stream.push(left=(walk.left.t[:50], walk.left.acc[:50], walk.left.gyr[:50]))
     t = walk.left.t[50:60].copy()
     t[4] = t[3]
-    with pytest.raises(InvalidInputError, match=r"its sample 54 at .* does not \(previous") as info:
+    with pytest.raises(InvalidInputError, match=r"duplicate time stamp .* \(same as sample 53\)") as info:
         stream.push(left=(t, walk.left.acc[50:60], walk.left.gyr[50:60]))
-    assert info.value.index == 54
+    assert info.value.index == 54 and info.value.field == "t"
+    # the offline run's message for the same samples
+    with pytest.raises(InvalidInputError) as offline:
+        ImuData.from_arrays(np.concatenate([walk.left.t[:50], t]), walk.left.acc[:60], walk.left.gyr[:60])
+    assert str(offline.value) == str(info.value)
 
 
 def test_forward_estimate_and_inputs(walk):
@@ -187,7 +192,7 @@ def test_forward_estimate_and_inputs(walk):
     update = stream.push(left={"t": walk.left.t[400], "acc": walk.left.acc[400], "gyr": walk.left.gyr[400]})
     fwd = update.left.forward
     assert fwd is not None and fwd.position_cov.shape == (3, 3) and fwd.t <= walk.left.t[400]
-    with pytest.raises(InvalidInputError, match="increase strictly"):
+    with pytest.raises(InvalidInputError, match="time goes backwards"):
         stream.push(left=(walk.left.t[10:12], walk.left.acc[10:12], walk.left.gyr[10:12]))
     with pytest.raises(InvalidInputError, match="one-foot stream"):
         stream.push(right=(walk.left.t[401:402], walk.left.acc[401:402], walk.left.gyr[401:402]))

@@ -1,0 +1,196 @@
+"""The input checks of one foot's online stream: the checks :class:`~footnav.types.ImuData` and
+its readers run on a recording, run on chunks as they arrive, with the same messages.
+
+Per chunk, before the stream takes it (:meth:`ChunkChecks.check`; nothing changes when it raises):
+shape (a transposed ``(3, N)`` chunk is refused naming its shape), non-finite values, time that
+does not increase (across chunks too), samples beyond any foot IMU's range
+(:func:`~footnav.types.imu_checks.check_extremes`); the error names the sample by its index in the
+foot's stream, as the offline error names it in the recording. Sampling gaps are found per chunk
+once the median interval is known and warned as offline (``records["gaps"]``).
+
+Checks that need more than a chunk run when their data have arrived, and at the end on what
+arrived if that is earlier:
+
+* the time base and rate (:func:`~footnav.types.imu_checks.check_time_base`) on the first
+  ``TIME_BASE_SAMPLES`` samples: time in ms or us read as s is an error before the filter starts;
+* units, the accelerometer at rest and saturation (``_check_data``) on the first
+  ``CHECK_WINDOW_S`` seconds, extended up to ``CHECK_WINDOW_MAX_S`` while the foot has not moved
+  enough for the gyroscope's unit to be judged. Offline these checks see the whole recording;
+  online they see this window (saturation later in the walk is not found online).
+
+Findings that are not errors are warned (DataQualityWarning) when found and kept in
+:attr:`ChunkChecks.records` under the keys the offline run records in the input's meta
+(``"gaps"``, ``"rate_check"``, ``"gyr_unit_check"``, ``"acc_at_rest"``, ``"clipped"``);
+:meth:`OnlineStream.close` puts them into the result's ``meta["input"][foot]``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from footnav.errors import DataQualityWarning, InvalidInputError
+from footnav.types._arrays import _as_float_array
+from footnav.types._derived import row_norms
+from footnav.types.imu_checks import (
+    ACC_MOVING_FRACTION,
+    ACC_MOVING_MPS2,
+    _check_data,
+    check_extremes,
+    check_time_base,
+    check_time_order,
+    data_label,
+    find_gaps,
+    gap_message,
+)
+from footnav.warning_log import warn
+
+__all__ = ["CHECK_WINDOW_MAX_S", "CHECK_WINDOW_S", "TIME_BASE_SAMPLES", "ChunkChecks", "MAX_GAP_WARNINGS"]
+
+#: Samples whose median interval decides the time base (a few tenths of a second at usual
+#: rates; enough for a median that one lost sample does not move).
+TIME_BASE_SAMPLES = 16
+#: Seconds of a foot's first data the unit, at-rest and saturation checks run on ...
+CHECK_WINDOW_S = 10.0
+#: ... extended up to this long (s) while the foot has not yet moved (``ACC_MOVING_FRACTION``):
+#: a walk that starts with a long standstill shows its gyroscope's unit only once it walks.
+CHECK_WINDOW_MAX_S = 60.0
+#: Gap warnings a stream shows one by one; later gaps are only recorded (a flaky link would
+#: otherwise print one line per chunk).
+MAX_GAP_WARNINGS = 10
+
+
+@dataclass
+class _Pending:
+    """What :meth:`ChunkChecks.check` found for a chunk, taken by :meth:`ChunkChecks.accept`."""
+
+    n: int
+    t_last: float
+    median_dt: float | None
+    gaps: list[tuple[int, float]] = field(default_factory=list)
+    findings: list[tuple[str, Any, str]] = field(default_factory=list)
+    head_done: bool = False
+
+
+class ChunkChecks:
+    """The input checks of one foot's stream (see the module docstring).
+
+    Parameters
+    ----------
+    foot
+        ``"left"`` or ``"right"``: named in the warnings, as a recording's foot is.
+    source
+        The file or device the samples come from (named in errors and warnings), if any.
+    units_in
+        The units the caller converted from (``{"t": "ms", ...}``), for the unit hints.
+    """
+
+    def __init__(self, foot: str, source: str | None = None, units_in: Mapping[str, str] | None = None) -> None:
+        self.meta: dict[str, Any] = {"foot": foot, "units_in": dict(units_in or {"t": "s", "acc": "m/s^2", "gyr": "rad/s"})}
+        if source is not None:
+            self.meta["source"] = source
+        self.path = source
+        #: findings, under the keys the offline run records in the input's meta
+        self.records: dict[str, Any] = {}
+        self.n = 0  # samples taken
+        self.t_last: float | None = None
+        self.median_dt: float | None = None
+        self.head_done = False
+        self._head: list[tuple[NDArray, NDArray, NDArray]] = []  # chunks until the window check ran
+        self._gap_warnings = 0
+
+    def check(self, t: Any, acc: Any, gyr: Any) -> tuple[NDArray, NDArray, NDArray, _Pending]:
+        """Check a chunk before it is taken; returns its float arrays and the findings.
+
+        Raises
+        ------
+        InvalidInputError
+            Naming the field, the source and the first bad sample's index in the foot's stream.
+        """
+        path, n0 = self.path, self.n
+        t = _as_float_array(t, "t", None, path, offset=n0)
+        acc = _as_float_array(acc, "acc", 3, path, offset=n0)
+        gyr = _as_float_array(gyr, "gyr", 3, path, offset=n0)
+        for name, a in (("acc", acc), ("gyr", gyr)):
+            if len(a) != len(t):
+                raise _rows_error(name, len(a), len(t), path)
+        pending = _Pending(n0 + len(t), float(t[-1]) if len(t) else self.t_last, self.median_dt)  # type: ignore[arg-type]
+        if len(t) == 0:
+            return t, acc, gyr, pending
+        dt = check_time_order(t, path=path, offset=n0, previous=self.t_last)
+        check_extremes(acc, gyr, path=path, offset=n0)
+        head = self._head + [(t, acc, gyr)] if not self.head_done else []
+        if pending.median_dt is None and pending.n >= TIME_BASE_SAMPLES:
+            th = np.concatenate([h[0] for h in head])
+            pending.median_dt = float(np.median(np.diff(th[:TIME_BASE_SAMPLES])))
+            pending.findings += check_time_base(pending.median_dt, self.meta)
+            # the intervals before the time base was known, this chunk's included
+            pending.gaps = find_gaps(np.diff(th), pending.median_dt, 1)
+        elif pending.median_dt is not None:  # dt[0] ends at sample n0 (it starts at the previous chunk's last)
+            pending.gaps = find_gaps(dt, pending.median_dt, n0)
+        if not self.head_done and pending.median_dt is not None:
+            pending.head_done, findings = self._window(head, pending.median_dt, final=False)
+            pending.findings += findings
+        return t, acc, gyr, pending
+
+    def accept(self, t: NDArray, acc: NDArray, gyr: NDArray, pending: _Pending) -> None:
+        """Take a checked chunk: its findings warned and recorded."""
+        if len(t) == 0:
+            return
+        self.n, self.t_last, self.median_dt = pending.n, pending.t_last, pending.median_dt
+        if not self.head_done:
+            self._head.append((t, acc, gyr))
+        self._take(pending.findings, pending.gaps)
+        if pending.head_done:
+            self.head_done = True
+            self._head = []
+
+    def finish(self) -> None:
+        """At the stream's end: the checks still waiting for data, on what arrived."""
+        if self.n < 2:
+            return
+        findings: list[tuple[str, Any, str]] = []
+        gaps: list[tuple[int, float]] = []
+        if self.median_dt is None:
+            th = np.concatenate([h[0] for h in self._head])
+            self.median_dt = float(np.median(np.diff(th)))
+            findings += check_time_base(self.median_dt, self.meta)
+            gaps = find_gaps(np.diff(th), self.median_dt, 1)
+        if not self.head_done:
+            findings += self._window(self._head, self.median_dt, final=True)[1]
+            self.head_done, self._head = True, []
+        self._take(findings, gaps)
+
+    def _window(self, head: list, median_dt: float, final: bool) -> tuple[bool, list[tuple[str, Any, str]]]:
+        """The unit, at-rest and saturation checks on the first seconds, once they are in."""
+        t = np.concatenate([h[0] for h in head])
+        span = t[-1] - t[0]
+        if not final and span < CHECK_WINDOW_S:
+            return False, []
+        acc = np.concatenate([h[1] for h in head])
+        if not final and span < CHECK_WINDOW_MAX_S:
+            norm = row_norms(acc)
+            moving = int(np.count_nonzero(np.abs(norm - np.median(norm)) > ACC_MOVING_MPS2))
+            if moving < max(10, 0.2 / median_dt) or moving < ACC_MOVING_FRACTION * len(norm):
+                return False, []  # still standing: the gyroscope's unit cannot be judged yet
+        gyr = np.concatenate([h[2] for h in head])
+        return True, _check_data(t, acc, gyr, self.meta, median_dt=median_dt, time_base=False)
+
+    def _take(self, findings: list[tuple[str, Any, str]], gaps: list[tuple[int, float]]) -> None:
+        for key, record, message in findings:
+            self.records[key] = record
+            warn(message, DataQualityWarning, stacklevel=4)
+        if gaps:
+            self.records.setdefault("gaps", []).extend(gaps)
+            if self._gap_warnings < MAX_GAP_WARNINGS:
+                self._gap_warnings += 1
+                more = "" if self._gap_warnings < MAX_GAP_WARNINGS else " (later gaps are recorded there without a word)"
+                warn(gap_message(data_label(self.meta), gaps, self.median_dt) + more, DataQualityWarning, stacklevel=4)
+
+
+def _rows_error(name: str, rows: int, n: int, path: str | None) -> InvalidInputError:
+    return InvalidInputError(f"has {rows} samples but t has {n}; every array needs one row per sample", field=name, path=path)

@@ -7,75 +7,120 @@ import argparse
 import sys
 from contextlib import ExitStack
 
-from footnav.cli._common import EXIT_OK, _claim_figure, _format_table
-from footnav.errors import FootnavError
+from footnav.cli._common import EXIT_INTERNAL, EXIT_OK, EXIT_USAGE, _claim_figure, _format_table
+from footnav.errors import FootnavError, InvalidInputError
+
+
+def _scales() -> dict[str, dict[str, float]]:
+    """The offline reader's units (footnav.types.units), by column group; imported when a
+    command runs, so that ``footnav --help`` does not import numba."""
+    from footnav.types.units import _ACC_SCALE, _GYR_SCALE, _T_SCALE
+
+    return {"t": _T_SCALE, "acc": _ACC_SCALE, "gyr": _GYR_SCALE}
 
 #: Columns of a followed CSV (footnav CSV: ``footnav simulate`` writes it); ``foot`` optional.
 FOLLOW_COLUMNS = ("t", "acc_x", "acc_y", "acc_z", "gyr_x", "gyr_y", "gyr_z")
 
 
+def _clip(text: str, limit: int = 80) -> str:
+    """``text`` for a message: at most ``limit`` characters of it (a garbled 50 MB line is quoted,
+    not printed)."""
+    return text if len(text) <= limit else f"{text[:limit]}... ({len(text)} characters)"
+
+
 class _FollowedCsv:
     """Lines of a footnav CSV as they arrive: units from its ``# units:`` line (or the command
-    line), columns from its header (or ``t, acc_x .. gyr_z``), rows split by an optional ``foot``
-    column (left / right)."""
+    line), columns from its header (or, without one, ``t, acc_x .. gyr_z`` with an optional
+    ``foot`` column first: ``left,0.01,...``), rows split by that column (left / right).
+
+    The units and their conversion are the offline reader's (``# units: t us`` included);
+    :meth:`rows` stops at the first bad line and returns the rows before it with the error."""
 
     def __init__(self, name: str, units: dict) -> None:
         self.name = name
-        self.units = dict(units)  # the command line's, which win over the file's
+        self.units = {k: v for k, v in units.items() if v}  # the command line's, which win over the file's
         self.file_units: dict = {}
         self.columns: list[str] | None = None
         self.line_no = 0
 
-    def rows(self, lines: list[str]) -> dict:
-        """``{foot: (t, acc, gyr)}`` of the complete lines, in SI units."""
+    @property
+    def units_in(self) -> dict[str, str]:
+        """The units the rows are converted from (the command line's, else the file's, else SI)."""
+        return {k: self.units.get(k) or self.file_units.get(k) or si for k, si in (("t", "s"), ("acc", "m/s^2"), ("gyr", "rad/s"))}
+
+    def _error(self, message: str) -> InvalidInputError:
+        return InvalidInputError(message, path=self.name, line=self.line_no)
+
+    def rows(self, lines: list[str]) -> tuple[dict, FootnavError | None]:
+        """``({foot: (t, acc, gyr)}, error)``: the complete lines' rows in SI units up to the
+        first bad line, and that line's error (None when every line is good)."""
+        out: dict = {}
+        error = None
+        for line in lines:
+            try:
+                self._row(line, out)
+            except FootnavError as exc:
+                error = exc
+                break
+        return self._convert(out), error
+
+    def _row(self, line: str, out: dict) -> None:
+        self.line_no += 1
+        line = line.strip()
+        if not line:
+            return
+        if line.startswith("#"):
+            if line[1:].strip().startswith("units:"):
+                from footnav.data.io.footnav_csv import _parse_units_comment
+
+                self.file_units.update(_parse_units_comment(_clip(line, 400), self.name, self.line_no))
+                for key, unit in self.units_in.items():
+                    if unit not in _scales()[key]:
+                        raise self._error(f"unknown {key} unit {_clip(unit)!r}; expected one of {sorted(_scales()[key])}")
+            return
+        cells = [c.strip() for c in line.split(",")]
+        if self.columns is None:
+            if cells[0] in ("left", "right") or (_number(cells[0]) and _number(cells[-1])):  # no header
+                if len(cells) not in (7, 8):
+                    raise self._error(f"{len(cells)} values; expected t,acc_x..gyr_z (7) or foot,t,acc_x..gyr_z (8), or a header")
+                self.columns = list(FOLLOW_COLUMNS) if len(cells) == 7 else ["foot", *FOLLOW_COLUMNS]
+            else:
+                self.columns = cells
+                missing = [c for c in FOLLOW_COLUMNS if c not in cells]
+                if missing:
+                    raise self._error(f"no column(s) {', '.join(missing)} in the header {_clip(line)!r}")
+                return
+        if len(cells) != len(self.columns):
+            raise self._error(f"{len(cells)} values, expected {len(self.columns)} ({','.join(self.columns)}): {_clip(line)!r}")
+        row = dict(zip(self.columns, cells))
+        foot = row.get("foot", "left")
+        if foot not in ("left", "right"):
+            raise self._error(f"foot {_clip(foot)!r}; expected left or right")
+        values = []
+        for c in FOLLOW_COLUMNS:
+            if not _number(row[c]):
+                raise self._error(f"column {c}: {_clip(row[c])!r} is not a number")
+            values.append(float(row[c]))
+        out.setdefault(foot, []).append(values)
+
+    def _convert(self, out: dict) -> dict:
         import numpy as np
 
-        from footnav.types import GRAVITY_MPS2
-
-        out: dict = {}
-        for line in lines:
-            self.line_no += 1
-            line = line.strip()
-            if not line:
-                continue
-            if line.startswith("#"):
-                if line[1:].strip().startswith("units:"):
-                    for part in line.split(":", 1)[1].split(","):
-                        key, _, unit = part.strip().partition(" ")
-                        self.file_units[key.strip()] = unit.strip()
-                continue
-            cells = [c.strip() for c in line.split(",")]
-            if self.columns is None:
-                try:
-                    float(cells[-1])
-                    float(cells[0])
-                except ValueError:  # a header
-                    self.columns = cells
-                    missing = [c for c in FOLLOW_COLUMNS if c not in cells]
-                    if missing:
-                        raise FootnavError(f"{self.name}, line {self.line_no}: no column(s) {', '.join(missing)} in the header")
-                    continue
-                self.columns = list(FOLLOW_COLUMNS) if len(cells) == 7 else ["foot", *FOLLOW_COLUMNS]
-            if len(cells) != len(self.columns):
-                raise FootnavError(f"{self.name}, line {self.line_no}: {len(cells)} values, expected {len(self.columns)} ({','.join(self.columns)})")
-            row = dict(zip(self.columns, cells))
-            foot = row.get("foot", "left")
-            if foot not in ("left", "right"):
-                raise FootnavError(f"{self.name}, line {self.line_no}: foot {foot!r}; expected left or right")
-            try:
-                values = [float(row[c]) for c in FOLLOW_COLUMNS]
-            except ValueError as exc:
-                raise FootnavError(f"{self.name}, line {self.line_no}: {exc}") from None
-            out.setdefault(foot, []).append(values)
-        unit = {k: self.units.get(k) or self.file_units.get(k) for k in ("t", "acc", "gyr")}
-        scale_t = {None: 1.0, "s": 1.0, "ms": 1e-3}[unit["t"]]
-        scale_acc = {None: 1.0, "m/s^2": 1.0, "g": GRAVITY_MPS2}[unit["acc"]]
-        scale_gyr = {None: 1.0, "rad/s": 1.0, "deg/s": np.pi / 180.0}[unit["gyr"]]
+        unit = self.units_in
+        scale = {k: _scales()[k][unit[k]] for k in ("t", "acc", "gyr")}
         result = {}
         for foot, values in out.items():
             a = np.array(values)
-            result[foot] = (a[:, 0] * scale_t, a[:, 1:4] * scale_acc, a[:, 4:7] * scale_gyr)
+            result[foot] = (a[:, 0] * scale["t"], a[:, 1:4] * scale["acc"], a[:, 4:7] * scale["gyr"])
         return result
+
+
+def _number(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
 
 
 def _follow_sources(args: argparse.Namespace) -> list:
@@ -169,13 +214,27 @@ class _LivePlot:
         self.drawn, self.last = len(self.steps), now
 
 
+#: Signals that end ``follow`` as Ctrl-C does: the result of what was read is written (SIGTERM:
+#: ``systemctl stop``, ``docker stop``, ``timeout``; SIGHUP: the terminal closed).
+_STOP_SIGNALS = ("SIGINT", "SIGTERM", "SIGHUP")
+
+
 def cmd_follow(args: argparse.Namespace) -> int:
+    """Follow a walk live; see the module docstring and ``footnav follow --help``.
+
+    However the stream ends, the result folder holds everything that became final: at the end
+    of input or after ``--idle-s`` (complete, exit 0); at SIGINT, SIGTERM or SIGHUP (incomplete,
+    exit 0: the user stopped it); at a bad row, a refused chunk or a failing component (incomplete,
+    exit 2 for bad input, 1 for a component's failure). A bad row ends the stream rather than being
+    skipped: the rows after it cannot be trusted more than the offline reader trusts the rest of a
+    file with that row. ``summary.json`` and the result's ``meta`` say ``complete`` and ``ended_by``.
+    """
     import signal
     import time
 
     from footnav.data.output import claim_output
-    from footnav.pipeline.factory import load_pipeline, make_pipeline
     from footnav.data.results import write_results
+    from footnav.pipeline.factory import load_pipeline, make_pipeline
 
     if args.pipeline:
         if any(getattr(args, k) for k in ("detector", "estimator", "fusion")):
@@ -188,29 +247,42 @@ def cmd_follow(args: argparse.Namespace) -> int:
     if args.left == "-" and args.right == "-":
         raise FootnavError("only one of --left / --right can be standard input; give both feet there with a 'foot' column")
     two_feet = args.right is not None or args.feet == 2
-    stream = pipeline.online(feet=2 if two_feet else 1, max_wait_s=args.max_wait_s)
-    inputs = [p for p in (args.left, args.right, args.pipeline) if p and p != "-"]
     units = {"t": args.t_unit, "acc": args.acc_unit, "gyr": args.gyr_unit}
+    raw_sources = _follow_sources(args)
+    parsers = {name: _FollowedCsv(name, units) for _, name, _ in raw_sources}
+    feet = ("left", "right") if two_feet else ("left",)
+    # each foot's source: its file, or standard input for the feet read there
+    named = {foot: name for foot, name, _ in raw_sources if foot is not None}
+    stdin = next((name for foot, name, _ in raw_sources if foot is None), None)
+    input_meta = {foot: {"source": named.get(foot, stdin), "units_in": parsers[named.get(foot, stdin)].units_in}
+                  for foot in feet if named.get(foot, stdin) is not None}
+    stream = pipeline.online(feet=2 if two_feet else 1, max_wait_s=args.max_wait_s, input_meta=input_meta)
+    inputs = [p for p in (args.left, args.right, args.pipeline) if p and p != "-"]
     with ExitStack() as claims:
         out_claim = claims.enter_context(claim_output(args.out, force=args.force, inputs=inputs, what="output folder"))
         plot_claim = _claim_figure(claims, args.plot, args.force, inputs)
         live = _LivePlot(plot_claim, args.plot_every_s, pipeline)
-        sources = [(foot, name, read, _FollowedCsv(name, units)) for foot, name, read in _follow_sources(args)]
+        sources = [(foot, name, read, parsers[name]) for foot, name, read in raw_sources]
         print(f"{'t_s':>10}  {'foot':<5}  {'x_m':>9} {'y_m':>9} {'z_m':>7}  {'stride_m':>8}  {'heading_deg':>8}", flush=True)
         last_data = time.monotonic()
-        stop = {"interrupted": False}
+        stop: dict = {"signal": None}
 
-        def on_sigint(signum, frame) -> None:  # Ctrl-C: end after the current push, never inside it
-            stop["interrupted"] = True
+        def on_signal(signum, frame) -> None:  # end after the current push, never inside it
+            stop["signal"] = signal.Signals(signum).name
 
-        try:
-            previous = signal.signal(signal.SIGINT, on_sigint)
-        except ValueError:  # not the main thread: Ctrl-C raises KeyboardInterrupt as usual
-            previous = None
+        previous = {}
+        for name in _STOP_SIGNALS:
+            if hasattr(signal, name):
+                try:
+                    previous[name] = signal.signal(getattr(signal, name), on_signal)
+                except ValueError:  # not the main thread: Ctrl-C raises KeyboardInterrupt as usual
+                    break
+        ended_by, code = "end of input", EXIT_OK
         try:
             ended = set()
-            while len(ended) < len(sources) and not stop["interrupted"]:
+            while len(ended) < len(sources) and stop["signal"] is None:
                 chunks: dict = {}
+                bad = None
                 for i, (foot, name, read, parser) in enumerate(sources):
                     if i in ended:
                         continue
@@ -218,39 +290,86 @@ def cmd_follow(args: argparse.Namespace) -> int:
                     if lines and lines[-1] is None:
                         ended.add(i)
                         lines = lines[:-1]
-                    for key, rows in parser.rows(lines).items():
-                        chunks[foot or key] = rows  # a file per foot: every row is that foot's
+                    rows, error = parser.rows(lines)
+                    for key, chunk in rows.items():
+                        chunks[foot or key] = chunk  # a file per foot: every row is that foot's
+                        stream.describe_input(foot or key, units_in=parser.units_in)  # a '# units:' line read now
+                    bad = bad or error
                 if chunks:  # both feet in one push: neither waits for the other's rows read now
                     for step in stream.push(**chunks).steps:
                         print(_step_line(step), flush=True)
                         live.add(step)
                     live.draw()
+                if bad is not None:
+                    raise bad
                 if chunks:
                     last_data = time.monotonic()
                 elif time.monotonic() - last_data > args.idle_s:
+                    ended_by = f"idle: no new row for {args.idle_s:g} s"
                     break
                 else:
                     time.sleep(args.poll_s)
+            if stop["signal"] is not None:
+                ended_by = f"interrupted ({stop['signal']})"
         except KeyboardInterrupt:
-            stop["interrupted"] = True
+            ended_by = "interrupted (SIGINT)"
+        except FootnavError as exc:
+            ended_by, code = f"bad input: {exc}", EXIT_USAGE
+        except Exception as exc:  # noqa: BLE001 - a component's failure: what was final is still written
+            ended_by, code = f"failure: {type(exc).__name__}: {exc}", EXIT_INTERNAL
         finally:
-            if previous is not None:
-                signal.signal(signal.SIGINT, previous)
-        interrupted = stop["interrupted"]
-        result = stream.close()
+            for name, handler in previous.items():
+                signal.signal(getattr(signal, name), handler)
+        result, close_error = _close(stream)
+        if close_error is not None and code == EXIT_OK:
+            code = EXIT_USAGE if isinstance(close_error, FootnavError) else EXIT_INTERNAL
+            ended_by = f"{ended_by}; at the end: {type(close_error).__name__}: {close_error}"
         for step in stream.last_update.steps:
             print(_step_line(step), flush=True)
             live.add(step)
         live.draw(final=True)
-        for foot in ("left", "right"):
-            path = getattr(args, foot)
-            if foot in result.meta["input"] and path not in (None, "-"):
-                result.meta["input"][foot]["source"] = path
-        summary = {"left_path_length_m": result.left.path_length_m, "left_stances": result.stance_left.n_stances}
-        if result.right is not None:
-            summary["right_path_length_m"] = result.right.path_length_m
-            summary["right_stances"] = result.stance_right.n_stances
-        out = write_results(result, out_claim, force=args.force, summary=summary, pipeline_toml=pipeline.to_toml())
-    print(_format_table(("quantity", "value"), list(summary.items())))
-    print(("interrupted: " if interrupted else "") + f"results written to {out}")
-    return EXIT_OK
+        complete = code == EXIT_OK and not ended_by.startswith("interrupted") and close_error is None
+        summary: dict = {"complete": complete, "ended_by": ended_by}
+        if result is not None:
+            result.meta["complete"], result.meta["ended_by"] = complete, ended_by
+            for foot in ("left", "right"):
+                path = getattr(args, foot)
+                if foot in result.meta["input"] and path not in (None, "-"):
+                    result.meta["input"][foot]["source"] = path
+            summary |= {"left_path_length_m": result.left.path_length_m, "left_stances": result.stance_left.n_stances}
+            if result.right is not None:
+                summary["right_path_length_m"] = result.right.path_length_m
+                summary["right_stances"] = result.stance_right.n_stances
+            out = write_results(result, out_claim, force=args.force, summary=summary, pipeline_toml=pipeline.to_toml())
+        else:
+            out = _write_nothing_final(out_claim, summary, stream, pipeline.to_toml())
+    print(_format_table(("quantity", "value"), [(k, _clip(str(v), 200)) for k, v in summary.items()]))
+    if code != EXIT_OK:
+        print(f"footnav follow: error: {_clip(ended_by, 600)}", file=sys.stderr)
+    print(("" if complete else "incomplete (" + _clip(ended_by, 200) + "): ") + f"results written to {out}")
+    return code
+
+
+def _close(stream):
+    """``(result, error)`` of closing the stream: the whole result, or what the error carries
+    (each foot's own estimate up to where it was final) and the error."""
+    try:
+        return stream.close(), None
+    except Exception as exc:  # noqa: BLE001 - written as far as it got, and said
+        return getattr(exc, "partial", None), exc
+
+
+def _write_nothing_final(claim, summary: dict, stream, pipeline_toml: str):
+    """The result folder of a stream that ended before any sample was final: ``summary.json``
+    (why, and the samples read) and ``pipeline.toml``."""
+    import json
+
+    from footnav.data.results import atomic_folder, versions
+
+    doc = {"summary": summary, "provenance": {"warnings": list(stream.warnings), "online": stream.stats(),
+                                              "complete": False, "ended_by": summary["ended_by"]},
+           "versions": versions()}
+    with atomic_folder(claim) as tmp:
+        (tmp / "summary.json").write_text(json.dumps(doc, indent=2, default=str) + "\n", encoding="utf-8")
+        (tmp / "pipeline.toml").write_text(pipeline_toml, encoding="utf-8")
+    return claim.target

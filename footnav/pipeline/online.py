@@ -231,6 +231,15 @@ class OnlineStream:
         self.n_pushes += 1
         return out
 
+    def describe_input(self, foot: str, *, source: str | None = None, units_in: Mapping[str, str] | None = None) -> None:
+        """Say where a foot's samples come from (``input_meta``) once it is known, e.g. the units of
+        a file's ``# units:`` line read with its first rows."""
+        checks = self.feet[_FEET.index(foot)].checks
+        if source is not None:
+            checks.meta["source"] = checks.path = source
+        if units_in is not None:
+            checks.meta["units_in"] = dict(units_in)
+
     def _note(self, caught: list) -> None:
         """Keep the warnings a push raised (each message once) for :meth:`close`'s ``meta``:
         they were shown when they happened, and the result records them as the offline run's does."""

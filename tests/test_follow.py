@@ -94,7 +94,7 @@ def test_ctrl_c_saves_everything_so_far(walk_csv, tmp_path):
     out, err = follow.communicate(timeout=60)
     writer.wait(timeout=30)
     assert follow.returncode == 0, err
-    assert "interrupted: results written to" in out
+    assert "interrupted (SIGINT): results written to" in out and "(incomplete)" in out
     saved = np.load(tmp_path / "out" / "trajectories.npz")
     assert len(saved["left_t"]) > 300 and "right_t" not in saved
 

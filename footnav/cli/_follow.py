@@ -346,7 +346,7 @@ def cmd_follow(args: argparse.Namespace) -> int:
     print(_format_table(("quantity", "value"), [(k, _clip(str(v), 200)) for k, v in summary.items()]))
     if code != EXIT_OK:
         print(f"footnav follow: error: {_clip(ended_by, 600)}", file=sys.stderr)
-    print(("" if complete else "incomplete (" + _clip(ended_by, 200) + "): ") + f"results written to {out}")
+    print(("" if complete else _clip(ended_by, 200) + ": ") + f"results written to {out}" + ("" if complete else " (incomplete)"))
     return code
 
 

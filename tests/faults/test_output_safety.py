@@ -234,6 +234,14 @@ def test_sigkill_at_any_moment_of_a_replacement_leaves_one_whole_result(workspac
     import time
 
     cmd = [sys.executable, "-m", "footnav.cli", "run", "--left", "data/left.csv", "--out", "res", "--force"]
+    # a user's entries with footnav-like names beside the target survive every recovery (issue 30)
+    (workspace / ".res.v2.partial.md").write_text("draft\n")
+    (workspace / ".res.backup.partial").mkdir()
+    (workspace / ".res.backup.partial" / "keep.txt").write_text("mine\n")
+    (workspace / ".res.x.old").mkdir()
+    (workspace / ".res.x.old" / MARKER).write_text("{}\n")
+    mine = {".res.v2.partial.md", ".res.backup.partial", ".res.x.old"}
+    users = _snapshot(workspace)
     assert subprocess.run(cmd, cwd=workspace, capture_output=True).returncode == 0
     whole = {"left.csv", "path.csv", "strides.csv", "trajectories.npz", "summary.json", "pipeline.toml", MARKER}
     start = time.perf_counter()
@@ -248,4 +256,5 @@ def test_sigkill_at_any_moment_of_a_replacement_leaves_one_whole_result(workspac
             warnings.simplefilter("ignore", DataQualityWarning)
             claim_output(workspace / "res", force=True).release()  # what the next run does first
         assert {p.name for p in (workspace / "res").iterdir()} == whole, fraction
-        assert not [p for p in workspace.iterdir() if p.name.startswith(".res.")]
+        assert not [p for p in workspace.iterdir() if p.name.startswith(".res.") and p.name not in mine]
+        assert {k: v for k, v in _snapshot(workspace).items() if not k.startswith("res/")} == users, fraction

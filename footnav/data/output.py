@@ -47,7 +47,8 @@ said in one :class:`~footnav.errors.DataQualityWarning`. A claim released while 
 still exist (a deletion cut short by Ctrl-C, a replaced folder kept for files added to it during
 the run) leaves its lock naming them under no writer (process id 0), for the next claim to
 recover. A lock file that is not a readable footnav lock is never removed: the claim refuses,
-as it does while another run is still writing its lock. Nothing is ever removed because its name
+as it does while another run is still writing its lock; only an empty one older than 10 s (its
+writer died before writing it) is replaced, and said. Nothing is ever removed because its name
 looks like footnav's: an entry beside the target that no lock names (a user's
 ``.res.v2.partial.md``) is never touched, and a lock of an earlier footnav holding only a process
 id names nothing, so what such a run left is only listed, never removed.
@@ -63,6 +64,7 @@ import re
 import secrets
 import shutil
 import stat
+import time
 from collections.abc import Callable, Iterable, Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass, field
@@ -91,6 +93,8 @@ _OLD = ".old"
 _DOOMED = ".partial-old"
 #: Roles of the temporary entries a lock names: what recovery does with each.
 _ROLES = ("partial", "aside", "doomed")
+#: Seconds an empty lock may be a run that has created it and not yet written it.
+_STARTING_S = 10.0
 #: Foreign entries a refusal names before "and N more".
 _NAMED = 5
 #: Bytes read from the top of a PNG when looking for footnav's name in its metadata.
@@ -341,6 +345,16 @@ def _lock_lines(entries: Iterable[tuple[str, str]]) -> str:
     return "".join(json.dumps({"entry": name, "role": role}) + "\n" for name, role in entries)
 
 
+def _abandoned_empty(lock: FilePath) -> bool:
+    """An empty lock older than :data:`_STARTING_S`: its writer died before writing a byte (an
+    empty file holds nothing to lose; a younger one may be a run that is just starting)."""
+    try:
+        st = lock.stat()
+    except OSError:
+        return False
+    return st.st_size == 0 and time.time() - st.st_mtime > _STARTING_S
+
+
 def _take_lock(lock: FilePath, target: FilePath) -> tuple[list[tuple[str, str]], list[str]]:
     """Create the lock file atomically. A lock whose writer is dead is replaced, and the entries
     it named are carried into the new lock (so that a kill during their recovery leaves them
@@ -352,6 +366,10 @@ def _take_lock(lock: FilePath, target: FilePath) -> tuple[list[tuple[str, str]],
             fd = os.open(lock, os.O_CREAT | os.O_EXCL | os.O_WRONLY, 0o666)
         except FileExistsError:
             state = _read_lock(lock, target)
+            if state is None and _abandoned_empty(lock):
+                notes.append(f"replaced an empty {lock.name}, left by a run killed as it started")
+                lock.unlink(missing_ok=True)
+                continue
             if state is None:
                 # also what a lock looks like between another run's creating and writing it
                 raise _refuse(

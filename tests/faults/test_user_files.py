@@ -220,6 +220,17 @@ def test_a_lock_that_is_not_footnavs_is_never_removed(tmp_path):
     assert lock.read_text() == "my own notes\n"
 
 
+def test_an_empty_lock_is_a_run_starting_until_it_is_old(tmp_path):
+    lock = tmp_path / ".res.footnav-lock"
+    lock.touch()  # a run between creating its lock and writing it: wait for it
+    with pytest.raises(InvalidInputError, match="may be starting"):
+        claim_output(tmp_path / "res")
+    os.utime(lock, (lock.stat().st_atime - 60, lock.stat().st_mtime - 60))  # its writer died then
+    with pytest.warns(DataQualityWarning, match="empty .res.footnav-lock"):
+        claim_output(tmp_path / "res").release()
+    assert list(tmp_path.iterdir()) == []
+
+
 def test_files_added_to_the_old_result_during_the_run_are_kept(tmp_path):
     target = tmp_path / "res"
     with claim_output(target) as claim, claim.staged() as tmp:

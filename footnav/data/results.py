@@ -5,7 +5,7 @@ SHA-256), and the exact pipeline as TOML; or, for an evaluation, the report as C
 Every folder is claimed before the work and written under a temporary name beside its target,
 then put in place (:mod:`footnav.data.output`), so an interrupted run (Ctrl-C included) never
 leaves a half-written result; an existing non-empty folder is replaced only with ``force=True``,
-and only when footnav wrote it.
+and only when footnav wrote everything in it (the marker lists what it wrote).
 """
 
 from __future__ import annotations
@@ -173,7 +173,8 @@ def write_results(
     ------
     InvalidInputError
         ``folder`` cannot be claimed (:func:`atomic_folder`): not empty and ``force`` False, not
-        written by footnav, the working folder, an input or a folder holding one.
+        written by footnav or holding files footnav did not write, not writable, the working
+        folder, an input or a folder holding one.
     """
     sources = [m["source"] for m in result.meta.get("input", {}).values() if m and isinstance(m.get("source"), str)]
     with atomic_folder(folder, force=force, inputs=sources) as tmp:

@@ -138,15 +138,18 @@ def test_a_kill_during_replacement_leaves_a_whole_result(tmp_path, monkeypatch):
     real_rename = os.rename
 
     def killed_after_first(src, dst):
+        if renames:  # dead: nothing more happens (not even the put-back a Ctrl-C gets)
+            raise SystemExit("killed")
         renames.append((src, dst))
         real_rename(src, dst)
-        if len(renames) == 1:  # the old result is aside, the new one not yet in: the process dies here
-            raise SystemExit("killed")
+        raise SystemExit("killed")  # the old result is aside, the new one not yet in: the process dies here
 
     monkeypatch.setattr(output.os, "rename", killed_after_first)
-    with pytest.raises(SystemExit):
-        with claim_output(target, force=True) as claim, claim.staged() as tmp:
-            (tmp / "result.txt").write_text("new\n")
+    claim = claim_output(target, force=True)
+    with pytest.raises(SystemExit), claim.staged() as tmp:
+        (tmp / "result.txt").write_text("new\n")
+    # no release: the process died, its lock stays
+    monkeypatch.setattr(output, "_pid_alive", lambda pid: False)
     monkeypatch.setattr(output.os, "rename", real_rename)
     assert not target.exists()
     aside = [p for p in tmp_path.iterdir() if p.name.endswith(".old")]
@@ -164,23 +167,23 @@ def test_a_replaced_result_is_deleted_under_a_temporary_name(tmp_path, monkeypat
     from footnav.data import output
 
     target = tmp_path / "res"
-    target.mkdir()
-    (target / MARKER).write_text("{}\n")
-    (target / "result.txt").write_text("old\n")
+    with claim_output(target) as claim, claim.staged() as tmp:
+        (tmp / "result.txt").write_text("old\n")
+        (tmp / "more.txt").write_text("old\n")
     deleted = []
-    real_rmtree = output.shutil.rmtree
+    real_delete = output._delete_result
 
-    def killed(path, *args, **kwargs):
+    def interrupted(path):
         deleted.append(path.name)
-        (path / MARKER).unlink()  # the deletion got this far
+        (path / "result.txt").unlink()  # the deletion got this far
         raise KeyboardInterrupt
 
-    monkeypatch.setattr(output.shutil, "rmtree", killed)
+    monkeypatch.setattr(output, "_delete_result", interrupted)
     claim = claim_output(target, force=True)
     with pytest.raises(KeyboardInterrupt), claim.staged() as tmp:
         (tmp / "result.txt").write_text("new\n")
-    claim.release()
-    monkeypatch.setattr(output.shutil, "rmtree", real_rmtree)
+    claim.release()  # the half-deleted folder stays named in the lock, under no writer
+    monkeypatch.setattr(output, "_delete_result", real_delete)
     assert len(deleted) == 1 and deleted[0].endswith(".partial-old")
     assert (target / "result.txt").read_text() == "new\n"
     with pytest.warns(DataQualityWarning, match="left by an interrupted run"):
@@ -191,15 +194,29 @@ def test_a_replaced_result_is_deleted_under_a_temporary_name(tmp_path, monkeypat
 
 def test_partial_folders_of_killed_runs_are_removed_and_named(tmp_path):
     target = tmp_path / "res"
-    leftover = tmp_path / ".res.deadbeef.partial"
+    leftover = tmp_path / ".res.footnav-999999999-deadbeef.partial"
     leftover.mkdir()
     (leftover / "left.csv").write_text("half")
-    (tmp_path / ".res.footnav-lock").write_text("999999999\n")  # a writer that no longer exists
+    # a writer that no longer exists, and the partial it named
+    (tmp_path / ".res.footnav-lock").write_text(
+        '{"footnav": "output-lock", "pid": 999999999}\n{"entry": "%s", "role": "partial"}\n' % leftover.name
+    )
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         claim_output(target).release()
     assert any("left by an interrupted run" in str(w.message) for w in caught)
     assert sorted(p.name for p in tmp_path.iterdir()) == []
+
+
+def test_an_earlier_footnavs_lock_names_nothing_so_its_leftovers_are_only_listed(tmp_path):
+    leftover = tmp_path / ".res.deadbeef.partial"
+    leftover.mkdir()
+    (leftover / "left.csv").write_text("half")
+    (tmp_path / ".res.footnav-lock").write_text("999999999\n")  # pid only: an earlier footnav's lock
+    with pytest.warns(DataQualityWarning, match=r"earlier footnav.*\.res\.deadbeef\.partial"):
+        claim_output(tmp_path / "res").release()
+    assert sorted(p.name for p in tmp_path.iterdir()) == [".res.deadbeef.partial"]
+    assert (leftover / "left.csv").read_text() == "half"
 
 
 def test_simulate_and_evaluate_outputs_are_guarded_too(workspace, capsys):
@@ -217,6 +234,14 @@ def test_sigkill_at_any_moment_of_a_replacement_leaves_one_whole_result(workspac
     import time
 
     cmd = [sys.executable, "-m", "footnav.cli", "run", "--left", "data/left.csv", "--out", "res", "--force"]
+    # a user's entries with footnav-like names beside the target survive every recovery (issue 30)
+    (workspace / ".res.v2.partial.md").write_text("draft\n")
+    (workspace / ".res.backup.partial").mkdir()
+    (workspace / ".res.backup.partial" / "keep.txt").write_text("mine\n")
+    (workspace / ".res.x.old").mkdir()
+    (workspace / ".res.x.old" / MARKER).write_text("{}\n")
+    mine = {".res.v2.partial.md", ".res.backup.partial", ".res.x.old"}
+    users = _snapshot(workspace)
     assert subprocess.run(cmd, cwd=workspace, capture_output=True).returncode == 0
     whole = {"left.csv", "path.csv", "strides.csv", "trajectories.npz", "summary.json", "pipeline.toml", MARKER}
     start = time.perf_counter()
@@ -231,4 +256,5 @@ def test_sigkill_at_any_moment_of_a_replacement_leaves_one_whole_result(workspac
             warnings.simplefilter("ignore", DataQualityWarning)
             claim_output(workspace / "res", force=True).release()  # what the next run does first
         assert {p.name for p in (workspace / "res").iterdir()} == whole, fraction
-        assert not [p for p in workspace.iterdir() if p.name.startswith(".res.")]
+        assert not [p for p in workspace.iterdir() if p.name.startswith(".res.") and p.name not in mine]
+        assert {k: v for k, v in _snapshot(workspace).items() if not k.startswith("res/")} == users, fraction

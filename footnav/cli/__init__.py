@@ -98,6 +98,19 @@ def _compile_notice():
     return CompileNotice()
 
 
+#: The longest error message the command line prints (characters): a message quoting a garbled
+#: 50 MB line, or a huge parameter, is cut, saying how long it was.
+MAX_MESSAGE_CHARS = 1000
+
+
+def _one_message(text: object) -> str:
+    """An error message as printed: at most ``MAX_MESSAGE_CHARS`` characters."""
+    text = str(text)
+    if len(text) <= MAX_MESSAGE_CHARS:
+        return text
+    return f"{text[:MAX_MESSAGE_CHARS]}... (message cut: {len(text)} characters)"
+
+
 def _os_message(exc: OSError) -> str:
     """One line for an error of the file system or the network: what, on which file."""
     where = f" {exc.filename!r}" if getattr(exc, "filename", None) else ""
@@ -120,10 +133,10 @@ def main(argv: Sequence[str] | None = None) -> int:
             finally:
                 notice.report()
     except PluginError as exc:  # not the user's input: a component package's bug
-        print(f"footnav {args.command}: error: {exc}", file=sys.stderr)
+        print(f"footnav {args.command}: error: {_one_message(exc)}", file=sys.stderr)
         return EXIT_INTERNAL
     except FootnavError as exc:
-        print(f"footnav {args.command}: error: {exc}", file=sys.stderr)
+        print(f"footnav {args.command}: error: {_one_message(exc)}", file=sys.stderr)
         return EXIT_USAGE
     except UnicodeDecodeError as exc:  # a binary file where text was expected (pipeline TOML, CSV)
         print(f"footnav {args.command}: error: not a UTF-8 text file ({exc.reason} at byte {exc.start})", file=sys.stderr)
@@ -131,7 +144,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     except OSError as exc:  # unreadable input, full disk, read-only folder, unreachable scheduler
         if args.verbose:
             raise
-        print(f"footnav {args.command}: error: {_os_message(exc)}", file=sys.stderr)
+        print(f"footnav {args.command}: error: {_one_message(_os_message(exc))}", file=sys.stderr)
         return EXIT_USAGE
     except KeyboardInterrupt:
         print("footnav: interrupted", file=sys.stderr)
@@ -140,7 +153,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         if args.verbose:
             raise
         print(
-            f"footnav {args.command}: internal error: {type(exc).__name__}: {exc} "
+            f"footnav {args.command}: internal error: {type(exc).__name__}: {_one_message(exc)} "
             "(run with -v for the traceback, and please report it)",
             file=sys.stderr,
         )

@@ -27,7 +27,9 @@ EPILOG_FOLLOW = """examples:
   footnav follow --left L.csv --right R.csv --out results/live      (files another program appends to)
   sensor-reader | footnav follow --left - --out results/live       (CSV lines on standard input)
   footnav follow --left walk.csv --detector glrt --idle-s 10 --out results/live
-Ctrl-C ends it; the result folder then holds everything up to the last sample read.
+Ctrl-C, SIGTERM or SIGHUP end it; the result folder then holds everything up to the last sample
+read (summary.json: "complete": false, "ended_by"). A bad row, a refused chunk or a failing
+component end it too, with the rows before written, and exit code 2 (bad input) or 1.
 """
 
 
@@ -152,7 +154,8 @@ def build_parser() -> argparse.ArgumentParser:
         description=textwrap.fill(
             "Follow a walk live: read footnav CSV rows (t, acc_x..gyr_z; '# units:' line or --acc-unit etc.) as "
             "another program appends them to a file, or from standard input ('-'; a 'foot' column gives both "
-            "feet there), print one line per closed step (time, foot, footprint position, stride length, "
+            "feet there; rows without a header: t,acc_x..gyr_z or foot,t,acc_x..gyr_z), print one line per closed step "
+            "(time, foot, footprint position, stride length, "
             "heading) and write the same result folder as 'footnav run' at the end: at the end of standard "
             "input, after --idle-s seconds without a new row, or at Ctrl-C. docs/online.md explains the online mode.",
             width=100,
@@ -165,7 +168,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--feet", type=int, choices=[1, 2], default=1, help="feet on standard input (a 'foot' column), default 1")
     p.add_argument("--acc-unit", choices=["m/s^2", "g"], help="accelerometer unit (default: the '# units:' line, else m/s^2)")
     p.add_argument("--gyr-unit", choices=["rad/s", "deg/s"], help="gyroscope unit")
-    p.add_argument("--t-unit", choices=["s", "ms"], help="time unit")
+    p.add_argument("--t-unit", choices=["s", "ms", "us", "ns"], help="time unit")
     p.add_argument("--pipeline", help="pipeline TOML file (its components must run online)")
     p.add_argument("--detector", help="detector name (default threshold: it runs online; adaptive does not)")
     p.add_argument("--estimator", help="estimator name (default ekf, smoothing each step at its end)")

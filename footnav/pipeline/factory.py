@@ -407,6 +407,8 @@ def load_pipeline(path: str | FilePath) -> Pipeline:
         config = tomllib.loads(path.read_text(encoding="utf-8"))
     except tomllib.TOMLDecodeError as exc:
         raise InvalidInputError(f"not valid TOML: {exc}", path=str(path)) from None
+    except RecursionError:  # tomllib parses nested arrays and tables recursively
+        raise InvalidInputError("not a pipeline file: arrays or tables nested too deeply to read", path=str(path)) from None
     unknown = set(config) - set(_BASES) - {"sync"}
     if unknown:
         raise InvalidParameterError(

@@ -332,6 +332,19 @@ class OnlineStream:
 
     def _result(self) -> PipelineResult:
         trajs = [f.trajectory() for f in self.feet]
+        # the whole recording's checks, as the offline run makes them: units, rest, saturation
+        # (online they saw the first seconds) and each foot's stances against its gait cycles
+        with recording() as caught:
+            try:
+                imus = [f.whole_input() for f in self.feet]
+                for f, imu in zip(self.feet, imus):
+                    if imu is not None:
+                        f.checks.finish_whole(imu)
+                pair = imus + [None] * (2 - len(imus))
+                stances = [tr[1] for tr in trajs] + [None] * (2 - len(trajs))
+                stance_check = self.pipeline._check_stances(pair[0], stances[0], pair[1], stances[1])
+            finally:
+                self._note(caught)
         if self.joint is None:
             left, right = trajs[0][0], trajs[1][0] if self.n_feet == 2 else None
             path, fusion_meta = midpoint_path(left, right), {"fusion": self.pipeline.fusion.describe()}
@@ -343,6 +356,7 @@ class OnlineStream:
                     self._note(caught)
             left, right, path, fusion_meta = fused.left, fused.right, fused.path, dict(fused.meta)
         meta = self._meta(fusion_meta, complete=True, ended_by="close")
+        meta["stance_check"] = stance_check
         return PipelineResult(left=left, right=right, path=path, stance_left=trajs[0][1],
                               stance_right=trajs[1][1] if self.n_feet == 2 else None, meta=meta)
 

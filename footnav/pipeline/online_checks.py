@@ -15,8 +15,9 @@ arrived if that is earlier:
   ``TIME_BASE_SAMPLES`` samples: time in ms or us read as s is an error before the filter starts;
 * units, the accelerometer at rest and saturation (``_check_data``) on the first
   ``CHECK_WINDOW_S`` seconds, extended up to ``CHECK_WINDOW_MAX_S`` while the foot has not moved
-  enough for the gyroscope's unit to be judged. Offline these checks see the whole recording;
-  online they see this window (saturation later in the walk is not found online).
+  enough for the gyroscope's unit to be judged; and again on the whole recording at the end of a
+  stream that kept every sample (``keep=True``, :meth:`ChunkChecks.finish_whole`), as offline.
+  With ``keep=False`` saturation later in the walk is not found.
 
 Findings that are not errors are warned (DataQualityWarning) when found and kept in
 :attr:`ChunkChecks.records` under the keys the offline run records in the input's meta
@@ -164,6 +165,12 @@ class ChunkChecks:
             findings += self._window(self._head, self.median_dt, final=True)[1]
             self.head_done, self._head = True, []
         self._take(findings, gaps)
+
+    def finish_whole(self, imu: Any) -> None:
+        """At the end of a stream that kept every sample: the unit, at-rest and saturation checks
+        on the whole recording, as offline (findings not yet recorded are warned and recorded)."""
+        findings = _check_data(imu.t, imu.acc, imu.gyr, self.meta, median_dt=self.median_dt, time_base=False)
+        self._take([f for f in findings if f[0] not in self.records], [])
 
     def _window(self, head: list, median_dt: float, final: bool) -> tuple[bool, list[tuple[str, Any, str]]]:
         """The unit, at-rest and saturation checks on the first seconds, once they are in."""

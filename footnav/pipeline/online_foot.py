@@ -135,6 +135,8 @@ class FootStream:
         self.checks = ChunkChecks(foot, meta.get("source"), meta.get("units_in"))
         # input not yet dropped: t, acc, gyr and the final stance decision
         self.input = _Grow([((), np.float64), ((3,), np.float64), ((3,), np.float64), ((), np.bool_)])
+        #: every sample pushed (``keep=True``): the whole recording's checks at the end, as offline
+        self.raw = _Grow([((), np.float64), ((3,), np.float64), ((3,), np.float64)]) if stream.keep else None
         self.n_final = 0  # samples whose stance decision is final
         self.n_fed = 0  # final samples copied into the filter segment
         #: the first sample another reader still needs (a joint filter, :mod:`.online_joint`)
@@ -195,6 +197,8 @@ class FootStream:
         if self.input.end == 0:
             self.first_t = float(t[0])
         self.input.append(t, acc, gyr, False)  # the stance decision, once final
+        if self.raw is not None:
+            self.raw.append(t, acc, gyr)
         self._detect(final=False)
         self._filter(final=False)
 
@@ -425,6 +429,15 @@ class FootStream:
             raise InvalidInputError(f"no samples of the {self.foot} foot were pushed", field=self.foot)
         self._detect(final=True)
         self._filter(final=True)
+
+    def whole_input(self) -> ImuData | None:
+        """Every sample pushed, as the foot's ImuData (``keep=True``; else None), with its input
+        records: for the whole recording's checks at the end."""
+        if self.raw is None or self.raw.n < 2:
+            return None
+        t, acc, gyr = (np.array(x) for x in self.raw.rows(0, self.raw.end))
+        with recording(quiet=True):  # its gaps were warned about as they arrived
+            return ImuData(t=t, acc=acc, gyr=gyr, meta={**self.checks.meta, **self.checks.records})
 
     def trajectory(self) -> tuple[FootTrajectory, StanceResult]:
         """The foot's whole result, made as :meth:`EkfEstimator.trajectory` makes it offline."""

@@ -230,3 +230,33 @@ def test_warnings_raised_while_pushing_are_in_the_result(walk):
         _, _, result, stream = _replay(pipe, left, None, 50)
     texts = [w for w in result.meta["warnings"] if "does not start at standstill" in w]
     assert len(texts) == 1 and stream.warnings == result.meta["warnings"]
+
+
+def test_close_records_the_offline_runs_checks_of_the_whole_walk(walk):
+    """The stance self-check and the saturation found late in the walk: offline they see the whole
+    recording, and a stream that kept every sample runs them on it at close, with the same records."""
+    from footnav.types import ImuData
+
+    pipe = footnav.make_pipeline("threshold", "ekf", "independent", estimator_params=STEP)
+    t, acc, gyr = walk.left.t, walk.left.acc.copy(), walk.left.gyr.copy()
+    late = slice(len(t) - 600, len(t))  # the last 6 s: beyond the online window of the first seconds
+    fs = np.radians(1000.0)  # a common full scale: the late swings beyond it, held flat at it
+    assert np.abs(gyr[: late.start]).max() < fs
+    gyr[late] = np.clip(gyr[late] * (1.3 * fs / np.abs(gyr[late]).max()), -fs, fs)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        clipped = ImuData.from_arrays(t, acc, gyr)
+        offline = pipe.run(clipped)
+    assert "clipped" in clipped.meta
+    stream = pipe.online(feet=1)
+    for a in range(0, len(t), 250):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            stream.push(left=(t[a:a + 250], acc[a:a + 250], gyr[a:a + 250]))
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        result = stream.close()
+    assert result.meta["input"]["left"]["clipped"] == clipped.meta["clipped"]
+    assert any("full scale" in str(w.message) for w in caught)
+    assert result.meta["stance_check"] == offline.meta["stance_check"]
+    assert result.meta["complete"] is True and result.meta["ended_by"] == "close"

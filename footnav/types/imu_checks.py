@@ -404,31 +404,30 @@ def check_extremes(
         w_peak = _held_peak(gyr_norm, hold)
         if w_peak > GYR_PEAK_MAX_RADPS:
             raise _gyr_unit_error(w_peak, offset + int(np.argmax(gyr_norm > GYR_PEAK_MAX_RADPS)), path)
-        beyond = gyr_norm > GYR_MAX_RADPS
-        i = int(np.argmax(beyond))
-        raise InvalidInputError(
-            f"|gyr| = {gyr_norm[i]:.3g} rad/s ({np.degrees(gyr_norm[i]):.3g} deg/s), beyond any gyroscope on a foot "
-            f"(bound {GYR_MAX_RADPS:g} rad/s; {int(beyond.sum())} sample(s) beyond it, this the first): a corrupt "
-            "record; remove or repair it",
-            field="gyr",
-            index=offset + i,
-            path=path,
-        )
+        raise _corrupt("gyr", gyr_norm, GYR_MAX_RADPS, offset, path)
     acc_norm = row_norms(acc) if acc_norm is None else acc_norm
     if acc_norm.max() > ACC_MAX_MPS2:
         f = float(np.median(acc_norm))
         if not ACC_MEDIAN_BOUNDS_MPS2[0] <= f <= ACC_MEDIAN_BOUNDS_MPS2[1]:
             raise _acc_median_error(f, path)
-        beyond = acc_norm > ACC_MAX_MPS2
-        i = int(np.argmax(beyond))
-        raise InvalidInputError(
-            f"|acc| = {acc_norm[i]:.3g} m/s^2 ({acc_norm[i] / GRAVITY_MPS2:.3g} g), beyond what an accelerometer on "
-            f"a foot reads (bound {ACC_MAX_MPS2 / GRAVITY_MPS2:g} g; {int(beyond.sum())} sample(s) beyond it, this "
-            "the first): a corrupt record; remove or repair it",
-            field="acc",
-            index=offset + i,
-            path=path,
-        )
+        raise _corrupt("acc", acc_norm, ACC_MAX_MPS2, offset, path)
+
+
+def _corrupt(field: str, norm: NDArray[np.float64], bound: float, offset: int, path: str | None) -> InvalidInputError:
+    """The error of samples whose magnitude ``norm`` exceeds ``bound`` (SI): a corrupt record."""
+    beyond = norm > bound
+    i = int(np.argmax(beyond))
+    if field == "acc":
+        value, limit = f"{norm[i]:.3g} m/s^2 ({norm[i] / GRAVITY_MPS2:.3g} g)", f"{bound / GRAVITY_MPS2:g} g"
+    else:
+        value, limit = f"{norm[i]:.3g} rad/s ({np.degrees(norm[i]):.3g} deg/s)", f"{bound:g} rad/s"
+    return InvalidInputError(
+        f"|{field}| = {value}, beyond what a foot-mounted IMU reads (bound {limit}; {int(beyond.sum())} sample(s) "
+        "beyond it, this the first): a corrupt record; remove or repair it",
+        field=field,
+        index=offset + i,
+        path=path,
+    )
 
 
 def _unit_hint(raw_dt: float) -> str:

@@ -1,0 +1,274 @@
+"""Checks of a truth before it scores an estimate: its time base, how much of the walk it covers,
+its length unit and its handedness.
+
+:func:`footnav.evaluate` runs :func:`check_truth` on each foot's truth (with positions) before it
+computes any metric. A truth that cannot be what it claims -- positions in mm or cm, times in ms,
+no overlap with the recording -- raises :class:`~footnav.errors.InvalidInputError` (in a batch:
+an :class:`~footnav.analysis.evaluation.EvaluationFailure` with that message, the other recordings
+still scored). A suspect one -- covering part of the walk, mirrored, a path length far from the
+estimate's -- gives a :class:`~footnav.errors.DataQualityWarning` and its record in
+``EvaluationReport.checks`` (shown under :meth:`EvaluationReport.to_text`). Every check's figure
+is recorded, warning or not.
+
+The comparisons are like with like: the truth's points against the estimate sampled at the
+truth's own times (:func:`~footnav.analysis.evaluation.trajectory_at`) over the span both cover,
+so a footprint or waypoint truth is compared with the estimate at its footprints or waypoints.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from footnav.analysis.metrics import rigid_align
+from footnav.analysis.metrics._alignment import _umeyama
+from footnav.errors import DataQualityWarning, InvalidInputError
+from footnav.nav.interpolation import interp_columns
+from footnav.types import FootTrajectory, FootTruth
+from footnav.warning_log import warn
+
+__all__ = ["TruthCheck", "check_truth"]
+
+# --- time base -------------------------------------------------------------------------------
+#: A truth whose time span is more than this many times the estimate's is an error: it leaves at
+#: least 95 % of itself outside the recording. A genuine truth spans the recording or less (the
+#: readers cut motion capture to the IMU's clock); ratios near 1e3 / 1e6 / 1e9 are times in ms /
+#: us / ns, and a truth 20 times longer than the walk is the wrong truth or one not cut to it.
+TIME_SPAN_RATIO_MAX = 20.0
+#: Factors by which a time in that unit exceeds the same time in s (named in the error).
+TIME_UNITS = {"ms": 1e3, "us": 1e6, "ns": 1e9}
+#: A unit is named when the ratio found is within this factor of its scale.
+UNIT_MATCH_FACTOR = 3.0
+
+# --- coverage ----------------------------------------------------------------------------------
+#: Coverage is the estimate's horizontal distance travelled inside the span the truth covers, as a
+#: fraction of its whole distance: standing still before or after the truth starts costs nothing
+#: (the metrics lose nothing there), walking outside it does. Below COVERAGE_WARN the metrics
+#: describe part of the walk only: a warning. Below COVERAGE_MIN (or with fewer than 2 truth
+#: points inside the recording) they describe nothing: an error. 1 % is a sliver that a genuine
+#: truth never leaves (a clock offset or a unit error does): 6 s of a 10-minute walk.
+COVERAGE_WARN = 0.9
+COVERAGE_MIN = 0.01
+
+# --- scale -------------------------------------------------------------------------------------
+#: ``ratio`` = the truth's horizontal path through its own points / the estimate's through the
+#: same times, both taken at most every PATH_STEP_S. A truth in mm gives ~1000, in cm ~100, in inches ~39. Above SCALE_ERROR_RATIO it is
+#: an error when the truth's own speeds confirm it (below): no working estimate is 20 times too
+#: short, yet one that hardly moved (all stance) is -- then the truth's speeds are a foot's and
+#: only a warning is given. Outside [1 / SCALE_WARN_RATIO, SCALE_WARN_RATIO] (and not an error):
+#: a warning, since a bad estimate (missed strides, divergence) or a truth in feet (3.28) can
+#: both do that. The shared recordings' ratios lie in 1.01-1.13 with the default pipeline.
+SCALE_ERROR_RATIO = 20.0
+SCALE_WARN_RATIO = 1.5
+#: The paths are measured through points at least this far apart in time (s): a dense truth's
+#: jitter adds length with every point (pyshoe's 200 Hz Vicon on a trial moving within 1.3 m:
+#: 16.8 m through every point, 5.3 m at 0.2 s, the estimate 4.7 m), while 0.2 s still follows
+#: each stride (a swing lasts ~0.4 s). Sparser truths (footprints, waypoints) keep every point.
+PATH_STEP_S = 0.2
+#: No foot moves faster than this (m/s; a sprinter's swing peaks near 20 m/s): the truth's 99th
+#: percentile speed between its points (robust to a few marker glitches) above it confirms a
+#: truth not in metres.
+MAX_FOOT_SPEED_MPS = 20.0
+#: Length units by their factor to metres' numbers (named in the error).
+LENGTH_UNITS = {"mm": 1e3, "cm": 1e2, "in": 1 / 0.0254}
+
+# --- handedness --------------------------------------------------------------------------------
+#: The truth looks mirrored when the best 2-D fit of the estimate with a reflection (det = -1)
+#: leaves less than MIRROR_FIT_RATIO of the residual RMS of the best proper rotation, and that
+#: proper residual is at least MIRROR_MIN_RESIDUAL of the truth's horizontal extent (RMS distance
+#: to its centroid): a mirror image that no rotation aligns leaves errors of the walk's own size;
+#: a straight walk, which is its own mirror image, leaves none and is not flagged. Measured with
+#: the default pipeline: the shared recordings' genuine truths give ratios of 1.47 (gaitmap's
+#: out-and-back walk) to 38.9, the same truths with y negated 0.03-0.66 (a hallway walk of the
+#: gait-driven set, 0.66 with a residual of 11 % of its extent; gaitmap's, 0.68 at 4 %, is left to
+#: the 3-D check below).
+MIRROR_FIT_RATIO = 0.8
+MIRROR_MIN_RESIDUAL = 0.05
+#: The 3-D fit (``ate_3d``) turns the estimate's z by more than 90 deg (R[2,2] < 0): it has
+#: turned the estimate upside down, the way a planar mirror image is matched by a proper rotation.
+#: Genuine shared truths: 0.2-4 deg, up to 47 deg on nearly straight walks (gaitmap), whose tilt
+#: about the walking direction only the foot's lift constrains; y negated: 124-180 deg.
+FLIP_MIN_TILT_DEG = 90.0
+
+
+@dataclass(frozen=True)
+class TruthCheck:
+    """One check of one foot's truth: its figure and its verdict.
+
+    Attributes
+    ----------
+    recording, pipeline, foot
+        Whose truth (``foot`` is ``"left"`` or ``"right"``).
+    name
+        ``"time_span"`` (truth span / estimate span), ``"coverage"`` (fraction of the estimate's
+        distance inside the truth's span), ``"scale"`` (truth path / estimate path),
+        ``"mirror_2d"`` (RMS residual of the best reflection / of the best rotation, horizontal)
+        or ``"tilt_3d"`` (deg by which the 3-D fit of ``ate_3d`` turns the estimate's z).
+    value
+        The figure, in ``unit``.
+    unit
+        ``""`` for ratios and fractions, ``"deg"``.
+    status
+        ``"ok"`` or ``"warning"`` (errors are raised, not recorded here).
+    message
+        What was found (numbers) and, for a warning, what to check or pass.
+    """
+
+    recording: str
+    pipeline: str
+    foot: str
+    name: str
+    value: float
+    unit: str
+    status: str
+    message: str
+
+    def __str__(self) -> str:
+        return f"{self.recording} / {self.pipeline} / {self.foot}: {self.name} = {self.value:.4g}{' ' + self.unit if self.unit else ''}: {self.message}"
+
+
+def _path_2d(p: NDArray) -> float:
+    return float(np.linalg.norm(np.diff(p[:, :2], axis=0), axis=1).sum())
+
+
+def _unit_named(ratio: float, units: dict[str, float]) -> str | None:
+    """The unit whose factor is within UNIT_MATCH_FACTOR of ``ratio`` (the nearest), or None."""
+    best = min(units, key=lambda u: abs(np.log(ratio / units[u])))
+    return best if abs(np.log(ratio / units[best])) <= np.log(UNIT_MATCH_FACTOR) else None
+
+
+def _fit_rms(est: NDArray, ref: NDArray, *, reflection: bool) -> float:
+    rot, trans, _ = _umeyama(est, ref, False, reflection=reflection)
+    return float(np.sqrt(np.mean(np.sum((est @ rot.T + trans - ref) ** 2, axis=1))))
+
+
+def check_truth(
+    traj: FootTrajectory, truth: FootTruth, *, foot: str, recording: str = "", pipeline: str = ""
+) -> tuple[TruthCheck, ...]:
+    """Check a truth with positions against the estimate it is about to score.
+
+    Parameters
+    ----------
+    traj
+        The foot's estimate (times in s, positions in m).
+    truth
+        The foot's truth, ``len(truth.t) >= 2`` (a truth without positions has nothing to check).
+    foot, recording, pipeline
+        Names for the messages and the records.
+
+    Returns
+    -------
+    tuple of TruthCheck
+        Every check's figure, in the order run; each ``"warning"`` was also issued as a
+        :class:`~footnav.errors.DataQualityWarning` through :func:`footnav.warn`.
+
+    Raises
+    ------
+    InvalidInputError
+        The truth's times span more than ``TIME_SPAN_RATIO_MAX`` times the recording (times in ms?),
+        cover under ``COVERAGE_MIN`` of it (or fewer than 2 points), or its positions are not in
+        metres (path ratio above ``SCALE_ERROR_RATIO`` and speeds above ``MAX_FOOT_SPEED_MPS``). The
+        message gives the figures and the conversion to make; ``field`` is ``truth_<foot>`` and
+        ``path`` the truth's file when known.
+    """
+    source = truth.meta.get("source")
+    whose = f"the {foot} foot's truth" + (f" of {recording!r}" if recording else "")
+    checks: list[TruthCheck] = []
+
+    def fail(message: str) -> InvalidInputError:
+        return InvalidInputError(f"{whose}: {message}", field=f"truth_{foot}", path=source if isinstance(source, str) else None)
+
+    def record(name: str, value: float, unit: str, warning: str | None, ok: str) -> None:
+        checks.append(TruthCheck(recording, pipeline, foot, name, float(value), unit,
+                                 "warning" if warning else "ok", warning or ok))
+        if warning:
+            warn(f"evaluate: {whose}: {warning}", DataQualityWarning, stacklevel=4)
+
+    # time base: the truth's span against the estimate's
+    t_est0, t_est1 = float(traj.t[0]), float(traj.t[-1])
+    span_est = t_est1 - t_est0
+    span_truth = float(truth.t[-1] - truth.t[0])
+    span_ratio = span_truth / span_est if span_est > 0 else float("inf")
+    if span_ratio > TIME_SPAN_RATIO_MAX:
+        unit = _unit_named(span_ratio, TIME_UNITS)
+        what = (f"its times look like {unit} (a ratio near {TIME_UNITS[unit]:g}): pass FootTruth.t in s "
+                f"(divide by {TIME_UNITS[unit]:g}) on the IMU's clock" if unit else
+                "pass FootTruth.t in s on the IMU's clock, cut to the recording's span")
+        raise fail(f"spans {span_truth:.6g} (t {truth.t[0]:.6g} to {truth.t[-1]:.6g}), {span_ratio:.4g} times the "
+                   f"recording's {span_est:.6g} s (t {t_est0:.6g} to {t_est1:.6g} s); {what}")
+    record("time_span", span_ratio, "", None, f"truth spans {span_truth:.3f} s, {span_ratio:.3f} of the recording's {span_est:.3f} s")
+
+    # coverage: the part of the estimate's walk inside the truth's span
+    inside = (truth.t >= t_est0) & (truth.t <= t_est1)
+    n_in = int(inside.sum())
+    lo, hi = max(t_est0, float(truth.t[0])), min(t_est1, float(truth.t[-1]))
+    dist_all = _path_2d(traj.position)
+    if hi > lo:
+        within = (traj.t > lo) & (traj.t < hi)
+        part = np.vstack([interp_columns(np.array([lo]), traj.t, traj.position[:, :3]), traj.position[within],
+                          interp_columns(np.array([hi]), traj.t, traj.position[:, :3])])
+        dist_in = _path_2d(part)
+    else:
+        dist_in = 0.0
+    time_cover = max(0.0, hi - lo) / span_est if span_est > 0 else 0.0
+    coverage = dist_in / dist_all if dist_all > 0 else time_cover
+    covered = (f"the truth (t {truth.t[0]:.3f} to {truth.t[-1]:.3f} s) covers {max(0.0, hi - lo):.3f} s of the "
+               f"recording's {span_est:.3f} s ({t_est0:.3f} to {t_est1:.3f} s) and {100 * coverage:.1f} % of the "
+               f"estimate's distance ({dist_in:.2f} of {dist_all:.2f} m)")
+    if n_in < 2 or coverage < COVERAGE_MIN:
+        raise fail(f"{covered}, with {n_in} truth point(s) inside the recording: nothing to score; give the truth's "
+                   "times in s on the IMU's clock (FootTruth.t), or the truth of this recording")
+    record("coverage", coverage, "",
+           f"{covered}: the errors are of that part only; give the truth of the whole walk, or cut the recording "
+           "to the truth's span" if coverage < COVERAGE_WARN else None, covered)
+
+    # scale: like with like -- the truth's path through its points, the estimate's through the same times
+    t_in = truth.t[inside]
+    ref = truth.position[inside]
+    est = interp_columns(t_in, traj.t, traj.position[:, :3])
+    keep = np.unique(np.append(np.searchsorted(t_in, np.arange(t_in[0], t_in[-1], PATH_STEP_S)), n_in - 1))
+    path_truth, path_est = _path_2d(ref[keep]), _path_2d(est[keep])
+    ratio = path_truth / path_est if path_est > 0 else (float("inf") if path_truth > 0 else 1.0)
+    dt = np.diff(t_in[keep])
+    speeds = np.linalg.norm(np.diff(ref[keep, :2], axis=0), axis=1)[dt > 0] / dt[dt > 0]
+    speed = float(np.percentile(speeds, 99)) if len(speeds) else 0.0
+    found = (f"the truth's path is {path_truth:.4g} (horizontal, through {len(keep)} of its points, >= {PATH_STEP_S:g} s "
+             f"apart) against the estimate's {path_est:.4g} m at the same times: ratio {ratio:.4g}, the truth's speed "
+             f"(99th percentile) {speed:.4g} per s")
+    if ratio > SCALE_ERROR_RATIO and speed > MAX_FOOT_SPEED_MPS:
+        unit = _unit_named(ratio, LENGTH_UNITS)
+        what = f"it looks like {unit} (a ratio near {LENGTH_UNITS[unit]:.4g})" if unit else "it is not in metres"
+        raise fail(f"{found}, faster than any foot ({MAX_FOOT_SPEED_MPS:g} m/s): {what}; convert the truth's "
+                   f"positions to metres (FootTruth.position in m{f', divide by {LENGTH_UNITS[unit]:.4g}' if unit else ''}); "
+                   "footnav's readers convert the units they know, so a truth built by hand or read by other code is the suspect")
+    bad_scale = ratio > SCALE_WARN_RATIO or ratio < 1.0 / SCALE_WARN_RATIO
+    record("scale", ratio, "",
+           f"{found}: either the estimate's distance is wrong (missed or false strides, divergence) or the truth "
+           "is not in metres (feet: ratio 3.28; km: 0.001); convert FootTruth.position to m if so" if bad_scale else None,
+           found)
+
+    # handedness: the best horizontal fit with a reflection against the best proper rotation
+    if n_in >= 3:
+        rms_rot = _fit_rms(est[:, :2], ref[:, :2], reflection=False)
+        rms_ref = _fit_rms(est[:, :2], ref[:, :2], reflection=True)
+        extent = float(np.sqrt(np.mean(np.sum((ref[:, :2] - ref[:, :2].mean(axis=0)) ** 2, axis=1))))
+        fit_ratio = rms_ref / rms_rot if rms_rot > 0 else 1.0
+        found = (f"the best horizontal fit leaves {rms_rot:.3f} m RMS with a rotation and {rms_ref:.3f} m with a "
+                 f"reflection (ratio {fit_ratio:.3f}; the truth's extent {extent:.3f} m)")
+        mirrored = fit_ratio < MIRROR_FIT_RATIO and rms_rot > MIRROR_MIN_RESIDUAL * extent
+        record("mirror_2d", fit_ratio, "",
+               f"{found}: the truth looks mirrored (a left-handed frame, e.g. y flipped, or z down with x, y kept); "
+               "negate its y (or turn a z-down frame 180 deg about x) so that it is right-handed and z up" if mirrored else None,
+               found)
+    # the 3-D fit of ate_3d (not used for footprints, which have no height)
+    if truth.frame != "footprints":
+        rot = rigid_align(est, ref, dims=3).rotation
+        tilt = float(np.degrees(np.arccos(np.clip(rot[2, 2], -1.0, 1.0))))
+        found = f"the 3-D fit of ate_3d turns the estimate's z axis by {tilt:.1f} deg"
+        record("tilt_3d", tilt, "deg",
+               f"{found} (upside down): ate_3d scores a flipped estimate against the truth, which is then mirrored "
+               "or not z up; trust ate_2d, and make the truth right-handed with z up" if tilt > FLIP_MIN_TILT_DEG else None,
+               found)
+    return tuple(checks)

@@ -127,7 +127,7 @@ def test_mirrored_planar_truth_warns_and_the_3d_fit_does_not_hide_it(walk, pipe)
     assert [c.name for c in report.warnings] == ["mirror_2d", "tilt_3d"]
     mirror, tilt = report.warnings
     assert mirror.value < 0.1 and "the truth looks mirrored" in mirror.message and "negate its y" in mirror.message
-    assert tilt.value > 170 and "upside down" in tilt.message and "trust ate_2d" in tilt.message
+    assert tilt.value > 170 and "upside down" in tilt.message and "the truth is mirrored or not z up" in tilt.message
     # what the check exists for: the 3-D fit turned the estimate over and scored it as good
     assert report.value("ate_3d") < 0.2 < 1.0 < report.value("ate_2d")
     assert [w.category for w in log if "truth" in w.message] == [DataQualityWarning] * 2
@@ -178,3 +178,11 @@ def test_cli_evaluate_lists_the_bad_truth_as_a_failure(walk, tmp_path, capsys):
     assert "ate_2d" in out  # the good recording is scored
     doc = json.loads((tmp_path / "report" / "report.json").read_text())
     assert [(c["recording"], c["name"], c["status"]) for c in doc["truth_checks"]] == [("good", n, "ok") for n in CHECKS]
+
+
+def test_non_finite_truth_is_an_error_naming_the_sample(walk, pipe):
+    pos = walk.truth_left.position.copy()
+    pos[500] = np.nan
+    with pytest.raises(InvalidInputError, match=r"index 500: the left foot's truth of 'bad': non-finite truth position") as exc:
+        evaluate(pipe, with_left_truth(walk, position=pos))
+    assert exc.value.field == "truth_left"

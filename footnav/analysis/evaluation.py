@@ -420,6 +420,14 @@ def evaluate(
         :func:`footnav.evaluate_many` does for each pair so that one failure does not end a
         batch. KeyboardInterrupt, SystemExit and MemoryError always propagate.
 
+    Raises
+    ------
+    InvalidInputError
+        (``on_error="raise"``) A foot's truth fails a check before any metric is computed
+        (:func:`footnav.analysis.truth_checks.check_truth`: positions not in m, times not in s,
+        no overlap with the recording); the message gives the figures and the conversion.
+        Suspect truths only warn, recorded in the report's ``checks``.
+
     Examples
     --------
     >>> walk = footnav.simulate("rectangle", seed=3)

@@ -54,14 +54,16 @@ COVERAGE_MIN = 0.01
 
 # --- scale -------------------------------------------------------------------------------------
 #: ``ratio`` = the truth's horizontal path through its own points / the estimate's through the
-#: same times, both taken at most every PATH_STEP_S. A truth in mm gives ~1000, in cm ~100, in inches ~39. Above SCALE_ERROR_RATIO it is
-#: an error when the truth's own speeds confirm it (below): no working estimate is 20 times too
-#: short, yet one that hardly moved (all stance) is -- then the truth's speeds are a foot's and
-#: only a warning is given. Outside [1 / SCALE_WARN_RATIO, SCALE_WARN_RATIO] (and not an error):
-#: a warning, since a bad estimate (missed strides, divergence) or a truth in feet (3.28) can
-#: both do that. The shared recordings' ratios (80 runs of docs/make_accuracy.py): 0.80-1.16,
-#: and 0.30 and 3.18 where the walking-tuned "threshold" detector fails (estimate diverged on a
-#: fast trial, stalled on a crawl): warnings that are the estimate's, as the message allows.
+#: same times, both taken at most every PATH_STEP_S. A truth in mm gives ~1000, in cm ~100, in
+#: inches ~39. Above SCALE_ERROR_RATIO it is an error when the truth's own speeds confirm it
+#: (below): no working estimate is 20 times too short, yet one that hardly moved (all stance)
+#: is -- then the truth's speeds are a foot's and only a warning is given. Outside
+#: [1 / SCALE_WARN_RATIO, SCALE_WARN_RATIO] (and not an error): a warning, since a bad estimate
+#: (missed strides, divergence) or a truth in feet (3.28) can both do that. A small ratio is never
+#: an error: a truth in km (0.001) cannot be told from a truth standing still while the estimate
+#: drifts. The shared recordings' ratios (80 runs of docs/make_accuracy.py): 0.80-1.16, and 0.30
+#: and 3.18 where the walking-tuned "threshold" detector fails (the estimate diverged on a fast
+#: trial, stalled on a crawl): warnings that are the estimate's, as the message allows.
 SCALE_ERROR_RATIO = 20.0
 SCALE_WARN_RATIO = 1.5
 #: The paths are measured through points at least this far apart in time (s): a dense truth's
@@ -132,10 +134,31 @@ class TruthCheck:
     message: str
 
     def __str__(self) -> str:
-        return f"{self.recording} / {self.pipeline} / {self.foot}: {self.name} = {self.value:.4g}{' ' + self.unit if self.unit else ''}: {self.message}"
+        value = f"{self.value:.4g}" + (f" {self.unit}" if self.unit else "")
+        return f"{self.recording} / {self.pipeline} / {self.foot}: {self.name} = {value}: {self.message}"
+
+
+class _Refused(Exception):
+    """A finding that makes the truth unusable; check_truth turns it into InvalidInputError."""
+
+    def __init__(self, message: str, field: str | None = None, index: int | None = None) -> None:
+        super().__init__(message)
+        self.field, self.index = field, index
+
+
+@dataclass(frozen=True)
+class _Finding:
+    """One check's figure: ``found`` says it in words; ``warning`` (or None) what is suspect."""
+
+    name: str
+    value: float
+    unit: str
+    found: str
+    warning: str | None = None
 
 
 def _path_2d(p: NDArray) -> float:
+    """Horizontal distance along the points, in their unit."""
     return float(np.linalg.norm(np.diff(p[:, :2], axis=0), axis=1).sum())
 
 
@@ -146,14 +169,128 @@ def _unit_named(ratio: float, units: dict[str, float]) -> str | None:
 
 
 def _fit_rms(est: NDArray, ref: NDArray, *, reflection: bool) -> float:
+    """RMS residual (m) of the best rigid fit of ``est`` onto ``ref``, proper or (``reflection``) improper."""
     rot, trans, _ = _umeyama(est, ref, False, reflection=reflection)
     return float(np.sqrt(np.mean(np.sum((est @ rot.T + trans - ref) ** 2, axis=1))))
+
+
+def _finite(traj: FootTrajectory, truth: FootTruth, foot: str) -> None:
+    """Refuse non-finite times or positions (the metrics would refuse them too)."""
+    for field, what, values, times in (("estimate", "estimated", traj.position, traj.t),
+                                       (f"truth_{foot}", "truth", truth.position, truth.t)):
+        bad = ~np.isfinite(values).all(axis=1) | ~np.isfinite(times)
+        if bad.any():
+            i = int(np.argmax(bad))
+            raise _Refused(f"non-finite {what} position or time at t = {float(times[i])!r} s; every value must be finite",
+                           field, i)
+
+
+def _time_span(traj: FootTrajectory, truth: FootTruth) -> _Finding:
+    """The truth's time span over the estimate's; refused above TIME_SPAN_RATIO_MAX (times in ms?)."""
+    t_est0, t_est1 = float(traj.t[0]), float(traj.t[-1])
+    span_est = t_est1 - t_est0
+    t0, t1 = float(np.min(truth.t)), float(np.max(truth.t))
+    ratio = (t1 - t0) / span_est if span_est > 0 else float("inf")
+    if ratio > TIME_SPAN_RATIO_MAX:
+        unit = _unit_named(ratio, TIME_UNITS)
+        what = (f"its times look like {unit} (a ratio near {TIME_UNITS[unit]:g}): pass FootTruth.t in s "
+                f"(divide by {TIME_UNITS[unit]:g}) on the IMU's clock" if unit else
+                "pass FootTruth.t in s on the IMU's clock, cut to the recording's span")
+        raise _Refused(f"spans {t1 - t0:.6g} (t {t0:.6g} to {t1:.6g}), {ratio:.4g} times the recording's "
+                       f"{span_est:.6g} s (t {t_est0:.6g} to {t_est1:.6g} s); {what}")
+    return _Finding("time_span", ratio, "", f"truth spans {t1 - t0:.3f} s, {ratio:.3f} of the recording's {span_est:.3f} s")
+
+
+def _coverage(traj: FootTrajectory, truth: FootTruth, inside: NDArray[np.bool_]) -> _Finding:
+    """The fraction of the estimate's horizontal distance inside the truth's span; refused below
+    COVERAGE_MIN or with fewer than 2 truth points in the recording, warned below COVERAGE_WARN."""
+    t_est0, t_est1 = float(traj.t[0]), float(traj.t[-1])
+    t0, t1 = float(np.min(truth.t)), float(np.max(truth.t))
+    lo, hi = max(t_est0, t0), min(t_est1, t1)
+    dist_all = _path_2d(traj.position)
+    dist_in = 0.0
+    if hi > lo:
+        within = (traj.t > lo) & (traj.t < hi)
+        ends = interp_columns(np.array([lo, hi]), traj.t, traj.position[:, :3])
+        dist_in = _path_2d(np.vstack([ends[:1], traj.position[within], ends[1:]]))
+    span_est = t_est1 - t_est0
+    time_cover = max(0.0, hi - lo) / span_est if span_est > 0 else 0.0
+    coverage = dist_in / dist_all if dist_all > 0 else time_cover  # an estimate that never moved: by time
+    found = (f"the truth (t {t0:.3f} to {t1:.3f} s) covers {max(0.0, hi - lo):.3f} s of the recording's {span_est:.3f} s "
+             f"({t_est0:.3f} to {t_est1:.3f} s) and {100 * coverage:.1f} % of the estimate's distance "
+             f"({dist_in:.2f} of {dist_all:.2f} m)")
+    n_in = int(inside.sum())
+    if n_in < 2 or coverage < COVERAGE_MIN:
+        raise _Refused(f"{found}, with {n_in} truth point(s) inside the recording: nothing to score; give the truth's "
+                       "times in s on the IMU's clock (FootTruth.t), or the truth of this recording")
+    warning = (f"{found}: the errors are of that part only; give the truth of the whole walk, or cut the recording "
+               "to the truth's span") if coverage < COVERAGE_WARN else None
+    return _Finding("coverage", coverage, "", found, warning)
+
+
+def _scale(t_in: NDArray, ref: NDArray, est: NDArray) -> _Finding:
+    """The truth's horizontal path over the estimate's at the same times (points >= PATH_STEP_S
+    apart); refused when above SCALE_ERROR_RATIO at speeds above MAX_FOOT_SPEED_MPS."""
+    if np.all(np.diff(t_in) > 0):
+        keep = np.unique(np.append(np.searchsorted(t_in, np.arange(t_in[0], t_in[-1], PATH_STEP_S)), len(t_in) - 1))
+    else:  # times not increasing: the path through the points as given
+        keep = np.arange(len(t_in))
+    path_truth, path_est = _path_2d(ref[keep]), _path_2d(est[keep])
+    ratio = path_truth / path_est if path_est > 0 else (float("inf") if path_truth > 0 else 1.0)
+    dt = np.diff(t_in[keep])
+    speeds = np.linalg.norm(np.diff(ref[keep, :2], axis=0), axis=1)[dt > 0] / dt[dt > 0]
+    speed = float(np.percentile(speeds, 99)) if len(speeds) else 0.0
+    found = (f"the truth's path is {path_truth:.4g} (horizontal, through {len(keep)} of its points, >= {PATH_STEP_S:g} s "
+             f"apart) against the estimate's {path_est:.4g} m at the same times: ratio {ratio:.4g}, the truth's speed "
+             f"(99th percentile) {speed:.4g} per s")
+    if ratio > SCALE_ERROR_RATIO and speed > MAX_FOOT_SPEED_MPS:
+        unit = _unit_named(ratio, LENGTH_UNITS)
+        what = f"it looks like {unit} (a ratio near {LENGTH_UNITS[unit]:.4g})" if unit else "it is not in metres"
+        divide = f", divide by {LENGTH_UNITS[unit]:.4g}" if unit else ""
+        raise _Refused(f"{found}, faster than any foot ({MAX_FOOT_SPEED_MPS:g} m/s): {what}; convert the truth's "
+                       f"positions to metres (FootTruth.position in m{divide}); footnav's readers convert the units "
+                       "they know, so a truth built by hand or read by other code is the suspect")
+    warning = None
+    if ratio > SCALE_WARN_RATIO or ratio < 1.0 / SCALE_WARN_RATIO:
+        warning = (f"{found}: either the estimate's distance is wrong (missed or false strides, divergence) or the truth "
+                   "is not in metres (feet: ratio 3.28; km: 0.001); convert FootTruth.position to m if so")
+    return _Finding("scale", ratio, "", found, warning)
+
+
+def _mirror(ref: NDArray, est: NDArray) -> _Finding:
+    """The best horizontal fit's RMS residual with a reflection over that with a rotation."""
+    rms_rot = _fit_rms(est[:, :2], ref[:, :2], reflection=False)
+    rms_ref = _fit_rms(est[:, :2], ref[:, :2], reflection=True)
+    extent = float(np.sqrt(np.mean(np.sum((ref[:, :2] - ref[:, :2].mean(axis=0)) ** 2, axis=1))))
+    ratio = rms_ref / rms_rot if rms_rot > 0 else 1.0
+    found = (f"the best horizontal fit leaves {rms_rot:.3f} m RMS with a rotation and {rms_ref:.3f} m with a "
+             f"reflection (ratio {ratio:.3f}; the truth's extent {extent:.3f} m)")
+    mirrored = ratio < MIRROR_FIT_RATIO and MIRROR_MIN_RESIDUAL * extent < rms_rot and rms_ref < MIRROR_MAX_FIT * extent
+    warning = (f"{found}: the truth looks mirrored (a left-handed frame, e.g. y flipped, or z down with x, y kept); "
+               "negate its y (or turn a z-down frame 180 deg about x) so that it is right-handed and z up") if mirrored else None
+    return _Finding("mirror_2d", ratio, "", found, warning)
+
+
+def _tilt(ref: NDArray, est: NDArray) -> _Finding:
+    """The angle (deg) by which the 3-D fit of ``ate_3d`` turns the estimate's z axis."""
+    rot = rigid_align(est, ref, dims=3).rotation
+    tilt = float(np.degrees(np.arccos(np.clip(rot[2, 2], -1.0, 1.0))))
+    found = f"the 3-D fit of ate_3d turns the estimate's z axis by {tilt:.1f} deg"
+    warning = (f"{found} (upside down): ate_3d scores an estimate turned over; the truth is mirrored or not z up "
+               "(make it right-handed with z up), or the walk too flat and straight to fix the tilt; trust ate_2d"
+               ) if tilt > FLIP_MIN_TILT_DEG else None
+    return _Finding("tilt_3d", tilt, "deg", found, warning)
 
 
 def check_truth(
     traj: FootTrajectory, truth: FootTruth, *, foot: str, recording: str = "", pipeline: str = ""
 ) -> tuple[TruthCheck, ...]:
     """Check a truth with positions against the estimate it is about to score.
+
+    Run in this order, each on what the previous ones passed: finite values, the time span
+    (``time_span``), the coverage of the walk (``coverage``), the length unit (``scale``), the
+    handedness (``mirror_2d``, with 3 points or more) and, unless the truth is footprints, the
+    tilt of the 3-D fit (``tilt_3d``). The module's constants hold the thresholds and why.
 
     Parameters
     ----------
@@ -173,122 +310,34 @@ def check_truth(
     Raises
     ------
     InvalidInputError
-        The truth's times span more than ``TIME_SPAN_RATIO_MAX`` times the recording (times in ms?),
-        cover under ``COVERAGE_MIN`` of it (or fewer than 2 points), or its positions are not in
-        metres (path ratio above ``SCALE_ERROR_RATIO`` and speeds above ``MAX_FOOT_SPEED_MPS``). The
-        message gives the figures and the conversion to make; ``field`` is ``truth_<foot>`` and
-        ``path`` the truth's file when known.
+        Non-finite values; the truth's times span more than ``TIME_SPAN_RATIO_MAX`` times the
+        recording (times in ms?); it covers under ``COVERAGE_MIN`` of the walk's distance (or has
+        fewer than 2 points in the recording); its positions are not in metres (path ratio above
+        ``SCALE_ERROR_RATIO`` and speeds above ``MAX_FOOT_SPEED_MPS``). The message gives the
+        figures and the conversion to make; ``field`` is ``truth_<foot>`` (``estimate`` for a
+        non-finite estimate) and ``path`` the truth's file when known.
     """
     source = truth.meta.get("source")
     whose = f"the {foot} foot's truth" + (f" of {recording!r}" if recording else "")
-    checks: list[TruthCheck] = []
-
-    def fail(message: str) -> InvalidInputError:
-        return InvalidInputError(f"{whose}: {message}", field=f"truth_{foot}", path=source if isinstance(source, str) else None)
-
-    def record(name: str, value: float, unit: str, warning: str | None, ok: str) -> None:
-        checks.append(TruthCheck(recording, pipeline, foot, name, float(value), unit,
-                                 "warning" if warning else "ok", warning or ok))
-        if warning:
-            warn(f"evaluate: {whose}: {warning}", DataQualityWarning, stacklevel=4)
-
-    # non-finite values: the metrics would refuse them too; say so here, where the checks need them
-    for name, values, times in (("estimate", traj.position, traj.t), (f"truth_{foot}", truth.position, truth.t)):
-        bad = ~np.isfinite(values).all(axis=1) | ~np.isfinite(times)
-        if bad.any():
-            i = int(np.argmax(bad))
-            raise InvalidInputError(f"{whose}: non-finite {'estimated' if name == 'estimate' else 'truth'} position or time "
-                                    f"at t = {float(times[i])!r} s; every value must be finite", field=name, index=i,
-                                    path=source if isinstance(source, str) and name != "estimate" else None)
-
-    # time base: the truth's span against the estimate's
-    t_est0, t_est1 = float(traj.t[0]), float(traj.t[-1])
-    span_est = t_est1 - t_est0
-    t_truth0, t_truth1 = float(np.min(truth.t)), float(np.max(truth.t))
-    span_truth = t_truth1 - t_truth0
-    span_ratio = span_truth / span_est if span_est > 0 else float("inf")
-    if span_ratio > TIME_SPAN_RATIO_MAX:
-        unit = _unit_named(span_ratio, TIME_UNITS)
-        what = (f"its times look like {unit} (a ratio near {TIME_UNITS[unit]:g}): pass FootTruth.t in s "
-                f"(divide by {TIME_UNITS[unit]:g}) on the IMU's clock" if unit else
-                "pass FootTruth.t in s on the IMU's clock, cut to the recording's span")
-        raise fail(f"spans {span_truth:.6g} (t {t_truth0:.6g} to {t_truth1:.6g}), {span_ratio:.4g} times the "
-                   f"recording's {span_est:.6g} s (t {t_est0:.6g} to {t_est1:.6g} s); {what}")
-    record("time_span", span_ratio, "", None, f"truth spans {span_truth:.3f} s, {span_ratio:.3f} of the recording's {span_est:.3f} s")
-
-    # coverage: the part of the estimate's walk inside the truth's span
-    inside = (truth.t >= t_est0) & (truth.t <= t_est1)
-    n_in = int(inside.sum())
-    lo, hi = max(t_est0, t_truth0), min(t_est1, t_truth1)
-    dist_all = _path_2d(traj.position)
-    if hi > lo:
-        within = (traj.t > lo) & (traj.t < hi)
-        part = np.vstack([interp_columns(np.array([lo]), traj.t, traj.position[:, :3]), traj.position[within],
-                          interp_columns(np.array([hi]), traj.t, traj.position[:, :3])])
-        dist_in = _path_2d(part)
-    else:
-        dist_in = 0.0
-    time_cover = max(0.0, hi - lo) / span_est if span_est > 0 else 0.0
-    coverage = dist_in / dist_all if dist_all > 0 else time_cover
-    covered = (f"the truth (t {t_truth0:.3f} to {t_truth1:.3f} s) covers {max(0.0, hi - lo):.3f} s of the "
-               f"recording's {span_est:.3f} s ({t_est0:.3f} to {t_est1:.3f} s) and {100 * coverage:.1f} % of the "
-               f"estimate's distance ({dist_in:.2f} of {dist_all:.2f} m)")
-    if n_in < 2 or coverage < COVERAGE_MIN:
-        raise fail(f"{covered}, with {n_in} truth point(s) inside the recording: nothing to score; give the truth's "
-                   "times in s on the IMU's clock (FootTruth.t), or the truth of this recording")
-    record("coverage", coverage, "",
-           f"{covered}: the errors are of that part only; give the truth of the whole walk, or cut the recording "
-           "to the truth's span" if coverage < COVERAGE_WARN else None, covered)
-
-    # scale: like with like -- the truth's path through its points, the estimate's through the same times
-    t_in = truth.t[inside]
-    ref = truth.position[inside]
-    est = interp_columns(t_in, traj.t, traj.position[:, :3])
-    if np.all(np.diff(t_in) > 0):
-        keep = np.unique(np.append(np.searchsorted(t_in, np.arange(t_in[0], t_in[-1], PATH_STEP_S)), n_in - 1))
-    else:  # times not increasing: the path through the points as given
-        keep = np.arange(n_in)
-    path_truth, path_est = _path_2d(ref[keep]), _path_2d(est[keep])
-    ratio = path_truth / path_est if path_est > 0 else (float("inf") if path_truth > 0 else 1.0)
-    dt = np.diff(t_in[keep])
-    speeds = np.linalg.norm(np.diff(ref[keep, :2], axis=0), axis=1)[dt > 0] / dt[dt > 0]
-    speed = float(np.percentile(speeds, 99)) if len(speeds) else 0.0
-    found = (f"the truth's path is {path_truth:.4g} (horizontal, through {len(keep)} of its points, >= {PATH_STEP_S:g} s "
-             f"apart) against the estimate's {path_est:.4g} m at the same times: ratio {ratio:.4g}, the truth's speed "
-             f"(99th percentile) {speed:.4g} per s")
-    if ratio > SCALE_ERROR_RATIO and speed > MAX_FOOT_SPEED_MPS:
-        unit = _unit_named(ratio, LENGTH_UNITS)
-        what = f"it looks like {unit} (a ratio near {LENGTH_UNITS[unit]:.4g})" if unit else "it is not in metres"
-        raise fail(f"{found}, faster than any foot ({MAX_FOOT_SPEED_MPS:g} m/s): {what}; convert the truth's "
-                   f"positions to metres (FootTruth.position in m{f', divide by {LENGTH_UNITS[unit]:.4g}' if unit else ''}); "
-                   "footnav's readers convert the units they know, so a truth built by hand or read by other code is the suspect")
-    bad_scale = ratio > SCALE_WARN_RATIO or ratio < 1.0 / SCALE_WARN_RATIO
-    record("scale", ratio, "",
-           f"{found}: either the estimate's distance is wrong (missed or false strides, divergence) or the truth "
-           "is not in metres (feet: ratio 3.28; km: 0.001); convert FootTruth.position to m if so" if bad_scale else None,
-           found)
-
-    # handedness: the best horizontal fit with a reflection against the best proper rotation
-    if n_in >= 3:
-        rms_rot = _fit_rms(est[:, :2], ref[:, :2], reflection=False)
-        rms_ref = _fit_rms(est[:, :2], ref[:, :2], reflection=True)
-        extent = float(np.sqrt(np.mean(np.sum((ref[:, :2] - ref[:, :2].mean(axis=0)) ** 2, axis=1))))
-        fit_ratio = rms_ref / rms_rot if rms_rot > 0 else 1.0
-        found = (f"the best horizontal fit leaves {rms_rot:.3f} m RMS with a rotation and {rms_ref:.3f} m with a "
-                 f"reflection (ratio {fit_ratio:.3f}; the truth's extent {extent:.3f} m)")
-        mirrored = fit_ratio < MIRROR_FIT_RATIO and MIRROR_MIN_RESIDUAL * extent < rms_rot and rms_ref < MIRROR_MAX_FIT * extent
-        record("mirror_2d", fit_ratio, "",
-               f"{found}: the truth looks mirrored (a left-handed frame, e.g. y flipped, or z down with x, y kept); "
-               "negate its y (or turn a z-down frame 180 deg about x) so that it is right-handed and z up" if mirrored else None,
-               found)
-    # the 3-D fit of ate_3d (not used for footprints, which have no height)
-    if truth.frame != "footprints":
-        rot = rigid_align(est, ref, dims=3).rotation
-        tilt = float(np.degrees(np.arccos(np.clip(rot[2, 2], -1.0, 1.0))))
-        found = f"the 3-D fit of ate_3d turns the estimate's z axis by {tilt:.1f} deg"
-        record("tilt_3d", tilt, "deg",
-               f"{found} (upside down): ate_3d scores an estimate turned over; the truth is mirrored or not z up "
-               "(make it right-handed with z up), or the walk too flat and straight to fix the tilt; trust ate_2d"
-               if tilt > FLIP_MIN_TILT_DEG else None,
-               found)
-    return tuple(checks)
+    findings: list[_Finding] = []
+    try:
+        _finite(traj, truth, foot)
+        findings.append(_time_span(traj, truth))
+        inside = (truth.t >= traj.t[0]) & (truth.t <= traj.t[-1])
+        findings.append(_coverage(traj, truth, inside))
+        t_in, ref = truth.t[inside], truth.position[inside]
+        est = interp_columns(t_in, traj.t, traj.position[:, :3])  # the estimate at the truth's times
+        findings.append(_scale(t_in, ref, est))
+        if len(t_in) >= 3:
+            findings.append(_mirror(ref, est))
+        if truth.frame != "footprints":  # footprints have no height, and no ate_3d
+            findings.append(_tilt(ref, est))
+    except _Refused as refused:
+        field = refused.field or f"truth_{foot}"
+        path = source if isinstance(source, str) and field != "estimate" else None
+        raise InvalidInputError(f"{whose}: {refused}", field=field, index=refused.index, path=path) from None
+    for f in findings:  # after a refusal the error says it all
+        if f.warning:
+            warn(f"evaluate: {whose}: {f.warning}", DataQualityWarning, stacklevel=3)
+    return tuple(TruthCheck(recording, pipeline, foot, f.name, float(f.value), f.unit,
+                            "warning" if f.warning else "ok", f.warning or f.found) for f in findings)

@@ -1,5 +1,5 @@
 """Checks of a truth before it scores an estimate: its time base, how much of the walk it covers,
-its length unit and its handedness.
+its length unit and its handedness (a mirrored plane, a z axis down).
 
 :func:`footnav.evaluate` runs :func:`check_truth` on each foot's truth (with positions) before it
 computes any metric. A truth that cannot be what it claims -- positions in mm or cm, times in ms,
@@ -99,6 +99,14 @@ MIRROR_MAX_FIT = 0.5
 #: small walk (gaitmap's out-and-back, a pyshoe crawl) with a poor estimate: the tilt about the
 #: walking direction only the foot's lift constrains. y negated: 124-180 deg.
 FLIP_MIN_TILT_DEG = 90.0
+#: A truth whose z points down with x, y kept (left-handed, its horizontal plane not mirrored) is
+#: told by its height changes: their correlation with the estimate's at the same times, taken
+#: HEIGHT_STEP_S apart (the swing's rise and fall; the estimate's slow height drift drops out).
+#: Measured on the shared recordings with heights (the 80 runs of docs/make_accuracy.py, every
+#: estimator and fusion) and the simulator: 0.62-1.00, so -0.62 to -1.00 with z negated; below
+#: HEIGHT_CORR_MIN the heights run opposite.
+HEIGHT_STEP_S = 0.05
+HEIGHT_CORR_MIN = -0.3
 
 
 @dataclass(frozen=True)
@@ -113,7 +121,8 @@ class TruthCheck:
         ``"time_span"`` (truth span / estimate span), ``"coverage"`` (fraction of the estimate's
         distance inside the truth's span), ``"scale"`` (truth path / estimate path),
         ``"mirror_2d"`` (RMS residual of the best reflection / of the best rotation, horizontal)
-        or ``"tilt_3d"`` (deg by which the 3-D fit of ``ate_3d`` turns the estimate's z).
+        ``"tilt_3d"`` (deg by which the 3-D fit of ``ate_3d`` turns the estimate's z) or
+        ``"height"`` (correlation of the truth's height changes with the estimate's).
     value
         The figure, in ``unit``.
     unit
@@ -282,6 +291,24 @@ def _tilt(ref: NDArray, est: NDArray) -> _Finding:
     return _Finding("tilt_3d", tilt, "deg", found, warning)
 
 
+def _height(t_in: NDArray, ref: NDArray, est: NDArray) -> _Finding | None:
+    """Correlation of the truth's height changes with the estimate's (None without height changes)."""
+    keep = np.unique(np.searchsorted(t_in, np.arange(t_in[0], t_in[-1], HEIGHT_STEP_S))) if np.all(np.diff(t_in) > 0) \
+        else np.arange(len(t_in))
+    dz_ref, dz_est = np.diff(ref[keep, 2]), np.diff(est[keep, 2])
+    dz_ref, dz_est = dz_ref - dz_ref.mean(), dz_est - dz_est.mean()
+    norm = float(np.sqrt((dz_ref**2).sum() * (dz_est**2).sum()))
+    if len(dz_ref) < 3 or norm == 0.0:
+        return None
+    corr = float((dz_ref * dz_est).sum() / norm)
+    found = (f"the truth's height changes correlate {corr:.3f} with the estimate's ({len(dz_ref)} steps of "
+             f">= {HEIGHT_STEP_S:g} s)")
+    warning = (f"{found}: they run opposite, so the truth's z points down; negate its z (a left-handed frame "
+               "with x, y kept) or turn a right-handed z-down frame 180 deg about x (y -> -y, z -> -z)"
+               ) if corr < HEIGHT_CORR_MIN else None
+    return _Finding("height", corr, "", found, warning)
+
+
 def check_truth(
     traj: FootTrajectory, truth: FootTruth, *, foot: str, recording: str = "", pipeline: str = ""
 ) -> tuple[TruthCheck, ...]:
@@ -290,7 +317,7 @@ def check_truth(
     Run in this order, each on what the previous ones passed: finite values, the time span
     (``time_span``), the coverage of the walk (``coverage``), the length unit (``scale``), the
     handedness (``mirror_2d``, with 3 points or more) and, unless the truth is footprints, the
-    tilt of the 3-D fit (``tilt_3d``). The module's constants hold the thresholds and why.
+    tilt of the 3-D fit (``tilt_3d``) and the sign of its heights (``height``, where they vary). The module's constants hold the thresholds and why.
 
     Parameters
     ----------
@@ -332,6 +359,8 @@ def check_truth(
             findings.append(_mirror(ref, est))
         if truth.frame != "footprints":  # footprints have no height, and no ate_3d
             findings.append(_tilt(ref, est))
+            if (height := _height(t_in, ref, est)) is not None:
+                findings.append(height)
     except _Refused as refused:
         field = refused.field or f"truth_{foot}"
         path = source if isinstance(source, str) and field != "estimate" else None

@@ -22,7 +22,7 @@ from footnav.warning_log import recording as recorded_warnings
 
 pytestmark = pytest.mark.fault
 
-CHECKS = ["time_span", "coverage", "scale", "mirror_2d", "tilt_3d"]
+CHECKS = ["time_span", "coverage", "scale", "mirror_2d", "tilt_3d", "height"]
 
 
 @pytest.fixture(scope="module")
@@ -186,3 +186,12 @@ def test_non_finite_truth_is_an_error_naming_the_sample(walk, pipe):
     with pytest.raises(InvalidInputError, match=r"index 500: the left foot's truth of 'bad': non-finite truth position") as exc:
         evaluate(pipe, with_left_truth(walk, position=pos))
     assert exc.value.field == "truth_left"
+
+
+def test_truth_with_z_down_warns_even_when_its_plane_is_not_mirrored(walk, pipe):
+    # z negated alone (left-handed): the horizontal fit and the 3-D tilt see nothing, the heights do
+    bad = with_left_truth(walk, position=walk.truth_left.position * [1.0, 1.0, -1.0])
+    with pytest.warns(DataQualityWarning, match=r"the truth's z points down; negate its z"):
+        report = evaluate(pipe, bad)
+    (height,) = report.warnings
+    assert height.name == "height" and height.value < -0.9

@@ -26,7 +26,7 @@ recording supports (see :mod:`footnav.analysis.metrics` for the definitions):
 
 Before any metric, each foot's truth is checked against the estimate
 (:func:`footnav.analysis.truth_checks.check_truth`: time base, coverage of the walk, length unit,
-mirrored frame, the 3-D fit's tilt): a truth that cannot be right (mm, cm, times in ms, no
+mirrored frame, z down, the 3-D fit's tilt): a truth that cannot be right (mm, cm, times in ms, no
 overlap) raises InvalidInputError; a suspect one warns, and every check's figure is in
 :attr:`EvaluationReport.checks` (the warnings listed under :meth:`EvaluationReport.to_text`).
 
@@ -43,7 +43,7 @@ import io
 import time
 import traceback as tb
 from dataclasses import dataclass, field
-from typing import Any, Iterable, Literal
+from typing import Any, Literal
 
 import numpy as np
 
@@ -468,10 +468,9 @@ def _evaluate(pipeline: Pipeline, recording: Recording, name: str) -> Evaluation
     runtime = time.perf_counter() - t0
     rows: list[Metric] = []
     rec_name = recording_label(recording)
-    feet: Iterable[tuple[str, Any, Any, Any]] = [("left", result.left, result.stance_left, recording.truth_left)]
+    feet: list[tuple[str, Any, Any, Any]] = [("left", result.left, result.stance_left, recording.truth_left)]
     if result.right is not None:
-        feet = list(feet) + [("right", result.right, result.stance_right, recording.truth_right)]
-    feet = list(feet)
+        feet.append(("right", result.right, result.stance_right, recording.truth_right))
     checks: list[TruthCheck] = []
     for foot, traj, _, truth in feet:  # every truth first: an impossible one scores nothing
         if truth is not None and len(truth.t) > 1:

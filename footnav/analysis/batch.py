@@ -109,7 +109,7 @@ def _run_one(pipeline_name: str, pipeline: Pipeline, recording: Any, keep_result
                 raise end
             return EvaluationReport((), failures=(EvaluationFailure.from_exception(_label(recording), pipeline_name, exc),))
         report = evaluate_or_record(pipeline, rec, pipeline_name)
-    return report if keep_results else EvaluationReport(report.metrics, failures=report.failures)
+    return report if keep_results else EvaluationReport(report.metrics, failures=report.failures, checks=report.checks)
 
 
 def _progress(total: int, progress: bool | None):

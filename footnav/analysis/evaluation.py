@@ -24,6 +24,12 @@ recording supports (see :mod:`footnav.analysis.metrics` for the definitions):
 * over several recordings or seeds, :meth:`EvaluationReport.summary`: mean +- std of each;
 * the runtime of the pipeline.
 
+Before any metric, each foot's truth is checked against the estimate
+(:func:`footnav.analysis.truth_checks.check_truth`: time base, coverage of the walk, length unit,
+mirrored frame, z down, the 3-D fit's tilt): a truth that cannot be right (mm, cm, times in ms, no
+overlap) raises InvalidInputError; a suspect one warns, and every check's figure is in
+:attr:`EvaluationReport.checks` (the warnings listed under :meth:`EvaluationReport.to_text`).
+
 A run that raises does not have to end a batch: ``evaluate(..., on_error="record")`` (the default
 of :func:`footnav.evaluate_many`) returns a report holding an :class:`EvaluationFailure` instead
 of metrics, shown as an ``error`` row in :meth:`EvaluationReport.to_text` and
@@ -37,11 +43,12 @@ import io
 import time
 import traceback as tb
 from dataclasses import dataclass, field
-from typing import Any, Iterable, Literal
+from typing import Any, Literal
 
 import numpy as np
 
 from footnav.analysis import metrics
+from footnav.analysis.truth_checks import TruthCheck, check_truth
 from footnav.errors import FootnavWarning, InvalidParameterError, MetricNotFoundError
 from footnav.nav.interpolation import interp_columns
 from footnav.pipeline.factory import Pipeline
@@ -49,7 +56,7 @@ from footnav.pipeline.result import PipelineResult
 from footnav.types import FootTrajectory, FootTruth, Recording, StanceResult
 from footnav.warning_log import warn
 
-__all__ = ["Metric", "EvaluationFailure", "EvaluationReport", "evaluate", "trajectory_at"]
+__all__ = ["Metric", "EvaluationFailure", "EvaluationReport", "TruthCheck", "evaluate", "trajectory_at"]
 
 #: ``on_error`` values of :func:`evaluate` and :func:`footnav.evaluate_many`.
 ON_ERROR = ("raise", "record")
@@ -112,12 +119,20 @@ def fatal(exc: BaseException) -> BaseException | None:
 
 @dataclass(frozen=True)
 class EvaluationReport:
-    """The metrics of one or more (pipeline, recording) runs, the runs' results, and the runs that
-    failed (``failures``: one :class:`EvaluationFailure` each, no metrics, no result)."""
+    """The metrics of one or more (pipeline, recording) runs, the runs' results, the runs that
+    failed (``failures``: one :class:`EvaluationFailure` each, no metrics, no result) and the
+    checks of each foot's truth (``checks``: one :class:`TruthCheck` per check and foot, its
+    figure and ``status`` ``"ok"`` or ``"warning"``; :attr:`warnings` the latter)."""
 
     metrics: tuple[Metric, ...]
     results: dict[tuple[str, str], PipelineResult] = field(default_factory=dict, compare=False)
     failures: tuple[EvaluationFailure, ...] = ()
+    checks: tuple[TruthCheck, ...] = ()
+
+    @property
+    def warnings(self) -> tuple[TruthCheck, ...]:
+        """The truth checks that warned (a suspect truth: part of the walk, mirrored, odd scale)."""
+        return tuple(c for c in self.checks if c.status == "warning")
 
     def value(self, name: str, foot: str = "left", recording: str | None = None, pipeline: str | None = None) -> float:
         """The value of one metric (the first match).
@@ -146,7 +161,8 @@ class EvaluationReport:
 
     def __add__(self, other: "EvaluationReport") -> "EvaluationReport":
         return EvaluationReport(
-            self.metrics + other.metrics, {**self.results, **other.results}, self.failures + other.failures
+            self.metrics + other.metrics, {**self.results, **other.results}, self.failures + other.failures,
+            self.checks + other.checks,
         )
 
     def rows(self) -> list[dict[str, Any]]:
@@ -214,13 +230,14 @@ class EvaluationReport:
         keys = list(dict.fromkeys((r["name"], r["foot"], r["unit"]) for r in rows))
         cell = {(r["name"], r["foot"], r["unit"], r["pipeline"]): f"{_fmt(r['mean'])} +- {_fmt(r['std'])} ({r['n']})" for r in rows}
         table = _table(["metric", "foot", "unit"] + pipelines, [list(k) + [cell.get(k + (p,), "") for p in pipelines] for k in keys])
-        return table + self._failures_text()
+        return table + self._failures_text() + self._warnings_text()
 
     def to_text(self) -> str:
         """A table: one row per (recording, metric, foot), one column per pipeline.
 
         A failed run shows its error type in an ``error`` row of its recording (its other cells
-        stay empty), and after the table one line per failure gives the message.
+        stay empty), and after the table one line per failure gives the message, then one line
+        per truth check that warned.
         """
         pipelines = list(dict.fromkeys([m.pipeline for m in self.metrics] + [f.pipeline for f in self.failures]))
         by_recording: dict[str, list[tuple[str, str, str, str]]] = {}
@@ -232,7 +249,14 @@ class EvaluationReport:
         table: dict[tuple[str, ...], str] = {(m.recording, m.name, m.foot, m.unit, m.pipeline): _fmt(m.value) for m in self.metrics}
         table.update({(f.recording, ERROR_ROW, "both", "", f.pipeline): f.error_type for f in self.failures})
         header = ["recording", "metric", "foot", "unit"] + pipelines
-        return _table(header, [list(k) + [table.get(k + (p,), "") for p in pipelines] for k in keys]) + self._failures_text()
+        return (_table(header, [list(k) + [table.get(k + (p,), "") for p in pipelines] for k in keys])
+                + self._failures_text() + self._warnings_text())
+
+    def _warnings_text(self) -> str:
+        warned = self.warnings
+        if not warned:
+            return ""
+        return f"\n\ntruth warnings ({len(warned)}):" + "".join(f"\n  {c}" for c in warned)
 
     def _failures_text(self) -> str:
         if not self.failures:
@@ -396,6 +420,14 @@ def evaluate(
         :func:`footnav.evaluate_many` does for each pair so that one failure does not end a
         batch. KeyboardInterrupt, SystemExit and MemoryError always propagate.
 
+    Raises
+    ------
+    InvalidInputError
+        (``on_error="raise"``) A foot's truth fails a check before any metric is computed
+        (:func:`footnav.analysis.truth_checks.check_truth`: positions not in m, times not in s,
+        no overlap with the recording); the message gives the figures and the conversion.
+        Suspect truths only warn, recorded in the report's ``checks``.
+
     Examples
     --------
     >>> walk = footnav.simulate("rectangle", seed=3)
@@ -436,9 +468,13 @@ def _evaluate(pipeline: Pipeline, recording: Recording, name: str) -> Evaluation
     runtime = time.perf_counter() - t0
     rows: list[Metric] = []
     rec_name = recording_label(recording)
-    feet: Iterable[tuple[str, Any, Any, Any]] = [("left", result.left, result.stance_left, recording.truth_left)]
+    feet: list[tuple[str, Any, Any, Any]] = [("left", result.left, result.stance_left, recording.truth_left)]
     if result.right is not None:
-        feet = list(feet) + [("right", result.right, result.stance_right, recording.truth_right)]
+        feet.append(("right", result.right, result.stance_right, recording.truth_right))
+    checks: list[TruthCheck] = []
+    for foot, traj, _, truth in feet:  # every truth first: an impossible one scores nothing
+        if truth is not None and len(truth.t) > 1:
+            checks += check_truth(traj, truth, foot=foot, recording=rec_name, pipeline=name)
     for foot, traj, stance, truth in feet:
         imu = recording.left if foot == "left" else recording.right
         for metric, value, unit in _foot_metrics(traj, stance, truth, imu.rate_hz):
@@ -449,5 +485,5 @@ def _evaluate(pipeline: Pipeline, recording: Recording, name: str) -> Evaluation
         )
         rows.append(Metric(rec_name, name, "both", "dtw_distance_feet", _feet_dtw(result.left, result.right), "m"))
     rows.append(Metric(rec_name, name, "both", "runtime", runtime, "s"))
-    return EvaluationReport(tuple(rows), {(rec_name, name): result})
+    return EvaluationReport(tuple(rows), {(rec_name, name): result}, checks=tuple(checks))
 

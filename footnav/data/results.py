@@ -149,7 +149,8 @@ def write_report(
     with atomic_folder(folder, force=force, inputs=sources) as tmp:
         (tmp / "report.csv").write_text(report.to_csv(), encoding="utf-8")
         metas = [m for res in report.results.values() for m in res.meta.get("input", {}).values() if m]
-        doc = {"metrics": report.rows(), "versions": versions(), "input_sha256": _input_hashes(metas)}
+        doc = {"metrics": report.rows(), "truth_checks": [c.__dict__.copy() for c in getattr(report, "checks", ())],
+               "versions": versions(), "input_sha256": _input_hashes(metas)}
         (tmp / "report.json").write_text(json.dumps(_jsonable(doc), indent=2) + "\n", encoding="utf-8")
         for name, toml in (pipelines or {}).items():
             (tmp / f"pipeline-{name}.toml").write_text(toml, encoding="utf-8")

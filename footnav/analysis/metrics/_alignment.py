@@ -53,17 +53,19 @@ class RigidAlignment:
         return out + self.translation
 
 
-def _umeyama(src: NDArray, dst: NDArray, with_scale: bool) -> tuple[NDArray, NDArray, float]:
-    """Least-squares ``dst ~ s R src + t`` (Umeyama 1991, eq. 40-42), R a proper rotation."""
+def _umeyama(src: NDArray, dst: NDArray, with_scale: bool, *, reflection: bool = False) -> tuple[NDArray, NDArray, float]:
+    """Least-squares ``dst ~ s R src + t`` (Umeyama 1991, eq. 40-42), R a proper rotation; with
+    ``reflection``, R the best improper one (det R = -1: a rotation and a mirror), which the truth
+    checks compare against the proper fit to tell a mirrored reference."""
     n, k = src.shape
     mu_s, mu_d = src.mean(axis=0), dst.mean(axis=0)
     xs, xd = src - mu_s, dst - mu_d
     cov = xd.T @ xs / n
     u, d, vt = np.linalg.svd(cov)
     sign = np.ones(k)
-    # Flip the weakest axis when U V' would be a reflection: the best *proper* rotation
+    # Flip the weakest axis when U V' would have the wrong determinant: the best *proper* rotation
     # (Umeyama eq. 39/43); Kabsch without this returns mirror images for mirrored input.
-    if np.linalg.det(u) * np.linalg.det(vt) < 0:
+    if (np.linalg.det(u) * np.linalg.det(vt) < 0) != reflection:
         sign[-1] = -1.0
     rot = u @ np.diag(sign) @ vt
     if with_scale:

@@ -138,8 +138,9 @@ def _follow_sources(args: argparse.Namespace) -> list:
             lines: queue.Queue = queue.Queue()
 
             def pump(q=lines) -> None:
-                for line in sys.stdin:
-                    q.put(line)
+                # bytes, decoded per line: a line that is not UTF-8 is a bad row (its neighbours stay)
+                for raw in sys.stdin.buffer:
+                    q.put(raw.decode("utf-8", errors="replace"))
                 q.put(None)
 
             threading.Thread(target=pump, daemon=True).start()
@@ -157,20 +158,34 @@ def _follow_sources(args: argparse.Namespace) -> list:
 
             sources.append((None if args.right is None else foot, "standard input", read_stdin))
             continue
-        state = {"handle": None, "partial": ""}
+        state = {"handle": None, "partial": b""}
 
         def read_file(path=path, state=state):
             if state["handle"] is None:
                 if not os.path.exists(path):
                     return []
-                state["handle"] = open(path, encoding="utf-8", newline="")  # noqa: SIM115 - read as it grows, closed at exit
-            text = state["partial"] + state["handle"].read()
-            lines = text.split("\n")
+                state["handle"] = open(path, "rb")  # noqa: SIM115 - read as it grows, closed at exit
+            lines = (state["partial"] + state["handle"].read()).split(b"\n")
             state["partial"] = lines.pop()
-            return lines
+            if len(state["partial"]) > MAX_LINE_BYTES:  # no row is that long: a bad row, not a wait
+                lines.append(state["partial"])
+                state["partial"] = b""
+            return [line.decode("utf-8", errors="replace") for line in lines]
 
         sources.append((foot, path, read_file))
     return sources
+
+
+def _say(text: str, stop: dict) -> None:
+    """Print a line of the live output; when standard output has gone (``follow | head``), end
+    the stream as a stop signal would (the result folder is still written)."""
+    try:
+        print(text, flush=True)
+    except BrokenPipeError:
+        import os
+
+        sys.stdout = open(os.devnull, "w")  # noqa: SIM115 - the rest of the run's prints go nowhere
+        stop["signal"] = stop.get("signal") or "standard output closed"
 
 
 def _step_line(step) -> str:
@@ -213,6 +228,10 @@ class _LivePlot:
             plot_steps(self.steps, tmp, title=self.title)
         self.drawn, self.last = len(self.steps), now
 
+
+#: A line of a followed file longer than this (bytes) without its newline is a bad row (a 7-column
+#: row is under 200 bytes): the reader does not wait for, nor hold, an endless line.
+MAX_LINE_BYTES = 1 << 20
 
 #: Signals that end ``follow`` as Ctrl-C does: the result of what was read is written (SIGTERM:
 #: ``systemctl stop``, ``docker stop``, ``timeout``; SIGHUP: the terminal closed).
@@ -263,12 +282,12 @@ def cmd_follow(args: argparse.Namespace) -> int:
         plot_claim = _claim_figure(claims, args.plot, args.force, inputs)
         live = _LivePlot(plot_claim, args.plot_every_s, pipeline)
         sources = [(foot, name, read, parsers[name]) for foot, name, read in raw_sources]
-        print(f"{'t_s':>10}  {'foot':<5}  {'x_m':>9} {'y_m':>9} {'z_m':>7}  {'stride_m':>8}  {'heading_deg':>8}", flush=True)
-        last_data = time.monotonic()
         stop: dict = {"signal": None}
+        _say(f"{'t_s':>10}  {'foot':<5}  {'x_m':>9} {'y_m':>9} {'z_m':>7}  {'stride_m':>8}  {'heading_deg':>8}", stop)
+        last_data = time.monotonic()
 
         def on_signal(signum, frame) -> None:  # end after the current push, never inside it
-            stop["signal"] = signal.Signals(signum).name
+            stop["signal"] = stop["signal"] or signal.Signals(signum).name
 
         previous = {}
         for name in _STOP_SIGNALS:
@@ -297,7 +316,7 @@ def cmd_follow(args: argparse.Namespace) -> int:
                     bad = bad or error
                 if chunks:  # both feet in one push: neither waits for the other's rows read now
                     for step in stream.push(**chunks).steps:
-                        print(_step_line(step), flush=True)
+                        _say(_step_line(step), stop)
                         live.add(step)
                     live.draw()
                 if bad is not None:
@@ -325,7 +344,7 @@ def cmd_follow(args: argparse.Namespace) -> int:
             code = EXIT_USAGE if isinstance(close_error, FootnavError) else EXIT_INTERNAL
             ended_by = f"{ended_by}; at the end: {type(close_error).__name__}: {close_error}"
         for step in stream.last_update.steps:
-            print(_step_line(step), flush=True)
+            _say(_step_line(step), stop)
             live.add(step)
         live.draw(final=True)
         complete = code == EXIT_OK and not ended_by.startswith("interrupted") and close_error is None

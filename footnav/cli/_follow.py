@@ -273,7 +273,9 @@ def cmd_follow(args: argparse.Namespace) -> int:
     # each foot's source: its file, or standard input for the feet read there
     named = {foot: name for foot, name, _ in raw_sources if foot is not None}
     stdin = next((name for foot, name, _ in raw_sources if foot is None), None)
-    input_meta = {foot: {"source": named.get(foot, stdin), "units_in": parsers[named.get(foot, stdin)].units_in}
+    # standard input with both feet: each foot's samples named by their foot too
+    input_meta = {foot: {"source": named[foot] if foot in named else stdin + (f" ({foot} foot)" if two_feet else ""),
+                         "units_in": parsers[named.get(foot, stdin)].units_in}
                   for foot in feet if named.get(foot, stdin) is not None}
     stream = pipeline.online(feet=2 if two_feet else 1, max_wait_s=args.max_wait_s, input_meta=input_meta)
     inputs = [p for p in (args.left, args.right, args.pipeline) if p and p != "-"]

@@ -81,6 +81,23 @@ def align_at_rest(
     )
 
 
+def bridged_gaps(gaps, start: int) -> list[tuple[int, float]]:
+    """The sampling gaps (``meta["gaps"]``: ``(index, interval_s)``) an estimate starting at sample
+    ``start`` integrates across."""
+    return [(int(i), float(dt)) for i, dt in gaps if i > start]
+
+
+def bridged_gaps_message(source: str | None, gaps: list[tuple[int, float]]) -> str:
+    """The warning of :func:`bridged_gaps` (the offline estimate's and the online stream's)."""
+    # the strapdown step spans a gap as one interval: right in stance, a guess in swing
+    longest = max(gaps, key=lambda g: g[1])
+    return (
+        f"{source or 'ImuData'}: the filter integrates across {len(gaps)} sampling gap(s) "
+        f"(longest {longest[1] * 1e3:.3g} ms before index {longest[0]}); positions after a gap in a swing "
+        "are less certain; listed in the trajectory's meta['gaps_bridged']"
+    )
+
+
 def align_first_stance(imu, stance, *, still_gyr_max_radps: float, stacklevel: int = 3) -> tuple[int, Alignment, dict]:
     """Check a stance mask against its recording and align at its first stance phase.
 
@@ -127,16 +144,8 @@ def align_first_stance(imu, stance, *, still_gyr_max_radps: float, stacklevel: i
         )
     align = align_at_rest(imu.acc, imu.gyr, s0, e0, still_gyr_max_radps=still_gyr_max_radps)
     meta["alignment_samples"] = [s0, e0, align.n_used]
-    gaps = [(int(i), float(dt)) for i, dt in imu.meta.get("gaps", ()) if i > s0]
+    gaps = bridged_gaps(imu.meta.get("gaps", ()), s0)
     if gaps:
-        # the strapdown step spans a gap as one interval: right in stance, a guess in swing
-        longest = max(gaps, key=lambda g: g[1])
         meta["gaps_bridged"] = gaps
-        warn(
-            f"{source or 'ImuData'}: the filter integrates across {len(gaps)} sampling gap(s) "
-            f"(longest {longest[1] * 1e3:.3g} ms before index {longest[0]}); positions after a gap in a swing "
-            "are less certain; listed in the trajectory's meta['gaps_bridged']",
-            DataQualityWarning,
-            stacklevel=stacklevel,
-        )
+        warn(bridged_gaps_message(source, gaps), DataQualityWarning, stacklevel=stacklevel)
     return s0, align, meta

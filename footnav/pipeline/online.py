@@ -51,13 +51,14 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from footnav.nav.clock_sync import ClockMap
-from footnav.errors import CompositionError, InvalidInputError, InvalidParameterError
+from footnav.errors import CompositionError, DataQualityWarning, InvalidInputError, InvalidParameterError
 from footnav.fusion.independent import midpoint_path
 from footnav.pipeline.online_foot import FootStream
 from footnav.pipeline.online_joint import JointStream
 from footnav.pipeline.online_io import ClosedStep, FootUpdate, ForwardEstimate, as_chunk, empty_update
 from footnav.pipeline.result import PipelineResult
-from footnav.warning_log import recording
+from footnav.nav.initial_alignment import bridged_gaps_message
+from footnav.warning_log import recording, warn
 
 __all__ = ["COUPLED_ONLINE_FUSIONS", "OFFLINE_ONLY_FUSIONS", "ONLINE_FUSIONS", "ClosedStep", "FootUpdate", "ForwardEstimate", "OnlineStream", "OnlineUpdate"]
 
@@ -336,6 +337,11 @@ class OnlineStream:
         # (online they saw the first seconds) and each foot's stances against its gait cycles
         with recording() as caught:
             try:
+                for f, (traj, _) in zip(self.feet, trajs):
+                    gaps = f.bridged_gaps()
+                    if gaps:
+                        traj.meta["gaps_bridged"] = gaps
+                        warn(bridged_gaps_message(f.checks.path, gaps), DataQualityWarning, stacklevel=2)
                 imus = [f.whole_input() for f in self.feet]
                 for f, imu in zip(self.feet, imus):
                     if imu is not None:

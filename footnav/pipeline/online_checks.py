@@ -83,17 +83,17 @@ class ChunkChecks:
     Parameters
     ----------
     foot
-        ``"left"`` or ``"right"``: named in the warnings, as a recording's foot is.
+        ``"left"`` or ``"right"``: named in the warnings when there is no ``source``.
     source
-        The file or device the samples come from (named in errors and warnings), if any.
+        The file or device the samples come from (named in errors and warnings, as offline), if any.
     units_in
         The units the caller converted from (``{"t": "ms", ...}``), for the unit hints.
     """
 
     def __init__(self, foot: str, source: str | None = None, units_in: Mapping[str, str] | None = None) -> None:
-        self.meta: dict[str, Any] = {"foot": foot, "units_in": dict(units_in or {"t": "s", "acc": "m/s^2", "gyr": "rad/s"})}
-        if source is not None:
-            self.meta["source"] = source
+        self.meta: dict[str, Any] = {"units_in": dict(units_in or {"t": "s", "acc": "m/s^2", "gyr": "rad/s"})}
+        # named as offline: by its source (a file per foot); without one, by its foot
+        self.meta.update({"source": source} if source is not None else {"foot": foot})
         self.path = source
         #: findings, under the keys the offline run records in the input's meta
         self.records: dict[str, Any] = {}
@@ -196,7 +196,7 @@ class ChunkChecks:
             if self._gap_warnings < MAX_GAP_WARNINGS:
                 self._gap_warnings += 1
                 more = "" if self._gap_warnings < MAX_GAP_WARNINGS else " (later gaps are recorded there without a word)"
-                warn(gap_message(data_label(self.meta), gaps, self.median_dt) + more, DataQualityWarning, stacklevel=4)
+                warn(gap_message(self.path or data_label(self.meta), gaps, self.median_dt) + more, DataQualityWarning, stacklevel=4)
 
 
 def _rows_error(name: str, rows: int, n: int, path: str | None) -> InvalidInputError:

@@ -23,6 +23,7 @@ from numpy.typing import NDArray
 
 from footnav.errors import InvalidInputError
 from footnav.nav.heading import rotate_about_z
+from footnav.nav.initial_alignment import bridged_gaps
 from footnav.types import FootTrajectory, ImuData, StanceResult, stance_intervals
 from footnav.warning_log import recording
 from footnav.estimators.ekf.filter import InsFilter
@@ -292,7 +293,9 @@ class FootStream:
         if not self.first_stance_closed and not final:
             return False
         # with no stance at all this raises the estimator's own error, as offline
-        first = est.start([ImuData(t=t, acc=acc, gyr=gyr)], [StanceResult(mask=mask)])
+        # the foot's source names what the estimator warns; the gaps it crosses are said at close
+        # (bridged_gaps), when all of them are known, as the offline estimate says them once
+        first = est.start([ImuData(t=t, acc=acc, gyr=gyr, meta=self.input_meta())], [StanceResult(mask=mask)])
         self.start_index = first.start_index(0)
         self.seg0, self.base_k = 0, self.start_index
         # the aligned state (f^n too, from the first stance's sample)
@@ -429,6 +432,15 @@ class FootStream:
             raise InvalidInputError(f"no samples of the {self.foot} foot were pushed", field=self.foot)
         self._detect(final=True)
         self._filter(final=True)
+
+    def input_meta(self) -> dict[str, Any]:
+        """The meta of an ImuData cut from this foot's samples for a component: its source, no gaps
+        (they were warned as they arrived, and the estimate's crossing of them is said at close)."""
+        return {**self.checks.meta, "gaps": []}
+
+    def bridged_gaps(self) -> list[tuple[int, float]]:
+        """The sampling gaps the filter integrated across (after its start), as offline."""
+        return bridged_gaps(self.checks.records.get("gaps", ()), self.start_index)
 
     def whole_input(self) -> ImuData | None:
         """Every sample pushed, as the foot's ImuData (``keep=True``; else None), with its input

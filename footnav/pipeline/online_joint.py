@@ -154,7 +154,7 @@ class JointStream:
         """The foot's final samples from the common start to ``stop`` (global), as the offline
         run slices them."""
         t, acc, gyr, mask = (x.copy() for x in jf.alone.input.rows(jf.i0, stop))
-        return ImuData(t=t, acc=acc, gyr=gyr), StanceResult(mask=mask)
+        return ImuData(t=t, acc=acc, gyr=gyr, meta=jf.alone.input_meta()), StanceResult(mask=mask)
 
     def _cap(self, final: bool) -> float:
         """The newest time (s) whose samples belong to the common span for sure: the newest both

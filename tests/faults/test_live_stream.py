@@ -114,7 +114,7 @@ CASES = {
 
 
 @pytest.mark.parametrize("case", list(CASES))
-@pytest.mark.parametrize("size", [CHUNK, 7])
+@pytest.mark.parametrize("size", [CHUNK, 7, 1], ids=["chunks of 200", "chunks of 7", "one sample a push"])
 def test_a_refused_chunk_has_the_offline_error_and_takes_nothing(walk, case, size):
     make, words = CASES[case]
     t, acc, gyr, index = make(*_arrays(walk.left))
@@ -129,7 +129,7 @@ def test_a_refused_chunk_has_the_offline_error_and_takes_nothing(walk, case, siz
     if isinstance(index, int):
         assert online.index == index
     if case == "time in ms read as s":
-        assert online.field == "t" and taken < 16 + size  # refused with the 16th sample's chunk
+        assert online.field == "t" and taken < 16 <= taken + size  # refused with the 16th sample's chunk
         assert stream.stats()["final"]["left"] == 0  # before any step
     # the refused push took nothing: the stream holds what it held before that push
     assert stream.stats()["samples"]["left"] == taken
@@ -158,13 +158,21 @@ def test_a_transposed_chunk_is_refused_naming_its_shape_and_the_stream_goes_on(w
     assert np.array_equal(stream.close().left.position, clean.close().left.position)
 
 
+GAP_WORDS = "sampling gap(s) longer than 1.9 x the median interval"
+
+
+def _gap_warnings(caught) -> list[str]:
+    return [str(w.message) for w in caught
+            if issubclass(w.category, DataQualityWarning) and GAP_WORDS in str(w.message)]
+
+
 def test_a_sampling_gap_is_warned_with_the_offline_message_and_recorded(walk):
     t, acc, gyr = _arrays(walk.left)
     t[600:] += 5.0
     with warnings.catch_warnings(record=True) as off_caught:
         warnings.simplefilter("always")
         imu = ImuData.from_arrays(t, acc, gyr)
-    offline = [str(w.message) for w in off_caught if issubclass(w.category, DataQualityWarning) and "sampling gap" in str(w.message)]
+    offline = _gap_warnings(off_caught)
     assert len(offline) == 1
     stream = _pipe().online(feet=1)
     with warnings.catch_warnings(record=True) as on_caught:
@@ -172,16 +180,20 @@ def test_a_sampling_gap_is_warned_with_the_offline_message_and_recorded(walk):
         for chunk in _chunks(t, acc, gyr):
             stream.push(left=chunk)
         result = stream.close()
-    online = [str(w.message) for w in on_caught if issubclass(w.category, DataQualityWarning) and "sampling gap" in str(w.message)]
+    online = _gap_warnings(on_caught)
     assert len(online) == 1
     # the same message after the data's label (online: the foot is named, "ImuData (left foot): ...")
-    assert "sampling gap(s) longer than 1.9 x the median interval" in online[0]
     assert online[0].split(": ", 1)[1] == offline[0].split(": ", 1)[1]
     assert any(online[0] in w for w in stream.warnings)
     gaps = result.meta["input"]["left"]["gaps"]
     assert [i for i, _ in gaps] == [i for i, _ in imu.meta["gaps"]] == [600]
     assert gaps[0][1] == pytest.approx(imu.meta["gaps"][0][1])
-    assert any("sampling gap" in w for w in result.meta["warnings"])
+    assert any(GAP_WORDS in w for w in result.meta["warnings"])
+    # and the filter bridges the gap as the offline run does
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", DataQualityWarning)
+        offline_run = _pipe().run(imu)
+    assert np.array_equal(result.left.position, offline_run.left.position)
 
 
 # -- two feet: a push is atomic --------------------------------------------------------------------
@@ -435,7 +447,9 @@ def test_a_stop_signal_writes_everything_so_far_and_exits_0(walk_csv, tmp_path, 
                 break
         assert len(printed) >= 2, "follow ended before printing steps"
         follow.send_signal(getattr(signal, sig))
+        t0 = time.monotonic()
         rest, err = follow.communicate(timeout=60)
+        assert time.monotonic() - t0 < 15, "follow did not stop promptly"
     finally:
         for proc in (follow, writer):
             if proc.poll() is None:
@@ -578,3 +592,184 @@ def test_a_deeply_nested_pipeline_toml_is_a_one_line_error(walk_csv, tmp_path):
     assert lines[0].startswith("footnav follow: error:") and "deep.toml" in lines[0]
     assert len(lines[0]) < 1000
     _no_lock_left(tmp_path)
+
+
+def test_a_bad_foot_name_on_standard_input_ends_follow_with_the_rows_before(walk_csv, tmp_path):
+    rows = [f"left,{line}" for line in _lines(walk_csv)[2:]]
+    rows[BAD - 2] = "centre," + rows[BAD - 2].split(",", 1)[1]
+    out = tmp_path / "res"
+    done = _follow("--left", "-", "--feet", "2", "--out", str(out), input="\n".join(rows) + "\n")
+    assert done.returncode == 2, done.stderr
+    errors = _error_lines(done.stderr)
+    assert len(errors) == 1 and "line 599" in errors[0] and "'centre'" in errors[0]
+    summary = _summary(out)
+    assert summary["complete"] is False and summary["ended_by"].startswith("bad input")
+    saved = np.load(out / "trajectories.npz")
+    assert len(saved["left_t"]) == BAD - 2
+    _no_lock_left(tmp_path)
+
+
+def test_two_feet_on_standard_input_without_right_rows_writes_the_left_walk(walk_csv, tmp_path):
+    rows = [f"left,{line}" for line in _lines(walk_csv)[2:]]
+    out = tmp_path / "res"
+    done = _follow("--left", "-", "--feet", "2", "--out", str(out), input="\n".join(rows) + "\n")
+    assert done.returncode == 2, done.stderr
+    errors = _error_lines(done.stderr)
+    assert len(errors) == 1 and "no samples of the right foot" in errors[0]
+    summary = _summary(out)
+    assert summary["complete"] is False and "no samples of the right foot" in summary["ended_by"]
+    saved = np.load(out / "trajectories.npz")
+    assert "right_t" not in saved
+    assert len(saved["left_t"]) == len(rows)
+    one = _follow("--left", str(walk_csv / "left.csv"), "--idle-s", "0.3", "--out", str(tmp_path / "one"))
+    assert one.returncode == 0, one.stderr
+    alone = np.load(tmp_path / "one" / "trajectories.npz")
+    np.testing.assert_array_equal(saved["left_position"], alone["left_position"])
+    _no_lock_left(tmp_path)
+
+
+@pytest.mark.xfail(strict=True, reason=(
+    "lead to decide: SIGTERM before any row exits 2 ('interrupted (SIGTERM); at the end: InvalidInputError: no "
+    "samples of the left foot were pushed'), while cmd_follow's docstring says a signal ends it with exit 0"))
+def test_a_stop_signal_before_any_row_exits_0_with_a_summary(tmp_path):
+    """The help: "Ctrl-C, SIGTERM or SIGHUP end it; the result folder then holds everything up to the
+    last sample read"; the docstring: signals end it incomplete with exit 0 (the user stopped it)."""
+    out = tmp_path / "res"
+    args = ("--left", str(tmp_path / "not-yet.csv"), "--idle-s", "60", "--out", str(out))
+    follow = subprocess.Popen(_cli("follow", *args),
+                              stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=os.environ)
+    try:
+        assert "stride_m" in follow.stdout.readline()
+        time.sleep(1.0)  # the handlers are installed just after the header is printed; nothing shows it
+        follow.send_signal(signal.SIGTERM)
+        rest, err = follow.communicate(timeout=60)
+    finally:
+        if follow.poll() is None:
+            follow.kill()
+            follow.wait(timeout=10)
+    summary = _summary(out)
+    assert summary["complete"] is False
+    assert summary["ended_by"].startswith("interrupted (SIGTERM)")
+    _no_lock_left(tmp_path)
+    assert follow.returncode == 0, err
+
+
+def test_a_units_line_after_rows_is_not_applied_silently(walk_csv, tmp_path):
+    """The offline reader refuses a '# units:' line after the rows (a line of 3 columns); follow
+    must not re-scale the rows with it (here: gyr in deg/s from 6 s on, a silently wrong walk)."""
+    lines = (walk_csv / "left.csv").read_text().splitlines(keepends=True)
+    path, out = tmp_path / "left.csv", tmp_path / "res"
+    path.write_text("".join(lines[:BAD + 2]))
+    follow = subprocess.Popen(_cli("follow", "--left", str(path), "--idle-s", "1", "--out", str(out)),
+                              stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=os.environ)
+    try:
+        for line in iter(follow.stdout.readline, ""):  # the first rows are read and pushed
+            if _step_lines(line) and float(line.split()[0]) > 4.0:
+                break
+        with path.open("a") as f:
+            f.write("# units: t s, acc m/s^2, gyr deg/s\n")
+            f.writelines(lines[BAD + 2:])
+        rest, err = follow.communicate(timeout=60)
+    finally:
+        if follow.poll() is None:
+            follow.kill()
+            follow.wait(timeout=10)
+    args = ("--left", str(path), "--detector", "threshold", "--out", str(tmp_path / "off"))
+    offline = subprocess.run(_cli("run", *args),
+                             capture_output=True, text=True, timeout=120, check=False, env=os.environ)
+    assert offline.returncode == 2 and f"line {BAD + 3}" in offline.stderr
+    summary = _summary(out)
+    assert not (follow.returncode == 0 and summary["complete"]), (
+        f"follow took the units line and finished 'complete' (left path {summary.get('left_path_length_m')} m)")
+    assert follow.returncode == 2 and summary["ended_by"].startswith("bad input")
+
+
+@pytest.mark.parametrize("source", ["file", "standard input"])
+def test_a_line_that_is_not_utf8_is_a_bad_row_with_the_rows_before_kept(walk_csv, tmp_path, source):
+    lines = [line.encode() for line in _lines(walk_csv)]
+    lines[BAD] = b"5.98,\xff\xfe\x00garbage,1,2,3,4,5"
+    data = b"\n".join(lines) + b"\n"
+    out = tmp_path / "res"
+    if source == "file":
+        (tmp_path / "bad.csv").write_bytes(data)
+        args, kwargs = ("--left", str(tmp_path / "bad.csv"), "--idle-s", "0.5"), {}
+    else:
+        args, kwargs = ("--left", "-"), {"input": data}
+    done = subprocess.run(_cli("follow", *args, "--out", str(out)), capture_output=True, timeout=120, check=False,
+                          env=os.environ, **kwargs)
+    stderr = done.stderr.decode("utf-8", errors="replace")
+    assert done.returncode == 2, stderr
+    errors = _error_lines(stderr)
+    assert len(errors) == 1 and "line 601" in errors[0], stderr
+    saved = np.load(out / "trajectories.npz")
+    assert len(saved["left_t"]) == BAD - 2
+    assert _summary(out)["complete"] is False
+    _no_lock_left(tmp_path)
+
+
+def test_an_endless_line_is_a_bad_row_not_a_wait(walk_csv, tmp_path):
+    """A line without its newline longer than 1 MiB: a bad row at once (not --idle-s later), a
+    short error, the rows before kept."""
+    lines = _lines(walk_csv)
+    path, out = tmp_path / "endless.csv", tmp_path / "res"
+    path.write_text("\n".join(lines[:BAD]) + "\n" + "1," + "9" * (3 << 20))  # no newline at the end
+    t0 = time.monotonic()
+    done = _follow("--left", str(path), "--idle-s", "60", "--out", str(out))
+    assert time.monotonic() - t0 < 30, "follow waited for the line's end"
+    assert done.returncode == 2, done.stderr[:2000]
+    assert len(_error_lines(done.stderr)) == 1 and len(done.stderr) < 1000, done.stderr[:2000]
+    assert len(np.load(out / "trajectories.npz")["left_t"]) == BAD - 2
+    _no_lock_left(tmp_path)
+
+
+def test_a_closed_standard_output_ends_follow_with_the_result_written(walk_csv, tmp_path):
+    """``footnav follow ... | head``: the reader goes away; follow stops as at a signal, exit 0."""
+    left, out = tmp_path / "left.csv", tmp_path / "res"
+    follow = subprocess.Popen(_cli("follow", "--left", str(left), "--idle-s", "60", "--out", str(out)),
+                              stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=os.environ)
+    try:
+        assert "stride_m" in follow.stdout.readline()
+        follow.stdout.close()
+        left.write_text((walk_csv / "left.csv").read_text())
+        err = follow.stderr.read()
+        follow.wait(timeout=60)
+    finally:
+        if follow.poll() is None:
+            follow.kill()
+            follow.wait(timeout=10)
+    assert follow.returncode == 0, err
+    assert "Traceback" not in err and "BrokenPipe" not in err
+    summary = _summary(out)
+    assert summary["complete"] is False and "standard output closed" in summary["ended_by"]
+    assert len(np.load(out / "trajectories.npz")["left_t"]) > 0
+    _no_lock_left(tmp_path)
+
+
+def test_an_endless_line_on_standard_input_is_a_bad_row_not_a_wait(walk_csv, tmp_path):
+    """As a file's (MAX_LINE_BYTES): a producer that sends 3 MiB without a newline and keeps the
+    pipe open must not be waited for (nor its line held whatever its length)."""
+    lines = _lines(walk_csv)
+    out = tmp_path / "res"
+    with open(tmp_path / "stdout", "w") as so, open(tmp_path / "stderr", "w") as se:
+        follow = subprocess.Popen(_cli("follow", "--left", "-", "--idle-s", "60", "--out", str(out)),
+                                  stdin=subprocess.PIPE, stdout=so, stderr=se, env=os.environ)
+        try:
+            follow.stdin.write(("\n".join(lines[:BAD]) + "\n1," + "9" * (3 << 20)).encode())
+            follow.stdin.flush()
+            try:
+                follow.wait(timeout=8)  # a file's endless line ends follow in about a second
+                waited = False
+            except subprocess.TimeoutExpired:
+                waited = True
+        finally:
+            follow.stdin.close()  # the end of input: follow ends
+            try:
+                follow.wait(timeout=60)
+            except subprocess.TimeoutExpired:
+                follow.kill()
+                follow.wait(timeout=10)
+    assert not waited, "follow held the endless line of standard input until its end"
+    stderr = (tmp_path / "stderr").read_text()
+    assert follow.returncode == 2, stderr[:2000]
+    assert len(stderr) < 1000
+    assert len(np.load(out / "trajectories.npz")["left_t"]) == BAD - 2

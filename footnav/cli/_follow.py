@@ -73,6 +73,9 @@ class _FollowedCsv:
             if line[1:].strip().startswith("units:"):
                 from footnav.data.io.footnav_csv import _parse_units_comment
 
+                if self.columns is not None:  # the rows read so far were converted with other units
+                    raise self._error("a '# units:' line after the header or the rows; it must come before them")
+
                 self.file_units.update(_parse_units_comment(_clip(line, 400), self.name, self.line_no))
                 for key, unit in self.units_in.items():
                     if unit not in _scales()[key]:
@@ -123,6 +126,18 @@ def _number(text: str) -> bool:
     return True
 
 
+def _split_lines(data: bytes) -> tuple[list[str], bytes]:
+    """The complete lines of ``data`` (decoded: a line that is not UTF-8 is a bad row, its
+    neighbours stay good) and the bytes of the line not yet complete; a line longer than
+    ``MAX_LINE_BYTES`` is returned as it is (a bad row, not a wait)."""
+    lines = data.split(b"\n")
+    partial = lines.pop()
+    if len(partial) > MAX_LINE_BYTES:
+        lines.append(partial)
+        partial = b""
+    return [line.decode("utf-8", errors="replace") for line in lines], partial
+
+
 def _follow_sources(args: argparse.Namespace) -> list:
     """(foot or None, name, reader) per input: a reader returns the complete new lines, or None
     at the end of standard input."""
@@ -138,9 +153,16 @@ def _follow_sources(args: argparse.Namespace) -> list:
             lines: queue.Queue = queue.Queue()
 
             def pump(q=lines) -> None:
-                # bytes, decoded per line: a line that is not UTF-8 is a bad row (its neighbours stay)
-                for raw in sys.stdin.buffer:
-                    q.put(raw.decode("utf-8", errors="replace"))
+                # the file descriptor, not sys.stdin: a thread blocked in the buffered reader holds
+                # its lock, and the interpreter aborts at exit; lines split and decoded here as a
+                # file's are (_split_lines)
+                fd, partial = sys.stdin.fileno(), b""
+                while block := os.read(fd, 1 << 16):
+                    got, partial = _split_lines(partial + block)
+                    for line in got:
+                        q.put(line)
+                if partial:
+                    q.put(partial.decode("utf-8", errors="replace"))
                 q.put(None)
 
             threading.Thread(target=pump, daemon=True).start()
@@ -165,12 +187,8 @@ def _follow_sources(args: argparse.Namespace) -> list:
                 if not os.path.exists(path):
                     return []
                 state["handle"] = open(path, "rb")  # noqa: SIM115 - read as it grows, closed at exit
-            lines = (state["partial"] + state["handle"].read()).split(b"\n")
-            state["partial"] = lines.pop()
-            if len(state["partial"]) > MAX_LINE_BYTES:  # no row is that long: a bad row, not a wait
-                lines.append(state["partial"])
-                state["partial"] = b""
-            return [line.decode("utf-8", errors="replace") for line in lines]
+            lines, state["partial"] = _split_lines(state["partial"] + state["handle"].read())
+            return lines
 
         sources.append((foot, path, read_file))
     return sources
@@ -317,7 +335,9 @@ def cmd_follow(args: argparse.Namespace) -> int:
                         stream.describe_input(foot or key, units_in=parser.units_in)  # a '# units:' line read now
                     bad = bad or error
                 if chunks:  # both feet in one push: neither waits for the other's rows read now
-                    for step in stream.push(**chunks).steps:
+                    update, refused = _push_good_rows(stream, chunks)
+                    bad = refused or bad
+                    for step in update.steps:
                         _say(_step_line(step), stop)
                         live.add(step)
                     live.draw()
@@ -342,7 +362,10 @@ def cmd_follow(args: argparse.Namespace) -> int:
             for name, handler in previous.items():
                 signal.signal(getattr(signal, name), handler)
         result, close_error = _close(stream)
-        if close_error is not None and code == EXIT_OK:
+        stopped_before_data = ended_by.startswith("interrupted") and not any(stream.stats()["received"].values())
+        if stopped_before_data:
+            ended_by += "; no row had been read"
+        if close_error is not None and code == EXIT_OK and not stopped_before_data:
             code = EXIT_USAGE if isinstance(close_error, FootnavError) else EXIT_INTERNAL
             ended_by = f"{ended_by}; at the end: {type(close_error).__name__}: {close_error}"
         for step in stream.last_update.steps:
@@ -369,6 +392,30 @@ def cmd_follow(args: argparse.Namespace) -> int:
         print(f"footnav follow: error: {_clip(ended_by, 600)}", file=sys.stderr)
     print(("" if complete else _clip(ended_by, 200) + ": ") + f"results written to {out}" + ("" if complete else " (incomplete)"))
     return code
+
+
+def _push_good_rows(stream, chunks: dict):
+    """Push the rows up to the first the stream refuses: ``(update, error)``, the error None
+    when every row was taken. A refused chunk names its foot and first bad sample, so the rows
+    before it are pushed again without it (nothing read before a bad row is lost)."""
+    from footnav.errors import InvalidInputError
+
+    first = None
+    while True:
+        try:
+            return stream.push(**chunks), first
+        except InvalidInputError as exc:
+            foot, index = getattr(exc, "foot", None), exc.index
+            if foot is None or index is None:  # a finding about the whole chunk: nothing to keep
+                raise
+            first = first or exc
+            keep = index - stream.stats()["received"][foot]
+            if keep > 0:
+                chunks = {**chunks, foot: tuple(x[:keep] for x in chunks[foot])}
+            else:
+                chunks = {k: v for k, v in chunks.items() if k != foot}
+            if not chunks:
+                raise first from None
 
 
 def _close(stream):

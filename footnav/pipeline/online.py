@@ -196,7 +196,8 @@ class OnlineStream:
         """Add samples of either foot or both; returns what became final since the last push.
 
         Both chunks are checked before either is taken (:mod:`footnav.pipeline.online_checks`):
-        on InvalidInputError the stream is as before the push.
+        on InvalidInputError (its ``foot`` attribute says whose chunk) the stream is as before the
+        push.
         """
         if self._closed:
             raise InvalidInputError("the stream is closed; start a new one with pipeline.online()", field="push")
@@ -213,12 +214,15 @@ class OnlineStream:
             checked = []
             for foot, chunk in zip(self.feet, (left, right)):
                 if chunk is not None:
-                    checked.append((foot, *foot.checks.check(*as_chunk(chunk, foot.foot))))
+                    try:
+                        checked.append((foot, *foot.checks.check(*as_chunk(chunk, foot.foot))))
+                    except InvalidInputError as exc:
+                        exc.foot = foot.foot  # type: ignore[attr-defined] # which chunk (the text is the offline one)
+                        raise
             try:
-                for foot, t, acc, gyr, pending in checked:
-                    foot.checks.accept(t, acc, gyr, pending)
-                    clock = self.clocks.get(foot.foot)
-                    foot.push(t if clock is None else clock(t), acc, gyr)
+                for foot, (t, acc, gyr), pending in checked:
+                    foot.checks.accept(pending)
+                    self._feed(foot, t, acc, gyr)
                 if self.joint is not None:
                     self.joint.advance()
             except BaseException as exc:
@@ -231,6 +235,12 @@ class OnlineStream:
         self._push_s += time.perf_counter() - t0
         self.n_pushes += 1
         return out
+
+    def _feed(self, foot: FootStream, t: Any, acc: Any, gyr: Any) -> None:
+        """Pass checked samples on to a foot (on the common clock)."""
+        if len(t):
+            clock = self.clocks.get(foot.foot)
+            foot.push(t if clock is None else clock(t), acc, gyr)
 
     def describe_input(self, foot: str, *, source: str | None = None, units_in: Mapping[str, str] | None = None) -> None:
         """Say where a foot's samples come from (``input_meta``) once it is known, e.g. the units of
@@ -303,7 +313,7 @@ class OnlineStream:
                 if self.failure is None:
                     for f in self.feet:
                         try:
-                            f.checks.finish()
+                            self._feed(f, *f.checks.finish())  # the samples held back for their neighbours
                             f.finish()
                         except Exception as exc:  # noqa: BLE001 - kept with the foot's partial result
                             failures[f.foot] = exc
@@ -341,7 +351,7 @@ class OnlineStream:
                     gaps = f.bridged_gaps()
                     if gaps:
                         traj.meta["gaps_bridged"] = gaps
-                        warn(bridged_gaps_message(f.checks.path, gaps), DataQualityWarning, stacklevel=2)
+                        warn(bridged_gaps_message(f.checks.label, gaps), DataQualityWarning, stacklevel=2)
                 imus = [f.whole_input() for f in self.feet]
                 for f, imu in zip(self.feet, imus):
                     if imu is not None:
@@ -415,6 +425,7 @@ class OnlineStream:
         return {
             "latency_s": self.latency_s,
             "samples": {f.foot: f.input.end for f in self.feet},
+            "received": {f.foot: f.checks.n for f in self.feet},
             "final": {f.foot: f.n_out for f in self.feet},
             "pushes": self.n_pushes,
             "push_time_s": self._push_s,

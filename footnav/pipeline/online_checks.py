@@ -3,9 +3,10 @@ its readers run on a recording, run on chunks as they arrive, with the same mess
 
 Per chunk, before the stream takes it (:meth:`ChunkChecks.check`; nothing changes when it raises):
 shape (a transposed ``(3, N)`` chunk is refused naming its shape), non-finite values, time that
-does not increase (across chunks too), samples beyond any foot IMU's range
-(:func:`~footnav.types.imu_checks.check_extremes`); the error names the sample by its index in the
-foot's stream, as the offline error names it in the recording. Sampling gaps are found per chunk
+does not increase (across chunks too), samples beyond any foot IMU's range and angular rates held
+beyond any gyroscope's (:func:`~footnav.types.imu_checks.check_extremes`); the error names the
+sample by its index in the foot's stream, as the offline error names it in the recording, and
+says what the offline check of the whole recording says, however the samples are chunked. Sampling gaps are found per chunk
 once the median interval is known and warned as offline (``records["gaps"]``).
 
 Checks that need more than a chunk run when their data have arrived, and at the end on what
@@ -38,8 +39,10 @@ from footnav.errors import DataQualityWarning, InvalidInputError
 from footnav.types._arrays import _as_float_array
 from footnav.types._derived import row_norms
 from footnav.types.imu_checks import (
+    ACC_MAX_MPS2,
     ACC_MOVING_FRACTION,
     ACC_MOVING_MPS2,
+    GYR_PEAK_MAX_RADPS,
     _check_data,
     check_extremes,
     check_time_base,
@@ -47,6 +50,7 @@ from footnav.types.imu_checks import (
     data_label,
     find_gaps,
     gap_message,
+    peak_hold,
 )
 from footnav.warning_log import warn
 
@@ -69,16 +73,30 @@ MAX_GAP_WARNINGS = 10
 class _Pending:
     """What :meth:`ChunkChecks.check` found for a chunk, taken by :meth:`ChunkChecks.accept`."""
 
-    n: int
-    t_last: float
+    chunk: tuple[NDArray, NDArray, NDArray]  # the chunk as received
+    tail: tuple[NDArray, NDArray, NDArray]  # the samples held back after it
     median_dt: float | None
     gaps: list[tuple[int, float]] = field(default_factory=list)
     findings: list[tuple[str, Any, str]] = field(default_factory=list)
     head_done: bool = False
 
 
+def _empty() -> tuple[NDArray, NDArray, NDArray]:
+    return np.empty(0), np.empty((0, 3)), np.empty((0, 3))
+
+
+def _join(*parts: tuple[NDArray, NDArray, NDArray]) -> tuple[NDArray, NDArray, NDArray]:
+    return tuple(np.concatenate([p[k] for p in parts]) for k in range(3))  # type: ignore[return-value]
+
+
 class ChunkChecks:
     """The input checks of one foot's stream (see the module docstring).
+
+    A chunk whose last samples turn faster than ``GYR_PEAK_MAX_RADPS`` keeps them back (at most
+    the peak hold, 2 samples at 100 Hz) until the samples after them say whether they are a held
+    run (deg/s read as rad/s) or single samples: the stream gets them with the next chunk or at
+    the end, so every chunking gives the offline run's verdict. A walk never turns that fast: its
+    samples pass at once.
 
     Parameters
     ----------
@@ -97,15 +115,28 @@ class ChunkChecks:
         self.path = source
         #: findings, under the keys the offline run records in the input's meta
         self.records: dict[str, Any] = {}
-        self.n = 0  # samples taken
+        self.n = 0  # samples received (checked and taken)
         self.t_last: float | None = None
         self.median_dt: float | None = None
         self.head_done = False
         self._head: list[tuple[NDArray, NDArray, NDArray]] = []  # chunks until the window check ran
+        self._tail = _empty()  # received, held back from the stream (see the class docstring)
+        self._acc_median: float | None = None  # of the checked window: the accelerometer's unit is settled
         self._gap_warnings = 0
 
-    def check(self, t: Any, acc: Any, gyr: Any) -> tuple[NDArray, NDArray, NDArray, _Pending]:
-        """Check a chunk before it is taken; returns its float arrays and the findings.
+    @property
+    def label(self) -> str:
+        """How warnings name this foot's data (as offline: its source)."""
+        return self.path or data_label(self.meta)
+
+    @property
+    def held_back(self) -> int:
+        """Samples received but not yet passed on to the stream."""
+        return len(self._tail[0])
+
+    def check(self, t: Any, acc: Any, gyr: Any) -> tuple[tuple[NDArray, NDArray, NDArray], _Pending]:
+        """Check a chunk before it is taken; returns the samples to pass on now (the chunk, after
+        any held back before it, less any held back now) and the findings for :meth:`accept`.
 
         Raises
         ------
@@ -119,13 +150,13 @@ class ChunkChecks:
         for name, a in (("acc", acc), ("gyr", gyr)):
             if len(a) != len(t):
                 raise _rows_error(name, len(a), len(t), path)
-        pending = _Pending(n0 + len(t), float(t[-1]) if len(t) else self.t_last, self.median_dt)  # type: ignore[arg-type]
+        pending = _Pending((t, acc, gyr), self._tail, self.median_dt)
         if len(t) == 0:
-            return t, acc, gyr, pending
+            return _empty(), pending
         dt = check_time_order(t, path=path, offset=n0, previous=self.t_last)
-        check_extremes(acc, gyr, path=path, offset=n0)
+        n = n0 + len(t)
         head = self._head + [(t, acc, gyr)] if not self.head_done else []
-        if pending.median_dt is None and pending.n >= TIME_BASE_SAMPLES:
+        if pending.median_dt is None and n >= TIME_BASE_SAMPLES:
             th = np.concatenate([h[0] for h in head])
             pending.median_dt = float(np.median(np.diff(th[:TIME_BASE_SAMPLES])))
             pending.findings += check_time_base(pending.median_dt, self.meta)
@@ -133,27 +164,58 @@ class ChunkChecks:
             pending.gaps = find_gaps(np.diff(th), pending.median_dt, 1)
         elif pending.median_dt is not None:  # dt[0] ends at sample n0 (it starts at the previous chunk's last)
             pending.gaps = find_gaps(dt, pending.median_dt, n0)
+        joined = _join(self._tail, (t, acc, gyr))
+        keep = self._extremes(joined, n - len(joined[0]), pending.median_dt, head, final=False)
+        pending.tail = tuple(x[keep:] for x in joined)  # type: ignore[assignment]
         if not self.head_done and pending.median_dt is not None:
             pending.head_done, findings = self._window(head, pending.median_dt, final=False)
             pending.findings += findings
-        return t, acc, gyr, pending
+        return tuple(x[:keep] for x in joined), pending  # type: ignore[return-value]
 
-    def accept(self, t: NDArray, acc: NDArray, gyr: NDArray, pending: _Pending) -> None:
+    def _extremes(self, joined: tuple, offset: int, median_dt: float | None, head: list, final: bool) -> int:
+        """Check the samples not yet passed on for extremes; returns how many can pass on now."""
+        _, acc, gyr = joined
+        gyr_norm = row_norms(gyr)
+        hold = 3 if median_dt is None else peak_hold(1.0 / median_dt)
+        fast = gyr_norm > GYR_PEAK_MAX_RADPS
+        run = len(fast) - (int(np.flatnonzero(~fast)[-1]) + 1 if (~fast).any() else 0)  # trailing fast samples
+        keep = len(fast) if final or run >= hold else len(fast) - run
+        acc_median = self._acc_median
+        if acc_median is None and len(acc) and row_norms(acc).max() > ACC_MAX_MPS2:
+            # before the window check settled the unit: the median of everything received so far
+            received = np.concatenate([h[1] for h in head]) if head else acc  # head: every sample so far
+            acc_median = float(np.median(row_norms(received)))
+        check_extremes(acc, gyr, path=self.path, offset=offset, hold=hold, settled=keep, acc_median=acc_median,
+                       gyr_norm=gyr_norm)
+        return keep
+
+    def accept(self, pending: _Pending) -> None:
         """Take a checked chunk: its findings warned and recorded."""
+        t, acc, gyr = pending.chunk
+        self._tail = pending.tail
         if len(t) == 0:
             return
-        self.n, self.t_last, self.median_dt = pending.n, pending.t_last, pending.median_dt
+        self.n += len(t)
+        self.t_last, self.median_dt = float(t[-1]), pending.median_dt
         if not self.head_done:
             self._head.append((t, acc, gyr))
         self._take(pending.findings, pending.gaps)
         if pending.head_done:
             self.head_done = True
+            self._acc_median = float(np.median(row_norms(np.concatenate([h[1] for h in self._head]))))
             self._head = []
 
-    def finish(self) -> None:
-        """At the stream's end: the checks still waiting for data, on what arrived."""
+    def finish(self) -> tuple[NDArray, NDArray, NDArray]:
+        """At the stream's end: the checks still waiting for data, on what arrived; returns the
+        samples held back, to pass on before the stream ends.
+
+        Raises
+        ------
+        InvalidInputError
+            As :meth:`check`, for what only the end decides.
+        """
         if self.n < 2:
-            return
+            return self._tail
         findings: list[tuple[str, Any, str]] = []
         gaps: list[tuple[int, float]] = []
         if self.median_dt is None:
@@ -161,10 +223,13 @@ class ChunkChecks:
             self.median_dt = float(np.median(np.diff(th)))
             findings += check_time_base(self.median_dt, self.meta)
             gaps = find_gaps(np.diff(th), self.median_dt, 1)
+        self._extremes(self._tail, self.n - self.held_back, self.median_dt, self._head, final=True)
         if not self.head_done:
             findings += self._window(self._head, self.median_dt, final=True)[1]
             self.head_done, self._head = True, []
         self._take(findings, gaps)
+        tail, self._tail = self._tail, _empty()
+        return tail
 
     def finish_whole(self, imu: Any) -> None:
         """At the end of a stream that kept every sample: the unit, at-rest and saturation checks
@@ -196,7 +261,7 @@ class ChunkChecks:
             if self._gap_warnings < MAX_GAP_WARNINGS:
                 self._gap_warnings += 1
                 more = "" if self._gap_warnings < MAX_GAP_WARNINGS else " (later gaps are recorded there without a word)"
-                warn(gap_message(self.path or data_label(self.meta), gaps, self.median_dt) + more, DataQualityWarning, stacklevel=4)
+                warn(gap_message(self.label, gaps, self.median_dt) + more, DataQualityWarning, stacklevel=4)
 
 
 def _rows_error(name: str, rows: int, n: int, path: str | None) -> InvalidInputError:

@@ -51,6 +51,7 @@ __all__ = [
     "detect_clipping",
     "find_gaps",
     "gap_message",
+    "peak_hold",
 ]
 
 #: A foot-mounted IMU reads about 1 g of specific force over a recording (the foot stands still
@@ -131,6 +132,11 @@ CLIP_MIN_GYR_RADPS = 5.0
 #: With a known full scale, readings at or above this fraction of it count as clipped: after the
 #: sensor's calibration (scale, cross-axis) a saturated raw axis is no longer one constant value.
 CLIP_FRACTION_OF_FULL_SCALE = 0.98
+
+
+def peak_hold(rate_hz: float) -> int:
+    """Samples a peak must hold at ``rate_hz`` (``PEAK_HOLD_S``, at least 3)."""
+    return max(3, round(PEAK_HOLD_S * rate_hz))
 
 
 def _held_peak(x: NDArray[np.float64], hold: int) -> float:
@@ -365,10 +371,21 @@ def _acc_median_error(f: float, path: str | None) -> InvalidInputError:
     )
 
 
-def _gyr_unit_error(w_peak: float, index: int, path: str | None) -> InvalidInputError:
+def _first_held_start(x: NDArray[np.float64], threshold: float, hold: int) -> int | None:
+    """Index of the first sample of the first run of at least ``hold`` values above ``threshold``."""
+    above = (x > threshold).astype(np.int64)
+    if len(above) < hold:
+        return None
+    full = np.flatnonzero(np.convolve(above, np.ones(hold, dtype=np.int64), "valid") == hold)
+    return int(full[0]) if len(full) else None
+
+
+def _gyr_unit_error(index: int, path: str | None) -> InvalidInputError:
+    # worded by the first held run, not the recording's peak: a stream judging its first chunks
+    # says the same as the offline check of the whole recording
     return InvalidInputError(
-        f"implausible angular rate: |gyr| held above {w_peak:.3g} rad/s, beyond any MEMS gyroscope's range "
-        f"(~{GYR_PEAK_MAX_RADPS:g} rad/s = 4000 deg/s); the data look like deg/s: read them with gyr_unit='deg/s'",
+        f"implausible angular rate: |gyr| held above {GYR_PEAK_MAX_RADPS:g} rad/s from this sample on, beyond any "
+        "MEMS gyroscope's range (4000 deg/s); the data look like deg/s: read them with gyr_unit='deg/s'",
         field="gyr",
         index=index,
         path=path,
@@ -382,48 +399,54 @@ def check_extremes(
     path: str | None = None,
     offset: int = 0,
     hold: int = 3,
+    settled: int | None = None,
+    acc_median: float | None = None,
     acc_norm: NDArray[np.float64] | None = None,
     gyr_norm: NDArray[np.float64] | None = None,
 ) -> None:
-    """Refuse samples beyond what any foot-mounted IMU reads (``ACC_MAX_MPS2``, ``GYR_MAX_RADPS``).
+    """Refuse samples no foot-mounted IMU reads.
 
-    Where the values say why, the message is the unit check's (a median |acc| that is not
-    gravity: another unit; |gyr| held above ``GYR_PEAK_MAX_RADPS`` for ``hold`` samples: deg/s
-    read as rad/s); else the sample is a corrupt record. ``offset`` is the stream index of the
-    first row (a stream's chunk).
+    In order: |gyr| held above ``GYR_PEAK_MAX_RADPS`` for ``hold`` samples (deg/s read as rad/s:
+    the unit check's error, at the run's first sample); a sample with |gyr| above
+    ``GYR_MAX_RADPS`` or |acc| above ``ACC_MAX_MPS2`` (a corrupt record, at that sample) -- unless
+    the median |acc| (``acc_median``, else these samples') is not gravity: then the accelerometer
+    is in another unit (the unit check's error). ``offset`` is the stream index of the first row;
+    only rows before ``settled`` are judged as single samples (a stream's last rows wait for the
+    samples after them, which may make them part of a held run).
 
     Raises
     ------
     InvalidInputError
-        ``field`` ``"acc"`` or ``"gyr"``, ``index`` the first sample beyond the bound.
+        ``field`` ``"acc"`` or ``"gyr"``, ``index`` the sample.
     """
     if len(acc) == 0:
         return
+    settled = len(acc) if settled is None else settled
     gyr_norm = row_norms(gyr) if gyr_norm is None else gyr_norm
-    if gyr_norm.max() > GYR_MAX_RADPS:
-        w_peak = _held_peak(gyr_norm, hold)
-        if w_peak > GYR_PEAK_MAX_RADPS:
-            raise _gyr_unit_error(w_peak, offset + int(np.argmax(gyr_norm > GYR_PEAK_MAX_RADPS)), path)
-        raise _corrupt("gyr", gyr_norm, GYR_MAX_RADPS, offset, path)
+    if gyr_norm.max() > GYR_PEAK_MAX_RADPS:
+        start = _first_held_start(gyr_norm, GYR_PEAK_MAX_RADPS, hold)
+        if start is not None:
+            raise _gyr_unit_error(offset + start, path)
+        if settled and gyr_norm[:settled].max() > GYR_MAX_RADPS:
+            raise _corrupt("gyr", gyr_norm[:settled], GYR_MAX_RADPS, offset, path)
     acc_norm = row_norms(acc) if acc_norm is None else acc_norm
     if acc_norm.max() > ACC_MAX_MPS2:
-        f = float(np.median(acc_norm))
+        f = float(np.median(acc_norm)) if acc_median is None else acc_median
         if not ACC_MEDIAN_BOUNDS_MPS2[0] <= f <= ACC_MEDIAN_BOUNDS_MPS2[1]:
             raise _acc_median_error(f, path)
         raise _corrupt("acc", acc_norm, ACC_MAX_MPS2, offset, path)
 
 
 def _corrupt(field: str, norm: NDArray[np.float64], bound: float, offset: int, path: str | None) -> InvalidInputError:
-    """The error of samples whose magnitude ``norm`` exceeds ``bound`` (SI): a corrupt record."""
-    beyond = norm > bound
-    i = int(np.argmax(beyond))
+    """The error of the first sample whose magnitude ``norm`` exceeds ``bound`` (SI): a corrupt record."""
+    i = int(np.argmax(norm > bound))
     if field == "acc":
         value, limit = f"{norm[i]:.3g} m/s^2 ({norm[i] / GRAVITY_MPS2:.3g} g)", f"{bound / GRAVITY_MPS2:g} g"
     else:
         value, limit = f"{norm[i]:.3g} rad/s ({np.degrees(norm[i]):.3g} deg/s)", f"{bound:g} rad/s"
     return InvalidInputError(
-        f"|{field}| = {value}, beyond what a foot-mounted IMU reads (bound {limit}; {int(beyond.sum())} sample(s) "
-        "beyond it, this the first): a corrupt record; remove or repair it",
+        f"|{field}| = {value}, beyond what a foot-mounted IMU reads (bound {limit}): a corrupt record; remove or "
+        "repair it",
         field=field,
         index=offset + i,
         path=path,
@@ -514,12 +537,11 @@ def _check_data(
     lo_a, hi_a = ACC_MEDIAN_BOUNDS_MPS2
     if not lo_a <= f <= hi_a:
         raise _acc_median_error(f, path)
-    hold = max(3, round(PEAK_HOLD_S * rate))
+    hold = peak_hold(rate)
     w_peak = _held_peak(gyr_norm, hold)
-    if w_peak > GYR_PEAK_MAX_RADPS:
-        raise _gyr_unit_error(w_peak, int(np.argmax(gyr_norm > GYR_PEAK_MAX_RADPS)), path)
-    # single absurd samples (a corrupt record): the median and the held peak do not see them
-    check_extremes(acc, gyr, path=path, hold=hold, acc_norm=acc_norm, gyr_norm=gyr_norm)
+    # a held peak beyond any gyroscope (deg/s read as rad/s), single absurd samples (a corrupt
+    # record: the median and the held peak do not see them)
+    check_extremes(acc, gyr, path=path, hold=hold, acc_median=f, acc_norm=acc_norm, gyr_norm=gyr_norm)
     n_moving = _count_beyond(acc_norm, f, ACC_MOVING_MPS2)
     moving = n_moving / len(acc_norm)
     # at least a swing's worth (0.2 s) of motion: a few rows of a test file are no walk

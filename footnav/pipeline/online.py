@@ -50,14 +50,14 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
-from footnav.nav.clock_sync import ClockMap
 from footnav.errors import CompositionError, DataQualityWarning, InvalidInputError, InvalidParameterError
 from footnav.fusion.independent import midpoint_path
-from footnav.pipeline.online_foot import FootStream
-from footnav.pipeline.online_joint import JointStream
-from footnav.pipeline.online_io import ClosedStep, FootUpdate, ForwardEstimate, as_chunk, empty_update
-from footnav.pipeline.result import PipelineResult
+from footnav.nav.clock_sync import ClockMap
 from footnav.nav.initial_alignment import bridged_gaps_message
+from footnav.pipeline.online_foot import FootStream
+from footnav.pipeline.online_io import ClosedStep, FootUpdate, ForwardEstimate, as_chunk, empty_update
+from footnav.pipeline.online_joint import JointStream
+from footnav.pipeline.result import PipelineResult
 from footnav.warning_log import recording, warn
 
 __all__ = ["COUPLED_ONLINE_FUSIONS", "OFFLINE_ONLY_FUSIONS", "ONLINE_FUSIONS", "ClosedStep", "FootUpdate", "ForwardEstimate", "OnlineStream", "OnlineUpdate"]
@@ -315,12 +315,12 @@ class OnlineStream:
                         try:
                             self._feed(f, *f.checks.finish())  # the samples held back for their neighbours
                             f.finish()
-                        except Exception as exc:  # noqa: BLE001 - kept with the foot's partial result
+                        except Exception as exc:
                             failures[f.foot] = exc
                     if self.joint is not None and not failures:
                         try:
                             self.joint.finish()
-                        except Exception as exc:  # noqa: BLE001
+                        except Exception as exc:
                             failures["both feet"] = exc
             finally:
                 self._note(caught)
@@ -328,14 +328,14 @@ class OnlineStream:
             self.last_update = self._update(final=True)
             try:
                 result = self._result() if self.keep else None
-            except Exception as exc:  # noqa: BLE001 - the fusion's result: each foot's own is still there
+            except Exception as exc:
                 failures["both feet"] = exc
             else:
                 self._outcome = (result, None)
                 return result
         try:  # what the end made final for the feet that could finish (the steps a live user sees)
             self.last_update = self._update(final=True)
-        except Exception:  # noqa: BLE001 - the error below says why the stream could not end whole
+        except Exception:
             self.last_update = OnlineUpdate(empty_update(None), None if self.n_feet == 1 else empty_update(None), [])
         error = self._incomplete(failures)
         self._outcome = (None, error)
@@ -401,7 +401,7 @@ class OnlineStream:
         for f in self.feet:
             try:
                 feet[f.foot] = f.trajectory() if f.n_out > 1 and f.filt is not None else None
-            except Exception:  # noqa: BLE001 - nothing of this foot can be made
+            except Exception:
                 feet[f.foot] = None
         partial = None
         if self.keep and feet.get("left") is not None:

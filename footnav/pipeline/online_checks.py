@@ -54,7 +54,7 @@ from footnav.types.imu_checks import (
 )
 from footnav.warning_log import warn
 
-__all__ = ["CHECK_WINDOW_MAX_S", "CHECK_WINDOW_S", "TIME_BASE_SAMPLES", "ChunkChecks", "MAX_GAP_WARNINGS"]
+__all__ = ["CHECK_WINDOW_MAX_S", "CHECK_WINDOW_S", "MAX_GAP_WARNINGS", "TIME_BASE_SAMPLES", "ChunkChecks"]
 
 #: Samples whose median interval decides the time base (a few tenths of a second at usual
 #: rates; enough for a median that one lost sample does not move).

@@ -315,7 +315,7 @@ class OnlineStream:
                         try:
                             self._feed(f, *f.checks.finish())  # the samples held back for their neighbours
                             f.finish()
-                        except Exception as exc:
+                        except Exception as exc:  # kept with the other foot's partial result
                             failures[f.foot] = exc
                     if self.joint is not None and not failures:
                         try:
@@ -328,14 +328,14 @@ class OnlineStream:
             self.last_update = self._update(final=True)
             try:
                 result = self._result() if self.keep else None
-            except Exception as exc:
+            except Exception as exc:  # the fusion's result: each foot's own is still there
                 failures["both feet"] = exc
             else:
                 self._outcome = (result, None)
                 return result
         try:  # what the end made final for the feet that could finish (the steps a live user sees)
             self.last_update = self._update(final=True)
-        except Exception:
+        except Exception:  # the error raised below says why the stream could not end whole
             self.last_update = OnlineUpdate(empty_update(None), None if self.n_feet == 1 else empty_update(None), [])
         error = self._incomplete(failures)
         self._outcome = (None, error)
@@ -401,7 +401,7 @@ class OnlineStream:
         for f in self.feet:
             try:
                 feet[f.foot] = f.trajectory() if f.n_out > 1 and f.filt is not None else None
-            except Exception:
+            except Exception:  # nothing of this foot can be made
                 feet[f.foot] = None
         partial = None
         if self.keep and feet.get("left") is not None:

@@ -376,10 +376,6 @@ def cmd_follow(args: argparse.Namespace) -> int:
         summary: dict = {"complete": complete, "ended_by": ended_by}
         if result is not None:
             result.meta["complete"], result.meta["ended_by"] = complete, ended_by
-            for foot in ("left", "right"):
-                path = getattr(args, foot)
-                if foot in result.meta["input"] and path not in (None, "-"):
-                    result.meta["input"][foot]["source"] = path
             summary |= {"left_path_length_m": result.left.path_length_m, "left_stances": result.stance_left.n_stances}
             if result.right is not None:
                 summary["right_path_length_m"] = result.right.path_length_m
@@ -410,9 +406,11 @@ def _push_good_rows(stream, chunks: dict):
                 raise
             first = first or exc
             keep = index - stream.stats()["received"][foot]
+            if keep >= len(chunks[foot][0]):  # not a sample of this chunk: nothing to cut it at
+                raise first from None
             if keep > 0:
                 chunks = {**chunks, foot: tuple(x[:keep] for x in chunks[foot])}
-            else:
+            else:  # a sample held back from an earlier chunk, or this chunk's first
                 chunks = {k: v for k, v in chunks.items() if k != foot}
             if not chunks:
                 raise first from None

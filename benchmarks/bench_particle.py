@@ -4,6 +4,7 @@ Run:  python benchmarks/bench_particle.py [--minutes 10] [--repeat 5]
       python benchmarks/bench_particle.py --accuracy [--seeds 5]     # accuracy instead of time
       python benchmarks/bench_particle.py --square [--seeds 5]       # paper vs footnav mode, cross-track
       python benchmarks/bench_particle.py --square --mirrored-yaw-rate 0 2e-4 5e-4 1e-3  # the paper's drift
+      python benchmarks/bench_particle.py --paper-speed [--repeat 5]  # paper mode's fusion alone, a 4-min walk
 
 The issue's target: the particle filter with 1000 particles adds < 20 % to the pipeline runtime.
 Prints the machine, then the warm best-of-``repeat`` runtime of the whole pipeline (threshold
@@ -40,7 +41,7 @@ import time
 import warnings
 
 import numpy as np
-from _common import WALK_SPEED_MPS  # benchmarks/_common.py (scripts run from benchmarks/)
+from _common import WALK_SPEED_MPS, best_of, cpu_name  # benchmarks/_common.py (scripts run from benchmarks/)
 
 import footnav
 from footnav.component import Fusion
@@ -162,6 +163,24 @@ def final_error(traj, truth) -> float:
     return float(np.linalg.norm(e))
 
 
+def paper_speed(repeat: int) -> None:
+    """Paper mode's fusion (Lee, Cho & Park 2022) alone, warm, on a 300 m straight walk: the
+    timing tests/fusion/test_particle_paper.py used to assert (under 5 s)."""
+    from footnav.estimators.ekf import EkfEstimator
+
+    rec = footnav.simulate("straight", seed=0, distance_m=300.0)
+    det = footnav.make_detector("threshold")
+    stances = det.detect(rec.left), det.detect(rec.right)
+
+    def fuse():
+        return ParticleFusion(mode="paper").fuse(EkfEstimator(), rec.left, stances[0], rec.right, stances[1])
+
+    fuse()  # compile
+    best, _ = best_of(fuse, repeat)
+    print(f"machine: {cpu_name()}, {os.cpu_count()} cores, Python {platform.python_version()}, footnav {footnav.__version__}")
+    print(f"paper mode, {rec.left.duration_s / 60:.1f} min two-foot walk: {best:.2f} s (best of {repeat})")
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--minutes", type=float, default=10.0)
@@ -174,7 +193,12 @@ def main() -> None:
                          "symmetric drift, Lee, Cho & Park 2022, Sec. 2.1), e.g. 0 2e-4 5e-4 1e-3")
     ap.add_argument("--laps", type=int, default=3, help="--square: laps of the square")
     ap.add_argument("--turn", choices=("ccw", "cw"), default="ccw", help="--square: left (ccw) or right turns")
+    ap.add_argument("--paper-speed", action="store_true",
+                    help="the paper mode's fusion alone on a ~4-minute straight walk (warm best of --repeat)")
     args = ap.parse_args()
+    if args.paper_speed:
+        paper_speed(args.repeat)
+        return
     if args.square:
         square(args.seeds, args.laps, tuple(args.mirrored_yaw_rate), args.turn)
         return

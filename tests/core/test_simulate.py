@@ -406,12 +406,10 @@ def test_bad_options_raise(args, kwargs, must_name):
         assert word in str(info.value)
 
 
-def test_long_walk_is_fast():
-    start = time.perf_counter()
+def test_an_hour_long_walk_is_simulated():
+    # its speed is measured by benchmarks/bench_simulate.py, not asserted here
     rec = simulate("straight", distance_m=4600.0)  # about an hour at 1.27 m/s
-    elapsed = time.perf_counter() - start
-    assert rec.left.duration_s > 3600.0
-    assert elapsed < 8.0
+    assert rec.left.duration_s > 3600.0 and rec.right.duration_s > 3600.0
 
 
 @pytest.mark.parametrize("rate", [100.0, 400.0])

@@ -125,14 +125,11 @@ def test_paper_mode_on_the_square_against_independent_feet():
     assert ours[:, 0].mean() < ind[:, 0].mean() + 0.1
 
 
-def test_paper_mode_runs_a_long_walk_in_seconds():
-    import time
-
+def test_paper_mode_runs_a_long_walk():
+    # its speed is measured by benchmarks/bench_particle.py --paper-speed, not asserted here
     rec = footnav.simulate("straight", seed=0, distance_m=300.0)  # ~4 min at 100 Hz
-    _fuse(ParticleFusion(mode="paper"), rec)  # compile
-    t0 = time.perf_counter()
-    _fuse(ParticleFusion(mode="paper"), rec)
-    assert time.perf_counter() - t0 < 5.0
+    fused = _fuse(ParticleFusion(mode="paper"), rec)
+    assert np.isfinite(fused.left.position).all() and fused.left.path_length_m > 250.0
 
 
 def test_unknown_mode_is_named():

@@ -85,8 +85,10 @@ def _empty() -> tuple[NDArray, NDArray, NDArray]:
     return np.empty(0), np.empty((0, 3)), np.empty((0, 3))
 
 
-def _join(*parts: tuple[NDArray, NDArray, NDArray]) -> tuple[NDArray, NDArray, NDArray]:
-    return tuple(np.concatenate([p[k] for p in parts]) for k in range(3))  # type: ignore[return-value]
+def _join(first: tuple[NDArray, NDArray, NDArray], then: tuple[NDArray, NDArray, NDArray]) -> tuple[NDArray, NDArray, NDArray]:
+    if not len(first[0]):  # the common case: nothing held back
+        return then
+    return tuple(np.concatenate((a, b)) for a, b in zip(first, then))  # type: ignore[return-value]
 
 
 class ChunkChecks:
@@ -122,6 +124,7 @@ class ChunkChecks:
         self._head: list[tuple[NDArray, NDArray, NDArray]] = []  # chunks until the window check ran
         self._tail = _empty()  # received, held back from the stream (see the class docstring)
         self._acc_median: float | None = None  # of the checked window: the accelerometer's unit is settled
+        self._window_tried = -np.inf  # time of the newest sample at the last window check tried
         self._gap_warnings = 0
 
     @property
@@ -155,9 +158,12 @@ class ChunkChecks:
             return _empty(), pending
         dt = check_time_order(t, path=path, offset=n0, previous=self.t_last)
         n = n0 + len(t)
-        head = self._head + [(t, acc, gyr)] if not self.head_done else []
+
+        def head() -> list:  # every sample so far, until the window check ran (built when needed)
+            return self._head + [(t, acc, gyr)] if not self.head_done else []
+
         if pending.median_dt is None and n >= TIME_BASE_SAMPLES:
-            th = np.concatenate([h[0] for h in head])
+            th = np.concatenate([h[0] for h in head()])
             pending.median_dt = float(np.median(np.diff(th[:TIME_BASE_SAMPLES])))
             pending.findings += check_time_base(pending.median_dt, self.meta)
             # the intervals before the time base was known, this chunk's included
@@ -167,24 +173,28 @@ class ChunkChecks:
         joined = _join(self._tail, (t, acc, gyr))
         keep = self._extremes(joined, n - len(joined[0]), pending.median_dt, head, final=False)
         pending.tail = tuple(x[keep:] for x in joined)  # type: ignore[assignment]
-        if not self.head_done and pending.median_dt is not None:
-            pending.head_done, findings = self._window(head, pending.median_dt, final=False)
+        t_first = float(self._head[0][0][0]) if self._head else float(t[0])
+        if not self.head_done and pending.median_dt is not None and self._window_due(t_first, float(t[-1])):
+            pending.head_done, findings = self._window(head(), pending.median_dt, final=False)
             pending.findings += findings
         return tuple(x[:keep] for x in joined), pending  # type: ignore[return-value]
 
-    def _extremes(self, joined: tuple, offset: int, median_dt: float | None, head: list, final: bool) -> int:
-        """Check the samples not yet passed on for extremes; returns how many can pass on now."""
+    def _extremes(self, joined: tuple, offset: int, median_dt: float | None, head: Any, final: bool) -> int:
+        """Check the samples not yet passed on for extremes; returns how many can pass on now.
+        ``head()`` gives every sample received so far until the window check ran."""
         _, acc, gyr = joined
         gyr_norm = row_norms(gyr)
         hold = 3 if median_dt is None else peak_hold(1.0 / median_dt)
-        fast = gyr_norm > GYR_PEAK_MAX_RADPS
-        run = len(fast) - (int(np.flatnonzero(~fast)[-1]) + 1 if (~fast).any() else 0)  # trailing fast samples
-        keep = len(fast) if final or run >= hold else len(fast) - run
+        keep = len(gyr_norm)
+        if not final and gyr_norm[-1] > GYR_PEAK_MAX_RADPS:  # never in a walk: the trailing fast run
+            slow = np.flatnonzero(gyr_norm <= GYR_PEAK_MAX_RADPS)
+            run = len(gyr_norm) - (int(slow[-1]) + 1 if len(slow) else 0)
+            keep = len(gyr_norm) if run >= hold else len(gyr_norm) - run
         acc_median = self._acc_median
         if acc_median is None and len(acc) and row_norms(acc).max() > ACC_MAX_MPS2:
             # before the window check settled the unit: the median of everything received so far
-            received = np.concatenate([h[1] for h in head]) if head else acc  # head: every sample so far
-            acc_median = float(np.median(row_norms(received)))
+            received = head()
+            acc_median = float(np.median(row_norms(np.concatenate([h[1] for h in received]) if received else acc)))
         check_extremes(acc, gyr, path=self.path, offset=offset, hold=hold, settled=keep, acc_median=acc_median,
                        gyr_norm=gyr_norm)
         return keep
@@ -223,7 +233,7 @@ class ChunkChecks:
             self.median_dt = float(np.median(np.diff(th)))
             findings += check_time_base(self.median_dt, self.meta)
             gaps = find_gaps(np.diff(th), self.median_dt, 1)
-        self._extremes(self._tail, self.n - self.held_back, self.median_dt, self._head, final=True)
+        self._extremes(self._tail, self.n - self.held_back, self.median_dt, lambda: self._head, final=True)
         if not self.head_done:
             findings += self._window(self._head, self.median_dt, final=True)[1]
             self.head_done, self._head = True, []
@@ -236,6 +246,14 @@ class ChunkChecks:
         on the whole recording, as offline (findings not yet recorded are warned and recorded)."""
         findings = _check_data(imu.t, imu.acc, imu.gyr, self.meta, median_dt=self.median_dt, time_base=False)
         self._take([f for f in findings if f[0] not in self.records], [])
+
+    def _window_due(self, t_first: float, t_now: float) -> bool:
+        """Whether to try the window check now: once ``CHECK_WINDOW_S`` are in, then at most once per
+        second of data while the foot stands (each try reads the whole window)."""
+        if t_now - t_first < CHECK_WINDOW_S or t_now - self._window_tried < 1.0:
+            return False
+        self._window_tried = t_now
+        return True
 
     def _window(self, head: list, median_dt: float, final: bool) -> tuple[bool, list[tuple[str, Any, str]]]:
         """The unit, at-rest and saturation checks on the first seconds, once they are in."""

@@ -8,6 +8,7 @@ each removing one candidate cause, and prints per variant:
 * ``vrmse``: vertical RMSE against the truth (m; estimate interpolated to the truth's times,
   the best constant height offset removed); ``ate2``: 2-D rigidly aligned RMSE (m);
 * ``dz/stride``: median and mean of the height change from one stance's middle to the next;
+* the truth's vertical velocity at the detected stance starts (and 20 ms before, 20-100 ms after);
 * ``swing``/``stance``: the per-stride height change split into what the integration did between
   two stances and what changed within the stances (the filter's corrections: with
   ``smoother="none"`` the forward ZUPT corrections, with the smoother its redistribution).
@@ -135,6 +136,21 @@ def per_stride(traj) -> dict:
     }
 
 
+OFFSETS_S = (-0.02, 0.0, 0.02, 0.05, 0.1)
+
+
+def truth_vz_at_stance_start(imu, stance, truth) -> np.ndarray | None:
+    """The truth's vertical velocity (central difference over 20 ms) at the detected stance
+    starts plus ``OFFSETS_S``, medians over the stances after the first (m/s)."""
+    if truth is None or len(truth.t) < 10:
+        return None
+    ok = np.isfinite(truth.position[:, 2])
+    t, z = truth.t[ok], truth.position[ok, 2]
+    ts = imu.t[stance.intervals[1:, 0]]
+    h = 0.01
+    return np.array([np.median((np.interp(ts + o + h, t, z) - np.interp(ts + o - h, t, z)) / (2 * h)) for o in OFFSETS_S])
+
+
 def vertical_rmse(traj, truth) -> tuple[float, float]:
     """Vertical RMSE (best constant offset removed) and 2-D aligned ATE against the truth."""
     if truth is None or len(truth.t) < 10:
@@ -210,6 +226,9 @@ def main(argv=None) -> int:
             dg = g_rest - GRAVITY_MPS2
             ins = swing_ins(imu, run_variant(imu, stance, VARIANTS["fwd"]))
             print(f"{name[:28]:28s} {foot:5s} ins: v_z {ins['vz']:+.3f} m/s, dz {ins['dz'] * 1e3:+.1f} mm, -v_z T/2 {ins['pred'] * 1e3:+.1f} mm per stride (medians)")
+            tv = truth_vz_at_stance_start(imu, stance, truth)
+            if tv is not None:
+                print(f"{name[:28]:28s} {foot:5s} truth v_z at the detected stance start {OFFSETS_S} s: {np.round(tv, 3)} m/s (medians)")
             first = True
             for vname, spec in variants:
                 try:

@@ -8,6 +8,9 @@ each removing one candidate cause, and prints per variant:
 * ``vrmse``: vertical RMSE against the truth (m; estimate interpolated to the truth's times,
   the best constant height offset removed); ``ate2``: 2-D rigidly aligned RMSE (m);
 * ``dz/stride``: median and mean of the height change from one stance's middle to the next;
+* per stride, the default estimate's height error against the truth (flat without one) fitted to
+  the filter's spread of the vertical residual at the first ZUPT sample (-v_z T / 2), the pitch
+  a forward residual implies times the stride length, and the strapdown's own error;
 * the truth's vertical velocity at the detected stance starts (and 20 ms before, 20-100 ms after);
 * ``swing``/``stance``: the per-stride height change split into what the integration did between
   two stances and what changed within the stances (the filter's corrections: with
@@ -136,6 +139,45 @@ def per_stride(traj) -> dict:
     }
 
 
+def regression(imu, stance, truth, traj_fwd, traj) -> dict | None:
+    """Per stride (stance middle to the next), the height error of ``traj`` against the truth
+    (0 for a recording without height truth: flat) fitted by least squares to
+    ``a (-v_z T / 2) + b (v_fwd L / (g T)) + c (strapdown's own error) + d``: the filter's spread
+    of the vertical residual at the first ZUPT sample, the pitch a forward residual implies times
+    the stride length, and what the integration got wrong by itself over the swing."""
+    from footnav.nav.mechanization import strapdown
+    from footnav.types import ImuData
+
+    iv = stance.intervals
+    if len(iv) < 6:
+        return None
+    g0 = np.asarray(traj_fwd.meta.get("gyro_bias_radps", np.zeros(3)))
+    mid = (iv[:, 0] + iv[:, 1] - 1) // 2
+    if truth is not None and len(truth.t) > 10:
+        ok = np.isfinite(truth.position[:, 2])
+        zt = np.interp(imu.t[mid], truth.t[ok], truth.position[ok, 2])
+    else:
+        zt = np.zeros(len(mid))
+    rows = []
+    for k in range(1, len(iv) - 1):
+        a, b = int(iv[k, 1]) - 1, int(iv[k + 1, 0])
+        s = ImuData(t=imu.t[a : b + 1].copy(), acc=imu.acc[a : b + 1].copy(), gyr=imu.gyr[a : b + 1].copy())
+        _, v, p = strapdown(s, traj_fwd.quaternion[a], traj_fwd.velocity[a], traj_fwd.position[a], gyro_bias_radps=g0)
+        d = p[-1] - p[0]
+        length = float(np.linalg.norm(d[:2]))
+        if length < 0.05:
+            continue
+        u, dt = d[:2] / length, imu.t[b] - imu.t[a]
+        true_dz = zt[k + 1] - zt[k]
+        err = traj.position[mid[k + 1], 2] - traj.position[mid[k], 2] - true_dz
+        rows.append((err, -v[-1, 2] * dt / 2, (v[-1, :2] @ u) * length / (GRAVITY_MPS2 * dt), d[2] - true_dz))
+    r = np.array(rows)
+    x = np.column_stack([r[:, 1], r[:, 2], r[:, 3], np.ones(len(r))])
+    coef = np.linalg.lstsq(x, r[:, 0], rcond=None)[0]
+    r2 = 1.0 - np.sum((r[:, 0] - x @ coef) ** 2) / np.sum((r[:, 0] - r[:, 0].mean()) ** 2)
+    return {"n": len(r), "mean": r.mean(axis=0), "coef": coef, "r2": float(r2)}
+
+
 OFFSETS_S = (-0.02, 0.0, 0.02, 0.05, 0.1)
 
 
@@ -224,7 +266,16 @@ def main(argv=None) -> int:
             fs = 1.0 / np.median(np.diff(imu.t))
             g_rest, _, _ = at_rest_norm(imu, stance)
             dg = g_rest - GRAVITY_MPS2
-            ins = swing_ins(imu, run_variant(imu, stance, VARIANTS["fwd"]))
+            fwd = run_variant(imu, stance, VARIANTS["fwd"])
+            ins = swing_ins(imu, fwd)
+            reg = regression(imu, stance, truth, fwd, run_variant(imu, stance, VARIANTS["base"]))
+            if reg is not None:
+                m, c = reg["mean"] * 1e3, reg["coef"]
+                print(
+                    f"{name[:28]:28s} {foot:5s} per stride (mean, mm): error {m[0]:+.1f} = a x {m[1]:+.1f} (-v_z T/2) + b x {m[2]:+.1f} "
+                    f"(v_fwd L/(gT)) + c x {m[3]:+.1f} (strapdown's own) + d: a {c[0]:.2f} b {c[1]:.2f} c {c[2]:.2f} "
+                    f"d {c[3] * 1e3:+.1f} mm, R2 {reg['r2']:.2f} ({reg['n']} strides)"
+                )
             print(f"{name[:28]:28s} {foot:5s} ins: v_z {ins['vz']:+.3f} m/s, dz {ins['dz'] * 1e3:+.1f} mm, -v_z T/2 {ins['pred'] * 1e3:+.1f} mm per stride (medians)")
             tv = truth_vz_at_stance_start(imu, stance, truth)
             if tv is not None:

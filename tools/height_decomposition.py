@@ -32,6 +32,8 @@ Variants (each one change against the default ``make_pipeline()``):
 ``trim20``    every stance shortened by 20 ms at each end (ZUPT only while surely still);
 ``start50``, ``start100``  every stance's start delayed by 50 / 100 ms (the foot still settling);
 ``end50``     every stance's end advanced by 50 ms (heel already rising);
+``settle_acc=..`` (custom only) each stance's ZUPT starts where the foot has settled by its own data:
+              ||f| - g_rest| < settle_acc and |w| < settle_gyr (rad/s) for settle_w s, at most trim_frac in;
 ``<variant>`` more can be given on the command line as ``name:param=value+param=value``.
 
 Usage::
@@ -92,6 +94,26 @@ def trimmed(stance: StanceResult, n_start: int, n_end: int, frac: float = 1.0) -
         if b - a > n0 + n1 + 2:
             mask[a : a + n0] = False
             mask[b - n1 : b] = False
+    return replace(stance, mask=mask)
+
+
+def settled(imu, stance: StanceResult, acc_mps2: float, gyr_radps: float, window_s: float, frac: float) -> StanceResult:
+    """Every stance but the first starts where the foot has settled by its own data: the first
+    sample from which ``window_s`` of samples all have ||f| - g_rest| < acc_mps2 and |w| < gyr_radps
+    (g_rest: the first stance's still |f|), at most ``frac`` of the stance in."""
+    g_rest, _, _ = at_rest_norm(imu, stance)
+    ok = (np.abs(np.linalg.norm(imu.acc, axis=1) - g_rest) < acc_mps2) & (np.linalg.norm(imu.gyr, axis=1) < gyr_radps)
+    w = max(1, int(round(window_s / np.median(np.diff(imu.t)))))
+    run = np.convolve(ok.astype(int), np.ones(w, dtype=int))[w - 1 :]  # run[i] = ok[i-w+1..i].sum()
+    good = np.zeros(len(ok), dtype=bool)
+    good[: len(ok) - w + 1] = run[w - 1 :] == w  # ok[i..i+w-1] all
+    mask = stance.mask.copy()
+    for a, b in stance.intervals[1:]:
+        a, b = int(a), int(b)
+        cap = int(frac * (b - a))
+        first = np.flatnonzero(good[a : a + cap + 1])
+        n0 = int(first[0]) if len(first) else cap
+        mask[a : a + n0] = False
     return replace(stance, mask=mask)
 
 
@@ -215,6 +237,8 @@ def run_variant(imu, stance, spec: dict):
     if spec.get("gcal"):
         g_rest, _, _ = at_rest_norm(imu, stance)
         imu = replace(imu, acc=imu.acc * (GRAVITY_MPS2 / g_rest))
+    if spec.get("settle_acc"):
+        stance = settled(imu, stance, spec["settle_acc"], spec.get("settle_gyr", 0.5), spec.get("settle_w", 0.02), spec.get("trim_frac", 0.25))
     if spec.get("trim_s") or spec.get("trim_start_s") or spec.get("trim_end_s"):
         fs = 1.0 / np.median(np.diff(imu.t))
         n0 = int(round(spec.get("trim_start_s", spec.get("trim_s", 0.0)) * fs))
@@ -232,7 +256,7 @@ def parse_variant(text: str) -> tuple[str, dict]:
         k, v = kv.split("=")
         if k == "gcal":
             spec["gcal"] = v.lower() in ("1", "true")
-        elif k in ("trim_s", "trim_start_s", "trim_end_s", "trim_frac"):
+        elif k in ("trim_s", "trim_start_s", "trim_end_s", "trim_frac", "settle_acc", "settle_gyr", "settle_w"):
             spec[k] = float(v)
         else:
             spec["est"][k] = v.lower() == "true" if v.lower() in ("true", "false") else (float(v) if v.replace(".", "").replace("e-", "").replace("-", "").isdigit() else v)

@@ -103,7 +103,7 @@ def settled(imu, stance: StanceResult, acc_mps2: float, gyr_radps: float, window
     (g_rest: the first stance's still |f|), at most ``frac`` of the stance in."""
     g_rest, _, _ = at_rest_norm(imu, stance)
     ok = (np.abs(np.linalg.norm(imu.acc, axis=1) - g_rest) < acc_mps2) & (np.linalg.norm(imu.gyr, axis=1) < gyr_radps)
-    w = max(1, int(round(window_s / np.median(np.diff(imu.t)))))
+    w = max(1, round(float(window_s / np.median(np.diff(imu.t)))))
     run = np.convolve(ok.astype(int), np.ones(w, dtype=int))[w - 1 :]  # run[i] = ok[i-w+1..i].sum()
     good = np.zeros(len(ok), dtype=bool)
     good[: len(ok) - w + 1] = run[w - 1 :] == w  # ok[i..i+w-1] all
@@ -241,8 +241,8 @@ def run_variant(imu, stance, spec: dict):
         stance = settled(imu, stance, spec["settle_acc"], spec.get("settle_gyr", 0.5), spec.get("settle_w", 0.02), spec.get("trim_frac", 0.25))
     if spec.get("trim_s") or spec.get("trim_start_s") or spec.get("trim_end_s"):
         fs = 1.0 / np.median(np.diff(imu.t))
-        n0 = int(round(spec.get("trim_start_s", spec.get("trim_s", 0.0)) * fs))
-        n1 = int(round(spec.get("trim_end_s", spec.get("trim_s", 0.0)) * fs))
+        n0 = round(float(spec.get("trim_start_s", spec.get("trim_s", 0.0)) * fs))
+        n1 = round(float(spec.get("trim_end_s", spec.get("trim_s", 0.0)) * fs))
         stance = trimmed(stance, n0, n1, spec.get("trim_frac", 1.0))
     return est.estimate(imu, stance)
 
@@ -308,7 +308,7 @@ def main(argv=None) -> int:
             for vname, spec in variants:
                 try:
                     traj = run_variant(imu, stance, spec)
-                except Exception as exc:  # a variant that fails is reported, not fatal
+                except Exception as exc:  # noqa: BLE001 -- a variant that fails (any error of the run) is reported, the others still run
                     print(f"{name:28s} {foot:5s} {vname}: failed: {exc}")
                     continue
                 ps = per_stride(traj)

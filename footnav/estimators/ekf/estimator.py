@@ -298,7 +298,7 @@ class EkfEstimator(FootEstimator):
             return mask
         mask = mask.copy()
         rate = 1.0 / float(np.median(np.diff(imu.t)))
-        n0, n1 = int(round(self.zupt_start_delay_s * rate)), int(round(self.zupt_end_advance_s * rate))
+        n0, n1 = round(self.zupt_start_delay_s * rate), round(self.zupt_end_advance_s * rate)
         for a, b in stance.intervals[1:]:
             cap = int(self.zupt_edge_max_fraction * (b - a))
             mask[a : a + min(n0, cap)] = False

@@ -464,4 +464,9 @@ def check_online(pipeline: Any, feet: int) -> float:
         )
     if getattr(est, "closed_loop", False):
         raise CompositionError(f"estimator {est.name!r} with closed_loop=True is offline only: it needs the walk's end")
+    if getattr(est, "zupt_start_delay_s", 0.0) or getattr(est, "zupt_end_advance_s", 0.0):
+        raise CompositionError(
+            f"estimator {est.name!r} with zupt_start_delay_s or zupt_end_advance_s is offline only for now: "
+            "the stance's edges are cut on the whole mask before the run"
+        )
     return float(latency)

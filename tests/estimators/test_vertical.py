@@ -111,3 +111,54 @@ def test_forward_15_state_track_length():
         bias_states=True, smoother="none", gyr_bias_walk_radps2_sqrthz=1e-5, init_gyr_bias_std_radps=2e-4
     ).estimate(rec.left, stance)
     assert metrics.travelled_distance(matched.position, dims=2) == pytest.approx(length, rel=0.01)
+
+
+def _early_stance(mask, n):
+    """``mask`` with every stance but the first starting ``n`` samples early (the foot still descending)."""
+    from footnav.types.stance import stance_intervals
+
+    out = mask.copy()
+    for a, _ in stance_intervals(mask)[1:]:
+        out[max(a - n, 0) : a] = True
+    return out
+
+
+def test_an_early_stance_start_makes_a_level_walk_climb_and_the_zupt_start_delay_removes_it():
+    # docs/height.md: a zero-velocity update applied while the foot still descends is taken for a
+    # velocity error grown over the whole swing, and the footprint is raised by about v T / 2. On
+    # the simulator's exact truth a stance mask 40 ms early (the foot comes down at 0.2-0.5 m/s
+    # there) climbs 4.1 m on a 50 m level walk (measured); delaying the ZUPT by as much gives
+    # back the true mask's result exactly (-0.02 m, the sampling limit above)
+    rec = footnav.simulate("straight", seed=0, rate_hz=200.0, distance_m=50.0, noise=False)
+    truth = rec.truth_left
+    early = StanceResult(_early_stance(truth.stance, 8))
+    exact = _z_end_error(EkfEstimator().estimate(rec.left, StanceResult(truth.stance)), truth.position)
+    climbed = _z_end_error(EkfEstimator().estimate(rec.left, early), truth.position)
+    delayed_traj = EkfEstimator(zupt_start_delay_s=0.04).estimate(rec.left, early)
+    delayed = _z_end_error(delayed_traj, truth.position)
+    assert abs(exact) < 0.05
+    assert climbed > 2.0
+    assert abs(delayed - exact) < 0.005
+    # the outputs' steps are still the detector's stances
+    assert np.array_equal(delayed_traj.steps, early.intervals)
+
+
+def test_zupt_edges_keep_the_middle_of_short_stances():
+    # a 40 ms stance at 200 Hz (8 samples) loses at most a quarter of itself at each edge
+    mask = np.zeros(200, dtype=bool)
+    mask[0:40] = True
+    mask[100:108] = True
+    est = EkfEstimator(zupt_start_delay_s=0.1, zupt_end_advance_s=0.1)
+    imu = ImuData(t=np.arange(200) / 200.0, acc=np.tile([0.0, 0.0, GRAVITY_MPS2], (200, 1)), gyr=np.zeros((200, 3)))
+    zupt = est._zupt_mask(imu, StanceResult(mask))
+    assert zupt[0:40].all()  # the first stance aligns the filter: whole
+    assert np.flatnonzero(zupt[100:108]).tolist() == [2, 3, 4, 5]
+    assert not zupt[40:100].any() and not zupt[108:].any()
+
+
+def test_zupt_edges_are_refused_online():
+    from footnav.errors import CompositionError
+
+    pipe = footnav.make_pipeline("threshold", "ekf", estimator_params={"smoother": "step", "zupt_start_delay_s": 0.05})
+    with pytest.raises(CompositionError, match="zupt_start_delay_s"):
+        pipe.online(feet=1)

@@ -115,6 +115,18 @@ class EkfEstimator(FootEstimator):
     yaw_bias_walk_radps2_sqrthz : float
         Random walk of the gyro bias about the vertical, which no zero-velocity update observes,
         rad/s^2/sqrt(Hz): the consumer MEMS grade of the simulator's default sensor.
+    zupt_start_delay_s, zupt_end_advance_s : float
+        The zero-velocity update begins this long after each detected stance's start and ends
+        this long before its end, s (0: the whole stance, the default). Not the first stance,
+        which aligns the filter. A detector declares stance while the foot still settles (on the
+        shared recordings the VICON foot still descends at 0.02-0.05 m/s at the detected start of a
+        walking stance) and keeps it while the heel already rises; the filter takes that real
+        motion for an error grown over the whole swing and moves the footprint by about
+        v T_swing / 2: the height drift of flat walks (docs/height.md). The stance's outputs
+        (``steps``) are the detector's still.
+    zupt_edge_max_fraction : float
+        Neither edge takes more than this fraction of a stance (short running stances keep their
+        middle), in (0, 0.5).
 
     Examples
     --------
@@ -147,6 +159,9 @@ class EkfEstimator(FootEstimator):
         closed_loop_std_m: float = 0.01,
         heading_drift_in_std: bool = True,
         yaw_bias_walk_radps2_sqrthz: float = 1e-5,
+        zupt_start_delay_s: float = 0.0,
+        zupt_end_advance_s: float = 0.0,
+        zupt_edge_max_fraction: float = 0.25,
     ) -> None:
         self.acc_noise_mps2_sqrthz = acc_noise_mps2_sqrthz
         self.gyr_noise_radps_sqrthz = gyr_noise_radps_sqrthz
@@ -168,6 +183,9 @@ class EkfEstimator(FootEstimator):
         self.closed_loop_std_m = closed_loop_std_m
         self.heading_drift_in_std = heading_drift_in_std
         self.yaw_bias_walk_radps2_sqrthz = yaw_bias_walk_radps2_sqrthz
+        self.zupt_start_delay_s = zupt_start_delay_s
+        self.zupt_end_advance_s = zupt_end_advance_s
+        self.zupt_edge_max_fraction = zupt_edge_max_fraction
 
     def validate_params(self) -> None:
         # Upper bounds (footnav.component): every std and noise density is squared into the
@@ -187,6 +205,8 @@ class EkfEstimator(FootEstimator):
         require_non_negative(self, "zaru_std_radps", "yaw_bias_walk_radps2_sqrthz", high=MAX_RATE_RADPS)
         # a cap, not an allocation; 1 TB keeps the MB -> bytes conversion far from overflow
         require_non_negative(self, "smoother_cache_mb", high=1e6)
+        require_non_negative(self, "zupt_start_delay_s", "zupt_end_advance_s", high=MAX_LENGTH_M)  # s: any finite span
+        require(0.0 < self.zupt_edge_max_fraction < 0.5, self, "zupt_edge_max_fraction", "in (0, 0.5)")
         require(self.heading in ("first-step", "sensor"), self, "heading", "'first-step' or 'sensor'")
         require(self.gyro_bias in ("initial-standstill", "none"), self, "gyro_bias", "'initial-standstill' or 'none'")
         require(isinstance(self.bias_states, (bool, np.bool_)), self, "bias_states", "True or False")
@@ -260,7 +280,7 @@ class EkfEstimator(FootEstimator):
         )
         filt = InsFilter(
             [imu.t for imu in imus], [imu.acc for imu in imus], [imu.gyr for imu in imus],
-            [np.asarray(st.mask, dtype=bool) for st in stances], starts, q0, p0, bg0,
+            [self._zupt_mask(imu, st) for imu, st in zip(imus, stances)], starts, q0, p0, bg0,
             np.array(cov0), noise, self.n_states,
         )
         filt.meta = metas
@@ -269,6 +289,21 @@ class EkfEstimator(FootEstimator):
         elif self.smoother == "whole":
             filt.segment_records = SegmentRecords(filt, float(self.smoother_cache_mb) * n_feet)
         return filt
+
+    def _zupt_mask(self, imu: ImuData, stance: StanceResult) -> NDArray[np.bool_]:
+        """The samples that get a zero-velocity update: the stance mask without each stance's
+        edges (``zupt_start_delay_s``, ``zupt_end_advance_s``; the first stance whole)."""
+        mask = np.asarray(stance.mask, dtype=bool)
+        if not (self.zupt_start_delay_s or self.zupt_end_advance_s) or len(imu.t) < 2:
+            return mask
+        mask = mask.copy()
+        rate = 1.0 / float(np.median(np.diff(imu.t)))
+        n0, n1 = round(self.zupt_start_delay_s * rate), round(self.zupt_end_advance_s * rate)
+        for a, b in stance.intervals[1:]:
+            cap = int(self.zupt_edge_max_fraction * (b - a))
+            mask[a : a + min(n0, cap)] = False
+            mask[b - min(n1, cap) : b] = False
+        return mask
 
     def _align(self, imu: ImuData, stance: StanceResult):
         """First stance phase -> (start index, Alignment, meta), checks and warnings included."""

@@ -38,7 +38,7 @@ Variants (each one change against the default ``make_pipeline()``):
 
 Usage::
 
-    FOOTNAV_DATA=/work/shared/data PYTHONPATH=$PWD python tools/height_decomposition.py [names...]
+    FOOTNAV_DATA=../shared/data PYTHONPATH=$PWD python tools/height_decomposition.py [names...]
         [--variants base,fwd,...] [--per-stride]
 """
 

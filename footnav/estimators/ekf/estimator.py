@@ -22,6 +22,7 @@ from footnav.nav import quaternion as quat
 from footnav.component import (
     MAX_ACC_MPS2,
     MAX_ANGLE_RAD,
+    MAX_DURATION_S,
     MAX_LENGTH_M,
     MAX_RATE_RADPS,
     MAX_SPEED_MPS,
@@ -205,7 +206,7 @@ class EkfEstimator(FootEstimator):
         require_non_negative(self, "zaru_std_radps", "yaw_bias_walk_radps2_sqrthz", high=MAX_RATE_RADPS)
         # a cap, not an allocation; 1 TB keeps the MB -> bytes conversion far from overflow
         require_non_negative(self, "smoother_cache_mb", high=1e6)
-        require_non_negative(self, "zupt_start_delay_s", "zupt_end_advance_s", high=MAX_LENGTH_M)  # s: any finite span
+        require_non_negative(self, "zupt_start_delay_s", "zupt_end_advance_s", high=MAX_DURATION_S)
         require(0.0 < self.zupt_edge_max_fraction < 0.5, self, "zupt_edge_max_fraction", "in (0, 0.5)")
         require(self.heading in ("first-step", "sensor"), self, "heading", "'first-step' or 'sensor'")
         require(self.gyro_bias in ("initial-standstill", "none"), self, "gyro_bias", "'initial-standstill' or 'none'")

@@ -16,7 +16,7 @@ import sys
 import warnings
 from collections.abc import Sequence
 
-from footnav.cli._common import EXIT_INTERNAL, EXIT_OK, EXIT_USAGE, REPORT_CSV_HEADER
+from footnav.cli._common import EXIT_INTERNAL, EXIT_OK, EXIT_USAGE, REPORT_CSV_HEADER, clip_text
 from footnav.cli._evaluate import cmd_compare_detectors, cmd_evaluate
 from footnav.cli._follow import FOLLOW_COLUMNS, cmd_follow
 from footnav.cli._parser import EPILOG_FOLLOW, EPILOG_RUN, build_parser
@@ -105,10 +105,7 @@ MAX_MESSAGE_CHARS = 1000
 
 def _one_message(text: object) -> str:
     """An error message as printed: at most ``MAX_MESSAGE_CHARS`` characters."""
-    text = str(text)
-    if len(text) <= MAX_MESSAGE_CHARS:
-        return text
-    return f"{text[:MAX_MESSAGE_CHARS]}... (message cut: {len(text)} characters)"
+    return clip_text(text, MAX_MESSAGE_CHARS)
 
 
 def _os_message(exc: OSError) -> str:

@@ -14,6 +14,13 @@ EXIT_OK, EXIT_INTERNAL, EXIT_USAGE = 0, 1, 2
 REPORT_CSV_HEADER = "recording,pipeline,foot,name,value,unit"
 
 
+def clip_text(text: object, limit: int = 80) -> str:
+    """``text`` for a message: at most ``limit`` characters of it, saying how long it was (a
+    garbled 50 MB line is quoted, not printed)."""
+    text = str(text)
+    return text if len(text) <= limit else f"{text[:limit]}... ({len(text)} characters)"
+
+
 def _format_table(header: Sequence[str], rows: Sequence[Sequence[object]], width: int | None = None) -> str:
     """A plain-text table; with ``width``, the last column wraps so that no line is wider."""
     cells = [[str(h) for h in header]] + [[_fmt(c) for c in r] for r in rows]

@@ -7,7 +7,7 @@ import argparse
 import sys
 from contextlib import ExitStack
 
-from footnav.cli._common import EXIT_INTERNAL, EXIT_OK, EXIT_USAGE, _claim_figure, _format_table
+from footnav.cli._common import EXIT_INTERNAL, EXIT_OK, EXIT_USAGE, _claim_figure, _format_table, clip_text
 from footnav.errors import FootnavError, InvalidInputError
 
 
@@ -20,12 +20,6 @@ def _scales() -> dict[str, dict[str, float]]:
 
 #: Columns of a followed CSV (footnav CSV: ``footnav simulate`` writes it); ``foot`` optional.
 FOLLOW_COLUMNS = ("t", "acc_x", "acc_y", "acc_z", "gyr_x", "gyr_y", "gyr_z")
-
-
-def _clip(text: str, limit: int = 80) -> str:
-    """``text`` for a message: at most ``limit`` characters of it (a garbled 50 MB line is quoted,
-    not printed)."""
-    return text if len(text) <= limit else f"{text[:limit]}... ({len(text)} characters)"
 
 
 class _FollowedCsv:
@@ -76,10 +70,10 @@ class _FollowedCsv:
                 if self.columns is not None:  # the rows read so far were converted with other units
                     raise self._error("a '# units:' line after the header or the rows; it must come before them")
 
-                self.file_units.update(_parse_units_comment(_clip(line, 400), self.name, self.line_no))
+                self.file_units.update(_parse_units_comment(clip_text(line, 400), self.name, self.line_no))
                 for key, unit in self.units_in.items():
                     if unit not in _scales()[key]:
-                        raise self._error(f"unknown {key} unit {_clip(unit)!r}; expected one of {sorted(_scales()[key])}")
+                        raise self._error(f"unknown {key} unit {clip_text(unit)!r}; expected one of {sorted(_scales()[key])}")
             return
         cells = [c.strip() for c in line.split(",")]
         if self.columns is None:
@@ -91,18 +85,18 @@ class _FollowedCsv:
                 self.columns = cells
                 missing = [c for c in FOLLOW_COLUMNS if c not in cells]
                 if missing:
-                    raise self._error(f"no column(s) {', '.join(missing)} in the header {_clip(line)!r}")
+                    raise self._error(f"no column(s) {', '.join(missing)} in the header {clip_text(line)!r}")
                 return
         if len(cells) != len(self.columns):
-            raise self._error(f"{len(cells)} values, expected {len(self.columns)} ({','.join(self.columns)}): {_clip(line)!r}")
+            raise self._error(f"{len(cells)} values, expected {len(self.columns)} ({','.join(self.columns)}): {clip_text(line)!r}")
         row = dict(zip(self.columns, cells))
         foot = row.get("foot", "left")
         if foot not in ("left", "right"):
-            raise self._error(f"foot {_clip(foot)!r}; expected left or right")
+            raise self._error(f"foot {clip_text(foot)!r}; expected left or right")
         values = []
         for c in FOLLOW_COLUMNS:
             if not _number(row[c]):
-                raise self._error(f"column {c}: {_clip(row[c])!r} is not a number")
+                raise self._error(f"column {c}: {clip_text(row[c])!r} is not a number")
             values.append(float(row[c]))
         out.setdefault(foot, []).append(values)
 
@@ -383,10 +377,10 @@ def cmd_follow(args: argparse.Namespace) -> int:
             out = write_results(result, out_claim, force=args.force, summary=summary, pipeline_toml=pipeline.to_toml())
         else:
             out = _write_nothing_final(out_claim, summary, stream, pipeline.to_toml())
-    print(_format_table(("quantity", "value"), [(k, _clip(str(v), 200)) for k, v in summary.items()]))
+    print(_format_table(("quantity", "value"), [(k, clip_text(str(v), 200)) for k, v in summary.items()]))
     if code != EXIT_OK:
-        print(f"footnav follow: error: {_clip(ended_by, 600)}", file=sys.stderr)
-    print(("" if complete else _clip(ended_by, 200) + ": ") + f"results written to {out}" + ("" if complete else " (incomplete)"))
+        print(f"footnav follow: error: {clip_text(ended_by, 600)}", file=sys.stderr)
+    print(("" if complete else clip_text(ended_by, 200) + ": ") + f"results written to {out}" + ("" if complete else " (incomplete)"))
     return code
 
 

@@ -35,7 +35,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from footnav.errors import DataQualityWarning, InvalidInputError
+from footnav.errors import DataQualityWarning
 from footnav.types._arrays import _as_float_array
 from footnav.types._derived import row_norms
 from footnav.types.imu_checks import (
@@ -52,6 +52,7 @@ from footnav.types.imu_checks import (
     gap_message,
     peak_hold,
 )
+from footnav.types.sample_checks import check_same_rows
 from footnav.warning_log import warn
 
 __all__ = ["CHECK_WINDOW_MAX_S", "CHECK_WINDOW_S", "MAX_GAP_WARNINGS", "TIME_BASE_SAMPLES", "ChunkChecks"]
@@ -150,9 +151,7 @@ class ChunkChecks:
         t = _as_float_array(t, "t", None, path, offset=n0)
         acc = _as_float_array(acc, "acc", 3, path, offset=n0)
         gyr = _as_float_array(gyr, "gyr", 3, path, offset=n0)
-        for name, a in (("acc", acc), ("gyr", gyr)):
-            if len(a) != len(t):
-                raise _rows_error(name, len(a), len(t), path)
+        check_same_rows(len(t), {"acc": acc, "gyr": gyr}, path)
         pending = _Pending((t, acc, gyr), self._tail, self.median_dt)
         if len(t) == 0:
             return _empty(), pending
@@ -163,11 +162,8 @@ class ChunkChecks:
             return self._head + [(t, acc, gyr)] if not self.head_done else []
 
         if pending.median_dt is None and n >= TIME_BASE_SAMPLES:
-            th = np.concatenate([h[0] for h in head()])
-            pending.median_dt = float(np.median(np.diff(th[:TIME_BASE_SAMPLES])))
-            pending.findings += check_time_base(pending.median_dt, self.meta)
-            # the intervals before the time base was known, this chunk's included
-            pending.gaps = find_gaps(np.diff(th), pending.median_dt, 1)
+            pending.median_dt, findings, pending.gaps = self._time_base(head())
+            pending.findings += findings
         elif pending.median_dt is not None:  # dt[0] ends at sample n0 (it starts at the previous chunk's last)
             pending.gaps = find_gaps(dt, pending.median_dt, n0)
         joined = _join(self._tail, (t, acc, gyr))
@@ -178,6 +174,13 @@ class ChunkChecks:
             pending.head_done, findings = self._window(head(), pending.median_dt, final=False)
             pending.findings += findings
         return tuple(x[:keep] for x in joined), pending  # type: ignore[return-value]
+
+    def _time_base(self, head: list) -> tuple[float, list[tuple[str, Any, str]], list[tuple[int, float]]]:
+        """The median interval of the first ``TIME_BASE_SAMPLES`` samples (all, at an earlier end),
+        the time base's findings, and the gaps of every interval so far."""
+        t = np.concatenate([h[0] for h in head])
+        median_dt = float(np.median(np.diff(t[:TIME_BASE_SAMPLES])))
+        return median_dt, check_time_base(median_dt, self.meta), find_gaps(np.diff(t), median_dt, 1)
 
     def _extremes(self, joined: tuple, offset: int, median_dt: float | None, head: Any, final: bool) -> int:
         """Check the samples not yet passed on for extremes; returns how many can pass on now.
@@ -229,10 +232,7 @@ class ChunkChecks:
         findings: list[tuple[str, Any, str]] = []
         gaps: list[tuple[int, float]] = []
         if self.median_dt is None:
-            th = np.concatenate([h[0] for h in self._head])
-            self.median_dt = float(np.median(np.diff(th)))
-            findings += check_time_base(self.median_dt, self.meta)
-            gaps = find_gaps(np.diff(th), self.median_dt, 1)
+            self.median_dt, findings, gaps = self._time_base(self._head)
         self._extremes(self._tail, self.n - self.held_back, self.median_dt, lambda: self._head, final=True)
         if not self.head_done:
             findings += self._window(self._head, self.median_dt, final=True)[1]
@@ -280,7 +280,3 @@ class ChunkChecks:
                 self._gap_warnings += 1
                 more = "" if self._gap_warnings < MAX_GAP_WARNINGS else " (later gaps are recorded there without a word)"
                 warn(gap_message(self.label, gaps, self.median_dt) + more, DataQualityWarning, stacklevel=4)
-
-
-def _rows_error(name: str, rows: int, n: int, path: str | None) -> InvalidInputError:
-    return InvalidInputError(f"has {rows} samples but t has {n}; every array needs one row per sample", field=name, path=path)

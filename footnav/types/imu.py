@@ -13,6 +13,7 @@ from numpy.typing import NDArray
 from footnav.errors import DataQualityWarning, InvalidInputError
 from footnav.types._arrays import _as_float_array, _readonly
 from footnav.types.imu_checks import GAP_FACTOR, _check_data, check_time_order, find_gaps, gap_message
+from footnav.types.sample_checks import check_same_rows
 from footnav.types.units import _ACC_SCALE, _GYR_SCALE, _MAG_SCALE, _T_SCALE, _time_seconds
 from footnav.warning_log import warn
 
@@ -94,13 +95,7 @@ class ImuData:
         acc = _as_float_array(self.acc, "acc", 3, path)
         gyr = _as_float_array(self.gyr, "gyr", 3, path)
         mag = None if self.mag is None else _as_float_array(self.mag, "mag", 3, path)
-        for name, arr in (("acc", acc), ("gyr", gyr), ("mag", mag)):
-            if arr is not None and len(arr) != n:
-                raise InvalidInputError(
-                    f"has {len(arr)} samples but t has {n}; every array needs one row per sample",
-                    field=name,
-                    path=path,
-                )
+        check_same_rows(n, {"acc": acc, "gyr": gyr, "mag": mag}, path)
         dt = check_time_order(t, path=path)
         median_dt = float(np.median(dt))
         gaps = find_gaps(dt, median_dt)

@@ -19,6 +19,7 @@ __all__ = [
     "GYR_MAX_RADPS",
     "GYR_PEAK_MAX_RADPS",
     "check_extremes",
+    "check_same_rows",
     "check_time_order",
     "find_gaps",
     "gap_message",
@@ -43,6 +44,15 @@ GYR_MAX_RADPS = 100.0
 #: sample makes an interval of about 2 x the median, which time-stamp rounding puts on either side
 #: of 2.0; logger jitter without loss stays below ~1.75 x (pyshoe VICON trials: 8.6 ms at 5 ms).
 GAP_FACTOR = 1.9
+
+def check_same_rows(n: int, arrays: dict[str, NDArray | None], path: str | None = None) -> None:
+    """Refuse arrays (by field name; None skipped) whose row count is not ``n``, the samples of ``t``."""
+    for name, arr in arrays.items():
+        if arr is not None and len(arr) != n:
+            raise InvalidInputError(
+                f"has {len(arr)} samples but t has {n}; every array needs one row per sample", field=name, path=path
+            )
+
 
 def check_time_order(
     t: NDArray[np.float64], *, path: str | None = None, offset: int = 0, previous: float | None = None

@@ -22,7 +22,9 @@ mismatch would cause uncorrected, 0.5 (|f| - g) T_swing^2.
 
 Variants (each one change against the default ``make_pipeline()``):
 
-``base``      the default (9 states, whole-walk RTS smoother);
+``base``      the default filter (9 states, whole-walk RTS smoother) with its own height
+              (``vertical="free"``, as every variant but ``floors``: the subject of the decomposition);
+``floors``    the default pipeline: level strides held level (``vertical="floors"``);
 ``fwd``       ``smoother="none"``: the forward filter alone;
 ``gcal``      acc scaled by g / |f_rest| of the first standstill (= gravity set to the sensor's
               own at-rest reading, up to a common scale);
@@ -54,12 +56,14 @@ import numpy as np
 import footnav
 from footnav.analysis.metrics import rigid_align
 from footnav.data.datasets import dataset_names, load_dataset
+from footnav.nav.floors import hold_floors
 from footnav.types import GRAVITY_MPS2, StanceResult
 
 STILL_GYR_RADPS = 0.05  # the estimator's own still_gyr_max_radps default
 
 VARIANTS: dict[str, dict] = {
     "base": {},
+    "floors": {"est": {"vertical": "floors"}},
     "fwd": {"est": {"smoother": "none"}},
     "gcal": {"gcal": True},
     "acc2": {"est": {"acc_noise_mps2_sqrthz": 2.0}},
@@ -232,7 +236,7 @@ def vertical_rmse(traj, truth) -> tuple[float, float]:
 
 
 def run_variant(imu, stance, spec: dict):
-    est_params = dict(spec.get("est", {}))
+    est_params = {"vertical": "free", **spec.get("est", {})}
     est = footnav.make_pipeline(estimator_params=est_params).estimator
     if spec.get("gcal"):
         g_rest, _, _ = at_rest_norm(imu, stance)
@@ -244,7 +248,9 @@ def run_variant(imu, stance, spec: dict):
         n0 = round(float(spec.get("trim_start_s", spec.get("trim_s", 0.0)) * fs))
         n1 = round(float(spec.get("trim_end_s", spec.get("trim_s", 0.0)) * fs))
         stance = trimmed(stance, n0, n1, spec.get("trim_frac", 1.0))
-    return est.estimate(imu, stance)
+    traj = est.estimate(imu, stance)
+    # the pipeline holds level strides level after the estimator (vertical="floors", the default)
+    return hold_floors(traj, level_rise_max_m=est.level_rise_max_m) if est.vertical == "floors" else traj
 
 
 def parse_variant(text: str) -> tuple[str, dict]:

@@ -25,7 +25,9 @@ from footnav.errors import (
     InvalidParameterError,
     PluginError,
 )
+from footnav.nav.floors import hold_result_floors
 from footnav.nav.stance_check import check_stances
+from footnav.nav.vertical_check import check_vertical
 from footnav.pipeline.sync import ClockSync, recording_exchanges
 from footnav.pipeline.result import PipelineResult
 from footnav.types import FusionResult, ImuData, Recording, StanceResult
@@ -244,6 +246,27 @@ class Pipeline:
                 warn(check.message(foot, self.detector.name), DataQualityWarning, stacklevel=3)
         return out
 
+    def _hold_floors(self, fused: FusionResult) -> FusionResult:
+        """The estimator's vertical model on the final trajectories: with ``vertical="floors"``
+        (the ekf's default) level strides are held level (:func:`footnav.nav.floors.hold_floors`),
+        after the fusion so that every fusion, and the online stream, gets the same."""
+        if getattr(self.estimator, "vertical", "free") != "floors":
+            return fused
+        return hold_result_floors(fused, level_rise_max_m=self.estimator.level_rise_max_m)
+
+    def _check_vertical(self, left, right) -> dict[str, Any]:
+        """Each foot's height trend over its level strides (:mod:`footnav.nav.vertical_check`);
+        warns (DataQualityWarning) when it is a steady drift."""
+        out: dict[str, Any] = {}
+        for foot, traj in (("left", left), ("right", right)):
+            if traj is None:
+                continue
+            check = check_vertical(traj)
+            out[foot] = check.as_meta()
+            if check.suspicious:
+                warn(check.message(foot, self.estimator.name), DataQualityWarning, stacklevel=3)
+        return out
+
     def run(self, left: ImuData | Recording, right: ImuData | None = None) -> PipelineResult:
         """Detect stance, estimate each foot and fuse.
 
@@ -293,6 +316,8 @@ class Pipeline:
             with self._blame(self.fusion, self.estimator):
                 fused = self.fusion.fuse(self.estimator, left, stance_left, right, stance_right)
             self._check_fused_output(fused, left, right)
+            fused = self._hold_floors(fused)
+            vertical_checks = self._check_vertical(fused.left, fused.right)
         from footnav._version import __version__
 
         meta = {
@@ -300,6 +325,7 @@ class Pipeline:
             "footnav_version": __version__,
             "warnings": [str(w) for w in caught],
             "stance_check": stance_checks,
+            "vertical_check": vertical_checks,
             # what the fusion computed (update counts, fitted values, suspended turns, the span)
             "fusion": copy.deepcopy(dict(fused.meta)),
             **({} if synced is None else {"sync": synced.record()}),

@@ -47,17 +47,21 @@ from __future__ import annotations
 
 import time
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
+
+import numpy as np
 
 from footnav.errors import CompositionError, DataQualityWarning, InvalidInputError, InvalidParameterError
 from footnav.fusion.independent import midpoint_path
 from footnav.nav.clock_sync import ClockMap
+from footnav.nav.floors import FloorHolder
 from footnav.nav.initial_alignment import bridged_gaps_message
 from footnav.pipeline.online_foot import FootStream
 from footnav.pipeline.online_io import ClosedStep, FootUpdate, ForwardEstimate, as_chunk, empty_update
 from footnav.pipeline.online_joint import JointStream
 from footnav.pipeline.result import PipelineResult
+from footnav.types import FusionResult
 from footnav.warning_log import recording, warn
 
 __all__ = ["COUPLED_ONLINE_FUSIONS", "OFFLINE_ONLY_FUSIONS", "ONLINE_FUSIONS", "ClosedStep", "FootUpdate", "ForwardEstimate", "OnlineStream", "OnlineUpdate"]
@@ -177,6 +181,9 @@ class OnlineStream:
         #: both feet in the coupled fusion's joint filter (None for 'independent')
         self.joint = JointStream(self, self.feet) if pipeline.fusion.name not in ONLINE_FUSIONS else None
         self._held: list[ClosedStep] = []
+        est = pipeline.estimator
+        #: each foot's live height hold (the estimator's ``vertical="floors"``), as offline
+        self._floors = [FloorHolder(est.level_rise_max_m) for _ in self.feet] if getattr(est, "vertical", "free") == "floors" else None
         self._closed = False
         #: the exception that ended the stream inside a push (a component's failure), if any
         self.failure: BaseException | None = None
@@ -267,6 +274,8 @@ class OnlineStream:
         else:
             sources = self.joint.feet
             updates = self.joint.take(final)
+        if self._floors is not None:
+            updates = [_hold(h, u, src, final) for h, u, src in zip(self._floors, updates, sources)]
         for f in sources:
             self._held.extend(f.steps.pending)
             f.steps.pending.clear()
@@ -286,6 +295,8 @@ class OnlineStream:
                 else:
                     keep.append(step)
             self._held = keep
+        if self._floors is not None:
+            released = [_held_step(self._floors[_FEET.index(s.foot)], s) for s in released]
         return OnlineUpdate(updates[0], updates[1] if self.n_feet == 2 else None, released)
 
     def close(self) -> PipelineResult | None:
@@ -371,8 +382,16 @@ class OnlineStream:
                 finally:
                     self._note(caught)
             left, right, path, fusion_meta = fused.left, fused.right, fused.path, dict(fused.meta)
+        held = self.pipeline._hold_floors(FusionResult(left, right, path, fusion_meta))
+        left, right, path = held.left, held.right, held.path
+        with recording() as caught:
+            try:
+                vertical_check = self.pipeline._check_vertical(left, right)
+            finally:
+                self._note(caught)
         meta = self._meta(fusion_meta, complete=True, ended_by="close")
         meta["stance_check"] = stance_check
+        meta["vertical_check"] = vertical_check
         return PipelineResult(left=left, right=right, path=path, stance_left=trajs[0][1],
                               stance_right=trajs[1][1] if self.n_feet == 2 else None, meta=meta)
 
@@ -384,6 +403,7 @@ class OnlineStream:
             "footnav_version": __version__,
             "warnings": list(self.warnings),
             "stance_check": {},
+            "vertical_check": {},
             "fusion": fusion_meta,
             "runtime_s": self._push_s,
             "input": {foot.foot: {**foot.checks.meta, **foot.checks.records, "online": True, "samples": foot.input.end}
@@ -401,6 +421,9 @@ class OnlineStream:
         for f in self.feet:
             try:
                 feet[f.foot] = f.trajectory() if f.n_out > 1 and f.filt is not None else None
+                if feet[f.foot] is not None:
+                    traj, stance = feet[f.foot]
+                    feet[f.foot] = (self.pipeline._hold_floors(FusionResult(traj, None, midpoint_path(traj, None))).left, stance)
             except Exception:  # nothing of this foot can be made
                 feet[f.foot] = None
         partial = None
@@ -470,3 +493,24 @@ def check_online(pipeline: Any, feet: int) -> float:
             "the stance's edges are cut on the whole mask before the run"
         )
     return float(latency)
+
+
+def _hold(holder: FloorHolder, update: FootUpdate, source: Any, final: bool) -> FootUpdate:
+    """A foot's final samples with level strides held level (:class:`FloorHolder`): those whose
+    stride's next stance has ended; the rest wait for it (or for the end)."""
+    closed = bool(len(update.t)) and any(s.t == update.t[-1] for s in source.steps.pending)
+    rows = holder.push(update.t, update.position, update.velocity, update.quaternion, update.stance, closed=closed)
+    if final:
+        rows = tuple(np.concatenate([a, b]) for a, b in zip(rows, holder.flush()))
+    t, p, v, q, stance = rows
+    return FootUpdate(t, p, v, q, update.forward, stance)
+
+
+def _held_step(holder: FloorHolder, step: ClosedStep) -> ClosedStep:
+    """The step's footprint at the height its stance was held at."""
+    shift = holder.held_at.get(float(step.t))
+    if shift is None:
+        return step
+    pos = np.array(step.position, dtype=float)
+    pos[2] += shift
+    return replace(step, position=pos)

@@ -24,7 +24,8 @@ class PipelineResult:
 
     ``meta`` holds ``"pipeline"`` (the configuration, re-runnable with ``make_pipeline(**...)``),
     ``"footnav_version"``, ``"warnings"`` (the warnings :func:`footnav.warn` issued during this
-    run), ``"stance_check"`` (each foot's stances against its gait cycles), ``"fusion"`` (what the
+    run), ``"stance_check"`` (each foot's stances against its gait cycles), ``"vertical_check"``
+    (each foot's height trend over its level strides), ``"fusion"`` (what the
     fusion computed: its update counts, fitted values and suspended intervals, the feet's common
     span), ``"runtime_s"`` and ``"input"`` (the inputs' own meta).
     """

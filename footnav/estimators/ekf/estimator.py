@@ -32,6 +32,7 @@ from footnav.component import (
     require_positive,
 )
 from footnav.errors import InvalidParameterError
+from footnav.nav.floors import LEVEL_RISE_MAX_M
 from footnav.nav.heading import turn_to_first_step
 from footnav.nav.heading_drift import heading_drift_cov, standstill_rate_std
 from footnav.nav.initial_alignment import align_first_stance
@@ -128,6 +129,17 @@ class EkfEstimator(FootEstimator):
     zupt_edge_max_fraction : float
         Neither edge takes more than this fraction of a stance (short running stances keep their
         middle), in (0, 0.5).
+    vertical : {"floors", "free"}
+        "floors": a stride whose stance-to-stance rise is under ``level_rise_max_m`` is held
+        level, a larger rise (stairs) is kept, and the floors changed are counted
+        (:func:`footnav.nav.floors.hold_floors`; ``meta["vertical"]``). "free": the filter's
+        height as it is, which climbs a few cm per stride on flat walks (docs/height.md). The
+        :class:`footnav.Pipeline` applies it to its final trajectories (after the fusion,
+        offline and online alike); :meth:`estimate` called alone returns the filter's height.
+    level_rise_max_m : float
+        A stride rising or falling less than this is level, m (0.075: below one stair riser,
+        above the drift of 95 % of the shared walking strides; a ramp flatter than that per
+        stride is flattened).
 
     Examples
     --------
@@ -163,6 +175,8 @@ class EkfEstimator(FootEstimator):
         zupt_start_delay_s: float = 0.0,
         zupt_end_advance_s: float = 0.0,
         zupt_edge_max_fraction: float = 0.25,
+        vertical: Literal["floors", "free"] = "floors",
+        level_rise_max_m: float = LEVEL_RISE_MAX_M,
     ) -> None:
         self.acc_noise_mps2_sqrthz = acc_noise_mps2_sqrthz
         self.gyr_noise_radps_sqrthz = gyr_noise_radps_sqrthz
@@ -187,6 +201,8 @@ class EkfEstimator(FootEstimator):
         self.zupt_start_delay_s = zupt_start_delay_s
         self.zupt_end_advance_s = zupt_end_advance_s
         self.zupt_edge_max_fraction = zupt_edge_max_fraction
+        self.vertical = vertical
+        self.level_rise_max_m = level_rise_max_m
 
     def validate_params(self) -> None:
         # Upper bounds (footnav.component): every std and noise density is squared into the
@@ -208,6 +224,8 @@ class EkfEstimator(FootEstimator):
         require_non_negative(self, "smoother_cache_mb", high=1e6)
         require_non_negative(self, "zupt_start_delay_s", "zupt_end_advance_s", high=MAX_DURATION_S)
         require(0.0 < self.zupt_edge_max_fraction < 0.5, self, "zupt_edge_max_fraction", "in (0, 0.5)")
+        require_positive(self, "level_rise_max_m", high=MAX_LENGTH_M)
+        require(self.vertical in ("floors", "free"), self, "vertical", "'floors' or 'free'")
         require(self.heading in ("first-step", "sensor"), self, "heading", "'first-step' or 'sensor'")
         require(self.gyro_bias in ("initial-standstill", "none"), self, "gyro_bias", "'initial-standstill' or 'none'")
         require(isinstance(self.bias_states, (bool, np.bool_)), self, "bias_states", "True or False")

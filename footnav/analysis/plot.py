@@ -33,15 +33,19 @@ def _save(fig, path: FilePath, dpi: int) -> None:
 
 
 def plot_trajectories(result: PipelineResult, recording: Recording | None, path: str | FilePath) -> FilePath:
-    """Top view of each foot's estimate, rigidly aligned (2-D) onto its truth when there is one.
+    """Top view of each foot's estimate, rigidly aligned (2-D) onto its truth when there is one,
+    and beside it each foot's height over time.
 
     Each estimate's start is marked with a circle and its end with a square; with a truth, the
     legend gives each foot's 2-D ATE (RMSE after the alignment) and its end error (after aligning
     the start only, :func:`footnav.analysis.metrics.align_at_start`), the figures the demo prints.
+    The height panel shows the truth's height from the estimate's start height when there is one,
+    and in its legend each foot's climb, descent and floors changed (``meta["vertical"]``).
     Writes a PNG to ``path`` and returns it.
     """
-    fig, ax = plt.subplots(figsize=(8, 6), constrained_layout=True)
+    fig, (ax, ax_z) = plt.subplots(1, 2, figsize=(13, 6), width_ratios=(3, 2), constrained_layout=True)
     feet = [("left", result.left, "tab:blue"), ("right", result.right, "tab:red")]
+    _height_panel(ax_z, feet, recording)
     for foot, traj, color in feet:
         if traj is None:
             continue
@@ -74,6 +78,30 @@ def plot_trajectories(result: PipelineResult, recording: Recording | None, path:
     path = FilePath(path)
     _save(fig, path, 120)
     return path
+
+
+def _height_panel(ax, feet, recording: Recording | None) -> None:
+    """Each foot's height (m) over time (s), its truth's from the same start height."""
+    for foot, traj, color in feet:
+        if traj is None:
+            continue
+        truth = None if recording is None else getattr(recording, f"truth_{foot}")
+        if truth is not None and len(truth.t) > 1 and truth.frame != "footprints":
+            z0 = float(np.interp(truth.t[0], traj.t, traj.position[:, 2]))
+            ax.plot(truth.t, truth.position[:, 2] - truth.position[0, 2] + z0, color=color, lw=3, alpha=0.25, label=f"{foot} truth")
+        vertical = traj.meta.get("vertical")
+        label = f"{foot} estimate"
+        if vertical:
+            label += (
+                f": climb {vertical['climb_m']:.2f} m, descent {vertical['descent_m']:.2f} m, "
+                f"floors up {vertical['floors_up']}, down {vertical['floors_down']}"
+            )
+        ax.plot(traj.t, traj.position[:, 2], color=color, lw=1, label=label)
+    ax.set_xlabel("time (s)")
+    ax.set_ylabel("height z (m)")
+    ax.set_title("height")
+    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.1), fontsize="small")  # below: never over the data
+    ax.grid(True, alpha=0.3)
 
 
 def plot_steps(steps, path: str | FilePath, *, title: str = "") -> FilePath:

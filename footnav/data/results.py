@@ -55,7 +55,7 @@ def _strides_csv(result: PipelineResult) -> str:
         if traj is None or stance is None:
             continue
         for row in stride_parameters(traj, stance, foot=foot):
-            writer.writerow([row[c] if c in ("foot", "start_index", "end_index") else f"{row[c]:.9g}" for c in STRIDE_COLUMNS])
+            writer.writerow([row[c] if c in ("foot", "kind", "level", "start_index", "end_index") else f"{row[c]:.9g}" for c in STRIDE_COLUMNS])
     return buf.getvalue()
 
 

@@ -25,6 +25,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from footnav.nav import quaternion as quat
 from footnav.errors import InvalidInputError
+from footnav.nav.floors import LEVEL_RISE_MAX_M, floor_changes
 from footnav.types import FootTrajectory, StanceResult, stance_intervals
 
 __all__ = ["STRIDE_COLUMNS", "STRIDE_DTYPE", "mid_stances", "stride_parameters"]
@@ -43,6 +44,8 @@ STRIDE_COLUMNS = (
     "clearance_m",
     "elevation_m",
     "turn_rad",
+    "kind",
+    "level",
     "start_index",
     "end_index",
 )
@@ -50,8 +53,8 @@ STRIDE_COLUMNS = (
 #: numpy dtype of a stride table (the structured-array form of :func:`stride_parameters`).
 STRIDE_DTYPE = np.dtype(
     [("foot", "U5")]
-    + [(c, np.float64) for c in STRIDE_COLUMNS[1:-2]]
-    + [("start_index", np.int64), ("end_index", np.int64)]
+    + [(c, np.float64) for c in STRIDE_COLUMNS[1:-4]]
+    + [("kind", "U5"), ("level", np.int64), ("start_index", np.int64), ("end_index", np.int64)]
 )
 
 #: Steps per stride: a stride of one foot holds one step of each foot, so cadence (steps/min) =
@@ -151,6 +154,13 @@ def stride_parameters(
         ``turn_rad``
             Heading change between the two mid-stances, from the quaternions, wrapped to
             (-pi, pi]; positive to the left (counter-clockwise seen from above).
+        ``kind``
+            ``"stair"`` when ``|elevation_m|`` is at least the bound of a level stride (the
+            trajectory's ``meta["vertical"]["level_rise_max_m"]``, else
+            :data:`footnav.nav.floors.LEVEL_RISE_MAX_M`), else ``"level"``.
+        ``level``
+            Floor index at the stride's end: 0 at the first stride, +-1 per storey climbed or
+            descended (:func:`footnav.nav.floors.floor_changes`).
         ``start_index``, ``end_index``
             ``i0``, ``i1`` (samples of the trajectory).
 
@@ -196,6 +206,10 @@ def stride_parameters(
     out["cadence_spm"] = STEPS_PER_STRIDE * SECONDS_PER_MINUTE / out["duration_s"]
     out["elevation_m"] = pos[i1, 2] - pos[i0, 2]
     out["turn_rad"] = _turn(trajectory.quaternion[i0], trajectory.quaternion[i1])
+    bound = trajectory.meta.get("vertical", {}).get("level_rise_max_m", LEVEL_RISE_MAX_M)
+    stair = np.abs(out["elevation_m"]) >= bound
+    out["kind"] = np.where(stair, "stair", "level")
+    out["level"] = floor_changes(out["elevation_m"], stair)[0][1:]
     # swing time: the samples off stance between the two mid-stances, each dt long
     dt = np.diff(t, append=t[-1])
     swing_dt = np.where(mask, 0.0, dt)

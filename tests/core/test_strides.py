@@ -175,3 +175,39 @@ def test_gaitmap_example_stride_length_against_motion_capture(shared_data):
     # 56 strides; 5 cm is 3.6 % of a 1.4 m stride. A regression bound at 1.2x today's value, not
     # an independent figure: the gaitmap example publishes none for stride length
     assert np.mean(np.abs(pooled)) <= 0.05
+
+
+@pytest.mark.filterwarnings("ignore::footnav.DataQualityWarning")
+def test_stair_strides_are_marked_and_the_floor_index_follows_the_storey():
+    segments = [(2.8, 0.0), ("stairs", 12, 0.17), (2.8, 180.0), ("stairs", 12, -0.17), (2.8, 0.0)]
+    rec = footnav.simulate("path", seed=0, rate_hz=200.0, segments=segments)
+    result = footnav.make_pipeline().run(rec.left, rec.right)
+    table = result.strides()
+    for foot in ("left", "right"):
+        rows = table[table["foot"] == foot]
+        kind = np.asarray(rows["kind"])
+        stair = kind == "stair"
+        # a foot on the simulator's stairs climbs two risers a stride (0.34 m; one at either end of
+    # the flight), the rest is level
+        assert np.all(np.abs(np.asarray(rows["elevation_m"])[stair]) > 0.15), rows
+        assert np.all(np.abs(np.asarray(rows["elevation_m"])[~stair]) < 0.075)
+        assert 10 <= stair.sum() <= 14 and set(kind) == {"level", "stair"}
+        level = np.asarray(rows["level"])
+        assert level[0] == 0 and level.max() == 1 and level[-1] == 0  # up a storey and down again
+        assert np.all(level[np.asarray(rows["end_s"]) < 2.0] == 0)
+    assert "kind" in STRIDE_COLUMNS and "level" in STRIDE_COLUMNS
+
+
+def test_the_level_bound_of_the_trajectory_classifies_its_strides():
+    t = np.arange(0.0, 4.0, 0.01)
+    pos = np.zeros((len(t), 3))
+    pos[:, 0] = t
+    pos[:, 2] = np.where(t > 2.0, 0.05, 0.0)  # one 5 cm rise
+    mask = np.zeros(len(t), bool)
+    for a in (0, 100, 200, 300):
+        mask[a : a + 50] = True
+    traj = _trajectory(t, pos, np.tile([1.0, 0, 0, 0], (len(t), 1)))
+    assert list(stride_parameters(traj, mask)["kind"]) == ["level", "level", "level"]
+    strict = FootTrajectory(t=t, position=pos, velocity=traj.velocity, quaternion=traj.quaternion,
+                            position_std=traj.position_std, steps=traj.steps, meta={"vertical": {"level_rise_max_m": 0.04}})
+    assert list(stride_parameters(strict, mask)["kind"]) == ["level", "stair", "level"]

@@ -4,7 +4,8 @@ Every accuracy figure footnav reports comes from :func:`evaluate`. It computes e
 recording supports (see :mod:`footnav.analysis.metrics` for the definitions):
 
 * per foot: path length; with reference positions, the 2-D and 3-D absolute trajectory error
-  after rigid alignment (``ate_2d``, ``ate_3d``);
+  after rigid alignment (``ate_2d``, ``ate_3d``) and the vertical RMSE after removing the best
+  constant height offset (``height_rmse``);
   with reference stance, per-sample F1 and steps found / missed / false;
 * per foot, with footprint truth (``FootTruth.frame == "footprints"``, the gait-driven set):
   ``footprint_rmse`` and ``footprint_final_error`` (m) after one rigid 2-D fit, instead of the
@@ -18,7 +19,8 @@ recording supports (see :mod:`footnav.analysis.metrics` for the definitions):
   error the 2-D one), ``travelled_distance_error_percent`` (Li et al. 2018, Table 2),
   ``max_deviation_2d`` (Chistyakov et al. 2021, Table 2) and, where the truth marks waypoints
   (the simulator does), ``waypoint_error_mean`` / ``_max`` (Lee, Cho & Park 2022, Table 3);
-  for walks that return to their start ``loop_closure_2d`` / ``loop_closure_3d`` (m and %);
+  for walks that return to their start ``loop_closure_2d`` / ``loop_closure_3d`` (m and %) and the
+  end-to-start height change ``loop_closure_dz`` (m, signed);
 * both feet: the final foot separation E_s (Zhao et al. 2019, eq. 8, 3-D) and the DTW distance
   between the feet's tracks ``dtw_distance_feet`` (Chistyakov et al. 2021, Table 1);
 * over several recordings or seeds, :meth:`EvaluationReport.summary`: mean +- std of each;
@@ -367,6 +369,7 @@ def _foot_metrics(
         ref = truth.position[inside]
         out.append(("ate_2d", metrics.ate_rmse(est, ref, dims=2), "m"))
         out.append(("ate_3d", metrics.ate_rmse(est, ref, dims=3), "m"))
+        out.append(("height_rmse", metrics.height_rmse(est, ref), "m"))
         out.append(("reference_path_length", metrics.travelled_distance(ref, dims=2), "m"))
         if len(ref) >= 2:
             out += _paper_metrics(est, ref, truth)
@@ -375,6 +378,7 @@ def _foot_metrics(
             loop = metrics.loop_closure_error(traj.position, dims=dims)
             out.append((f"loop_closure_{dims}d", float(loop.error_m), "m"))
             out.append((f"loop_closure_{dims}d_percent", float(loop.error_percent), "%"))
+        out.append(("loop_closure_dz", float(traj.position[-1, 2] - traj.position[0, 2]), "m"))
     tolerance = max(1, round(0.1 * rate_hz))
     swings = labelled_swings(truth)
     if swings is not None:

@@ -21,6 +21,7 @@ from footnav.analysis.metrics import (
     final_position_error,
     final_separation,
     footprint_errors,
+    height_rmse,
     interpolate_positions,
     loop_closure_error,
     match_events,
@@ -574,3 +575,16 @@ def test_step_detection_f1_property_on_the_existing_function():
     res = step_detection(det, ref, tolerance_samples=2)
     # found 2 of 3 reference, 1 false: F1 = 2 * 2 / (3 + 3)
     assert res.f1 == pytest.approx(2 / 3)
+
+
+def test_height_rmse_ignores_a_constant_offset_and_the_plane():
+    ref = np.zeros((3, 3))
+    est = np.array([[5.0, 1.0, 1.0], [-2.0, 0.0, 2.0], [0.0, 7.0, 3.0]])
+    # d = 1, 2, 3 -> mean 2, residuals -1, 0, 1: sqrt(2 / 3)
+    assert height_rmse(est, ref) == pytest.approx(np.sqrt(2.0 / 3.0))
+    assert height_rmse(est + [0.0, 0.0, 10.0], ref) == pytest.approx(np.sqrt(2.0 / 3.0))
+    assert height_rmse(est[:, 2], ref[:, 2]) == pytest.approx(np.sqrt(2.0 / 3.0))
+    with pytest.raises(InvalidInputError):
+        height_rmse(est[:2], ref)
+    with pytest.raises(InvalidInputError, match="non-finite"):
+        height_rmse(np.array([0.0, np.nan, 1.0]), np.zeros(3))

@@ -11,7 +11,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from footnav.errors import InvalidInputError
 from footnav.analysis.metrics._alignment import rigid_align
-from footnav.analysis.metrics._checks import _check_dims, _percent, _point, _points, _readonly, _same_length
+from footnav.analysis.metrics._checks import _check_dims, _finite, _float64, _percent, _point, _points, _readonly, _same_length
 
 
 @dataclass(frozen=True)
@@ -107,6 +107,34 @@ def ate_rmse(estimate: ArrayLike, reference: ArrayLike, *, dims: int = 2, with_s
     ref = np.asarray(reference, dtype=np.float64)
     diff = res.aligned[:, :dims] - ref[:, :dims]
     return float(np.sqrt(np.mean(np.sum(diff**2, axis=1))))
+
+
+def height_rmse(estimate: ArrayLike, reference: ArrayLike) -> float:
+    """Vertical RMSE in m after removing the best constant height offset.
+
+    ``sqrt( (1/N) sum_i (d_i - mean(d))^2 )`` with ``d_i = z_est,i - z_ref,i``: the height error
+    that no choice of the start height removes (a climb that is not there, a flight of stairs
+    too short), whatever the plane does. Not rotated: z is up in both frames.
+
+    Parameters
+    ----------
+    estimate, reference
+        Corresponding positions in m, (N, 3), or heights (N,).
+
+    Returns
+    -------
+    float
+        RMSE in m.
+    """
+    est = _float64(estimate, "estimate")
+    ref = _float64(reference, "reference")
+    z_est = est[:, 2] if est.ndim == 2 else est
+    z_ref = ref[:, 2] if ref.ndim == 2 else ref
+    _same_length(z_est, z_ref, "estimate", "reference")
+    _finite(z_est, "estimate")
+    _finite(z_ref, "reference")
+    d = z_est - z_ref
+    return float(np.sqrt(np.mean((d - d.mean()) ** 2)))
 
 
 # ---------------------------------------------------------------------------------------------

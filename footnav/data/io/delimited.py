@@ -312,7 +312,8 @@ def read_delimited(
         stated: dict[str, str] = {}
         if header is not None:
             for group, idx in cols.items():
-                unit = _classify(header[idx[0]])[2]
+                m = _UNIT_IN_NAME.match(header[idx[0]].strip())
+                unit = m.group(2).strip() if m else _classify(header[idx[0]])[2]
                 if unit is not None and group in _HEADER_UNITS:
                     stated[group] = unit
         how = "as given"

@@ -8,6 +8,11 @@ read as the two-foot IPOL trial, not as a one-sensor Xsens export. The guess is 
 ``meta["format"]`` and ``meta["format_guessed"] = True``. A file matching no known format is an
 InvalidInputError listing the formats.
 
+A text table whose header names give the accelerometer and gyroscope columns (``AccX,...``,
+``acc_x,...``, ``Accelerometer X (g),...``) and that no named format claims is read by the generic
+``delimited`` reader (:mod:`footnav.data.io.delimited`); a file nothing recognises is refused
+with a one-line ``--format delimited --columns ...`` example built from its own header.
+
 A guess never invents a sampling rate: a headerless file of 6 numeric columns (the OpenShoe
 layout, no time column) is read as OpenShoe at 820 Hz only when its name says OpenShoe
 (``OpenShoeDataSet.txt``); otherwise ``load`` refuses it unless ``rate_hz`` is given. Devices,

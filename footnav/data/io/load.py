@@ -32,7 +32,7 @@ from footnav.errors import DataNotFoundError, InvalidInputError
 from footnav.data.io._text import check_file, split_header
 from footnav.data.io.azure_fgo import AZURE_FGO_FILES, read_azure_fgo
 from footnav.data.io.delimited import auto_columns, example_command, read_delimited, sniff_delimiter
-from footnav.data.io.footnav_csv import read_footnav_csv, read_footnav_folder, read_footnav_recording
+from footnav.data.io.footnav_csv import FOOTNAV_COLUMNS, read_footnav_csv, read_footnav_folder, read_footnav_recording
 from footnav.data.io.gaitdriven import GAITDRIVEN_VARIABLES, read_gaitdriven
 from footnav.data.io.gaitmap import read_gaitmap
 from footnav.data.io.ipol import ipol_trial_files, read_ipol
@@ -180,6 +180,8 @@ def guess_format(path: Any) -> tuple[str, str, dict[str, Any]]:
     if header.replace(" ", "").startswith("t,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z"):
         return "footnav_csv", "footnav CSV header 't,acc_x,...'", {}
     cells = split_header(header, sniff_delimiter(header))
+    if sniff_delimiter(header) == "," and set(FOOTNAV_COLUMNS) <= set(cells):
+        return "footnav_csv", "footnav CSV columns (t, acc_x, ..., gyr_z) in another order", {}
     if is_ximu_cal_header(cells):
         return "ximu_cal", "x-IMU CalInertialAndMag header 'Packet number,Gyroscope X (deg/s),...'", {}
     numeric = _is_numeric_row(first, 6)
@@ -262,7 +264,8 @@ def load(path: Any, format: str | None = None, **options: Any) -> Recording:
                 "no header and no time column: 6 numeric columns fit the OpenShoe layout (acc m/s^2, gyr rad/s), "
                 "but the file does not say its sampling rate, and a wrong rate scales every distance; pass it: "
                 f"load(path, rate_hz=100.0) (command line: --rate-hz 100), or format='openshoe' for the OpenShoe "
-                f"data set's {OPENSHOE_RATE_HZ:g} Hz",
+                f"data set's {OPENSHOE_RATE_HZ:g} Hz; other column layouts or units: format='delimited' with "
+                "columns=... (command line: --format delimited --columns acc=0:3,gyr=3:6 --rate-hz 100)",
                 path=str(p),
                 field="rate_hz",
             )

@@ -180,3 +180,17 @@ def test_cli_runs_plain_ximu_and_mapped_tables_with_flags_only(tmp_path, capsys)
     # --columns does not apply to a named format
     assert main(["run", "--left", str(ximu), "--columns", "acc=1:4,gyr=4:7", "--out", str(tmp_path / "d")]) == 2
     assert "--columns does not apply to ximu_cal" in capsys.readouterr().err
+
+
+def test_footnav_columns_in_another_order_stay_footnav_csv_and_headerless_tables_map_by_index(tmp_path):
+    p = tmp_path / "reordered.csv"
+    p.write_text("# units: t s, acc g, gyr deg/s\nacc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z,t\n"
+                 + "\n".join(r + f",{0.01 * i!r}" for i, r in enumerate(_g_rows(10))) + "\n")
+    assert guess_format(p)[0] == "footnav_csv"
+    np.testing.assert_allclose(load(p).left.gyr[2, 2], 1.0 * D2R)
+    q = tmp_path / "bare.txt"
+    q.write_text("\n".join(r.replace(",", " ") for r in _g_rows(10)) + "\n")
+    rec = load(q, format="delimited", rate_hz=200.0, acc_unit="g", gyr_unit="deg/s")
+    assert rec.left.meta["columns_found"].startswith("no header: 6 columns")
+    np.testing.assert_allclose(rec.left.t[-1], 9 / 200.0)
+    np.testing.assert_allclose(rec.left.acc[-1, 2], 1.009 * G)

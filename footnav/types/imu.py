@@ -253,12 +253,13 @@ class ImuData:
         """
         columns = [str(c) for c in getattr(frame, "columns", [])]
         source = units.pop("source", "DataFrame")
+        path = None if source == "DataFrame" else source  # errors name a file only when there is one
         has_t = bool(time_column) and time_column in columns
         if rate_hz is not None and has_t:
             raise InvalidInputError(
                 f"rate_hz={rate_hz!r} given, but the DataFrame has a time column {time_column!r}; give one of them "
                 "(time_column=None and rate_hz for data without time)",
-                field="rate_hz", path=source,
+                field="rate_hz", path=path,
             )
         if rate_hz is None and not has_t and _is_sample_numbers(getattr(frame, "index", None)):
             index = frame.index
@@ -266,7 +267,7 @@ class ImuData:
                 f"the DataFrame has no time column{f' {time_column!r}' if time_column else ''} and its index holds "
                 f"sample numbers ({type(index).__name__} {index[0]!r}..{index[-1]!r}, step 1), not times; pass the "
                 "sampling rate: ImuData.from_dataframe(frame, rate_hz=100.0) (t = row / rate_hz)",
-                field="rate_hz", path=source,
+                field="rate_hz", path=path,
             )
         needed = [f"{s}_{a}" for s in ("acc", "gyr") for a in "xyz"] + ([time_column] if time_column and rate_hz is None else [])
         missing = [c for c in needed if c not in columns]
@@ -275,7 +276,7 @@ class ImuData:
                 f"DataFrame lacks column(s) {missing}; it has {columns}. Expected {time_column or '(index)'}, "
                 "acc_x, acc_y, acc_z, gyr_x, gyr_y, gyr_z (optional mag_x..mag_z); without time stamps pass "
                 "rate_hz=...",
-                field=missing[0], path=source,
+                field=missing[0], path=path,
             )
         t = None if rate_hz is not None else (frame[time_column] if time_column else frame.index)
         mag_cols = [f"mag_{a}" for a in "xyz"]

@@ -21,6 +21,8 @@ EPILOG_RUN = """examples:
   footnav run --left walk.mat --out results/pyshoe
   footnav run --left L.csv --pipeline pipeline.toml --out results/walk1 --force
   footnav run --left L.csv --right R.csv --fusion step-vector --out results/walk1 --plot walk1.png
+  footnav run --left imu.csv --rate-hz 100 --acc-unit g --gyr-unit deg/s --out results/x   (header AccX,..,GyrZ, no time)
+  footnav run --left log.txt --format delimited --columns t=0,acc=1:4,gyr=4:7 --t-unit ms --out results/x
 """
 
 EPILOG_FOLLOW = """examples:
@@ -130,10 +132,17 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--left", required=True, help="left (or only) foot's recording, or a two-foot recording")
     p.add_argument("--right", help="right foot's recording")
     p.add_argument("--format", choices=list(READERS), help="the recordings' format (default: guessed from each file)")
-    p.add_argument("--acc-unit", choices=["m/s^2", "g"], help="accelerometer unit of a footnav CSV (default: its '# units:' line, else m/s^2)")
-    p.add_argument("--gyr-unit", choices=["rad/s", "deg/s"], help="gyroscope unit (footnav CSV, gaitmap)")
-    p.add_argument("--t-unit", choices=["s", "ms"], help="time unit of a footnav CSV (default s)")
-    p.add_argument("--rate-hz", type=_positive, help="sampling rate, Hz, for files without time stamps (e.g. headerless 6-column)")
+    p.add_argument("--acc-unit", choices=["m/s^2", "g"],
+                   help="accelerometer unit of a footnav CSV or delimited table (default: what the file says, else m/s^2)")
+    p.add_argument("--gyr-unit", choices=["rad/s", "deg/s"], help="gyroscope unit (footnav CSV, delimited, gaitmap; default rad/s)")
+    p.add_argument("--t-unit", choices=["s", "ms", "us"], help="time unit of a footnav CSV or delimited table (default s)")
+    p.add_argument("--rate-hz", type=_positive,
+                   help="sampling rate, Hz, for files without time stamps (delimited without a time column, "
+                        "headerless 6-column, ximu_cal: default 256)")
+    p.add_argument("--columns", metavar="SPEC",
+                   help="columns of a delimited table (--format delimited), by index or header name: "
+                        "t=0,acc=1:4,gyr=4:7 or acc=AccX,AccY,AccZ,gyr=GyrX,GyrY,GyrZ; groups t, counter, acc, gyr, mag "
+                        "(default: found from the header names)")
     p.add_argument("--drop-duplicates", action="store_true",
                    help="also drop rows that repeat a time stamp with different values (exact copies are always dropped; recorded)")
     p.add_argument("--pipeline", help="pipeline TOML file ([detector], [estimator], [fusion] tables, optional [sync])")

@@ -29,7 +29,7 @@ def _pipeline_from_args(args: argparse.Namespace):
 
 #: CLI flag -> reader option (footnav.data.io.load.reader_options says which reader takes which).
 READER_FLAGS = {"format": "--format", "acc_unit": "--acc-unit", "gyr_unit": "--gyr-unit", "t_unit": "--t-unit",
-                "rate_hz": "--rate-hz", "drop_duplicates": "--drop-duplicates"}
+                "rate_hz": "--rate-hz", "columns": "--columns", "drop_duplicates": "--drop-duplicates"}
 
 
 def _read_recording(path: str, args: argparse.Namespace):

@@ -114,11 +114,12 @@ class ImuData:
     @classmethod
     def from_arrays(
         cls,
-        t: Any,
-        acc: Any,
-        gyr: Any,
+        t: Any = None,
+        acc: Any = None,
+        gyr: Any = None,
         mag: Any = None,
         *,
+        rate_hz: float | None = None,
         acc_unit: str = "m/s^2",
         gyr_unit: str = "rad/s",
         t_unit: str = "s",
@@ -134,7 +135,11 @@ class ImuData:
         ----------
         t, acc, gyr, mag
             Time (N,), specific force (N, 3), angular rate (N, 3), optional magnetic field (N, 3).
-            pandas objects are accepted (converted with ``numpy.asarray``).
+            pandas objects are accepted (converted with ``numpy.asarray``). ``t`` may be left out
+            (None) when ``rate_hz`` is given.
+        rate_hz
+            Sampling rate (Hz) of data without time stamps: ``t = sample index / rate_hz``
+            (``meta["time_source"]`` says so). Give ``t`` or ``rate_hz``, not both.
         acc_unit
             ``"m/s^2"`` or ``"g"`` (1 g = ``GRAVITY_MPS2``).
         gyr_unit
@@ -167,6 +172,7 @@ class ImuData:
             time, and the errors of :meth:`check_units`.
         """
         meta = dict(meta or {})
+        t = _time_from_rate(t, acc, gyr, rate_hz, t_unit, meta)
         scales = {}
         for name, unit, table in (
             ("acc_unit", acc_unit, _ACC_SCALE),
@@ -234,28 +240,50 @@ class ImuData:
                 warn(message, DataQualityWarning, stacklevel=2)
 
     @classmethod
-    def from_dataframe(cls, frame: Any, *, time_column: str = "t", **units: Any) -> ImuData:
+    def from_dataframe(
+        cls, frame: Any, *, time_column: str | None = "t", rate_hz: float | None = None, **units: Any
+    ) -> ImuData:
         """Build from a pandas DataFrame with columns ``t, acc_x..acc_z, gyr_x..gyr_z`` (and
         ``mag_x..mag_z`` if present), in the units given as for :meth:`from_arrays`.
 
-        The time may also be the index (``time_column=None``). A missing column raises
-        InvalidInputError naming it and the columns there are.
+        The time may also be the index (``time_column=None``). Without time stamps give
+        ``rate_hz``: ``t = row / rate_hz``. An index of sample numbers (a RangeIndex, or integers
+        stepping by 1) is not a time: without a time column it is an error asking for
+        ``rate_hz``. A missing column raises InvalidInputError naming it and the columns there are.
         """
         columns = [str(c) for c in getattr(frame, "columns", [])]
-        needed = [f"{s}_{a}" for s in ("acc", "gyr") for a in "xyz"] + ([time_column] if time_column else [])
+        source = units.pop("source", "DataFrame")
+        path = None if source == "DataFrame" else source  # errors name a file only when there is one
+        has_t = bool(time_column) and time_column in columns
+        if rate_hz is not None and has_t:
+            raise InvalidInputError(
+                f"rate_hz={rate_hz!r} given, but the DataFrame has a time column {time_column!r}; give one of them "
+                "(time_column=None and rate_hz for data without time)",
+                field="rate_hz", path=path,
+            )
+        if rate_hz is None and not has_t and _is_sample_numbers(getattr(frame, "index", None)):
+            index = frame.index
+            raise InvalidInputError(
+                f"the DataFrame has no time column{f' {time_column!r}' if time_column else ''} and its index holds "
+                f"sample numbers ({type(index).__name__} {index[0]!r}..{index[-1]!r}, step 1), not times; pass the "
+                "sampling rate: ImuData.from_dataframe(frame, rate_hz=100.0) (t = row / rate_hz)",
+                field="rate_hz", path=path,
+            )
+        needed = [f"{s}_{a}" for s in ("acc", "gyr") for a in "xyz"] + ([time_column] if time_column and rate_hz is None else [])
         missing = [c for c in needed if c not in columns]
         if missing:
             raise InvalidInputError(
                 f"DataFrame lacks column(s) {missing}; it has {columns}. Expected {time_column or '(index)'}, "
-                "acc_x, acc_y, acc_z, gyr_x, gyr_y, gyr_z (optional mag_x..mag_z)",
-                field=missing[0],
+                "acc_x, acc_y, acc_z, gyr_x, gyr_y, gyr_z (optional mag_x..mag_z); without time stamps pass "
+                "rate_hz=...",
+                field=missing[0], path=path,
             )
-        t = frame[time_column] if time_column else frame.index
+        t = None if rate_hz is not None else (frame[time_column] if time_column else frame.index)
         mag_cols = [f"mag_{a}" for a in "xyz"]
         mag = frame[mag_cols] if all(c in columns for c in mag_cols) else None
         return cls.from_arrays(
             t, frame[[f"acc_{a}" for a in "xyz"]], frame[[f"gyr_{a}" for a in "xyz"]], mag,
-            meta={"source": units.pop("source", "DataFrame")}, **units,
+            rate_hz=rate_hz, meta={"source": source}, **units,
         )
 
     # -- views --------------------------------------------------------------------------------
@@ -318,3 +346,41 @@ class ImuData:
             + (f", source={src!r}" if src else "")
             + ")"
         )
+
+
+def _is_sample_numbers(index: Any) -> bool:
+    """Whether a DataFrame index holds sample numbers (integers stepping by 1), not times."""
+    if index is None or len(index) < 2:
+        return False
+    step = getattr(index, "step", None)  # a pandas RangeIndex
+    if step is not None:
+        return step == 1
+    arr = np.asarray(index)
+    return arr.dtype.kind in "iu" and bool((np.diff(arr) == 1).all())
+
+
+def _time_from_rate(t: Any, acc: Any, gyr: Any, rate_hz: float | None, t_unit: str, meta: dict[str, Any]) -> Any:
+    """``t`` as given, or ``sample index / rate_hz`` when the data have no time stamps."""
+    path = meta.get("source")
+    if acc is None or gyr is None:
+        raise InvalidInputError("acc and gyr are required", field="acc" if acc is None else "gyr", path=path)
+    if rate_hz is None:
+        if t is None:
+            raise InvalidInputError(
+                "no time: pass t (its unit as t_unit) or, for data without time stamps, the sampling rate rate_hz=...",
+                field="t", path=path,
+            )
+        return t
+    if t is not None:
+        raise InvalidInputError(f"give t or rate_hz={rate_hz!r}, not both", field="rate_hz", path=path)
+    try:
+        rate = float(rate_hz)
+    except (TypeError, ValueError):
+        rate = float("nan")
+    if not (np.isfinite(rate) and rate > 0):
+        raise InvalidInputError(f"rate_hz={rate_hz!r} is not a finite number > 0", field="rate_hz", path=path)
+    if t_unit != "s":
+        raise InvalidInputError(f"t_unit={t_unit!r} with rate_hz: there are no time stamps to have a unit", field="t_unit", path=path)
+    n = np.shape(acc)[0] if np.ndim(acc) >= 1 else 0
+    meta["time_source"] = f"sample index / {rate:g} Hz (no time stamps given)"
+    return np.arange(n) / rate

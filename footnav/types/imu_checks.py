@@ -302,6 +302,14 @@ def detect_clipping(
     }
 
 
+#: Time values stepping by exactly 1 are sample numbers far more often than milliseconds.
+_SAMPLE_NUMBER_HINT = (
+    "; the time values step by exactly 1: they look like sample numbers, not times; give the sampling rate "
+    "instead (ImuData.from_arrays(acc=..., gyr=..., rate_hz=100.0), from_dataframe(frame, rate_hz=...), "
+    "command line --rate-hz); only a 1 kHz logger's millisecond stamps step by 1 too (t_unit='ms')"
+)
+
+
 def _unit_hint(raw_dt: float) -> str:
     """Which time unit would make a median interval of ``raw_dt`` (in the file's numbers) a rate
     inside ``RATE_BOUNDS_HZ``."""
@@ -336,7 +344,7 @@ def check_time_base(median_dt: float, meta: Mapping[str, Any]) -> list[tuple[str
             f"implausible time base: median sampling interval {dt:.4g} s ({rate:.3g} Hz) with t in {t_unit}; "
             f"no foot-mounted IMU samples {'that slowly' if rate < RATE_ERROR_HZ[0] else 'that fast'} "
             f"(footnav is made for {RATE_BOUNDS_HZ[0]:g}-{RATE_BOUNDS_HZ[1]:g} Hz)"
-            + (_unit_hint(raw_dt) or "; check the time column's unit"),
+            + (_SAMPLE_NUMBER_HINT if raw_dt == 1.0 else (_unit_hint(raw_dt) or "; check the time column's unit")),
             field="t",
             path=path,
         )

@@ -20,6 +20,8 @@ pyshoe          :func:`read_pyshoe`                   one foot, Vicon truth, pro
 xsens           :func:`read_xsens`                    Xsens MTw ASCII export, one sensor
 ipol            :func:`read_ipol`                     both feet (Xsens), hand-checked swings
 gaitdriven      :func:`read_gaitdriven`               one foot, hand-marked footprints
+ximu_cal        :func:`read_ximu_cal`                 x-IMU CalInertialAndMag CSV, 256 Hz, mag
+delimited       :func:`read_delimited`                any delimited table, columns mapped
 =============== ===================================== =========================================
 
 :func:`load` guesses the format; :data:`READERS` maps the names to the readers.
@@ -28,6 +30,7 @@ gaitdriven      :func:`read_gaitdriven`               one foot, hand-marked foot
 from __future__ import annotations
 
 from footnav.data.io.azure_fgo import read_azure_fgo
+from footnav.data.io.delimited import read_delimited
 from footnav.data.io.footnav_csv import read_footnav_csv, read_footnav_recording, write_footnav_csv
 from footnav.data.io.gaitdriven import read_gaitdriven
 from footnav.data.io.gaitmap import read_gaitmap
@@ -37,6 +40,7 @@ from footnav.data.io.openshoe import read_openshoe
 from footnav.data.io.pyshoe import read_pyshoe
 from footnav.data.io.xio import read_xio
 from footnav.data.io.xsens import read_xsens
+from footnav.data.io.ximu import read_ximu_cal
 
 __all__ = [
     "read_footnav_csv",
@@ -50,6 +54,8 @@ __all__ = [
     "read_xsens",
     "read_ipol",
     "read_gaitdriven",
+    "read_ximu_cal",
+    "read_delimited",
     "load",
     "guess_format",
     "READERS",

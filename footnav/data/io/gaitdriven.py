@@ -8,7 +8,10 @@ one shoe, 200 Hz, hallway walks at paces from slow to fast.
 MATLAB file ``SensorConnectData_NN_LLIO.mat`` (``scipy.io.loadmat``) per trial:
 
 * ``imu_data`` N x 6: acc x, y, z (m/s^2) then gyro x, y, z (rad/s), sensor axes;
-* ``timestamps`` 1 x N: time in s (starts at 0, ~5 ms steps);
+* ``timestamps`` 1 x N: time in s (starts at 0, ~5 ms steps); in the other published layout
+  (the pyshoe re-annotation's ``*_LLIO.mat``) ``timestamps`` holds one time per stride (the
+  footprints' times, checked against the samples they name) and ``timestamps_all`` 1 x N the
+  per-sample times; both layouts give the same Recording (``meta["time_layout"]`` says which);
 * ``strideIndex`` 1 x K: the sample at which each stride ends (the foot on the ground);
 * ``GCP`` K x 2: that footprint's (x, y) in m, marked by hand on a 0.597 m floor-tile grid, the
   first footprint at the origin;
@@ -92,6 +95,61 @@ def _stride_index(mat: dict, n: int, src: str) -> NDArray[np.int64]:
     return idx
 
 
+def _sample_times(mat: dict, n: int, src: str) -> tuple[NDArray[np.float64], NDArray[np.float64] | None]:
+    """Per-sample times and (per-stride layout) the per-stride ones.
+
+    Two layouts are published: ``timestamps`` with one value per sample; or ``timestamps`` with
+    one value per stride (footprint) and ``timestamps_all`` with one per sample."""
+    ts = np.asarray(mat["timestamps"]).reshape(-1)
+    if len(ts) == n:
+        return ts.astype(np.float64), None
+    if "timestamps_all" not in mat:
+        raise InvalidInputError(
+            f"has {len(ts)} values, imu_data has {n} rows, and there is no timestamps_all (the per-sample times of "
+            "the layout whose timestamps are per stride)",
+            path=src,
+            field="timestamps",
+        )
+    per_sample = mat_vector(mat, "timestamps_all", n, src, rows_of="imu_data").astype(np.float64)
+    stride_ts = ts.astype(np.float64)
+    bad = ~np.isfinite(stride_ts)
+    if bad.any():
+        raise InvalidInputError("non-finite stride time", path=src, field="timestamps", index=int(np.argmax(bad)))
+    return per_sample, stride_ts
+
+
+def _index_of_times(stride_ts: NDArray[np.float64], ts: NDArray[np.float64], src: str) -> NDArray[np.int64]:
+    """Sample index nearest to each per-stride time (within half a sampling interval)."""
+    dt = float(np.median(np.diff(ts)))
+    j = np.clip(np.searchsorted(ts, stride_ts), 1, len(ts) - 1)
+    j = np.where(np.abs(ts[j - 1] - stride_ts) <= np.abs(ts[j] - stride_ts), j - 1, j)
+    off = np.abs(ts[j] - stride_ts) > 0.5 * dt
+    if off.any():
+        i = int(np.argmax(off))
+        raise InvalidInputError(
+            f"stride time {stride_ts[i]!r} s is no sample time of timestamps_all ({ts[0]!r} .. {ts[-1]!r} s)",
+            path=src, field="timestamps", index=i,
+        )
+    return j.astype(np.int64)
+
+
+def _check_stride_times(stride_ts: NDArray[np.float64], ts: NDArray[np.float64], idx: NDArray[np.int64], src: str) -> None:
+    """Per-stride times must be the times of the footprint samples (one per strideIndex)."""
+    if len(stride_ts) != len(idx):
+        raise InvalidInputError(
+            f"has {len(stride_ts)} values (per stride), strideIndex has {len(idx)}", path=src, field="timestamps"
+        )
+    dt = float(np.median(np.diff(ts)))
+    off = np.abs(ts[idx] - stride_ts) > 0.5 * dt
+    if off.any():
+        i = int(np.argmax(off))
+        raise InvalidInputError(
+            f"stride time {stride_ts[i]!r} s differs from timestamps_all[strideIndex[{i}]] = {ts[idx[i]]!r} s by more "
+            "than half a sampling interval",
+            path=src, field="timestamps", index=i,
+        )
+
+
 def read_gaitdriven(
     path: Any,
     *,
@@ -103,7 +161,8 @@ def read_gaitdriven(
     Parameters
     ----------
     path
-        The trial's ``SensorConnectData_NN_LLIO.mat``.
+        The trial's ``*_LLIO.mat`` (either time layout: ``timestamps`` per sample, or per stride
+        with ``timestamps_all`` per sample).
     drop_duplicates
         Drop samples repeating the previous time stamp (footprint indices are remapped); else
         they raise.
@@ -130,7 +189,7 @@ def read_gaitdriven(
     src = str(p)
     raw = mat_imu(mat, "imu_data", src)
     n = len(raw)
-    ts = mat_vector(mat, "timestamps", n, src, rows_of="imu_data").astype(np.float64)
+    ts, stride_ts = _sample_times(mat, n, src)
     imu, keep = build_imu(
         ts,
         raw[:, :3],
@@ -149,8 +208,15 @@ def read_gaitdriven(
     )
 
     truth = None
-    if "strideIndex" in mat and "GCP" in mat:
-        idx_file = _stride_index(mat, n, src)
+    if "GCP" in mat and ("strideIndex" in mat or stride_ts is not None):
+        if "strideIndex" in mat:
+            idx_file = _stride_index(mat, n, src)
+            index_source = "strideIndex"
+        else:  # per-stride layout without strideIndex: the sample at each footprint's time
+            idx_file = _index_of_times(stride_ts, ts, src)
+            index_source = "timestamps (per stride) matched to timestamps_all"
+        if stride_ts is not None:
+            _check_stride_times(stride_ts, ts, idx_file, src)
         gcp = np.asarray(mat["GCP"], dtype=np.float64)
         if gcp.shape != (len(idx_file), 2):
             raise InvalidInputError(
@@ -176,6 +242,9 @@ def read_gaitdriven(
                 "frame's; y negated for both",
             },
             "stride_index_base": 0,
+            "stride_index_source": index_source,
+            "time_layout": "timestamps per stride, timestamps_all per sample" if stride_ts is not None
+            else "timestamps per sample",
             "stride_index_file": idx_file,
             "gcp_as_stored": gcp,
             "reference": "Cetin & Koroglu, A Stride-Wise Annotated Mini-Dataset for Gait-Driven Learning-Based "

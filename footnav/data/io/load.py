@@ -8,6 +8,11 @@ read as the two-foot IPOL trial, not as a one-sensor Xsens export. The guess is 
 ``meta["format"]`` and ``meta["format_guessed"] = True``. A file matching no known format is an
 InvalidInputError listing the formats.
 
+A text table whose header names give the accelerometer and gyroscope columns (``AccX,...``,
+``acc_x,...``, ``Accelerometer X (g),...``) and that no named format claims is read by the generic
+``delimited`` reader (:mod:`footnav.data.io.delimited`); a file nothing recognises is refused
+with a one-line ``--format delimited --columns ...`` example built from its own header.
+
 A guess never invents a sampling rate: a headerless file of 6 numeric columns (the OpenShoe
 layout, no time column) is read as OpenShoe at 820 Hz only when its name says OpenShoe
 (``OpenShoeDataSet.txt``); otherwise ``load`` refuses it unless ``rate_hz`` is given. Devices,
@@ -24,9 +29,10 @@ from pathlib import Path as FilePath
 from typing import Any, Callable
 
 from footnav.errors import DataNotFoundError, InvalidInputError
-from footnav.data.io._text import check_file
+from footnav.data.io._text import check_file, split_header
 from footnav.data.io.azure_fgo import AZURE_FGO_FILES, read_azure_fgo
-from footnav.data.io.footnav_csv import read_footnav_csv, read_footnav_folder, read_footnav_recording
+from footnav.data.io.delimited import auto_columns, example_command, read_delimited, sniff_delimiter
+from footnav.data.io.footnav_csv import FOOTNAV_COLUMNS, read_footnav_csv, read_footnav_folder, read_footnav_recording
 from footnav.data.io.gaitdriven import GAITDRIVEN_VARIABLES, read_gaitdriven
 from footnav.data.io.gaitmap import read_gaitmap
 from footnav.data.io.ipol import ipol_trial_files, read_ipol
@@ -34,6 +40,7 @@ from footnav.data.io.openshoe import OPENSHOE_RATE_HZ, read_openshoe
 from footnav.data.io.pyshoe import read_pyshoe
 from footnav.data.io.xio import read_xio
 from footnav.data.io.xsens import read_xsens
+from footnav.data.io.ximu import is_ximu_cal_header, read_ximu_cal
 from footnav.types import Recording
 
 __all__ = ["load", "guess_format", "reader_options", "READERS"]
@@ -53,6 +60,8 @@ READERS: dict[str, Callable[..., Recording]] = {
     "xsens": read_xsens,
     "ipol": read_ipol,
     "gaitdriven": read_gaitdriven,
+    "ximu_cal": read_ximu_cal,
+    "delimited": read_delimited,
 }
 
 #: Lines read from the top of a text file to recognise it.
@@ -77,6 +86,14 @@ def _is_numeric_row(line: str, ncols: int) -> bool:
         return False
     try:
         [float(c) for c in cells]
+    except ValueError:
+        return False
+    return True
+
+
+def _is_float(text: str) -> bool:
+    try:
+        float(text)
     except ValueError:
         return False
     return True
@@ -162,15 +179,29 @@ def guess_format(path: Any) -> tuple[str, str, dict[str, Any]]:
     header = next((s.strip() for s in content if not s.lstrip().startswith("#")), "")
     if header.replace(" ", "").startswith("t,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z"):
         return "footnav_csv", "footnav CSV header 't,acc_x,...'", {}
-    if _is_numeric_row(first, 6):
+    cells = split_header(header, sniff_delimiter(header))
+    if sniff_delimiter(header) == "," and set(FOOTNAV_COLUMNS) <= set(cells):
+        return "footnav_csv", "footnav CSV columns (t, acc_x, ..., gyr_z) in another order", {}
+    if is_ximu_cal_header(cells):
+        return "ximu_cal", "x-IMU CalInertialAndMag header 'Packet number,Gyroscope X (deg/s),...'", {}
+    numeric = _is_numeric_row(first, 6)
+    if not numeric and {"acc", "gyr"} <= set(auto_columns(cells)[0]):
+        found = auto_columns(cells)[0]
+        return "delimited", (
+            f"header names give acc and gyr columns ({', '.join(cells[j] for j in found['acc'] + found['gyr'])})"
+        ), {}
+    if numeric:
         # No header and no time column: the layout fits OpenShoe, but nothing in the file gives the
         # rate, and a wrong rate scales every distance (a 100 Hz file read at 820 Hz: 20 m -> 0.2 m).
         # The OpenShoe rate is taken only when the file name says OpenShoe; else load() needs rate_hz.
         if "openshoe" in p.name.lower():
             return "openshoe", f"no header, 6 numeric columns, file name says OpenShoe: {OPENSHOE_RATE_HZ:g} Hz", {}
         return "openshoe", "no header, 6 numeric comma-separated columns (OpenShoe layout)", {"_needs_rate": True}
+    head = cells if not all(_is_float(c) for c in cells) else None
     raise InvalidInputError(
-        f"cannot tell the format from the first line {first[:80]!r}; known formats: {known}; pass format=... (command line: --format)",
+        f"cannot tell the format from the first line {first[:80]!r}; known formats: {known}; pass format=... "
+        "(command line: --format). Any delimited table reads as format 'delimited' with its columns mapped "
+        f"(docs/your-own-sensor.md), e.g.: {example_command(str(p), head, len(cells))}",
         path=str(p),
         line=1,
     )
@@ -199,7 +230,7 @@ def load(path: Any, format: str | None = None, **options: Any) -> Recording:
         present, ``mocap_sample.csv`` and ``stride_events_sample.csv``).
     format
         One of ``READERS`` (``footnav_csv``, ``gaitmap``, ``azure_fgo``, ``xio``, ``openshoe``,
-        ``pyshoe``, ``xsens``, ``ipol``, ``gaitdriven``) to force the reader; None guesses from
+        ``pyshoe``, ``xsens``, ``ipol``, ``gaitdriven``, ``ximu_cal``, ``delimited``) to force the reader; None guesses from
         the file.
     **options
         Passed to the reader (e.g. ``drop_duplicates=True``, ``rate_hz=...``).
@@ -233,7 +264,8 @@ def load(path: Any, format: str | None = None, **options: Any) -> Recording:
                 "no header and no time column: 6 numeric columns fit the OpenShoe layout (acc m/s^2, gyr rad/s), "
                 "but the file does not say its sampling rate, and a wrong rate scales every distance; pass it: "
                 f"load(path, rate_hz=100.0) (command line: --rate-hz 100), or format='openshoe' for the OpenShoe "
-                f"data set's {OPENSHOE_RATE_HZ:g} Hz",
+                f"data set's {OPENSHOE_RATE_HZ:g} Hz; other column layouts or units: format='delimited' with "
+                "columns=... (command line: --format delimited --columns acc=0:3,gyr=3:6 --rate-hz 100)",
                 path=str(p),
                 field="rate_hz",
             )

@@ -132,3 +132,45 @@ def test_real_mountings_differ_but_axes_are_kept(gd_dir):
     assert a.acc[:50, 0].mean() > 3.0 and b.acc[:50, 0].mean() < -3.0
     assert a.meta["body_rotation"]["applied"] is None
 
+
+
+def _mat_per_stride(path, n=400, with_stride_index=True, shift_s=0.0):
+    """The other published layout: ``timestamps`` per stride, ``timestamps_all`` per sample."""
+    rng = np.random.default_rng(1)
+    acc = np.array([4.0, 1.0, -np.sqrt(GRAVITY_MPS2**2 - 17.0)]) + 0.01 * rng.standard_normal((n, 3))
+    gyr = 0.01 * rng.standard_normal((n, 3))
+    t_all = np.arange(n) * 0.005
+    stride = np.array([50, 150, 250, n - 1])
+    gcp = np.array([[0.0, 0.0], [0.6, 0.1], [1.2, 0.2], [1.8, 0.3]])
+    mat = {"imu_data": np.hstack((acc, gyr)), "timestamps": (t_all[stride] + shift_s)[None, :],
+           "timestamps_all": t_all[None, :], "GCP": gcp}
+    if with_stride_index:
+        mat["strideIndex"] = stride[None, :]
+    savemat(path, mat)
+    return path
+
+
+@pytest.mark.parametrize("with_stride_index", [True, False])
+def test_per_stride_timestamps_layout_reads_as_the_other(tmp_path, with_stride_index):
+    p = _mat_per_stride(tmp_path / "walk_LLIO.mat", with_stride_index=with_stride_index)
+    assert guess_format(p)[0] == "gaitdriven"
+    rec = load(p)
+    assert len(rec.left) == 400
+    np.testing.assert_allclose(rec.left.t, np.arange(400) * 0.005)  # timestamps_all, per sample
+    t = rec.truth_left
+    np.testing.assert_array_equal(t.events["footprint"], [50, 150, 250, 399])
+    np.testing.assert_allclose(t.t, [0.25, 0.75, 1.25, 1.995])
+    # mirrored like the per-sample layout: y negated
+    np.testing.assert_allclose(t.position[:, :2], [[0, 0], [0.6, -0.1], [1.2, -0.2], [1.8, -0.3]])
+    assert t.meta["truth_conversion"]["mirror_y"] is True
+    assert t.meta["time_layout"].startswith("timestamps per stride")
+
+
+def test_per_stride_layout_errors_are_named(tmp_path):
+    p = _mat_per_stride(tmp_path / "a_LLIO.mat", shift_s=0.05)  # 10 samples off strideIndex
+    with pytest.raises(InvalidInputError, match=r"field 'timestamps', index 0.*differs"):
+        read_gaitdriven(p)
+    q = tmp_path / "b_LLIO.mat"
+    savemat(q, {"imu_data": np.zeros((40, 6)), "timestamps": np.zeros((1, 4))})
+    with pytest.raises(InvalidInputError, match=r"timestamps.*4 values.*timestamps_all"):
+        read_gaitdriven(q)

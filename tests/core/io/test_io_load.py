@@ -13,7 +13,7 @@ from footnav.errors import DataNotFoundError, DataQualityWarning, InvalidInputEr
 from footnav.data.io import READERS, load, write_footnav_csv
 from footnav.types import GRAVITY_MPS2, ImuData
 
-KNOWN = {"footnav_folder", "footnav_csv", "gaitmap", "azure_fgo", "xio", "openshoe", "pyshoe", "xsens", "ipol", "gaitdriven"}
+KNOWN = {"footnav_folder", "footnav_csv", "gaitmap", "azure_fgo", "xio", "openshoe", "pyshoe", "xsens", "ipol", "gaitdriven", "ximu_cal", "delimited"}
 
 
 def _rows(n, sep=",", first=lambda i: repr(i * 0.01)):
@@ -46,6 +46,18 @@ def _make(kind, tmp):
             "Accelerometer Y (g),Accelerometer Z (g)\n"
             + "\n".join(f"{i * 0.01!r},0.1,-0.2,0.3,0.01,-0.02,{1.0 + 0.001 * i!r}" for i in range(10)) + "\n"
         )
+        return p
+    if kind == "ximu_cal":
+        p = tmp / "CalInertialAndMag.csv"
+        p.write_text(
+            "Packet number,Gyroscope X (deg/s),Gyroscope Y (deg/s),Gyroscope Z (deg/s),Accelerometer X (g),"
+            "Accelerometer Y (g),Accelerometer Z (g),Magnetometer X (G),Magnetometer Y (G),Magnetometer Z (G)\n"
+            + "\n".join(f"{i + 1},0.1,-0.2,0.3,0.01,-0.02,{1.0 + 0.001 * i!r},0.3,-0.1,-0.4" for i in range(10)) + "\n"
+        )
+        return p
+    if kind == "delimited":
+        p = tmp / "export.csv"
+        p.write_text("time;AccX;AccY;AccZ;GyrX;GyrY;GyrZ\n" + "\n".join(_rows(10, ";")) + "\n")
         return p
     if kind == "xsens":
         p = tmp / "MT_0123.txt"

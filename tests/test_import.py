@@ -11,8 +11,11 @@ import sys
 
 import pytest
 
+from footnav._numba import LazyKernel, njit
+
 #: Modules (and their submodules) that ``import footnav`` must leave unloaded.
 NOT_AT_IMPORT = [
+    "numba",  # footnav._numba makes each kernel on first use
     "sklearn",
     "hmmlearn",
     "scipy.signal",
@@ -75,3 +78,61 @@ def test_an_unknown_name_is_an_attribute_error():
 
     with pytest.raises(AttributeError, match="no attribute 'nothing_here'"):
         footnav.nothing_here  # noqa: B018
+
+
+# Kernels made on first use (footnav._numba.LazyKernel); no cache: these live in the tests.
+@njit
+def _double(x):
+    return 2.0 * x
+
+
+@njit(inline="always")
+def _plus_one(x):
+    return x + 1.0
+
+
+@njit
+def _caller(x):
+    return _double(x) + _plus_one(x)
+
+
+@njit
+def _square(x):
+    return x * x
+
+
+@njit
+def _apply(f, x):
+    return f(x)
+
+
+def test_a_kernel_is_made_with_the_kernels_it_calls():
+    """Module globals (pytest's collection may have made these already, reading attributes)."""
+    assert _caller(1.0) == 4.0
+    assert not isinstance(globals()["_double"], LazyKernel)  # numba compiled against the dispatcher
+    assert _caller.signatures and _caller.py_func.__name__ == "_caller"  # the dispatcher's attributes
+
+
+def test_a_kernel_is_made_with_the_kernels_in_its_closure():
+    @njit
+    def double(x):
+        return 2.0 * x
+
+    @njit(inline="always")
+    def plus_one(x):
+        return x + 1.0
+
+    @njit
+    def caller(x):
+        """Doc."""
+        return double(x) + plus_one(x)
+
+    assert isinstance(caller, LazyKernel) and "not made yet" in repr(caller)
+    assert caller.__name__ == "caller" and caller.__doc__ == "Doc."  # without making it
+    assert "not made yet" in repr(caller)
+    assert caller(1.0) == 4.0
+    assert not any(isinstance(c.cell_contents, LazyKernel) for c in caller.py_func.__closure__)
+
+
+def test_a_kernel_passed_to_a_kernel():
+    assert _apply(_square, 3.0) == 9.0

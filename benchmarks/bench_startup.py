@@ -82,7 +82,7 @@ def main() -> None:
             cmd = [py, "-m", "footnav.cli", "run", "--left", path, "--out", str(Path(tmp) / "out"), "--force"]
             _wall(cmd)  # warmup: fills numba's cache when empty, and the OS's file cache
             name = "simulated minute, 100 Hz" if path.startswith(tmp) else Path(path).name
-            _show(f"footnav run ({name}, wall)", *_median(lambda: _wall(cmd), args.repeat))
+            _show(f"footnav run ({name}, wall)", *_median(lambda cmd=cmd: _wall(cmd), args.repeat))
 
 
 if __name__ == "__main__":

@@ -20,7 +20,7 @@ class Entry:
     :attr:`cls`, so that building the registry imports no component it does not use.
     """
 
-    __slots__ = ("kind", "name", "plugin", "origin", "_cls")
+    __slots__ = ("_cls", "kind", "name", "origin", "plugin")
 
     def __init__(self, kind: str, name: str, cls: Any, plugin: str, origin: str) -> None:
         self.kind, self.name, self.plugin, self.origin = kind, name, plugin, origin

@@ -49,16 +49,17 @@ from footnav.types import (
 )
 from footnav.plugins.hookspecs import hookimpl
 
-from footnav._version import __version__
-
 if TYPE_CHECKING:
+    from footnav._version import __version__
     from footnav.analysis.batch import evaluate_many
     from footnav.analysis.comparison import DetectorComparison, compare_detectors
     from footnav.analysis.evaluation import EvaluationReport, evaluate
 
 #: Public names loaded on first use (PEP 562): the analysis layer pulls in scipy.optimize and the
-#: metrics, which ``import footnav`` (and ``footnav run``) do not need.
+#: metrics, which ``import footnav`` (and ``footnav run``) do not need; the version reads the
+#: installed metadata (importlib.metadata, ~10 ms).
 _LAZY = {
+    "__version__": "footnav._version",
     "evaluate": "footnav.analysis.evaluation",
     "EvaluationReport": "footnav.analysis.evaluation",
     "evaluate_many": "footnav.analysis.batch",

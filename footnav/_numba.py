@@ -8,7 +8,7 @@ read-only installation run by a user without a writable home: containers, shared
 CI sandboxes) it raises ``RuntimeError: cannot cache function ...: no locator available`` while
 the module is being imported, so ``import footnav`` failed.
 
-:func:`njit` is ``numba.njit`` unchanged wherever numba finds a cache folder. Only where it
+:func:`njit` makes each kernel with ``numba.njit`` unchanged wherever numba finds a cache folder. Only where it
 finds none does it compile the kernel with a private cache folder in the system's temporary
 directory (``footnav-numba-cache-<uid>``, created mode 0700 and used only when it is a real
 folder owned by this user that nobody else can write), or, when there is no such folder, without

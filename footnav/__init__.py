@@ -9,6 +9,8 @@ The public API::
 
 from __future__ import annotations
 
+import importlib
+from typing import TYPE_CHECKING
 
 from footnav.component import FootEstimator, Fusion, StanceDetector
 from footnav.errors import (
@@ -24,9 +26,6 @@ from footnav.errors import (
     PluginWarning,
     UnknownComponentError,
 )
-from footnav.analysis.comparison import DetectorComparison, compare_detectors
-from footnav.analysis.batch import evaluate_many
-from footnav.analysis.evaluation import EvaluationReport, evaluate
 from footnav.warning_log import warn
 from footnav.pipeline.factory import (
     Pipeline,
@@ -50,7 +49,36 @@ from footnav.types import (
 )
 from footnav.plugins.hookspecs import hookimpl
 
-from footnav._version import __version__
+if TYPE_CHECKING:
+    from footnav._version import __version__
+    from footnav.analysis.batch import evaluate_many
+    from footnav.analysis.comparison import DetectorComparison, compare_detectors
+    from footnav.analysis.evaluation import EvaluationReport, evaluate
+
+#: Public names loaded on first use (PEP 562): the analysis layer pulls in scipy.optimize and the
+#: metrics, which ``import footnav`` (and ``footnav run``) do not need; the version reads the
+#: installed metadata (importlib.metadata, ~10 ms).
+_LAZY = {
+    "__version__": "footnav._version",
+    "evaluate": "footnav.analysis.evaluation",
+    "EvaluationReport": "footnav.analysis.evaluation",
+    "evaluate_many": "footnav.analysis.batch",
+    "compare_detectors": "footnav.analysis.comparison",
+    "DetectorComparison": "footnav.analysis.comparison",
+}
+
+
+def __getattr__(name: str):
+    module = _LAZY.get(name)
+    if module is None:
+        raise AttributeError(f"module 'footnav' has no attribute {name!r}")
+    value = getattr(importlib.import_module(module), name)
+    globals()[name] = value  # later look-ups skip this function
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_LAZY))
 
 
 def simulate(scenario: str = "straight", *, seed: int = 0, rate_hz: float = 100.0, **options) -> Recording:

@@ -8,7 +8,7 @@ read-only installation run by a user without a writable home: containers, shared
 CI sandboxes) it raises ``RuntimeError: cannot cache function ...: no locator available`` while
 the module is being imported, so ``import footnav`` failed.
 
-:func:`njit` is ``numba.njit`` unchanged wherever numba finds a cache folder. Only where it
+:func:`njit` makes each kernel with ``numba.njit`` unchanged wherever numba finds a cache folder. Only where it
 finds none does it compile the kernel with a private cache folder in the system's temporary
 directory (``footnav-numba-cache-<uid>``, created mode 0700 and used only when it is a real
 folder owned by this user that nobody else can write), or, when there is no such folder, without
@@ -22,27 +22,29 @@ the application configured no logging (Python's last-resort handler) and stays o
 
 The private folder is checked because numba's cache files are pickles that are loaded as they
 are: a folder another user could write into would let that user run code in this process.
+
+Each kernel is created on first use (:class:`LazyKernel`): ``import footnav`` imports no numba
+(0.12-0.15 s) and a process pays numba's per-function set-up only for the kernels it calls.
 """
 
 from __future__ import annotations
 
+import functools
 import logging
 import os
 import stat
 import tempfile
 import threading
+import types
 from collections.abc import Callable
 from typing import Any
 
-import numba
-from numba.core import config as _numba_config
-
-__all__ = ["fallback_cache_dir", "njit"]
+__all__ = ["LazyKernel", "fallback_cache_dir", "njit"]
 
 log = logging.getLogger(__name__)
 
 _NO_LOCATOR = "no locator available"
-_lock = threading.Lock()
+_lock = threading.RLock()  # re-entered: a kernel creates the kernels it calls
 #: ``None`` until the first fallback; then ``(path or None,)`` so the folder is checked only once.
 _fallback: tuple[str | None] | None = None
 
@@ -83,7 +85,7 @@ def fallback_cache_dir() -> str | None:
 def _fallback_dir_once(func: Callable) -> str | None:
     """Find the fallback folder on the first call and log the one notice of the process.
 
-    Called with ``_lock`` held, so two threads importing footnav log one notice.
+    Called with ``_lock`` held, so two threads making kernels log one notice.
     """
     global _fallback
     if _fallback is None:
@@ -106,8 +108,8 @@ def _fallback_dir_once(func: Callable) -> str | None:
 def njit(*args: Any, **options: Any) -> Any:
     """``numba.njit`` that falls back to a private or no cache when numba has no cache folder.
 
-    Used exactly like ``numba.njit`` (``@njit`` or ``@njit(cache=True, ...)``) and returns numba's
-    dispatcher. With ``cache=True`` and no writable cache folder, the function is compiled with
+    Used exactly like ``numba.njit`` (``@njit`` or ``@njit(cache=True, ...)``); returns a
+    :class:`LazyKernel` that creates numba's dispatcher on first use. With ``cache=True`` and no writable cache folder, the function is compiled with
     the cache in :func:`fallback_cache_dir`, or without a cache when that is None, and one
     ``logging`` WARNING per process says which.
 
@@ -120,20 +122,112 @@ def njit(*args: Any, **options: Any) -> Any:
 
     Returns
     -------
-    numba dispatcher or decorator
-        What ``numba.njit`` returns for the same arguments.
+    LazyKernel or decorator
+        Stands for what ``numba.njit`` returns for the same arguments.
     """
     if len(args) == 1 and callable(args[0]) and not isinstance(args[0], str) and not options:
-        return _compile(args[0], (), {})
+        return LazyKernel(args[0], (), {})
 
     def decorate(func: Callable) -> Any:
-        return _compile(func, args, options)
+        return LazyKernel(func, args, options)
 
     return decorate
 
 
+class LazyKernel:
+    """A compiled kernel whose numba dispatcher is made on first use (call or attribute).
+
+    Before the dispatcher is made, every kernel the function names (its globals, attributes of
+    modules it names, its closure) is made too and put in place of its LazyKernel, so that numba
+    compiling the function sees dispatchers, as it would with ``numba.njit`` (inlining
+    ``inline="always"`` callees included). Attributes (``signatures``, ``py_func``, ...) are the
+    dispatcher's; numba types a LazyKernel passed as an argument as its dispatcher.
+    """
+
+    def __init__(self, func: Callable, signatures: tuple, options: dict[str, Any]) -> None:
+        functools.update_wrapper(self, func)
+        self._func = func
+        self._signatures = signatures
+        self._options = options
+        self._dispatcher: Any = None
+        self._busy = False
+
+    def dispatcher(self) -> Any:
+        """numba's dispatcher for this kernel, made on the first call."""
+        if self._dispatcher is None:
+            with _lock:
+                if self._dispatcher is None and not self._busy:
+                    self._busy = True  # a kernel naming itself (recursion) is made once
+                    try:
+                        _resolve_kernels(self._func)
+                        made = _compile(self._func, self._signatures, self._options)
+                        if self._func.__globals__.get(self._func.__name__) is self:
+                            self._func.__globals__[self._func.__name__] = made
+                        self._dispatcher = made
+                    finally:
+                        self._busy = False
+        return self._dispatcher
+
+    def __call__(self, *args: Any, **kwargs: Any) -> Any:
+        return self.dispatcher()(*args, **kwargs)
+
+    def __getattr__(self, name: str) -> Any:
+        if name.startswith("__") or name in ("_func", "_signatures", "_options", "_dispatcher", "_busy"):
+            raise AttributeError(name)  # not set yet (copy, pickle): never make the dispatcher for these
+        return getattr(self.dispatcher(), name)
+
+    def __get__(self, obj: Any, objtype: Any = None) -> Any:
+        # as numba's dispatcher: a kernel stored on a class binds like a method
+        return self if obj is None else types.MethodType(self, obj)
+
+    def __reduce__(self) -> Any:
+        return self.dispatcher().__reduce__()
+
+    @property
+    def _numba_type_(self) -> Any:  # numba's typeof() of any object reads this
+        return self.dispatcher()._numba_type_
+
+    def __repr__(self) -> str:
+        state = "made" if self._dispatcher is not None else "not made yet"
+        return f"<footnav kernel {self.__module__}.{self.__qualname__} ({state})>"
+
+
+def _names(code: types.CodeType) -> set[str]:
+    """Every name ``code`` and the functions defined inside it look up (globals, attributes)."""
+    names = set(code.co_names)
+    for const in code.co_consts:
+        if isinstance(const, types.CodeType):
+            names |= _names(const)
+    return names
+
+
+def _resolve_kernels(func: Callable) -> None:
+    """Make the kernels ``func`` names and put their dispatchers in place of the LazyKernels."""
+    names = _names(func.__code__)
+    scope = func.__globals__
+    for name in names:
+        value = scope.get(name)
+        if isinstance(value, LazyKernel) and not value._busy:
+            scope[name] = value.dispatcher()
+        elif isinstance(value, types.ModuleType):  # ``quat.quat_mul(...)``
+            for attr in names:
+                member = value.__dict__.get(attr)
+                if isinstance(member, LazyKernel) and not member._busy:
+                    setattr(value, attr, member.dispatcher())
+    for cell in func.__closure__ or ():
+        try:
+            value = cell.cell_contents
+        except ValueError:  # an empty cell
+            continue
+        if isinstance(value, LazyKernel) and not value._busy:
+            cell.cell_contents = value.dispatcher()
+
+
 def _compile(func: Callable, signatures: tuple, options: dict[str, Any]) -> Any:
     """Apply numba.njit; on "no locator available", retry with the fallback folder or no cache."""
+    import numba  # here: importing numba takes 0.12-0.15 s, which ``import footnav`` does without
+    from numba.core import config as _numba_config
+
     try:
         return numba.njit(*signatures, **options)(func)
     except RuntimeError as exc:
@@ -142,7 +236,7 @@ def _compile(func: Callable, signatures: tuple, options: dict[str, Any]) -> Any:
     # numba reads config.CACHE_DIR (NUMBA_CACHE_DIR) when the dispatcher picks its cache folder,
     # i.e. here, and keeps that folder for the function. Setting it only around this call keeps
     # every other numba user of the process (and NUMBA_CACHE_DIR in os.environ) untouched; the
-    # lock keeps two threads importing footnav from restoring each other's value.
+    # lock keeps two threads making kernels from restoring each other's value.
     # Without a safe folder: compile without a cache rather than fail the import.
     with _lock:
         path = _fallback_dir_once(func)

@@ -10,7 +10,7 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
-# Before anything imports numba (footnav does): numba reads NUMBA_CACHE_DIR once, at its import.
+# Before anything imports numba (footnav's first kernel does): numba reads NUMBA_CACHE_DIR once, at its import.
 # Subprocesses the tests start (the CLI, follow) inherit it.
 if not os.environ.get("NUMBA_CACHE_DIR"):
     from numba_cache_key import numba_cache_dir

@@ -11,7 +11,7 @@ source gives a fresh, empty folder (everything recompiles once, about ten second
 and an unchanged tree reuses its folder. ``tests/conftest.py`` sets ``NUMBA_CACHE_DIR`` to it
 before numba is imported, unless ``NUMBA_CACHE_DIR`` is already set.
 
-This module imports neither numba nor footnav: importing footnav imports numba, and numba reads
+This module imports neither numba nor footnav: footnav's first kernel imports numba, and numba reads
 ``NUMBA_CACHE_DIR`` once, at its import.
 """
 

@@ -193,5 +193,6 @@ def test_other_runtime_errors_are_not_swallowed(monkeypatch):
         raise RuntimeError("something else")
 
     monkeypatch.setattr(numba, "njit", broken)
+    kernel = _numba.njit(cache=True)(_kernel)  # numba's dispatcher is made on first use
     with pytest.raises(RuntimeError, match="something else"):
-        _numba.njit(cache=True)(_kernel)
+        kernel(1.0)

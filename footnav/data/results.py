@@ -196,7 +196,9 @@ def write_results(
         )
         arrays.update(path_t=path.t, path_position=path.position)
         (tmp / "strides.csv").write_text(_strides_csv(result), encoding="utf-8")
-        np.savez_compressed(tmp / "trajectories.npz", **arrays)  # plain arrays: np.load(..., allow_pickle=False)
+        # plain arrays: np.load(..., allow_pickle=False). Not compressed: deflating the float
+        # arrays took 0.1 s for a one-minute walk at 400 Hz and saved 15 % of the size.
+        np.savez(tmp / "trajectories.npz", **arrays)
         inputs = [m for m in result.meta.get("input", {}).values() if m]
         doc = {
             "summary": dict(summary or {}),

@@ -58,7 +58,6 @@ from typing import ClassVar, Literal
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.signal import find_peaks
 
 from footnav.component import (
     MAX_ACC_MPS2,
@@ -367,6 +366,8 @@ class DualGaitDetector(StanceDetector):
         acc_norm = np.linalg.norm(imu.acc, axis=1)
         rate = imu.rate_hz
         distance = max(1, int(round(self.hs_min_interval_s * rate)))
+        from scipy.signal import find_peaks  # here: scipy.signal takes ~0.3 s to import
+
         peaks, _ = find_peaks(acc_norm, height=self.hs_min_acc_mps2, distance=distance)
         starts = flat.intervals[:, 0]
         starts = starts[starts > 0]  # a flat zone opening the recording: standing, not a landing
@@ -411,6 +412,8 @@ class DualGaitDetector(StanceDetector):
         ends = stance_intervals(mask)[:, 1]
         ends = ends[ends < n]  # the foot moves after these
         gyr_norm = np.linalg.norm(imu.gyr, axis=1)
+        from scipy.signal import find_peaks
+
         peaks, _ = find_peaks(gyr_norm, height=self.gyr_threshold_radps, prominence=_TOE_OFF_MIN_PROMINENCE_RADPS)
         if len(ends) == 0 or len(peaks) == 0:
             return np.empty(0, dtype=np.int64)

@@ -33,7 +33,6 @@ from typing import Any, ClassVar, Literal
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.ndimage import maximum_filter1d, minimum_filter1d
 
 from footnav.component import (
     MAX_ACC_MPS2,
@@ -107,6 +106,8 @@ def windows_to_samples(
     padded = np.concatenate(
         [np.full(win - 1, neutral), np.asarray(window_stance, dtype=bool), np.full(win - 1, neutral)]
     ).astype(np.uint8)
+    from scipy.ndimage import maximum_filter1d, minimum_filter1d  # here: ~0.15 s to import, "center" needs none
+
     slide = maximum_filter1d if combine == "any" else minimum_filter1d
     filtered = slide(padded, size=win, mode="nearest")
     return filtered[win // 2 : win // 2 + n_samples].astype(bool)

@@ -13,7 +13,6 @@ from typing import Literal
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.signal import correlate
 
 from footnav.nav.clock_sync import ClockMap
 from footnav.errors import DataQualityWarning, InvalidInputError, InvalidParameterError
@@ -58,6 +57,8 @@ class _Correlation:
     ``other``'s sample at its time ``t`` matches ``ref``'s at ``t + b``."""
 
     def __init__(self, ref: NDArray, other: NDArray, dt: float, b_zero: float) -> None:
+        from scipy.signal import correlate  # here: scipy.signal takes ~0.3 s to import
+
         ref, other = ref - ref.mean(), other - other.mean()
         self.xc = correlate(ref, other, mode="full", method="fft")
         self.b = b_zero + np.arange(-len(other) + 1, len(ref)) * dt
@@ -74,6 +75,8 @@ class _Correlation:
 
 def _stride_period(energy: NDArray, dt: float) -> float:
     """Stride period (s) at the autocorrelation peak of one foot's energy, parabola-refined."""
+    from scipy.signal import correlate  # here: scipy.signal takes ~0.3 s to import
+
     e = energy - energy.mean()
     ac = correlate(e, e, mode="full", method="fft")[len(e) - 1 :]
     lo, hi = int(_STRIDE_RANGE_S[0] / dt), min(int(_STRIDE_RANGE_S[1] / dt), len(ac) - 2)

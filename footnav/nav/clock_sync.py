@@ -26,7 +26,6 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.optimize import linprog
 
 from footnav.errors import InvalidInputError, InvalidParameterError
 from footnav.types import ImuData
@@ -142,6 +141,8 @@ def _vector(x: ArrayLike, name: str) -> NDArray[np.float64]:
 
 
 def _lp(c: list[float], a_ub: NDArray, b_ub: NDArray):
+    from scipy.optimize import linprog  # here: scipy.optimize is slow to import, and rarely needed
+
     return linprog(c=c, A_ub=a_ub, b_ub=b_ub, bounds=[(None, None), (None, None)], method="highs")
 
 

@@ -16,7 +16,6 @@ from typing import Literal
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.optimize import minimize_scalar
 
 from footnav.nav.dtw import _band, _choice, _readonly, _trajectory, dtw_align
 from footnav.nav.quaternion import wrap_angle
@@ -154,6 +153,8 @@ def heading_mismatch(
     costs = np.array([cost(x) for x in angles])
     best = float(angles[int(np.argmin(costs))])
     step = 2.0 * np.pi / grid
+    from scipy.optimize import minimize_scalar  # here: scipy.optimize is slow to import
+
     res = minimize_scalar(
         cost, bounds=(best - step, best + step), method="bounded", options={"xatol": HEADING_XATOL_RAD}
     )

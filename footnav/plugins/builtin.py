@@ -1,50 +1,70 @@
 """footnav's own components, registered through the same hooks a third-party plugin uses.
 
-A new built-in is one module in detectors/, estimators/ or fusion/ plus one line here.
+A new built-in is one module in detectors/, estimators/ or fusion/ plus one line here. Each class
+is registered by reference (``"module:Class"``, with its name) and imported when first used, so
+that building the registry (every ``make_pipeline``) imports only the components it runs.
 """
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 from footnav.plugins.hookspecs import hookimpl
+
+if TYPE_CHECKING:  # the classes named below (for readers, type checkers and tests/test_layers.py)
+    from footnav.detectors.adaptive import AdaptiveDetector  # noqa: F401
+    from footnav.detectors.dual_gait import DualGaitDetector  # noqa: F401
+    from footnav.detectors.glrt import GlrtDetector  # noqa: F401
+    from footnav.detectors.hmm import HmmDetector  # noqa: F401
+    from footnav.detectors.threshold import AccMagnitudeDetector, AccVarianceDetector, AredDetector, ThresholdDetector  # noqa: F401
+    from footnav.estimators.ekf import EkfEstimator  # noqa: F401
+    from footnav.estimators.madgwick import MadgwickEstimator  # noqa: F401
+    from footnav.fusion.dtw import DtwFusion  # noqa: F401
+    from footnav.fusion.independent import IndependentFusion  # noqa: F401
+    from footnav.fusion.particle import ParticleFusion  # noqa: F401
+    from footnav.fusion.range_constraint import RangeConstraintFusion  # noqa: F401
+    from footnav.fusion.step_vector import StepVectorFusion  # noqa: F401
+
+#: kind -> (name, "module:Class"), in registration order. tests/plugins checks each name against
+#: its class's ``name``.
+BUILTINS = {
+    "detector": [
+        ("adaptive", "footnav.detectors.adaptive:AdaptiveDetector"),
+        ("threshold", "footnav.detectors.threshold:ThresholdDetector"),
+        ("acc-magnitude", "footnav.detectors.threshold:AccMagnitudeDetector"),
+        ("acc-variance", "footnav.detectors.threshold:AccVarianceDetector"),
+        ("ared", "footnav.detectors.threshold:AredDetector"),
+        ("glrt", "footnav.detectors.glrt:GlrtDetector"),
+        ("dual-gait", "footnav.detectors.dual_gait:DualGaitDetector"),
+        ("hmm", "footnav.detectors.hmm:HmmDetector"),
+    ],
+    "estimator": [
+        ("ekf", "footnav.estimators.ekf:EkfEstimator"),
+        ("madgwick", "footnav.estimators.madgwick:MadgwickEstimator"),
+    ],
+    "fusion": [
+        ("independent", "footnav.fusion.independent:IndependentFusion"),
+        ("range", "footnav.fusion.range_constraint:RangeConstraintFusion"),
+        ("step-vector", "footnav.fusion.step_vector:StepVectorFusion"),
+        ("dtw", "footnav.fusion.dtw:DtwFusion"),
+        ("particle", "footnav.fusion.particle:ParticleFusion"),
+    ],
+}
 
 
 @hookimpl
 def footnav_register_detectors(register):
-    from footnav.detectors.adaptive import AdaptiveDetector
-    from footnav.detectors.dual_gait import DualGaitDetector
-    from footnav.detectors.glrt import GlrtDetector
-    from footnav.detectors.hmm import HmmDetector
-    from footnav.detectors.threshold import AccMagnitudeDetector, AccVarianceDetector, AredDetector, ThresholdDetector
-
-    register(AdaptiveDetector)
-    register(ThresholdDetector)
-    register(AccMagnitudeDetector)
-    register(AccVarianceDetector)
-    register(AredDetector)
-    register(GlrtDetector)
-    register(DualGaitDetector)
-    register(HmmDetector)
+    for name, ref in BUILTINS["detector"]:
+        register(ref, name=name)
 
 
 @hookimpl
 def footnav_register_estimators(register):
-    from footnav.estimators.ekf import EkfEstimator
-    from footnav.estimators.madgwick import MadgwickEstimator
-
-    register(EkfEstimator)
-    register(MadgwickEstimator)
+    for name, ref in BUILTINS["estimator"]:
+        register(ref, name=name)
 
 
 @hookimpl
 def footnav_register_fusions(register):
-    from footnav.fusion.dtw import DtwFusion
-    from footnav.fusion.independent import IndependentFusion
-    from footnav.fusion.particle import ParticleFusion
-    from footnav.fusion.range_constraint import RangeConstraintFusion
-    from footnav.fusion.step_vector import StepVectorFusion
-
-    register(IndependentFusion)
-    register(RangeConstraintFusion)
-    register(StepVectorFusion)
-    register(DtwFusion)
-    register(ParticleFusion)
+    for name, ref in BUILTINS["fusion"]:
+        register(ref, name=name)

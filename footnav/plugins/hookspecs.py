@@ -16,7 +16,8 @@ ENTRY_POINT_GROUP = "footnav"
 hookspec = pluggy.HookspecMarker(PROJECT)
 hookimpl = pluggy.HookimplMarker(PROJECT)
 
-#: ``register(cls, name=None)``: ``cls`` a component class; ``name`` overrides ``cls.name``.
+#: ``register(cls, name=None)``: ``cls`` a component class; ``name`` overrides ``cls.name``. ``cls``
+#: may be ``"package.module:Class"`` with ``name`` given: imported when first used.
 Register = Callable[..., None]
 
 

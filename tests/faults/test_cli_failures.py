@@ -55,7 +55,7 @@ def test_a_full_disk_leaves_nothing_and_says_so(walk, tmp_path, monkeypatch, cap
     def full(*args, **kwargs):
         raise OSError(errno.ENOSPC, "No space left on device", str(tmp_path / "r" / "trajectories.npz"))
 
-    monkeypatch.setattr(np, "savez_compressed", full)
+    monkeypatch.setattr(np, "savez", full)
     assert main(["run", "--left", str(walk / "left.csv"), "--out", str(tmp_path / "r")]) == 2
     assert "No space left on device" in _one_line(capsys.readouterr().err)
     assert sorted(p.name for p in tmp_path.iterdir()) == []  # no result, no partial folder, no lock

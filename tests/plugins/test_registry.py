@@ -233,3 +233,39 @@ def test_plugin_component_raising_during_run_is_reported_by_name_and_the_rest_ke
     fc.write_footnav_csv(rec.left, tmp / "l.csv")
     assert main(["run", "--left", str(tmp / "l.csv"), "--detector", "broken", "--out", str(tmp / "out")]) == EXIT_INTERNAL
     assert not (tmp / "out").exists()
+
+
+def test_builtins_are_registered_by_reference_under_their_own_names():
+    """The built-ins are imported on first use (issue 33); each reference names the class whose
+    ``name`` it is registered under."""
+    from footnav.plugins.builtin import BUILTINS
+
+    reg = build_registry(autoload=False)
+    for kind, pairs in BUILTINS.items():
+        assert reg.names(kind) == sorted(name for name, _ in pairs)
+        for name, ref in pairs:
+            cls = reg.get(kind, name).cls
+            assert cls.name == name and f"{cls.__module__}:{cls.__qualname__}".endswith(ref.split(":")[1])
+
+
+def test_the_default_pipeline_imports_only_its_components():
+    import json
+    import subprocess
+    import sys
+
+    code = ("import footnav, sys, json; footnav.make_pipeline(); "
+            "print(json.dumps(sorted(m for m in sys.modules if m.startswith('footnav.'))))")
+    loaded = set(json.loads(subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                                           check=True).stdout.splitlines()[-1]))
+    assert {"footnav.detectors.adaptive", "footnav.estimators.ekf", "footnav.fusion.independent"} <= loaded
+    assert not loaded & {"footnav.detectors.hmm", "footnav.detectors.glrt", "footnav.estimators.madgwick",
+                         "footnav.fusion.dtw", "footnav.fusion.particle", "footnav.fusion.step_vector"}
+
+
+def test_a_reference_without_a_name_or_to_a_wrong_class_is_a_plugin_error():
+    reg = build_registry(builtins=False, autoload=False)
+    with pytest.raises(PluginError, match="by reference"):
+        reg.add("detector", "footnav.detectors.glrt:GlrtDetector", name=None, plugin="p", origin="o")
+    entry = reg.add("detector", "footnav.fusion.dtw:DtwFusion", name="not-a-detector", plugin="p", origin="o")
+    with pytest.raises(PluginError, match="must be a subclass of footnav.StanceDetector"):
+        entry.cls  # noqa: B018

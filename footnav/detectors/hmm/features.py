@@ -14,7 +14,6 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.signal import butter, sosfiltfilt
 
 from footnav.errors import InvalidInputError
 from footnav.nav.interpolation import interp_columns
@@ -46,6 +45,8 @@ def lowpass(x: ArrayLike, cutoff_hz: float, rate_hz: float) -> NDArray[np.float6
     x = np.asarray(x, dtype=np.float64)
     if cutoff_hz >= 0.5 * rate_hz or len(x) < 2:
         return x.copy()
+    from scipy.signal import butter, sosfiltfilt  # here: scipy.signal takes ~0.3 s to import
+
     sos = butter(BUTTER_ORDER, cutoff_hz, btype="low", fs=rate_hz, output="sos")
     default_pad = 3 * (2 * len(sos) + 1)
     return sosfiltfilt(sos, x, axis=0, padlen=min(default_pad, len(x) - 1))

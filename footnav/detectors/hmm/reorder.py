@@ -14,7 +14,6 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.signal import find_peaks
 
 from footnav.errors import InvalidInputError
 from footnav.types import stance_intervals
@@ -135,6 +134,8 @@ def cyclic_order_votes(
     bounds = np.cumsum([0, *(lengths if lengths is not None else [len(lab)])])
 
     orders: list[list[int]] = []
+    from scipy.signal import find_peaks  # here: scipy.signal takes ~0.3 s to import
+
     position_sum = np.zeros(n_states)
     position_count = np.zeros(n_states)
     for lo, hi in zip(bounds[:-1], bounds[1:]):

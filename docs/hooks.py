@@ -10,13 +10,16 @@ from __future__ import annotations
 import inspect
 from pathlib import Path
 
-KINDS = {"detector": ("detectors", "Stance detectors"), "estimator": ("estimators", "Estimators"), "fusion": ("fusions", "Fusions")}
+KINDS = {"detector": ("detectors", "Stance detectors"), "estimator": ("estimators", "Estimators"), "fusion": ("fusions", "Fusions"),
+         "heading_aid": ("heading-aids", "Heading aids")}
 INTRO = {
     "detector": "A stance detector turns one foot's IMU data (or both feet's) into a `StanceResult`: the "
     "zero-velocity mask, gait events and, where the method has them, phases and probabilities.",
     "estimator": "A per-foot estimator turns one foot's IMU data and stance into a `FootTrajectory` in the nav "
     "frame; `ekf` also exposes its step-able filter for the fusions.",
     "fusion": "A fusion combines the feet into one pedestrian: both corrected foot trajectories and the path.",
+    "heading_aid": "A heading aid corrects the heading of the fused trajectories after the fusion "
+    "(`make_pipeline(heading_aid=...)`, TOML `[heading_aid]`); docs/heading.md says when to use which.",
 }
 
 

@@ -12,7 +12,7 @@ from __future__ import annotations
 import importlib
 from typing import TYPE_CHECKING
 
-from footnav.component import FootEstimator, Fusion, StanceDetector
+from footnav.component import FootEstimator, Fusion, HeadingAid, StanceDetector
 from footnav.errors import (
     CompositionError,
     DataNotFoundError,
@@ -34,6 +34,7 @@ from footnav.pipeline.factory import (
     make_detector,
     make_estimator,
     make_fusion,
+    make_heading_aid,
     make_pipeline,
 )
 from footnav.pipeline.result import PipelineResult
@@ -110,11 +111,13 @@ __all__ = [
     "make_detector",
     "make_estimator",
     "make_fusion",
+    "make_heading_aid",
     "list_components",
     "Pipeline",
     "StanceDetector",
     "FootEstimator",
     "Fusion",
+    "HeadingAid",
     "ImuData",
     "StanceResult",
     "FootTrajectory",

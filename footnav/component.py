@@ -1,4 +1,4 @@
-"""Base classes of footnav's components: detectors, estimators, fusions.
+"""Base classes of footnav's components: detectors, estimators, fusions, heading aids.
 
 A component follows scikit-learn's contract: the constructor takes keyword-only parameters, stores
 them unchanged under the same names and does nothing else; ``get_params`` / ``set_params`` /
@@ -32,6 +32,7 @@ __all__ = [
     "FootEstimator",
     "Fusion",
     "FusionSession",
+    "HeadingAid",
     "JointFilter",
     "StepableEstimator",
     "KINDS",
@@ -477,7 +478,25 @@ class FusionSession(Protocol):
         ...
 
 
-KINDS = {"detector": StanceDetector, "estimator": FootEstimator, "fusion": Fusion}
+class HeadingAid(Component):
+    """Corrects the heading of a run's final trajectories: ``correct(result, left, right=None)``.
+
+    ``result`` is the fusion's :class:`~footnav.types.FusionResult`, ``left`` / ``right`` the
+    feet's :class:`~footnav.types.ImuData` (a magnetometer aid reads ``mag``); returns the
+    corrected FusionResult, each corrected foot's ``meta["heading_aid"]`` saying what was done.
+    The pipeline calls it after the fusion, before the height model. Online mode runs only the
+    aids whose ``online`` is True.
+    """
+
+    kind: ClassVar[str] = "heading_aid"
+    #: The aid can run on a live stream (it needs no later sample).
+    online: ClassVar[bool] = False
+
+    def correct(self, result, left, right=None):  # pragma: no cover
+        raise NotImplementedError
+
+
+KINDS = {"detector": StanceDetector, "estimator": FootEstimator, "fusion": Fusion, "heading_aid": HeadingAid}
 
 
 def is_number(value: Any) -> bool:

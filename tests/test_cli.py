@@ -163,3 +163,18 @@ def test_run_says_when_strides_have_no_stance(never_still_gait, tmp_path, capsys
     # the default detector finds every stride's stance, and nothing is said
     assert main(["run", "--left", str(csv), "--out", str(tmp_path / "default")]) == 0
     assert "gait cycles have no stance" not in capsys.readouterr().err
+
+
+def test_run_with_a_heading_aid_writes_it_in_the_pipeline_file(sim_csv, tmp_path, capsys):
+    out = tmp_path / "aided"
+    args = ["run", "--left", str(sim_csv / "left.csv"), "--heading-aid", "dominant-directions", "--out", str(out)]
+    assert main(args) == 0
+    again = footnav.load_pipeline(out / "pipeline.toml")
+    assert again.heading_aid.name == "dominant-directions"
+    assert json.loads((out / "summary.json").read_text())["provenance"]["pipeline"]["heading_aid"]["name"] == "dominant-directions"
+    capsys.readouterr()
+    both = ["run", "--left", str(sim_csv / "left.csv"), "--pipeline", str(out / "pipeline.toml"), "--heading-aid", "none",
+            "--out", str(tmp_path / "x")]
+    assert main(both) == 2 and "not both" in capsys.readouterr().err
+    assert main(["plugins"]) == 0
+    assert "heading_aid dominant-directions footnav" in " ".join(capsys.readouterr().out.split())

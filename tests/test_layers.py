@@ -15,7 +15,7 @@ PACKAGE = Path(__file__).resolve().parents[1] / "footnav"
 LAYERS = {
     "_version": 0, "_numba": 0, "errors": 0, "warning_log": 0, "types": 0,
     "component": 1, "nav": 1,
-    "detectors": 2, "estimators": 2, "fusion": 2,
+    "detectors": 2, "estimators": 2, "fusion": 2, "heading_aids": 2,
     "pipeline": 3, "plugins": 3,
     "analysis": 4, "data": 4,
     "cli": 5, "demo": 5, "testing": 5, "__init__": 5,

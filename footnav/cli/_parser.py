@@ -145,13 +145,15 @@ def build_parser() -> argparse.ArgumentParser:
                         "(default: found from the header names)")
     p.add_argument("--drop-duplicates", action="store_true",
                    help="also drop rows that repeat a time stamp with different values (exact copies are always dropped; recorded)")
-    p.add_argument("--pipeline", help="pipeline TOML file ([detector], [estimator], [fusion] tables, optional [sync])")
+    p.add_argument("--pipeline", help="pipeline TOML file ([detector], [estimator], [fusion] tables, optional "
+                   "[heading_aid] and [sync])")
     p.add_argument("--sync", choices=["data"],
                    help="put the right foot on the left foot's clock first, found from the data (two feet recorded "
                         "on unsynchronised clocks; both should start and end standing). More options: a [sync] table")
     p.add_argument("--detector", help="detector name (see footnav plugins)")
     p.add_argument("--estimator", help="estimator name")
     p.add_argument("--fusion", help="fusion name")
+    p.add_argument("--heading-aid", help="heading aid name, e.g. dominant-directions for hallway walks (docs/heading.md)")
     p.add_argument("--out", required=True, help="output folder (must not exist or be empty)")
     p.add_argument("--force", action="store_true", help="replace an output folder (and figure) that footnav wrote")
     p.add_argument("--plot", help="also write the trajectory figure (PNG) here")

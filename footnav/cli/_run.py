@@ -16,15 +16,16 @@ def _pipeline_from_args(args: argparse.Namespace):
 
     sync = getattr(args, "sync", None)
     if args.pipeline:
-        if any(getattr(args, k) for k in ("detector", "estimator", "fusion")):
-            raise FootnavError("give either --pipeline or --detector/--estimator/--fusion, not both")
+        if any(getattr(args, k, None) for k in ("detector", "estimator", "fusion", "heading_aid")):
+            raise FootnavError("give either --pipeline or --detector/--estimator/--fusion/--heading-aid, not both")
         pipeline = load_pipeline(args.pipeline)
         if sync is not None:
             if pipeline.sync is not None:
                 raise FootnavError(f"{args.pipeline} has a [sync] table already; give it or --sync, not both")
-            return make_pipeline(pipeline.detector, pipeline.estimator, pipeline.fusion, sync=sync)
+            return make_pipeline(pipeline.detector, pipeline.estimator, pipeline.fusion, sync=sync, heading_aid=pipeline.heading_aid)
         return pipeline
-    return make_pipeline(args.detector or "adaptive", args.estimator or "ekf", args.fusion or "independent", sync=sync)
+    return make_pipeline(args.detector or "adaptive", args.estimator or "ekf", args.fusion or "independent", sync=sync,
+                         heading_aid=getattr(args, "heading_aid", None))
 
 
 #: CLI flag -> reader option (footnav.data.io.load.reader_options says which reader takes which).

@@ -15,7 +15,15 @@ from typing import TYPE_CHECKING, Any, Mapping
 
 import numpy as np
 
-from footnav.component import Component, FootEstimator, Fusion, StanceDetector, check_param_names, require_stepable
+from footnav.component import (
+    Component,
+    FootEstimator,
+    Fusion,
+    HeadingAid,
+    StanceDetector,
+    check_param_names,
+    require_stepable,
+)
 from footnav.errors import (
     CompositionError,
     DataNotFoundError,
@@ -47,12 +55,13 @@ __all__ = [
     "make_detector",
     "make_estimator",
     "make_fusion",
+    "make_heading_aid",
     "make_pipeline",
     "load_pipeline",
     "list_components",
 ]
 
-_BASES = {"detector": StanceDetector, "estimator": FootEstimator, "fusion": Fusion}
+_BASES = {"detector": StanceDetector, "estimator": FootEstimator, "fusion": Fusion, "heading_aid": HeadingAid}
 
 
 def _registry():
@@ -62,7 +71,8 @@ def _registry():
 
 
 def list_components() -> dict[str, list[str]]:
-    """Registered component names by kind: ``{"detector": [...], "estimator": [...], "fusion": [...]}``."""
+    """Registered component names by kind: ``{"detector": [...], "estimator": [...], "fusion": [...],
+    "heading_aid": [...]}``."""
     reg = _registry()
     return {kind: reg.names(kind) for kind in _BASES}
 
@@ -80,6 +90,11 @@ def make_estimator(name: str, **params: Any) -> FootEstimator:
 def make_fusion(name: str, **params: Any) -> Fusion:
     """A dual-foot fusion by registry name, e.g. ``make_fusion("independent")``."""
     return _registry().create("fusion", name, **params)  # type: ignore[return-value]
+
+
+def make_heading_aid(name: str, **params: Any) -> HeadingAid:
+    """A heading aid by registry name, e.g. ``make_heading_aid("dominant-directions")``."""
+    return _registry().create("heading_aid", name, **params)  # type: ignore[return-value]
 
 
 def _resolve(kind: str, spec: Any, params: Mapping[str, Any] | None) -> Component:
@@ -107,27 +122,43 @@ def _resolve(kind: str, spec: Any, params: Mapping[str, Any] | None) -> Componen
 
 
 class Pipeline:
-    """A composed [sync ->] detector -> estimator -> fusion chain. Build it with :func:`make_pipeline`.
+    """A composed [sync ->] detector -> estimator -> fusion [-> heading aid] chain. Build it with
+    :func:`make_pipeline`.
 
     ``run`` checks that the components fit the data (two feet, magnetometer) before any work.
     ``sync`` (:class:`footnav.pipeline.sync.ClockSync`, optional) first puts both feet on one clock.
+    ``heading_aid`` (optional; None or ``"none"``: no aid) corrects the fused trajectories' heading.
     """
 
     def __init__(
-        self, detector: StanceDetector, estimator: FootEstimator, fusion: Fusion, sync: ClockSync | None = None
+        self,
+        detector: StanceDetector,
+        estimator: FootEstimator,
+        fusion: Fusion,
+        sync: ClockSync | None = None,
+        heading_aid: HeadingAid | None = None,
     ) -> None:
         self.detector = detector
         self.estimator = estimator
         self.fusion = fusion
         self.sync = sync
+        self.heading_aid = heading_aid
+
+    @property
+    def _aid(self) -> HeadingAid | None:
+        """The heading aid that does something (None for none)."""
+        aid = self.heading_aid
+        return None if aid is None or aid.name == "none" else aid
 
     def __repr__(self) -> str:
         shown = "" if self.sync is None else f", sync={self.sync!r}"
+        shown += "" if self.heading_aid is None else f", heading_aid={self.heading_aid!r}"
         return f"Pipeline(detector={self.detector!r}, estimator={self.estimator!r}, fusion={self.fusion!r}{shown})"
 
     @property
-    def components(self) -> tuple[Component, Component, Component]:
-        return (self.detector, self.estimator, self.fusion)
+    def components(self) -> tuple[Component, ...]:
+        """detector, estimator, fusion, and the heading aid when one was given."""
+        return (self.detector, self.estimator, self.fusion) + (() if self.heading_aid is None else (self.heading_aid,))
 
     def config(self) -> dict[str, dict[str, Any]]:
         """``{"detector": {"name": ..., **params}, ...}``: the tables of the pipeline's TOML file
@@ -316,6 +347,10 @@ class Pipeline:
             with self._blame(self.fusion, self.estimator):
                 fused = self.fusion.fuse(self.estimator, left, stance_left, right, stance_right)
             self._check_fused_output(fused, left, right)
+            if self._aid is not None:
+                with self._blame(self._aid):
+                    fused = self._aid.correct(fused, left, right)
+                self._check_fused_output(fused, left, right)
             fused = self._hold_floors(fused)
             vertical_checks = self._check_vertical(fused.left, fused.right)
         from footnav._version import __version__
@@ -385,13 +420,16 @@ def make_pipeline(
     estimator_params: Mapping[str, Any] | None = None,
     fusion_params: Mapping[str, Any] | None = None,
     sync: str | ClockSync | Mapping[str, Any] | None = None,
+    heading_aid: str | HeadingAid | Mapping[str, Any] | None = None,
+    heading_aid_params: Mapping[str, Any] | None = None,
 ) -> Pipeline:
     """Compose a pipeline from registered names, component instances or TOML-style tables.
 
     ``sync`` adds the clock-synchronisation stage before stance detection: ``"data"`` or
     ``"exchanges"`` (the method of :class:`footnav.pipeline.sync.ClockSync`), a ClockSync, or a
     table of its parameters (``{"method": "data", "drift": True}``); None (default) takes the
-    feet to be on one clock already.
+    feet to be on one clock already. ``heading_aid`` adds a heading aid after the fusion
+    (``"dominant-directions"``, docs/heading.md); None (default) or ``"none"``: no aid.
 
     Examples
     --------
@@ -404,6 +442,7 @@ def make_pipeline(
         estimator=_resolve("estimator", estimator, estimator_params),  # type: ignore[arg-type]
         fusion=_resolve("fusion", fusion, fusion_params),  # type: ignore[arg-type]
         sync=_resolve_sync(sync),
+        heading_aid=None if heading_aid is None and not heading_aid_params else _resolve("heading_aid", heading_aid or "none", heading_aid_params),  # type: ignore[arg-type]
     )
 
 
@@ -424,8 +463,9 @@ def _resolve_sync(spec: str | ClockSync | Mapping[str, Any] | None) -> ClockSync
 
 
 def load_pipeline(path: str | FilePath) -> Pipeline:
-    """Read a pipeline TOML file: tables ``[detector]``, ``[estimator]``, ``[fusion]``, each with a
-    ``name`` and the component's parameters (missing tables take the defaults)."""
+    """Read a pipeline TOML file: tables ``[detector]``, ``[estimator]``, ``[fusion]`` and
+    optionally ``[heading_aid]``, each with a ``name`` and the component's parameters (missing
+    tables take the defaults), and optionally ``[sync]``."""
     path = FilePath(path)
     if not path.is_file():
         raise DataNotFoundError(f"pipeline file {str(path)!r} does not exist")
@@ -439,9 +479,9 @@ def load_pipeline(path: str | FilePath) -> Pipeline:
     if unknown:
         raise InvalidParameterError(
             f"{path}: unknown table(s) {sorted(unknown)}; a pipeline file has [detector], [estimator], [fusion] "
-            "and optionally [sync]"
+            "and optionally [heading_aid] and [sync]"
         )
-    defaults = {"detector": "adaptive", "estimator": "ekf", "fusion": "independent"}
+    defaults = {"detector": "adaptive", "estimator": "ekf", "fusion": "independent", "heading_aid": None}
     try:
         return make_pipeline(**{kind: config.get(kind, defaults[kind]) for kind in _BASES}, sync=config.get("sync"))
     except InvalidParameterError as exc:

@@ -467,6 +467,11 @@ def check_online(pipeline: Any, feet: int) -> float:
         )
     if fus.needs_two_feet and feet < 2:
         raise CompositionError(f"fusion {fus.name!r} needs both feet (feet=2)")
+    aid = getattr(pipeline, "heading_aid", None)
+    if aid is not None and not aid.online:
+        raise CompositionError(
+            f"heading aid {aid.name!r} is offline only: it learns from the whole walk; online, use heading_aid=None"
+        )
     if fus.name not in ONLINE_FUSIONS and not callable(getattr(fus, "session", None)):
         why = OFFLINE_ONLY_FUSIONS.get(fus.name, "it offers no session (footnav.component.FusionSession) to run as samples arrive")
         online = [*ONLINE_FUSIONS, *COUPLED_ONLINE_FUSIONS]

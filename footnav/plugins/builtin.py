@@ -1,6 +1,6 @@
 """footnav's own components, registered through the same hooks a third-party plugin uses.
 
-A new built-in is one module in detectors/, estimators/ or fusion/ plus one line here. Each class
+A new built-in is one module in detectors/, estimators/, fusion/ or heading_aids/ plus one line here. Each class
 is registered by reference (``"module:Class"``, with its name) and imported when first used, so
 that building the registry (every ``make_pipeline``) imports only the components it runs.
 """
@@ -24,6 +24,8 @@ if TYPE_CHECKING:  # the classes named below (for readers, type checkers and tes
     from footnav.fusion.particle import ParticleFusion  # noqa: F401
     from footnav.fusion.range_constraint import RangeConstraintFusion  # noqa: F401
     from footnav.fusion.step_vector import StepVectorFusion  # noqa: F401
+    from footnav.heading_aids.dominant_directions import DominantDirectionsAid  # noqa: F401
+    from footnav.heading_aids.none import NoHeadingAid  # noqa: F401
 
 #: kind -> (name, "module:Class"), in registration order. tests/plugins checks each name against
 #: its class's ``name``.
@@ -49,6 +51,10 @@ BUILTINS = {
         ("dtw", "footnav.fusion.dtw:DtwFusion"),
         ("particle", "footnav.fusion.particle:ParticleFusion"),
     ],
+    "heading_aid": [
+        ("none", "footnav.heading_aids.none:NoHeadingAid"),
+        ("dominant-directions", "footnav.heading_aids.dominant_directions:DominantDirectionsAid"),
+    ],
 }
 
 
@@ -67,4 +73,10 @@ def footnav_register_estimators(register):
 @hookimpl
 def footnav_register_fusions(register):
     for name, ref in BUILTINS["fusion"]:
+        register(ref, name=name)
+
+
+@hookimpl
+def footnav_register_heading_aids(register):
+    for name, ref in BUILTINS["heading_aid"]:
         register(ref, name=name)

@@ -1,4 +1,4 @@
-"""The whole plugin contract of footnav: three hooks, each handed a ``register`` callback.
+"""The whole plugin contract of footnav: four hooks, each handed a ``register`` callback.
 
 A plugin package declares ``[project.entry-points.footnav] myplugin = "myplugin.module"`` and
 implements any of these hooks in that module with ``@footnav.hookimpl``.
@@ -54,4 +54,16 @@ def footnav_register_fusions(register: Register) -> None:
         @footnav.hookimpl
         def footnav_register_fusions(register):
             register(MyFusion)
+    """
+
+
+@hookspec
+def footnav_register_heading_aids(register: Register) -> None:
+    """Register heading aid classes (subclasses of ``footnav.HeadingAid``).
+
+    Example::
+
+        @footnav.hookimpl
+        def footnav_register_heading_aids(register):
+            register(MyHeadingAid)
     """

@@ -27,6 +27,7 @@ _HOOK_OF_KIND = {
     "detector": "footnav_register_detectors",
     "estimator": "footnav_register_estimators",
     "fusion": "footnav_register_fusions",
+    "heading_aid": "footnav_register_heading_aids",
 }
 _registry: Registry | None = None
 

@@ -199,6 +199,7 @@ def test_parameter_info_has_units_and_descriptions():
     # the adaptive detector's ratios (of bounds, peaks and strides)
     dimensionless |= {"stance_factor", "swing_fraction", "min_scale", "swing_prominence", "stride_fraction", "pivot_yaw_share"}
     dimensionless |= {"zupt_edge_max_fraction"}  # the EKF's: of a stance's samples
+    dimensionless |= {"n_directions", "min_stretch_strides", "min_strength"}  # dominant-directions: counts, a resultant length
     for kind, names in footnav.list_components().items():
         for name in names:
             for p in getattr(footnav, f"make_{kind}")(name).parameter_info():

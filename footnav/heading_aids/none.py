@@ -1,0 +1,17 @@
+"""The heading aid that changes nothing (the default)."""
+
+from __future__ import annotations
+
+from footnav.component import HeadingAid
+
+__all__ = ["NoHeadingAid"]
+
+
+class NoHeadingAid(HeadingAid):
+    """No heading aid: the fusion's result as it is."""
+
+    name = "none"
+    online = True
+
+    def correct(self, result, left, right=None):
+        return result

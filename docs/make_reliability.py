@@ -91,7 +91,7 @@ def components() -> dict[str, list[str]]:
     """footnav's own registered components by kind (installed third-party plugins left out)."""
     from footnav.plugins.manager import build_registry
 
-    out: dict[str, list[str]] = {"detector": [], "estimator": [], "fusion": []}
+    out: dict[str, list[str]] = {"detector": [], "estimator": [], "fusion": [], "heading_aid": []}
     for entry in build_registry(autoload=False):
         if entry.origin == "footnav":
             out[entry.kind].append(entry.name)
@@ -138,7 +138,7 @@ def render(files: dict[str, dict[str, int]], comps: dict[str, list[str]], st: di
         f"Run on {st['date']} with footnav {st['footnav']}, Python {st['python']}, numpy {st['numpy']}; the "
         f"built-in components: {len(comps['detector'])} detectors ({_names(comps['detector'])}), "
         f"{len(comps['estimator'])} estimators ({_names(comps['estimator'])}), {len(comps['fusion'])} fusions "
-        f"({_names(comps['fusion'])}):",
+        f"({_names(comps['fusion'])}), {len(comps['heading_aid'])} heading aids ({_names(comps['heading_aid'])}):",
         "",
         f"**{tried} bad-input cases tried, {handled if handled_known else '-'} handled as specified** "
         "(`pytest tests/faults`)."

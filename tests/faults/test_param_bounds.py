@@ -19,7 +19,8 @@ from footnav import InvalidParameterError
 
 pytestmark = pytest.mark.fault
 
-_MAKERS = {"detector": footnav.make_detector, "estimator": footnav.make_estimator, "fusion": footnav.make_fusion}
+_MAKERS = {"detector": footnav.make_detector, "estimator": footnav.make_estimator, "fusion": footnav.make_fusion,
+           "heading_aid": footnav.make_heading_aid}
 
 #: (kind, name, parameter, value) that are valid and cheap, so the run must simply succeed.
 _HARMLESS = {
@@ -67,6 +68,9 @@ def _act(component, walk, stances):
         return component.detect_pair(walk.left, walk.right)
     if component.kind == "estimator":
         return component.estimate(walk.left, stances[0])
+    if component.kind == "heading_aid":
+        fused = footnav.make_fusion("independent").fuse(footnav.make_estimator("ekf"), walk.left, stances[0], walk.right, stances[1])
+        return component.correct(fused, walk.left, walk.right)
     return component.fuse(footnav.make_estimator("ekf"), walk.left, stances[0], walk.right, stances[1])
 
 

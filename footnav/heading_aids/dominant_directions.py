@@ -8,7 +8,7 @@ from dataclasses import replace
 import numpy as np
 
 from footnav.component import HeadingAid, require, require_positive
-from footnav.nav.dominant_directions import dominant_direction_correction, turn_by
+from footnav.nav.dominant_directions import dominant_direction_correction, turn_by, turn_increments
 from footnav.types import FusionResult
 
 __all__ = ["DominantDirectionsAid"]
@@ -87,12 +87,5 @@ class DominantDirectionsAid(HeadingAid):
                 shifts.append(found.at(result.path.t))
         path = result.path
         if shifts:
-            path = replace(path, position=_turned_path(path.position, np.mean(shifts, axis=0)))
+            path = replace(path, position=turn_increments(path.position, np.mean(shifts, axis=0)))
         return replace(result, left=feet[0], right=feet[1], path=path)
-
-
-def _turned_path(pos, dpsi):
-    c, s = np.cos(-dpsi), np.sin(-dpsi)
-    dp = np.diff(pos, axis=0)
-    turned = np.column_stack([c[1:] * dp[:, 0] - s[1:] * dp[:, 1], s[1:] * dp[:, 0] + c[1:] * dp[:, 1], dp[:, 2]])
-    return np.vstack([pos[:1], pos[:1] + np.cumsum(turned, axis=0)])

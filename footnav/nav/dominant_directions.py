@@ -34,7 +34,7 @@ from numpy.typing import NDArray
 from footnav.nav import quaternion as quat
 from footnav.types import FootTrajectory
 
-__all__ = ["HeadingCorrection", "dominant_direction_correction", "turn_by"]
+__all__ = ["HeadingCorrection", "dominant_direction_correction", "turn_by", "turn_increments"]
 
 
 def _wrap(a: NDArray[np.float64] | float) -> NDArray[np.float64] | float:
@@ -171,13 +171,20 @@ def dominant_direction_correction(
     return HeadingCorrection(True, "", strength, grid, np.array(knots_s), knots_rad, straight_fraction, info)
 
 
+def turn_increments(position: NDArray[np.float64], dpsi: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Positions (N, 3, m) whose increments are turned about z by ``-dpsi`` (rad, per sample,
+    the increment into a sample turned by that sample's angle); the first stays where it is."""
+    c, s = np.cos(-dpsi), np.sin(-dpsi)
+    dp = np.diff(position, axis=0)
+    turned = np.column_stack([c[1:] * dp[:, 0] - s[1:] * dp[:, 1], s[1:] * dp[:, 0] + c[1:] * dp[:, 1], dp[:, 2]])
+    return np.vstack([position[:1], position[:1] + np.cumsum(turned, axis=0)])
+
+
 def turn_by(traj: FootTrajectory, dpsi: NDArray[np.float64]) -> FootTrajectory:
     """``traj`` with each sample's heading turned by ``-dpsi`` (rad, per sample): its position
     increments, velocity and attitude about z; the first sample stays where it is."""
+    pos = turn_increments(traj.position, dpsi)
     c, s = np.cos(-dpsi), np.sin(-dpsi)
-    dp = np.diff(traj.position, axis=0)
-    turned = np.column_stack([c[1:] * dp[:, 0] - s[1:] * dp[:, 1], s[1:] * dp[:, 0] + c[1:] * dp[:, 1], dp[:, 2]])
-    pos = np.vstack([traj.position[:1], traj.position[:1] + np.cumsum(turned, axis=0)])
     v = traj.velocity
     vel = np.column_stack([c * v[:, 0] - s * v[:, 1], s * v[:, 0] + c * v[:, 1], v[:, 2]])
     half = -0.5 * dpsi

@@ -33,7 +33,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 from numpy.typing import NDArray
 
-from footnav.types import FootTrajectory, FusionResult
+from footnav.types import FootTrajectory, FusionResult, stance_intervals
 
 __all__ = [
     "FloorHolder",
@@ -216,49 +216,70 @@ class FloorHolder:
         if not self._rows:
             return empty
         t, p, v, q, s = self._joined()
-        done = 0  # samples corrected
-        while True:
-            idx = np.flatnonzero(s[done:])
-            if len(idx) == 0:
-                break
-            a = done + int(idx[0])
-            after = np.flatnonzero(~s[a:])
-            if len(after):
-                b = a + int(after[0])
-            elif closed:
-                b = len(s)
-            else:
-                break
-            self._close_stance(t, p, v, done, a, b)
-            done = b
-        if done == 0:
+        runs = stance_intervals(s)
+        if len(runs) and runs[-1, 1] == len(s) and not closed:  # the last stance may go on
+            runs = runs[:-1]
+        if len(runs) == 0:
             return empty
+        self._close_stances(t, p, v, runs)
+        done = int(runs[-1, 1])
         out = tuple(x[:done] for x in (t, p, v, q, s))
         self._rows = [[x[done:] for x in (t, p, v, q, s)]] if done < len(t) else []
         return out
 
-    def _close_stance(self, t, p, v, lo: int, a: int, b: int) -> None:
-        """Correct the swing ``lo:a`` before the stance ``a:b`` and the stance, in place."""
-        h = float(np.median(p[a:b, 2]))
-        xy = p[a:b, :2].mean(axis=0)
-        c = 0.0
-        if self._prev_h is not None:
-            rise = h - self._prev_h
-            self.rises.append(rise)
-            self.walked_m += float(np.linalg.norm(xy - self._prev_xy))
-            if abs(rise) < self.level_rise_max_m:
-                c = -rise
-            if a > lo:
-                span = t[a] - self._prev_end_t
-                frac = (t[lo:a] - self._prev_end_t) / span
-                p[lo:a, 2] += self._before + c * frac
-                v[lo:a, 2] += c / span
+    def _close_stances(self, t, p, v, runs: NDArray[np.int64]) -> None:
+        """Correct the stances ``runs`` (K, 2) and the swing before each, in place: the whole
+        of ``t[:runs[-1, 1]]``. Vectorised over the stances (a loop of numpy calls per stance
+        cost 28 us each: a third of the filter's time)."""
+        a, b = runs[:, 0], runs[:, 1]
+        n = b - a
+        # each stance's median height: sorted within its run, the middle one or the mean of two
+        seg = np.repeat(np.arange(len(runs)), n)
+        idx = _ranges(a, n)
+        order = np.lexsort((p[idx, 2], seg))
+        z_sorted = p[idx, 2][order]
+        first = np.concatenate(([0], np.cumsum(n)[:-1]))
+        h = 0.5 * (z_sorted[first + (n - 1) // 2] + z_sorted[first + n // 2])
+        xy = np.add.reduceat(p[idx, :2], first, axis=0) / n[:, None]
+        end_t = t[b - 1]
+        if self._prev_h is None:  # the first stance of the walk: nothing to hold before it
+            prev_h = np.concatenate(([h[0]], h[:-1]))
+            prev_xy = np.concatenate((xy[:1], xy[:-1]))
+            prev_end = np.concatenate(([t[0]], end_t[:-1]))
+            counted = np.arange(len(runs)) > 0
         else:
-            p[lo:a, 2] += self._before  # before the first stance: nothing to hold
-        self._before += c
-        p[a:b, 2] += self._before
-        self.held_at[float(t[b - 1])] = self._before
-        self._prev_h, self._prev_end_t, self._prev_xy = h, float(t[b - 1]), xy
+            prev_h = np.concatenate(([self._prev_h], h[:-1]))
+            prev_xy = np.concatenate((self._prev_xy[None], xy[:-1]))
+            prev_end = np.concatenate(([self._prev_end_t], end_t[:-1]))
+            counted = np.ones(len(runs), bool)
+        rise = h - prev_h
+        c = np.where(counted & (np.abs(rise) < self.level_rise_max_m), -rise, 0.0)
+        held = self._before + np.cumsum(c)  # at each stance
+        before = np.concatenate(([self._before], held[:-1]))  # at the stance before each
+        # the swing before stance k: from the last sample of stance k-1 to the first of stance k
+        lo = np.concatenate(([0], b[:-1]))
+        m = a - lo
+        sw = _ranges(lo, m)
+        k = np.repeat(np.arange(len(runs)), m)
+        span = t[a] - prev_end
+        span = np.where(span > 0, span, 1.0)  # only the walk's first stance can start at its first sample
+        p[sw, 2] += before[k] + c[k] * (t[sw] - prev_end[k]) / span[k]
+        v[sw, 2] += (c / span)[k]
+        p[idx, 2] += np.repeat(held, n)
+        self.rises.extend(rise[counted].tolist())
+        self.walked_m += float(np.sum(np.linalg.norm(xy - prev_xy, axis=1)[counted]))
+        self.held_at.update(zip(end_t.tolist(), held.tolist()))
+        self._before = float(held[-1])
+        self._prev_h, self._prev_end_t, self._prev_xy = float(h[-1]), float(end_t[-1]), xy[-1].copy()
+
+
+def _ranges(starts: NDArray[np.int64], lengths: NDArray[np.int64]) -> NDArray[np.int64]:
+    """The indices ``starts[i] .. starts[i] + lengths[i] - 1`` of every i, concatenated."""
+    total = int(lengths.sum())
+    if total == 0:
+        return np.zeros(0, dtype=np.int64)
+    offsets = np.repeat(starts - np.concatenate(([0], np.cumsum(lengths)[:-1])), lengths)
+    return np.arange(total) + offsets
 
 
 def hold_floors(traj: FootTrajectory, *, level_rise_max_m: float = LEVEL_RISE_MAX_M) -> FootTrajectory:

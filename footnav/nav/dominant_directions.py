@@ -138,8 +138,8 @@ def dominant_direction_correction(
     strength = abs(resultant) / max(float(length[straight].sum()), 1e-12)
     grid = float(np.angle(resultant)) / n_directions
     if strength < min_strength or straight.sum() < min_stretch_strides:
-        return HeadingCorrection(False, f"no dominant direction (strength {strength:.2f} < {min_strength})", strength, grid,
-                                 straight_fraction=straight_fraction)
+        why = f"no dominant direction (strength {strength:.2f} < {min_strength})"
+        return HeadingCorrection(False, why, strength, grid, straight_fraction=straight_fraction)
     step = 2.0 * np.pi / n_directions
     off = _wrap(n_directions * (heading - grid)) / n_directions  # from the nearest grid direction
     direction = np.round((heading - grid) / step).astype(int) % n_directions
@@ -166,8 +166,10 @@ def dominant_direction_correction(
         knots_s += [mid_t[a], mid_t[b + 1]]
         knots += [err, err]
     knots_rad = np.array(knots) - knots[0]
-    info = [{"first_stride": a, "last_stride": b, "direction": int(direction[a]), "error_deg": round(float(np.degrees(e)), 3)}
-            for a, b, e in stretches]
+    info = [
+        {"first_stride": a, "last_stride": b, "direction": int(direction[a]), "error_deg": round(float(np.degrees(e)), 3)}
+        for a, b, e in stretches
+    ]
     return HeadingCorrection(True, "", strength, grid, np.array(knots_s), knots_rad, straight_fraction, info)
 
 

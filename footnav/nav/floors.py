@@ -36,11 +36,11 @@ from numpy.typing import NDArray
 from footnav.types import FootTrajectory, FusionResult, stance_intervals
 
 __all__ = [
-    "FloorHolder",
     "FLOOR_MIN_RISE_M",
     "LANDING_STRIDES",
     "LEVEL_RISE_MAX_M",
     "STOREY_M",
+    "FloorHolder",
     "Floors",
     "floor_changes",
     "hold_floors",
@@ -254,7 +254,9 @@ class FloorHolder:
             counted = np.ones(len(runs), bool)
         rise = h - prev_h
         c = np.where(counted & (np.abs(rise) < self.level_rise_max_m), -rise, 0.0)
-        held = self._before + np.cumsum(c)  # at each stance
+        # at each stance; summed from the last one held, in order, so that samples given in any
+        # chunks give the same bits as the whole walk
+        held = np.cumsum(np.concatenate(([self._before], c)))[1:]
         before = np.concatenate(([self._before], held[:-1]))  # at the stance before each
         # the swing before stance k: from the last sample of stance k-1 to the first of stance k
         lo = np.concatenate(([0], b[:-1]))
@@ -267,7 +269,8 @@ class FloorHolder:
         v[sw, 2] += (c / span)[k]
         p[idx, 2] += np.repeat(held, n)
         self.rises.extend(rise[counted].tolist())
-        self.walked_m += float(np.sum(np.linalg.norm(xy - prev_xy, axis=1)[counted]))
+        steps_m = np.linalg.norm(xy - prev_xy, axis=1)[counted]
+        self.walked_m = float(np.cumsum(np.concatenate(([self.walked_m], steps_m)))[-1])
         self.held_at.update(zip(end_t.tolist(), held.tolist()))
         self._before = float(held[-1])
         self._prev_h, self._prev_end_t, self._prev_xy = float(h[-1]), float(end_t[-1]), xy[-1].copy()
@@ -304,10 +307,12 @@ def hold_floors(traj: FootTrajectory, *, level_rise_max_m: float = LEVEL_RISE_MA
     return replace(traj, position=pos, velocity=vel, meta=meta)
 
 
-def hold_result_floors(result: FusionResult, *, level_rise_max_m: float = LEVEL_RISE_MAX_M) -> FusionResult:
+def hold_result_floors(
+    result: FusionResult, *, level_rise_max_m: float = LEVEL_RISE_MAX_M
+) -> FusionResult:
     """:func:`hold_floors` on each foot of a fusion's result; the pedestrian path's height moves
     by the mean of the feet's corrections at its times."""
-    feet = [hold_floors(tr, level_rise_max_m=level_rise_max_m) if tr is not None else None for tr in (result.left, result.right)]
+    feet = [None if tr is None else hold_floors(tr, level_rise_max_m=level_rise_max_m) for tr in (result.left, result.right)]
     shift = [
         np.interp(result.path.t, new.t, new.position[:, 2] - old.position[:, 2])
         for new, old in zip(feet, (result.left, result.right))

@@ -23,7 +23,7 @@ import numpy as np
 from footnav.nav.floors import LEVEL_RISE_MAX_M, stance_heights
 from footnav.types import FootTrajectory
 
-__all__ = ["VerticalCheck", "check_vertical", "WARN_RATE_M_PER_100M", "WARN_TREND_M"]
+__all__ = ["WARN_RATE_M_PER_100M", "WARN_TREND_M", "VerticalCheck", "check_vertical"]
 
 #: Height trend over level strides that warns, m per 100 m walked on them (the default filter
 #: without ``vertical="floors"`` climbs 1-3 m per 100 m on the shared walks).

@@ -131,11 +131,18 @@ def peak_hold(rate_hz: float) -> int:
     return max(3, round(PEAK_HOLD_S * rate_hz))
 
 
+def _kernel_array(x: NDArray[np.float64]) -> NDArray[np.float64]:
+    """``x`` as a writable C-contiguous float64 array (a copy only when it is not): numba
+    compiles a kernel once per array type, and a read-only array is another type (each of this
+    module's kernels was compiled twice on a first call)."""
+    return np.require(x, np.float64, ["C", "W"])
+
+
 def _held_peak(x: NDArray[np.float64], hold: int) -> float:
     """Largest value ``x`` stays at or above for ``hold`` consecutive samples."""
     if len(x) < hold:
         return float(x.min()) if len(x) else 0.0
-    return float(_max_of_window_minima(x, hold))
+    return float(_max_of_window_minima(_kernel_array(x), hold))
 
 
 @njit(cache=True)
@@ -184,7 +191,8 @@ def _at_rest(
     k = max(5, round(REST_WINDOW_S * rate_hz))
     if n < k:
         return np.zeros(n, dtype=bool)
-    return _rest_mask(acc_norm, gyr_norm, median, k, REST_ACC_REL_STD * median, REST_GYR_RADPS)
+    acc, gyr = _kernel_array(acc_norm), _kernel_array(gyr_norm)
+    return _rest_mask(acc, gyr, median, k, REST_ACC_REL_STD * median, REST_GYR_RADPS)
 
 
 @njit(cache=True)
@@ -399,7 +407,7 @@ def _check_data(
     # a held peak beyond any gyroscope (deg/s read as rad/s), single absurd samples (a corrupt
     # record: the median and the held peak do not see them)
     check_extremes(acc, gyr, path=path, hold=hold, acc_median=f, acc_norm=acc_norm, gyr_norm=gyr_norm)
-    n_moving = _count_beyond(acc_norm, f, ACC_MOVING_MPS2)
+    n_moving = _count_beyond(_kernel_array(acc_norm), f, ACC_MOVING_MPS2)
     moving = n_moving / len(acc_norm)
     # at least a swing's worth (0.2 s) of motion: a few rows of a test file are no walk
     if moving >= ACC_MOVING_FRACTION and n_moving >= max(10, 0.2 * rate) and w_peak < GYR_PEAK_MIN_RADPS:

@@ -65,7 +65,7 @@ def test_turn_by_turns_increments_velocity_and_attitude_and_keeps_the_start():
     assert np.allclose(turned.position[:, 1], -(truth.position[:, 0] - truth.position[0, 0]) + turned.position[0, 1], atol=1e-9)
     assert np.allclose(turned.velocity[:, 1], -truth.velocity[:, 0], atol=1e-12)
     assert np.allclose(turned.position[:, 2], truth.position[:, 2])
-    yaw = lambda q: np.arctan2(2 * (q[:, 0] * q[:, 3] + q[:, 1] * q[:, 2]), 1 - 2 * (q[:, 2] ** 2 + q[:, 3] ** 2))  # noqa: E731
+    yaw = lambda q: np.arctan2(2 * (q[:, 0] * q[:, 3] + q[:, 1] * q[:, 2]), 1 - 2 * (q[:, 2] ** 2 + q[:, 3] ** 2))
     assert np.allclose(np.angle(np.exp(1j * (yaw(turned.quaternion) - yaw(truth.quaternion)))), -np.pi / 2, atol=1e-9)
 
 
@@ -102,8 +102,8 @@ def test_gaitdriven_hallway_walks_footprints_closer_with_the_aid(shared_data):
         warnings.simplefilter("ignore")
         for name in names:
             rec = load_dataset(name, shared_data)
-            for aid in rmse:
-                rmse[aid].append(footnav.evaluate(footnav.make_pipeline(heading_aid=aid), rec).value("footprint_rmse", "left"))
+            for aid, values in rmse.items():
+                values.append(footnav.evaluate(footnav.make_pipeline(heading_aid=aid), rec).value("footprint_rmse", "left"))
     before, after = np.median(rmse[None]), np.median(rmse["dominant-directions"])
     assert after < 0.85 * before, (before, after)
     assert max(rmse["dominant-directions"]) <= max(rmse[None]) + 1e-9

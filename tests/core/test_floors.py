@@ -3,7 +3,14 @@
 import numpy as np
 import pytest
 
-from footnav.nav.floors import FLOOR_MIN_RISE_M, LEVEL_RISE_MAX_M, FloorHolder, floor_changes, hold_floors, stance_heights
+from footnav.nav.floors import (
+    FLOOR_MIN_RISE_M,
+    LEVEL_RISE_MAX_M,
+    FloorHolder,
+    floor_changes,
+    hold_floors,
+    stance_heights,
+)
 from footnav.types import FootTrajectory
 
 RATE_HZ = 100.0
@@ -89,7 +96,7 @@ def test_a_landing_joins_two_half_flights_and_half_a_storey_is_no_floor():
     assert flights[0]["floors"] == -3 and level[-1] == -3
 
 
-@pytest.mark.parametrize("chunk", [1, 7, 100, 10_000])
+@pytest.mark.parametrize("chunk", [1, 7, 100, 350, 777, 10_000])
 def test_the_holder_fed_in_chunks_gives_the_whole_walk_s_numbers(chunk):
     rng = np.random.default_rng(0)
     rises = list(rng.normal(0.0, 0.04, 12)) + [0.3, 0.3, 0.3]

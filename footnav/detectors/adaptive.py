@@ -36,7 +36,7 @@ Online (:mod:`footnav.pipeline.online`, ``latency_s`` = ``online_lookahead_s`` +
 decisions it makes final. Its decisions are the offline ones except where the window cannot see
 what the whole walk shows: a gait cycle longer than the look-ahead (taken with the base bounds,
 as a recording's last cycle), and the typical stride (``stride_fraction``), which is that of the
-window's ~8 strides rather than the whole walk's. On the shared recordings 113 of 120 feet get
+window's ~8 strides rather than the whole walk's. On the shared recordings 109 of 121 feet get
 the offline mask; docs/online.md gives the others.
 
 The result's ``score`` is ``s / scale`` (a sample is still when it is below 1), ``meta`` holds

@@ -7,6 +7,7 @@ import signal
 import subprocess
 import sys
 import time
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -163,3 +164,28 @@ def test_live_plot_never_replaces_a_users_file(walk_csv, tmp_path):
                           timeout=120, check=False)
     assert done.returncode != 0
     assert mine.read_bytes() == b"not footnav's"
+
+
+def test_follow_on_a_running_trial_misses_no_stance(shared_data, tmp_path):
+    """A pyshoe running trial written as a footnav CSV and followed: a step is printed for every
+    stance the offline default finds after its start-up (of its 38 stances, threshold, follow's
+    detector before issue 35, finds 9)."""
+    from footnav.data.datasets import load_dataset
+    from footnav.data.io.footnav_csv import write_footnav_csv
+
+    try:
+        rec = load_dataset("pyshoe_2017-11-27-11-18-11", shared_data)
+    except footnav.DataNotFoundError:
+        pytest.skip("pyshoe running trial not found")
+    write_footnav_csv(rec.left, tmp_path / "run.csv")
+    done = subprocess.run([sys.executable, "-m", "footnav.cli", "follow", "--left", str(tmp_path / "run.csv"), "--out",
+                           str(tmp_path / "out")], capture_output=True, text=True, timeout=300, check=False)
+    assert done.returncode == 0, done.stderr
+    printed = [float(s[0]) for s in _step_lines(done.stdout)]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        off = footnav.make_pipeline().run(footnav.load(str(tmp_path / "run.csv")).left)
+    ends = off.left.t[off.left.steps[:, 1] - 1]
+    after = ends[ends >= off.left.t[0] + 10.0]  # the detector's start-up (online_startup_s)
+    assert len(after) >= 20
+    assert all(np.min(np.abs(np.asarray(printed) - t)) < 1e-3 for t in after)  # printed to 1 ms

@@ -449,6 +449,10 @@ class OnlineStream:
         reason = "; ".join(f"{where}: {type(exc).__name__}: {exc}" for where, exc in causes)
         feet: dict[str, Any] = {}
         for f in self.feet:
+            alone = self._foot_alone(f, failures)
+            if alone is not None:
+                feet[f.foot] = alone
+                continue
             try:
                 feet[f.foot] = f.trajectory() if f.n_out > 1 and f.filt is not None else None
                 if feet[f.foot] is not None:
@@ -473,6 +477,23 @@ class OnlineStream:
         error.reason = reason  # type: ignore[union-attr]
         return error
 
+    def _foot_alone(self, f: FootStream, failures: dict[str, BaseException]) -> tuple[Any, Any] | None:
+        """A foot that ended whole, when ``close`` reruns offline: its own offline run (the
+        pipeline's detector and estimator, independent), so a partial result holds what the
+        complete one would (the whole-walk smoother, the offline stances); else None."""
+        if not (self.rerun and self.keep and f.finished and self.failure is None and f.foot not in failures):
+            return None
+        if self.pipeline.fusion.name not in ONLINE_FUSIONS:
+            return None  # a coupled fusion's feet are not each foot alone
+        from footnav.pipeline.factory import make_pipeline
+
+        try:
+            with recording(quiet=True):  # said live
+                result = make_pipeline(self.pipeline.detector, self.pipeline.estimator, "independent").run(f.whole_input())
+        except Exception:  # the stream's own samples below
+            return None
+        return result.left, result.stance_left
+
     def stats(self) -> dict[str, Any]:
         """Samples received and final per foot, the detector's latency, time spent in push."""
         return {
@@ -483,7 +504,7 @@ class OnlineStream:
             "pushes": self.n_pushes,
             "push_time_s": self._push_s,
             # what ``close`` returns: the offline rerun ("whole input"), the stream's final samples
-            #: ("stream"), or nothing (keep=False: the past is not kept, no whole-walk smoothing)
+            # ("stream"), or nothing (keep=False: the past is not kept, no whole-walk smoothing)
             "close": ("whole input" if self.rerun else "stream") if self.keep else
             "none: keep=False keeps no past" + (", the whole-walk smoother was not possible (the stream's samples are "
                                                 "smoothed step-wise)" if getattr(self.pipeline.estimator, "smoother", None) == "whole" else ""),

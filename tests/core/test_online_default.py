@@ -12,9 +12,9 @@ import footnav
 from footnav.types import stance_intervals
 from online_replay import _replay, shared_recordings  # tests/online_replay.py
 
-#: The shared two-foot recordings replayed here: one whose live stances are the offline ones, two
-#: whose start-up strides differ (docs/online.md, "The adaptive detector online").
-TWO_FOOT = ("gaitmap", "ipol_1-1", "ipol_2-4")
+#: Replayed in chunks of 1 sample too (the others in chunks of 7 and 1000): one whose live
+#: stances are the offline ones, two where some differ (docs/online.md, "The default pipeline online").
+ONE_BY_ONE = ("gaitmap", "ipol_1-1", "ipol_2-4")
 #: The largest distance between a live step-wise smoothed sample and the offline step-wise
 #: smoothed run's on the shared walking recordings (ipol_1-1's left foot: 0.093 m, one stance
 #: with other edges), m: docs/online.md.
@@ -82,11 +82,14 @@ def test_default_pipeline_on_shared_two_foot_recordings(shared_data):
     """close() is the offline run for every chunking; the live samples are the same for every
     chunking (decisions in blocks of fixed samples) and within LIVE_DIFFERENCE_M of the offline
     step-wise smoothed run."""
+    from footnav.data.datasets import dataset_names
+
     seen = 0
-    for rec in shared_recordings(shared_data, TWO_FOOT):
+    names = [n for n in dataset_names(shared_data) if n in ("azure_fgo", "gaitmap") or n.startswith("ipol_")]
+    for rec in shared_recordings(shared_data, names):
         off, step = _offline(rec)
         first = None
-        for size in (1, 7, 1000):
+        for size in (1, 7, 1000) if rec.name in ONE_BY_ONE else (7, 1000):
             got, _, result, stream = _replay(footnav.make_pipeline(), rec.left, rec.right, size, max_wait_s=1e9,
                                              rate_hz=rec.left.rate_hz)
             _check_close(off, result, ("left", "right"))

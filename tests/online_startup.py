@@ -19,9 +19,10 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(__file__))
 
-import footnav  # noqa: E402
-from footnav.types import stance_intervals  # noqa: E402
-from online_replay import _replay  # noqa: E402
+from online_replay import _replay
+
+import footnav
+from footnav.types import stance_intervals
 
 
 def compare(rec, size=50):
@@ -76,7 +77,7 @@ def main(names):
             rec = load_dataset(name, os.environ.get("FOOTNAV_DATA"))
         for foot, (added, removed, dist, same, lat) in compare(rec).items():
             la = f"{np.median(lat):.2f}, {max(lat):.2f}" if lat else "-"
-            print(f"{name:28s} {foot:5s} {added:5d} {removed:7d}  {dist:10.3g}  {str(same):13s}  {la}", flush=True)
+            print(f"{name:28s} {foot:5s} {added:5d} {removed:7d}  {dist:10.3g}  {same!s:13s}  {la}", flush=True)
 
 
 if __name__ == "__main__":

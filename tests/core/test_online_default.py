@@ -7,10 +7,10 @@ import warnings
 
 import numpy as np
 import pytest
+from online_replay import _replay, shared_recordings  # tests/online_replay.py
 
 import footnav
 from footnav.types import stance_intervals
-from online_replay import _replay, shared_recordings  # tests/online_replay.py
 
 #: Replayed in chunks of 1 sample too (the others in chunks of 7 and 1000): one whose live
 #: stances are the offline ones, two where some differ (docs/online.md, "The default pipeline online").
@@ -90,7 +90,7 @@ def test_default_pipeline_on_shared_two_foot_recordings(shared_data):
         off, step = _offline(rec)
         first = None
         for size in (1, 7, 1000) if rec.name in ONE_BY_ONE else (7, 1000):
-            got, _, result, stream = _replay(footnav.make_pipeline(), rec.left, rec.right, size, max_wait_s=1e9,
+            got, _, result, _ = _replay(footnav.make_pipeline(), rec.left, rec.right, size, max_wait_s=1e9,
                                              rate_hz=rec.left.rate_hz)
             _check_close(off, result, ("left", "right"))
             for foot in ("left", "right"):

@@ -40,7 +40,7 @@ def _footnav(*args: str, **kwargs) -> subprocess.Popen:
 @pytest.fixture(scope="module")
 def walk_csv(tmp_path_factory) -> Path:
     folder = tmp_path_factory.mktemp("walk")
-    subprocess.run([sys.executable, "-m", "footnav.cli", "simulate", "straight", "--set", "distance_m=8", "--out",
+    subprocess.run([sys.executable, "-m", "footnav.cli", "simulate", "straight", "--set", "distance_m=20", "--out",
                     str(folder / "sim")], check=True, capture_output=True)
     return folder / "sim"
 
@@ -70,13 +70,13 @@ def test_follow_prints_steps_as_they_happen_and_writes_the_result_folder(walk_cs
     text = "".join(lines)
     assert first_step_at is not None and writing, "a step is printed while the file is still being written"
     steps = _step_lines(text)
-    # the result folder is footnav run's, and equal to the offline causal run
+    # the result folder is footnav run's, and equal to the offline run of the default pipeline
     run = subprocess.run([sys.executable, "-m", "footnav.cli", "run", "--left", str(walk_csv / "left.csv"), "--right",
-                          str(walk_csv / "right.csv"), "--detector", "threshold", "--out",
+                          str(walk_csv / "right.csv"), "--out",
                           str(tmp_path / "offline")], capture_output=True, text=True, check=False)
     assert run.returncode == 0, run.stderr
     assert sorted(os.listdir(tmp_path / "out")) == sorted(os.listdir(tmp_path / "offline"))
-    pipe = footnav.make_pipeline("threshold", "ekf", estimator_params={"smoother": "step"})
+    pipe = footnav.make_pipeline()
     off = pipe.run(footnav.load(str(walk_csv / "left.csv")).left, footnav.load(str(walk_csv / "right.csv")).left)
     got = np.load(tmp_path / "out" / "trajectories.npz")
     for foot in ("left", "right"):
@@ -119,7 +119,7 @@ def test_a_coupled_fusion_follows_both_feet(walk_csv, tmp_path):
                           capture_output=True, text=True, timeout=120, check=False)
     assert done.returncode == 0, done.stderr
     assert {s[1] for s in _step_lines(done.stdout)} == {"left", "right"}
-    pipe = footnav.make_pipeline("threshold", "ekf", "range", estimator_params={"smoother": "step"})
+    pipe = footnav.make_pipeline("adaptive", "ekf", "range")
     off = pipe.run(footnav.load(str(walk_csv / "left.csv")).left, footnav.load(str(walk_csv / "right.csv")).left)
     got = np.load(tmp_path / "out" / "trajectories.npz")
     for foot in ("left", "right"):
@@ -129,7 +129,7 @@ def test_a_coupled_fusion_follows_both_feet(walk_csv, tmp_path):
 
 def test_offline_only_pipeline_is_refused(walk_csv, tmp_path):
     done = subprocess.run([sys.executable, "-m", "footnav.cli", "follow", "--left", str(walk_csv / "left.csv"),
-                           "--detector", "adaptive", "--out", str(tmp_path / "out")], capture_output=True, text=True,
+                           "--detector", "hmm", "--out", str(tmp_path / "out")], capture_output=True, text=True,
                           check=False)
     assert done.returncode == 2
     assert "cannot run online" in done.stderr
@@ -164,3 +164,28 @@ def test_live_plot_never_replaces_a_users_file(walk_csv, tmp_path):
                           timeout=120, check=False)
     assert done.returncode != 0
     assert mine.read_bytes() == b"not footnav's"
+
+
+def test_follow_on_a_running_trial_misses_no_stance(shared_data, tmp_path):
+    """A pyshoe running trial written as a footnav CSV and followed: a step is printed for every
+    stance the offline default finds after its start-up (of its 38 stances, threshold, follow's
+    detector before issue 35, finds 9)."""
+    from footnav.data.datasets import load_dataset
+    from footnav.data.io.footnav_csv import write_footnav_csv
+
+    try:
+        rec = load_dataset("pyshoe_2017-11-27-11-18-11", shared_data)
+    except footnav.DataNotFoundError:
+        pytest.skip("pyshoe running trial not found")
+    write_footnav_csv(rec.left, tmp_path / "run.csv")
+    done = subprocess.run([sys.executable, "-m", "footnav.cli", "follow", "--left", str(tmp_path / "run.csv"), "--out",
+                           str(tmp_path / "out")], capture_output=True, text=True, timeout=300, check=False)
+    assert done.returncode == 0, done.stderr
+    printed = [float(s[0]) for s in _step_lines(done.stdout)]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        off = footnav.make_pipeline().run(footnav.load(str(tmp_path / "run.csv")).left)
+    ends = off.left.t[off.left.steps[:, 1] - 1]
+    after = ends[ends >= off.left.t[0] + 10.0]  # the detector's start-up (online_startup_s)
+    assert len(after) >= 20
+    assert all(np.min(np.abs(np.asarray(printed) - t)) < 1e-3 for t in after)  # printed to 1 ms

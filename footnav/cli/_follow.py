@@ -271,10 +271,8 @@ def cmd_follow(args: argparse.Namespace) -> int:
         if any(getattr(args, k) for k in ("detector", "estimator", "fusion")):
             raise FootnavError("give either --pipeline or --detector/--estimator/--fusion, not both")
         pipeline = load_pipeline(args.pipeline)
-    else:  # online defaults: a windowed detector, the EKF smoothing each step at its end
-        estimator = args.estimator or "ekf"
-        pipeline = make_pipeline(args.detector or "threshold", estimator, args.fusion or "independent",
-                                 estimator_params={"smoother": "step"} if estimator == "ekf" else None)
+    else:  # the offline defaults: adaptive detector, EKF (step-wise live, the whole walk at the end)
+        pipeline = make_pipeline(args.detector or "adaptive", args.estimator or "ekf", args.fusion or "independent")
     if args.left == "-" and args.right == "-":
         raise FootnavError("only one of --left / --right can be standard input; give both feet there with a 'foot' column")
     two_feet = args.right is not None or args.feet == 2

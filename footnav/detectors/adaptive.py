@@ -31,6 +31,14 @@ learned model:
 5. :func:`footnav.detectors.threshold.stance_result` drops stances shorter than ``min_stance_s``,
    bridges swings shorter than ``min_swing_s`` and marks ``foot_flat`` / ``heel_off``.
 
+Online (:mod:`footnav.pipeline.online`, ``latency_s`` = ``online_lookahead_s`` +
+``online_block_s`` = 2.75 s) the detector runs on a window of ~10 s ending 2.5 s past the
+decisions it makes final. Its decisions are the offline ones except where the window cannot see
+what the whole walk shows: a gait cycle longer than the look-ahead (taken with the base bounds,
+as a recording's last cycle), and the typical stride (``stride_fraction``), which is that of the
+window's ~8 strides rather than the whole walk's. On the shared recordings 109 of 121 feet get
+the offline mask; docs/online.md gives the others.
+
 The result's ``score`` is ``s / scale`` (a sample is still when it is below 1), ``meta`` holds
 the swing peaks, the typical stride, each cycle's scale and the pivots' start times.
 """
@@ -123,9 +131,30 @@ class AdaptiveDetector(StanceDetector):
     """
 
     name = "adaptive"
-    #: No bounded latency: a cycle's bound needs the swing peak after it, and which peaks count
-    #: depends on the recording's typical stride (``stride_fraction``), known only at its end.
-    latency_s = None
+    #: Online (:mod:`footnav.pipeline.online`) a sample's decision is taken on a window reaching
+    #: this far past it (s): its cycle's bound needs the swing peak ending the cycle (one stride
+    #: ahead, 0.7-1.3 s in the shared walks and runs), that peak's selection the samples up to
+    #: ``stride_fraction`` of a stride after it (a higher peak closer than that removes it) and
+    #: its prominence the foot's next rest (~0.3 s). A cycle longer than this is decided online
+    #: as a recording's last cycle is: with the base bounds.
+    online_lookahead_s = 2.5
+    #: Online, decisions become final in blocks of this many seconds, each taken on the window
+    #: ending ``online_lookahead_s`` after the block: the windows, hence the decisions, are the
+    #: same however the samples are chunked, and a one-sample push costs no detection.
+    online_block_s = 0.25
+    #: Online, the first decisions wait until this much of the walk is in (s): the typical stride
+    #: (``stride_fraction``) is then taken over ~8 strides, as offline over the whole walk.
+    online_startup_s = 10.0
+    #: Online decisions are not always the offline ones: the typical stride of a window of
+    #: ~10 s is not the whole walk's (docs/online.md gives how often they differ), so a stream's
+    #: ``close`` reruns the offline pipeline on the whole input.
+    online_exact = False
+
+    @property
+    def latency_s(self) -> float:
+        """How long after a sample arrives its decision is final online, s: the look-ahead and a
+        block (after the start-up, ``online_startup_s``)."""
+        return float(self.online_lookahead_s + self.online_block_s)
 
     def __init__(
         self,

@@ -12,24 +12,35 @@ How it stays equal to the offline run, per foot (:mod:`footnav.pipeline.online_f
    not yet final. A detector declares its latency (``StanceDetector.latency_s``): its decision
    on a sample depends on nothing later than that, so decisions older than the latency (plus
    two samples) are final; decisions within ``margin`` of the buffer's start are never used (the
-   buffer's start has edge effects of the same reach). A detector without a bounded latency
-   (``latency_s = None``: the adaptive detector's per-cycle bounds need the recording's typical
-   stride, the HMM's Viterbi path the whole recording) is refused.
+   buffer's start has edge effects of the same reach). A detector may decide in blocks
+   (``online_block_s``: each block on the window of fixed samples ending ``latency_s`` after it,
+   the same however the samples are chunked) and wait for its first decisions
+   (``online_startup_s``); the adaptive detector does both (its windowed decisions are the
+   offline ones but where the window's typical stride is not the walk's, ``online_exact`` False).
+   A detector without a bounded latency (``latency_s = None``: the HMM's Viterbi path needs the
+   whole recording) is refused.
 2. **The forward filter** (the estimator's :class:`~footnav.estimators.ekf.InsFilter`, aligned
    by ``estimator.start`` once the first stance is final) runs on the final samples. The filter
    is built over a fixed-size *segment* of samples that the stream fills as they become final;
    when the segment is full, a new one starts from the filter's last checkpoint at a step end
    (its state, covariance and the step-wise smoother's chaining value there). The filter is
    deterministic, so the continued run is the offline run, sample for sample.
-3. **Step-wise smoothing** (``smoother="step"``) closes each step at its end: every sample up to
+3. **Step-wise smoothing** (``smoother="step"``, and live with ``"whole"``) closes each step at its end: every sample up to
    the last closed step is final, and is returned by the next push. The frame's heading (the
    first step along +x) is known once the first step longer than 0.2 m has closed; samples are
    held until then.
 
 Latency: a step (from one stance's end to the next stance's end) is final once that stance's end
 is detected, i.e. when the sample after it is final: ``latency_s`` plus 3 samples after the
-stance's last sample arrives (measured by ``benchmarks/bench_online.py`` and
-``tests/core/test_online.py``).
+stance's last sample arrives, after a detector's start-up (measured by
+``benchmarks/bench_online.py``, ``tests/core/test_online.py`` and, for the default pipeline,
+``tests/core/test_online_default.py``; ``stats()["step_latency_s"]`` gives each step's).
+
+Close: the whole result is made from the stream's final samples, or, with the whole-walk
+smoother or a detector that is not ``online_exact`` (the default pipeline), by the offline run of
+the pipeline on every sample kept (``keep=True``): the offline result, checks and meta, with
+``meta["online"]`` added. With ``keep=False`` nothing is returned and ``stats()["close"]`` says
+the whole-walk smoother was not possible.
 
 Memory: the input buffer, the detection buffer and the filter segment are bounded; with
 ``keep=False`` nothing grows with the walk (``close`` then returns None). ``keep=True`` keeps every
@@ -97,7 +108,7 @@ class OnlineStream:
     ----------
     pipeline
         A pipeline whose components run online: a detector with a bounded ``latency_s``, an
-        estimator with a step-able filter and ``smoother="step"`` (or ``"none"``), an online
+        estimator with a step-able filter and any ``smoother`` (``"whole"``: step-wise live, the whole walk at close), an online
         fusion (:data:`ONLINE_FUSIONS`).
     feet
         1 (``left`` only) or 2.
@@ -170,6 +181,11 @@ class OnlineStream:
         self.rate_hz = rate_hz
         self.pipeline = pipeline
         self.latency_s = check_online(pipeline, feet)
+        #: ``close`` reruns the offline pipeline on the whole input (``keep=True``) rather than
+        #: assembling the stream's final samples: the whole-walk smoother needs the whole walk,
+        #: and a detector whose online decisions may differ from its offline ones (its
+        #: ``online_exact`` False: adaptive's typical stride) would give other stances
+        self.rerun = getattr(pipeline.estimator, "smoother", None) == "whole" or not getattr(pipeline.detector, "online_exact", True)
         self.n_feet = feet
         self.max_wait_s = float(max_wait_s)
         self.keep = bool(keep)
@@ -353,6 +369,8 @@ class OnlineStream:
         raise error
 
     def _result(self) -> PipelineResult:
+        if self.rerun:
+            return self._offline_result()
         trajs = [f.trajectory() for f in self.feet]
         # the whole recording's checks, as the offline run makes them: units, rest, saturation
         # (online they saw the first seconds) and each foot's stances against its gait cycles
@@ -395,6 +413,19 @@ class OnlineStream:
         return PipelineResult(left=left, right=right, path=path, stance_left=trajs[0][1],
                               stance_right=trajs[1][1] if self.n_feet == 2 else None, meta=meta)
 
+    def _offline_result(self) -> PipelineResult:
+        """The offline run of the pipeline on every sample pushed (on the common clock): its
+        result, checks and meta, with the stream's ``meta["online"]`` (its live warnings there)."""
+        imus = [f.whole_input() for f in self.feet]
+        with recording(quiet=True):  # its warnings were said live, as the samples arrived
+            result = self.pipeline.run(imus[0], imus[1] if self.n_feet == 2 else None)
+        result.meta["online"] = {**self.stats(), "warnings": list(self.warnings)}
+        result.meta["runtime_s"] = self._push_s + result.meta.get("runtime_s", 0.0)
+        result.meta.update(complete=True, ended_by="close")
+        for f in self.feet:
+            result.meta["input"][f.foot] = {**(result.meta["input"].get(f.foot) or {}), "online": True, "samples": f.input.end}
+        return result
+
     def _meta(self, fusion_meta: dict, complete: bool, ended_by: str) -> dict[str, Any]:
         from footnav._version import __version__
 
@@ -419,6 +450,10 @@ class OnlineStream:
         reason = "; ".join(f"{where}: {type(exc).__name__}: {exc}" for where, exc in causes)
         feet: dict[str, Any] = {}
         for f in self.feet:
+            alone = self._foot_alone(f, failures)
+            if alone is not None:
+                feet[f.foot] = alone
+                continue
             try:
                 feet[f.foot] = f.trajectory() if f.n_out > 1 and f.filt is not None else None
                 if feet[f.foot] is not None:
@@ -443,6 +478,23 @@ class OnlineStream:
         error.reason = reason  # type: ignore[union-attr]
         return error
 
+    def _foot_alone(self, f: FootStream, failures: dict[str, BaseException]) -> tuple[Any, Any] | None:
+        """A foot that ended whole, when ``close`` reruns offline: its own offline run (the
+        pipeline's detector and estimator, independent), so a partial result holds what the
+        complete one would (the whole-walk smoother, the offline stances); else None."""
+        if not (self.rerun and self.keep and f.finished and self.failure is None and f.foot not in failures):
+            return None
+        if self.pipeline.fusion.name not in ONLINE_FUSIONS:
+            return None  # a coupled fusion's feet are not each foot alone
+        from footnav.pipeline.factory import make_pipeline
+
+        try:
+            with recording(quiet=True):  # said live
+                result = make_pipeline(self.pipeline.detector, self.pipeline.estimator, "independent").run(f.whole_input())
+        except Exception:  # the stream's own samples below
+            return None
+        return result.left, result.stance_left
+
     def stats(self) -> dict[str, Any]:
         """Samples received and final per foot, the detector's latency, time spent in push."""
         return {
@@ -452,6 +504,13 @@ class OnlineStream:
             "final": {f.foot: f.n_out for f in self.feet},
             "pushes": self.n_pushes,
             "push_time_s": self._push_s,
+            # what ``close`` returns: the offline rerun ("whole input"), the stream's final samples
+            # ("stream"), or nothing (keep=False: the past is not kept, no whole-walk smoothing)
+            "close": ("whole input" if self.rerun else "stream") if self.keep else
+            "none: keep=False keeps no past" + (", the whole-walk smoother was not possible (the stream's samples are "
+                                                "smoothed step-wise)" if getattr(self.pipeline.estimator, "smoother", None) == "whole" else ""),
+            # (step end, when it became final) of each foot's latest steps, s after the step's end
+            "step_latency_s": {f.foot: [round((b - a) / f.rate_hz, 6) for a, b in f.step_final_at] if f.rate_hz else [] for f in self.feet},
         }
 
 
@@ -463,7 +522,7 @@ def check_online(pipeline: Any, feet: int) -> float:
     if latency is None:
         raise CompositionError(
             f"detector {det.name!r} cannot run online: its decision on a sample depends on samples without "
-            f"bound (it declares latency_s = None); use a windowed detector such as 'threshold' or 'glrt'"
+            f"bound (it declares latency_s = None); use a windowed detector such as 'adaptive', 'threshold' or 'glrt'"
         )
     if fus.needs_two_feet and feet < 2:
         raise CompositionError(f"fusion {fus.name!r} needs both feet (feet=2)")
@@ -485,10 +544,10 @@ def check_online(pipeline: Any, feet: int) -> float:
     if not callable(getattr(est, "start", None)):
         raise CompositionError(f"estimator {est.name!r} has no step-able filter (start(imus, stances)); online mode needs one, such as 'ekf'")
     est.validate_params()
-    if getattr(est, "smoother", None) not in ("step", "none"):
+    if getattr(est, "smoother", None) not in ("whole", "step", "none"):
         raise CompositionError(
-            f"estimator {est.name!r} with smoother={getattr(est, 'smoother', None)!r} is offline only: whole-walk "
-            "smoothing needs the whole walk; use smoother='step' (each step smoothed at its end) or 'none'"
+            f"estimator {est.name!r} with smoother={getattr(est, 'smoother', None)!r} cannot run online: expected "
+            "'whole' (step-wise live, the whole walk at close), 'step' or 'none'"
         )
     if getattr(est, "closed_loop", False):
         raise CompositionError(f"estimator {est.name!r} with closed_loop=True is offline only: it needs the walk's end")

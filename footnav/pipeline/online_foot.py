@@ -145,6 +145,8 @@ class FootStream:
         self.first_t = math.nan  # the first sample's time, s
         self.rate_hz: float | None = None
         self.lag = 0  # detection latency, samples
+        self.block = 0  # decisions made final together (0: all that are old enough), samples
+        self.startup = 0  # the first decisions wait for this many samples
         self.margin = 0  # final samples re-detected before the frontier, samples
         self.run_start: int | None = None  # start of the stance run open at the frontier
         self.first_stance_closed = False
@@ -219,13 +221,28 @@ class FootStream:
                 return
             else:
                 self.rate_hz = float(1.0 / np.median(np.diff(tt)))
-            self.lag = math.ceil(self.stream.latency_s * self.rate_hz) + 2
+            det = self.stream.pipeline.detector
+            block_s = float(getattr(det, "online_block_s", 0.0))
+            self.block = max(1, round(block_s * self.rate_hz)) if block_s else 0
+            self.startup = round(float(getattr(det, "online_startup_s", 0.0)) * self.rate_hz)
+            self.lag = math.ceil((self.stream.latency_s - block_s) * self.rate_hz) + 2
             self.margin = 3 * self.lag + 8
-        frontier = n_in if final else n_in - self.lag
-        if frontier <= self.n_final:
+        if self.block and not final:
+            # in blocks on windows of fixed sample indices (the detector's online_block_s)
+            while max(self.n_final + self.block + self.lag, self.startup) <= n_in:
+                end = max(self.n_final + self.block + self.lag, self.startup)
+                self._detect_window(end, end - self.lag)
             return
+        frontier = n_in if final else n_in - self.lag
+        if frontier > self.n_final:
+            self._detect_window(n_in, frontier)
+
+    def _detect_window(self, end: int, frontier: int) -> None:
+        """Detect on the samples up to ``end`` (global) from ``margin`` before the first not yet
+        final, and take the decisions up to ``frontier`` as final."""
+        inp = self.input
         a = max(self.n_final - self.margin, inp.start)
-        t, acc, gyr, mask = inp.rows(a, n_in)
+        t, acc, gyr, mask = inp.rows(a, end)
         # the detector's rate is the median interval's: the stream's rate, not each window's own
         # (jittered sampling gives windows of other lengths), so it sees the samples on a grid
         # at that rate (a windowed detector counts samples; the time stamps give it the rate)
@@ -308,7 +325,8 @@ class FootStream:
         return True
 
     def _segment(self, samples: tuple, size: int, like: InsFilter, state: FilterState, base: int) -> InsFilter:
-        return filter_segment([samples], [size], like, state, [base], self.stream.pipeline.estimator.smoother == "step")
+        # the whole-walk smoother's samples are given step-wise smoothed as they become final
+        return filter_segment([samples], [size], like, state, [base], self.stream.pipeline.estimator.smoother != "none")
 
     def _restart(self) -> None:
         """A new segment from the old one's last checkpoint (a step end, or a full smoother

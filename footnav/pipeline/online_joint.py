@@ -109,7 +109,7 @@ class JointStream:
         self.fusion = stream.pipeline.fusion
         self.estimator = stream.pipeline.estimator
         self.forward = forward_only(self.estimator)
-        self.smooth = self.estimator.smoother == "step"
+        self.smooth = self.estimator.smoother != "none"  # "whole": step-wise until close
         self.feet = [JointFoot(f) for f in feet]
         for f in feet:
             f.hold = 0  # every sample, until the joint filter has taken it

@@ -202,15 +202,17 @@ def test_declared_latencies():
     assert footnav.make_detector("threshold").latency_s == pytest.approx(0.04 / 2 + 0.05 + 0.2)
     glrt_any = footnav.make_detector("glrt", combine="any")
     assert glrt_any.latency_s == pytest.approx(glrt_any.window_s + glrt_any.min_stance_s + glrt_any.min_swing_s)
-    for name in ("adaptive", "hmm", "dual-gait"):
+    adaptive = footnav.make_detector("adaptive")
+    assert adaptive.latency_s == pytest.approx(adaptive.online_lookahead_s + adaptive.online_block_s)
+    for name in ("hmm", "dual-gait"):
         assert footnav.make_detector(name).latency_s is None
 
 
 @pytest.mark.parametrize(
     "kwargs, match",
     [
-        ({"detector": "adaptive", "estimator_params": STEP}, "latency_s = None"),
-        ({"detector": "threshold"}, "smoother='whole' is offline only"),
+        ({"detector": "hmm", "estimator_params": STEP}, "latency_s = None"),
+        ({"detector": "threshold", "estimator_params": {"closed_loop": True}}, "closed_loop=True is offline only"),
         ({"detector": "threshold", "estimator_params": STEP, "fusion": "dtw"}, "offline only: it averages"),
         ({"detector": "threshold", "estimator": "madgwick"}, "step-able filter"),
     ],

@@ -162,9 +162,6 @@ def test_shared_recordings(shared_data, fusion):
 def test_what_cannot_run_online_is_refused(walk):
     with pytest.raises(CompositionError, match="needs both feet"):
         _pipe().online(feet=1)
-    whole = footnav.make_pipeline("threshold", "ekf", "range")
-    with pytest.raises(CompositionError, match="smoother='whole' is offline only"):
-        whole.online(feet=2)
     for fusion, params, what in (
         ("step-vector", {}, "step_length='fitted' is offline only"),
         ("step-vector", {"step_length": "pendulum", "calibration": "standstill"}, "calibration='standstill' is offline only"),

@@ -530,7 +530,8 @@ def test_headerless_standard_input_with_a_foot_column(walk_csv, tmp_path):
     assert {s[1] for s in _step_lines(done.stdout)} == {"left", "right"}
     assert _summary(out)["complete"] is True
     saved = np.load(out / "trajectories.npz")
-    off = _pipe().run(footnav.load(str(walk_csv / "left.csv")).left, footnav.load(str(walk_csv / "right.csv")).left)
+    # follow runs the default pipeline
+    off = footnav.make_pipeline().run(footnav.load(str(walk_csv / "left.csv")).left, footnav.load(str(walk_csv / "right.csv")).left)
     for foot in ("left", "right"):
         np.testing.assert_allclose(saved[f"{foot}_position"], getattr(off, foot).position, atol=1e-9, rtol=0)
 
@@ -671,7 +672,8 @@ def test_a_units_line_after_rows_is_not_applied_silently(walk_csv, tmp_path):
     lines = (walk_csv / "left.csv").read_text().splitlines(keepends=True)
     path, out = tmp_path / "left.csv", tmp_path / "res"
     path.write_text("".join(lines[:BAD + 2]))
-    follow = subprocess.Popen(_cli("follow", "--left", str(path), "--idle-s", "1", "--out", str(out)),
+    # threshold: its steps are printed from the first seconds on (adaptive's wait for 10 s of walk)
+    follow = subprocess.Popen(_cli("follow", "--left", str(path), "--detector", "threshold", "--idle-s", "1", "--out", str(out)),
                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=os.environ)
     try:
         for line in iter(follow.stdout.readline, ""):  # the first rows are read and pushed

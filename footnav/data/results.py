@@ -29,7 +29,7 @@ from footnav.types import FootTrajectory, Path
 __all__ = ["write_results", "write_report", "versions", "file_sha256", "atomic_folder", "TRAJECTORY_COLUMNS"]
 
 #: Packages whose versions are recorded with every result.
-_DEPENDENCIES = ("numpy", "scipy", "numba", "hmmlearn", "scikit-learn", "pluggy", "joblib")
+_DEPENDENCIES = ("numpy", "scipy", "numba", "hmmlearn", "scikit-learn", "pluggy", "pandas", "joblib")
 
 TRAJECTORY_COLUMNS = (
     "t_s,pos_x_m,pos_y_m,pos_z_m,vel_x_mps,vel_y_mps,vel_z_mps,"
@@ -44,6 +44,10 @@ def _write_trajectory(traj: FootTrajectory, stance_mask, path: FilePath) -> None
     np.savetxt(path, data, delimiter=",", header=f"frame: nav (z up)\n{TRAJECTORY_COLUMNS}", fmt="%.9g")
 
 
+#: Stride columns written as they are (text, integers, True/False): the rest are floats.
+_VERBATIM = ("foot", "first", "last", "standstill", "kind", "level", "start_index", "end_index")
+
+
 def _strides_csv(result: PipelineResult) -> str:
     """Both feet's strides (:func:`footnav.nav.strides.stride_parameters`) as CSV text, one header
     row of :data:`~footnav.nav.strides.STRIDE_COLUMNS` (``foot, start_s, end_s, length_m,
@@ -55,7 +59,7 @@ def _strides_csv(result: PipelineResult) -> str:
         if traj is None or stance is None:
             continue
         for row in stride_parameters(traj, stance, foot=foot):
-            writer.writerow([row[c] if c in ("foot", "kind", "level", "start_index", "end_index") else f"{row[c]:.9g}" for c in STRIDE_COLUMNS])
+            writer.writerow([row[c] if c in _VERBATIM else f"{row[c]:.9g}" for c in STRIDE_COLUMNS])
     return buf.getvalue()
 
 

@@ -19,6 +19,7 @@ def cmd_evaluate(args: argparse.Namespace) -> int:
     from footnav.data.output import claim_output, csv_signature
     from footnav.pipeline.factory import load_pipeline, make_pipeline
     from footnav.data.results import write_report
+    from footnav.warning_log import recording
 
     if not args.dataset and not args.recordings:
         raise FootnavError("nothing to evaluate: give --dataset NAME and/or recording paths")
@@ -42,11 +43,14 @@ def cmd_evaluate(args: argparse.Namespace) -> int:
             _require_matplotlib()
             plot_claim = claims.enter_context(claim_output(args.plot, force=args.force, inputs=inputs, what="figure folder"))
         pipelines = [(FilePath(p).stem, load_pipeline(p)) for p in args.pipeline] or [("default", make_pipeline())]
-        recordings = [load_dataset(name, args.data_dir) for name in args.dataset]
-        recordings += [load(path) for path in args.recordings]
-        backend = "dask" if args.dask_scheduler else "loky"
-        logging.getLogger("footnav").info("evaluating %d pipeline(s) on %d recording(s)", len(pipelines), len(recordings))
-        report = evaluate_many(pipelines, recordings, n_jobs=args.jobs, backend=backend, scheduler=args.dask_scheduler)
+        # every warning shown from here on (reading: clipping, off g; the runs; the truth checks) is
+        # also written to report.json; the runs' own are in their meta as well (parallel workers')
+        with recording() as shown:
+            recordings = [load_dataset(name, args.data_dir) for name in args.dataset]
+            recordings += [load(path) for path in args.recordings]
+            backend = "dask" if args.dask_scheduler else "loky"
+            logging.getLogger("footnav").info("evaluating %d pipeline(s) on %d recording(s)", len(pipelines), len(recordings))
+            report = evaluate_many(pipelines, recordings, n_jobs=args.jobs, backend=backend, scheduler=args.dask_scheduler)
         with ExitStack() as staged:
             figures = staged.enter_context(plot_claim.staged()) if plot_claim else None
             if figures is not None:
@@ -62,7 +66,7 @@ def cmd_evaluate(args: argparse.Namespace) -> int:
             if csv_claim:
                 staged.enter_context(csv_claim.staged()).write_text(report.to_csv(), encoding="utf-8")
             if out_claim:
-                write_report(report, out_claim, pipelines={name: pipe.to_toml() for name, pipe in pipelines})
+                write_report(report, out_claim, pipelines={name: pipe.to_toml() for name, pipe in pipelines}, warnings=shown)
     print(report.to_text())
     if args.csv:
         print(f"table written to {args.csv}")

@@ -54,14 +54,14 @@ def cmd_evaluate(args: argparse.Namespace) -> int:
         with ExitStack() as staged:
             figures = staged.enter_context(plot_claim.staged()) if plot_claim else None
             if figures is not None:
-                from footnav.analysis.plot import plot_position_errors, plot_trajectories
+                from footnav.analysis.plot import has_path_truth, plot_position_errors, plot_trajectories
 
                 by_name = {rec.name: rec for rec in recordings}
                 for (rec_name, pname), result in report.results.items():
                     safe = "".join(c if c.isalnum() or c in "-_." else "_" for c in f"{rec_name}-{pname}")
                     rec = by_name.get(rec_name)
                     plot_trajectories(result, rec, figures / f"{safe}.png")
-                    if rec is not None and rec.truth_left is not None:
+                    if has_path_truth(rec):  # no empty error axes for a recording without a path truth
                         plot_position_errors(result, rec, figures / f"{safe}-errors.png")
             if csv_claim:
                 staged.enter_context(csv_claim.staged()).write_text(report.to_csv(), encoding="utf-8")

@@ -49,3 +49,14 @@ def test_write_report_lists_given_and_run_warnings_once(tmp_path):
     write_report(report, tmp_path / "rep", warnings=["DataQualityWarning: read"])
     doc = json.loads((tmp_path / "rep" / "report.json").read_text())
     assert doc["warnings"][0] == "DataQualityWarning: read"
+
+
+def test_small_batches_run_serially_large_ones_and_paths_not():
+    from footnav.analysis.batch import SERIAL_BELOW_SAMPLES, serial_is_faster
+
+    rec = footnav.simulate("straight", seed=1, distance_m=10.0)
+    assert "under" in serial_is_faster([rec, rec], 2, 2)
+    assert serial_is_faster([rec], 1, 1) is None  # serial asked for
+    assert serial_is_faster(["walk.csv"], 1, 2) is None  # the workers read it: not counted here
+    n = rec.left.n_samples + rec.right.n_samples
+    assert serial_is_faster([rec] * (SERIAL_BELOW_SAMPLES // n + 1), 1, 2) is None

@@ -13,7 +13,9 @@ from footnav.errors import FootnavError
 
 
 def cmd_evaluate(args: argparse.Namespace) -> int:
-    from footnav.analysis.batch import evaluate_many
+    import sys
+
+    from footnav.analysis.batch import evaluate_many, serial_is_faster
     from footnav.data.datasets import load_dataset
     from footnav.data.io import load
     from footnav.data.output import claim_output, csv_signature
@@ -49,8 +51,13 @@ def cmd_evaluate(args: argparse.Namespace) -> int:
             recordings = [load_dataset(name, args.data_dir) for name in args.dataset]
             recordings += [load(path) for path in args.recordings]
             backend = "dask" if args.dask_scheduler else "loky"
+            jobs, serial_why = args.jobs, None if args.dask_scheduler else serial_is_faster(recordings, len(pipelines), args.jobs)
+            if serial_why:
+                jobs = 1
+                print(f"footnav evaluate: running serially, not --jobs {args.jobs}: {serial_why}", file=sys.stderr)
             logging.getLogger("footnav").info("evaluating %d pipeline(s) on %d recording(s)", len(pipelines), len(recordings))
-            report = evaluate_many(pipelines, recordings, n_jobs=args.jobs, backend=backend, scheduler=args.dask_scheduler)
+            report = evaluate_many(pipelines, recordings, n_jobs=jobs, backend=backend, scheduler=args.dask_scheduler)
+        batch = {"backend": backend, "jobs_asked": args.jobs, "jobs_used": jobs, "serial_because": serial_why}
         with ExitStack() as staged:
             figures = staged.enter_context(plot_claim.staged()) if plot_claim else None
             if figures is not None:
@@ -66,7 +73,7 @@ def cmd_evaluate(args: argparse.Namespace) -> int:
             if csv_claim:
                 staged.enter_context(csv_claim.staged()).write_text(report.to_csv(), encoding="utf-8")
             if out_claim:
-                write_report(report, out_claim, pipelines={name: pipe.to_toml() for name, pipe in pipelines}, warnings=shown)
+                write_report(report, out_claim, pipelines={name: pipe.to_toml() for name, pipe in pipelines}, warnings=shown, batch=batch)
     print(report.to_text())
     if args.csv:
         print(f"table written to {args.csv}")

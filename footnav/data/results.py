@@ -168,10 +168,11 @@ def write_report(
     force: bool = False,
     pipelines: Mapping[str, str] | None = None,
     warnings: Iterable[Any] = (),
+    batch: Mapping[str, Any] | None = None,
 ) -> FilePath:
     """Write an evaluation report into ``folder``: ``report.csv``, ``report.json`` (metrics,
     truth checks, ``warnings``: the given ones, then every run's ``meta["warnings"]``, each once;
-    versions, input hashes) and each pipeline's TOML (``pipelines``: name -> TOML text)."""
+    versions, input hashes, ``batch``: how it ran) and each pipeline's TOML (``pipelines``: name -> TOML text)."""
     sources = [
         m["source"]
         for res in report.results.values()
@@ -183,6 +184,7 @@ def write_report(
         metas = [m for res in report.results.values() for m in res.meta.get("input", {}).values() if m]
         doc = {"metrics": report.rows(), "truth_checks": [c.__dict__.copy() for c in getattr(report, "checks", ())],
                "warnings": merge_warnings(warnings, *(res.meta.get("warnings", ()) for res in report.results.values())),
+               **({"batch": dict(batch)} if batch else {}),
                "versions": versions(), "input_sha256": _input_hashes(metas)}
         (tmp / "report.json").write_text(json.dumps(_jsonable(doc), indent=2) + "\n", encoding="utf-8")
         for name, toml in (pipelines or {}).items():

@@ -356,12 +356,16 @@ def stride_section(root, gaitmap_python: str | None = None) -> list[str]:
     theirs = _gaitmap_stride_lengths(root, gaitmap_python)
     ours_err, rts_err, default_err, rows = [], [], [], []
     n_ref = 0
+    ref_len, ref_dur, rts_all = [], [], []
     for foot, imu, truth in (("left", rec.left, rec.truth_left), ("right", rec.right, rec.truth_right)):
         borders = truth.meta["strides"]
         t0, t1 = imu.t[borders[:, 0]], imu.t[borders[:, 1]]
         heel = np.stack([[np.interp(tt, truth.t, truth.position[:, j]) for j in range(2)] for tt in (t0, t1)])
         ref = np.linalg.norm(heel[1] - heel[0], axis=0)  # heel marker displacement, min_vel to min_vel
         n_ref += len(ref)
+        ref_len.extend(ref)
+        ref_dur.extend(t1 - t0)
+        rts_all.extend(theirs[foot]["rts"])
         est = table[table["foot"] == foot]
         start, end = est["start_s"].to_numpy(), est["end_s"].to_numpy()
         found = 0
@@ -374,6 +378,24 @@ def stride_section(root, gaitmap_python: str | None = None) -> list[str]:
             rts_err.append(theirs[foot]["rts"][k] - length)
             default_err.append(theirs[foot]["default"][k] - length)
         rows.append((foot, len(ref), found))
+
+    # averages: every stride of strides.csv against only the steady ones (docs/batch.md's filter)
+    steady = table[~table["first"] & ~table["last"] & ~table["standstill"] & (table["turn_deg"].abs() < 20)
+                   & (table["kind"] == "level")]
+    mocap_cadence = 120.0 / np.asarray(ref_dur)
+
+    def avg(length, cadence, n) -> str:
+        return f"{n} | {np.mean(length):.3f} | {np.mean(cadence):.1f}"
+
+    averages = [
+        "| strides | n | mean length (m) | mean cadence (steps/min) |", "|---|---|---|---|",
+        f"| footnav, every stride of `strides.csv` | {avg(table['length_m'], table['cadence_spm'], len(table))} |",
+        f"| footnav, without `first`, `last`, `standstill`, turns > 20 deg, stairs | "
+        f"{avg(steady['length_m'], steady['cadence_spm'], len(steady))} |",
+        f"| motion capture (heel marker), gaitmap's `min_vel` strides | {avg(ref_len, mocap_cadence, len(ref_len))} |",
+        f"| gaitmap 2.6 StrideLevelTrajectory + RtsKalman (length), mocap borders (cadence) | "
+        f"{avg(rts_all, mocap_cadence, len(rts_all))} |",
+    ]
 
     def cell(e) -> str:
         e = np.asarray(e)
@@ -396,6 +418,12 @@ def stride_section(root, gaitmap_python: str | None = None) -> list[str]:
         f"| footnav `strides.csv` (defaults) | {cell(ours_err)} |",
         f"| gaitmap 2.6 StrideLevelTrajectory + RtsKalman | {cell(rts_err)} |",
         f"| gaitmap 2.6 StrideLevelTrajectory, defaults (forward-backward integration) | {cell(default_err)} |",
+        "",
+        ("Averages: the first and last strides of each foot run across the standing at the start and the "
+         "end, so averaging every stride of `strides.csv` biases cadence low; the flags `first`, `last`, "
+         "`standstill`, `turn_deg` and `kind` leave them out (docs/batch.md). gaitmap's stride list "
+         "starts and ends while walking and holds the turns."), "",
+        *averages,
         "",
     ]
 

@@ -102,6 +102,9 @@ def test_evaluate_writes_a_report_folder_and_figures(sim_csv, tmp_path, capsys):
     doc = json.loads((out / "report.json").read_text())
     names = {m["name"] for m in doc["metrics"]}
     assert {"ate_2d", "final_separation", "runtime"} <= names
+    # one short walk: worker processes would cost more than they save, so it ran serially, saying so
+    assert doc["batch"]["jobs_asked"] == 2 and doc["batch"]["jobs_used"] == 1 and "samples" in doc["batch"]["serial_because"]
+    assert "running serially, not --jobs 2" in capsys.readouterr().err
     pngs = sorted(figs.glob("*.png"))
     assert [p.name for p in pngs] == ["walk-default-errors.png", "walk-default.png"]
     assert all(p.read_bytes()[:4] == b"\x89PNG" for p in pngs)

@@ -35,9 +35,30 @@ from footnav.pipeline.factory import Pipeline
 from footnav.types import Recording
 from footnav.warning_log import warn
 
-__all__ = ["evaluate_many", "BACKENDS"]
+__all__ = ["evaluate_many", "BACKENDS", "SERIAL_BELOW_SAMPLES", "serial_is_faster"]
 
 BACKENDS = ("loky", "dask")
+
+#: Below this many samples to process (every foot of every recording, once per pipeline) local
+#: worker processes do not pay off: each starts Python, imports footnav and loads numba's cache
+#: (2-3 s), and the recordings are pickled to it. Measured on 2 cores (docs/batch.md): 4 x 100 m
+#: walks (63 k samples) 1.2 s serial, 3.6 s with 2 jobs; 4 x 3 km (1.9 M) 31.1 s against 31.8 s.
+SERIAL_BELOW_SAMPLES = 2_000_000
+
+
+def serial_is_faster(recordings: Sequence[Any], n_pipelines: int, n_jobs: int) -> str | None:
+    """Why ``n_jobs`` local processes would be slower than one for this batch, or None.
+
+    Only recordings already in memory are counted (paths and callables are read or made by the
+    workers, which is work processes share): None when any is not a :class:`Recording`.
+    """
+    if n_jobs == 1 or not recordings or not all(isinstance(r, Recording) for r in recordings):
+        return None
+    samples = n_pipelines * sum(imu.n_samples for r in recordings for imu in (r.left, r.right) if imu is not None)
+    if samples >= SERIAL_BELOW_SAMPLES:
+        return None
+    return (f"{samples:,} samples to process ({len(recordings)} recording(s) x {n_pipelines} pipeline(s)), under "
+            f"{SERIAL_BELOW_SAMPLES:,}: starting worker processes (2-3 s each) would cost more than they save")
 
 
 def _named(pipelines: Any) -> list[tuple[str, Pipeline]]:

@@ -18,7 +18,7 @@ from footnav.analysis.evaluation import trajectory_at  # noqa: E402
 from footnav.pipeline.result import PipelineResult  # noqa: E402
 from footnav.types import Recording  # noqa: E402
 
-__all__ = ["plot_trajectories", "plot_stance_comparison", "plot_position_errors", "plot_steps"]
+__all__ = ["plot_trajectories", "plot_stance_comparison", "plot_position_errors", "plot_steps", "has_path_truth"]
 
 
 def _save(fig, path: FilePath, dpi: int) -> None:
@@ -30,6 +30,32 @@ def _save(fig, path: FilePath, dpi: int) -> None:
     png = FilePath(path).suffix.lower() == ".png"
     fig.savefig(path, dpi=dpi, metadata={"Software": f"{FIGURE_SOFTWARE} {__version__}"} if png else None)
     plt.close(fig)
+
+
+def _recording_name(result: PipelineResult, recording: Recording | None) -> str:
+    """What a title calls the recording: its name, else its (left) input file's name, else ""."""
+    if recording is not None and recording.name:
+        return str(recording.name)
+    for meta in (result.meta.get("input") or {}).values():
+        source = (meta or {}).get("source")
+        if isinstance(source, str) and source:
+            return FilePath(source).name
+    return ""
+
+
+def _path_truth(recording: Recording | None, foot: str):
+    """The foot's truth when it is a path (not footprints) with at least two points, else None."""
+    truth = None if recording is None else getattr(recording, f"truth_{foot}")
+    return truth if truth is not None and len(truth.t) > 1 and truth.frame != "footprints" else None
+
+
+def has_path_truth(recording: Recording | None) -> bool:
+    """Whether :func:`plot_position_errors` has an error curve to draw for ``recording``."""
+    return any(_path_truth(recording, foot) is not None for foot in ("left", "right"))
+
+
+#: Legends go below their axes, outside the data.
+_LEGEND_BELOW = {"loc": "upper center", "bbox_to_anchor": (0.5, -0.1), "fontsize": "small"}
 
 
 def plot_trajectories(result: PipelineResult, recording: Recording | None, path: str | FilePath) -> FilePath:
@@ -49,8 +75,8 @@ def plot_trajectories(result: PipelineResult, recording: Recording | None, path:
     for foot, traj, color in feet:
         if traj is None:
             continue
-        truth = None if recording is None else getattr(recording, f"truth_{foot}")
-        if truth is not None and len(truth.t) > 1 and truth.frame != "footprints":
+        truth = _path_truth(recording, foot)
+        if truth is not None:
             est, inside = trajectory_at(traj, truth.t)
             ref = truth.position[inside]
             aligned, _, _ = metrics.rigid_align(est, ref, dims=2)
@@ -71,9 +97,10 @@ def plot_trajectories(result: PipelineResult, recording: Recording | None, path:
     ax.set_aspect("equal", adjustable="datalim")
     ax.set_xlabel("x (m)")
     ax.set_ylabel("y (m)")
-    name = "" if recording is None else recording.name
-    ax.set_title(f"footnav {name}: " + " + ".join(c.get("name", kind) for kind, c in result.meta["pipeline"].items()))
-    ax.legend(loc="best", fontsize="small")
+    name = _recording_name(result, recording)
+    components = " + ".join(c.get("name", kind) for kind, c in result.meta["pipeline"].items())
+    ax.set_title(f"footnav {name}: {components}" if name else f"footnav: {components}")
+    ax.legend(ncol=2, **_LEGEND_BELOW)  # below the plan, as the height panel's: never over the path
     ax.grid(True, alpha=0.3)
     path = FilePath(path)
     _save(fig, path, 120)
@@ -85,8 +112,8 @@ def _height_panel(ax, feet, recording: Recording | None) -> None:
     for foot, traj, color in feet:
         if traj is None:
             continue
-        truth = None if recording is None else getattr(recording, f"truth_{foot}")
-        if truth is not None and len(truth.t) > 1 and truth.frame != "footprints":
+        truth = _path_truth(recording, foot)
+        if truth is not None:
             z0 = float(np.interp(truth.t[0], traj.t, traj.position[:, 2]))
             ax.plot(truth.t, truth.position[:, 2] - truth.position[0, 2] + z0, color=color, lw=3, alpha=0.25, label=f"{foot} truth")
         vertical = traj.meta.get("vertical")
@@ -100,7 +127,7 @@ def _height_panel(ax, feet, recording: Recording | None) -> None:
     ax.set_xlabel("time (s)")
     ax.set_ylabel("height z (m)")
     ax.set_title("height")
-    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.1), fontsize="small")  # below: never over the data
+    ax.legend(**_LEGEND_BELOW)  # below: never over the data
     ax.grid(True, alpha=0.3)
 
 
@@ -172,13 +199,17 @@ def plot_stance_comparison(comparison, path: str | FilePath, *, seconds: tuple[f
     return path
 
 
-def plot_position_errors(result: PipelineResult, recording: Recording, path: str | FilePath) -> FilePath:
+def plot_position_errors(result: PipelineResult, recording: Recording, path: str | FilePath) -> FilePath | None:
     """Horizontal position error of each foot against its truth over time, after the same 2-D rigid
-    alignment as the ``ate_2d`` metric, with the stance phases shaded. Writes a PNG, returns it."""
-    fig, ax = plt.subplots(figsize=(10, 4), constrained_layout=True)
+    alignment as the ``ate_2d`` metric, with the stance phases shaded. Writes a PNG, returns it;
+    without a path truth for either foot (:func:`has_path_truth`) there is no error to draw, and
+    nothing is written (None)."""
+    if not has_path_truth(recording):
+        return None
+    fig, ax = plt.subplots(figsize=(10, 4.6), constrained_layout=True)
     for foot, color in (("left", "tab:blue"), ("right", "tab:red")):
-        traj, truth = getattr(result, foot), getattr(recording, f"truth_{foot}")
-        if traj is None or truth is None or len(truth.t) < 2:
+        traj, truth = getattr(result, foot), _path_truth(recording, foot)
+        if traj is None or truth is None:
             continue
         est, inside = trajectory_at(traj, truth.t)
         aligned, _, _ = metrics.rigid_align(est, truth.position[inside], dims=2)
@@ -189,9 +220,10 @@ def plot_position_errors(result: PipelineResult, recording: Recording, path: str
     ax.fill_between(t_left, 0, 1, where=stance.mask, transform=ax.get_xaxis_transform(), color="0.85", lw=0, step="mid", label="left stance")
     ax.set_xlabel("t (s)")
     ax.set_ylabel("horizontal error (m)")
-    ax.legend(loc="upper left", fontsize="small")
+    ax.legend(ncol=3, **{**_LEGEND_BELOW, "bbox_to_anchor": (0.5, -0.16)})  # below the x label
     ax.grid(True, alpha=0.3)
-    ax.set_title(f"position error: {recording.name or 'recording'}")
+    name = _recording_name(result, recording)
+    ax.set_title(f"position error: {name}" if name else "position error")
     path = FilePath(path)
     _save(fig, path, 110)
     return path

@@ -24,7 +24,7 @@ from footnav.cli._parser import EPILOG_FOLLOW, EPILOG_RUN, build_parser
 from footnav.cli._plugins import PLUGINS_WIDTH, cmd_demo, cmd_plugins
 from footnav.cli._run import READER_FLAGS, cmd_run
 from footnav.cli._simulate import cmd_simulate
-from footnav.cli._warmup import cmd_warmup
+from footnav.cli._warmup import cmd_warmup, warm_worker
 from footnav.errors import FootnavError, FootnavWarning, PluginError
 
 __all__ = [
@@ -47,6 +47,7 @@ __all__ = [
     "cmd_simulate",
     "cmd_warmup",
     "main",
+    "warm_worker",
 ]
 
 

@@ -13,12 +13,15 @@ from footnav.errors import FootnavError
 
 
 def cmd_evaluate(args: argparse.Namespace) -> int:
-    from footnav.analysis.batch import evaluate_many
+    import sys
+
+    from footnav.analysis.batch import evaluate_many, serial_is_faster
     from footnav.data.datasets import load_dataset
     from footnav.data.io import load
     from footnav.data.output import claim_output, csv_signature
     from footnav.pipeline.factory import load_pipeline, make_pipeline
     from footnav.data.results import write_report
+    from footnav.warning_log import recording
 
     if not args.dataset and not args.recordings:
         raise FootnavError("nothing to evaluate: give --dataset NAME and/or recording paths")
@@ -42,27 +45,35 @@ def cmd_evaluate(args: argparse.Namespace) -> int:
             _require_matplotlib()
             plot_claim = claims.enter_context(claim_output(args.plot, force=args.force, inputs=inputs, what="figure folder"))
         pipelines = [(FilePath(p).stem, load_pipeline(p)) for p in args.pipeline] or [("default", make_pipeline())]
-        recordings = [load_dataset(name, args.data_dir) for name in args.dataset]
-        recordings += [load(path) for path in args.recordings]
-        backend = "dask" if args.dask_scheduler else "loky"
-        logging.getLogger("footnav").info("evaluating %d pipeline(s) on %d recording(s)", len(pipelines), len(recordings))
-        report = evaluate_many(pipelines, recordings, n_jobs=args.jobs, backend=backend, scheduler=args.dask_scheduler)
+        # every warning shown from here on (reading: clipping, off g; the runs; the truth checks) is
+        # also written to report.json; the runs' own are in their meta as well (parallel workers')
+        with recording() as shown:
+            recordings = [load_dataset(name, args.data_dir) for name in args.dataset]
+            recordings += [load(path) for path in args.recordings]
+            backend = "dask" if args.dask_scheduler else "loky"
+            jobs, serial_why = args.jobs, None if args.dask_scheduler else serial_is_faster(recordings, len(pipelines), args.jobs)
+            if serial_why:
+                jobs = 1
+                print(f"footnav evaluate: running serially, not --jobs {args.jobs}: {serial_why}", file=sys.stderr)
+            logging.getLogger("footnav").info("evaluating %d pipeline(s) on %d recording(s)", len(pipelines), len(recordings))
+            report = evaluate_many(pipelines, recordings, n_jobs=jobs, backend=backend, scheduler=args.dask_scheduler)
+        batch = {"backend": backend, "jobs_asked": args.jobs, "jobs_used": jobs, "serial_because": serial_why}
         with ExitStack() as staged:
             figures = staged.enter_context(plot_claim.staged()) if plot_claim else None
             if figures is not None:
-                from footnav.analysis.plot import plot_position_errors, plot_trajectories
+                from footnav.analysis.plot import has_path_truth, plot_position_errors, plot_trajectories
 
                 by_name = {rec.name: rec for rec in recordings}
                 for (rec_name, pname), result in report.results.items():
                     safe = "".join(c if c.isalnum() or c in "-_." else "_" for c in f"{rec_name}-{pname}")
                     rec = by_name.get(rec_name)
                     plot_trajectories(result, rec, figures / f"{safe}.png")
-                    if rec is not None and rec.truth_left is not None:
+                    if has_path_truth(rec):  # no empty error axes for a recording without a path truth
                         plot_position_errors(result, rec, figures / f"{safe}-errors.png")
             if csv_claim:
                 staged.enter_context(csv_claim.staged()).write_text(report.to_csv(), encoding="utf-8")
             if out_claim:
-                write_report(report, out_claim, pipelines={name: pipe.to_toml() for name, pipe in pipelines})
+                write_report(report, out_claim, pipelines={name: pipe.to_toml() for name, pipe in pipelines}, warnings=shown, batch=batch)
     print(report.to_text())
     if args.csv:
         print(f"table written to {args.csv}")

@@ -69,7 +69,8 @@ def _run_inputs(args: argparse.Namespace):
 
 def cmd_run(args: argparse.Namespace) -> int:
     from footnav.data.output import claim_output
-    from footnav.data.results import write_results
+    from footnav.data.results import with_warnings, write_results
+    from footnav.warning_log import recording
 
     pipeline = _pipeline_from_args(args)
     inputs = [p for p in (args.left, args.right, args.pipeline) if p]
@@ -77,8 +78,9 @@ def cmd_run(args: argparse.Namespace) -> int:
         # every output is claimed before any work, and appears only when all of it succeeded
         out_claim = claims.enter_context(claim_output(args.out, force=args.force, inputs=inputs, what="output folder"))
         plot_claim = _claim_figure(claims, args.plot, args.force, inputs)
-        left, right = _run_inputs(args)
-        result = pipeline.run(left, right)
+        with recording() as read_warnings:  # shown as they happen, and kept for summary.json
+            left, right = _run_inputs(args)
+        result = with_warnings(pipeline.run(left, right), read_warnings)
         summary = {
             "left_path_length_m": result.left.path_length_m,
             "left_stances": result.stance_left.n_stances,

@@ -75,6 +75,14 @@ def warm_up(progress: Callable[[str, float], None] | None = None) -> list[tuple[
     return done
 
 
+def warm_worker() -> float:
+    """:func:`warm_up` silently, for a Dask worker: ``client.run(footnav.cli.warm_worker)`` once
+    before the first distributed batch (docs/batch.md); returns the seconds taken."""
+    t0 = time.perf_counter()
+    warm_up()
+    return time.perf_counter() - t0
+
+
 def cache_folder() -> str | None:
     """The folder numba caches the ekf's loop in (the other kernels' are beside it), or None
     when footnav compiles without a cache (see :mod:`footnav._numba`)."""

@@ -26,10 +26,10 @@ from footnav.nav.strides import STRIDE_COLUMNS, stride_parameters
 from footnav.pipeline.result import PipelineResult
 from footnav.types import FootTrajectory, Path
 
-__all__ = ["write_results", "write_report", "versions", "file_sha256", "atomic_folder", "TRAJECTORY_COLUMNS"]
+__all__ = ["write_results", "write_report", "with_warnings", "merge_warnings", "versions", "file_sha256", "atomic_folder", "TRAJECTORY_COLUMNS"]
 
 #: Packages whose versions are recorded with every result.
-_DEPENDENCIES = ("numpy", "scipy", "numba", "hmmlearn", "scikit-learn", "pluggy", "joblib")
+_DEPENDENCIES = ("numpy", "scipy", "numba", "hmmlearn", "scikit-learn", "pluggy", "pandas", "joblib")
 
 TRAJECTORY_COLUMNS = (
     "t_s,pos_x_m,pos_y_m,pos_z_m,vel_x_mps,vel_y_mps,vel_z_mps,"
@@ -44,6 +44,10 @@ def _write_trajectory(traj: FootTrajectory, stance_mask, path: FilePath) -> None
     np.savetxt(path, data, delimiter=",", header=f"frame: nav (z up)\n{TRAJECTORY_COLUMNS}", fmt="%.9g")
 
 
+#: Stride columns written as they are (text, integers, True/False): the rest are floats.
+_VERBATIM = ("foot", "first", "last", "standstill", "kind", "level", "start_index", "end_index")
+
+
 def _strides_csv(result: PipelineResult) -> str:
     """Both feet's strides (:func:`footnav.nav.strides.stride_parameters`) as CSV text, one header
     row of :data:`~footnav.nav.strides.STRIDE_COLUMNS` (``foot, start_s, end_s, length_m,
@@ -55,8 +59,34 @@ def _strides_csv(result: PipelineResult) -> str:
         if traj is None or stance is None:
             continue
         for row in stride_parameters(traj, stance, foot=foot):
-            writer.writerow([row[c] if c in ("foot", "kind", "level", "start_index", "end_index") else f"{row[c]:.9g}" for c in STRIDE_COLUMNS])
+            writer.writerow([row[c] if c in _VERBATIM else f"{row[c]:.9g}" for c in STRIDE_COLUMNS])
     return buf.getvalue()
+
+
+def merge_warnings(*groups: Iterable[Any]) -> list[str]:
+    """The warnings of several groups as one list of strings, in order, each once."""
+    out: list[str] = []
+    for group in groups:
+        for w in group:
+            text = str(w)
+            if text not in out:
+                out.append(text)
+    return out
+
+
+def with_warnings(result: PipelineResult, earlier: Iterable[Any]) -> PipelineResult:
+    """``result`` with the warnings issued before its run (reading its files: clipping, an
+    accelerometer off g) first in ``meta["warnings"]``.
+
+    A reader warns and records its findings in the data's meta once, so the pipeline's own checks
+    do not repeat them and its warning log, which starts with the run, does not hold them; the
+    command line records what it printed while reading and joins it here, so that summary.json
+    lists every warning shown.
+    """
+    from dataclasses import replace
+
+    merged = merge_warnings(earlier, result.meta.get("warnings", ()))
+    return replace(result, meta={**result.meta, "warnings": merged})
 
 
 def _jsonable(value: Any) -> Any:
@@ -137,9 +167,12 @@ def write_report(
     *,
     force: bool = False,
     pipelines: Mapping[str, str] | None = None,
+    warnings: Iterable[Any] = (),
+    batch: Mapping[str, Any] | None = None,
 ) -> FilePath:
     """Write an evaluation report into ``folder``: ``report.csv``, ``report.json`` (metrics,
-    versions, input hashes) and each pipeline's TOML (``pipelines``: name -> TOML text)."""
+    truth checks, ``warnings``: the given ones, then every run's ``meta["warnings"]``, each once;
+    versions, input hashes, ``batch``: how it ran) and each pipeline's TOML (``pipelines``: name -> TOML text)."""
     sources = [
         m["source"]
         for res in report.results.values()
@@ -150,6 +183,8 @@ def write_report(
         (tmp / "report.csv").write_text(report.to_csv(), encoding="utf-8")
         metas = [m for res in report.results.values() for m in res.meta.get("input", {}).values() if m]
         doc = {"metrics": report.rows(), "truth_checks": [c.__dict__.copy() for c in getattr(report, "checks", ())],
+               "warnings": merge_warnings(warnings, *(res.meta.get("warnings", ()) for res in report.results.values())),
+               **({"batch": dict(batch)} if batch else {}),
                "versions": versions(), "input_sha256": _input_hashes(metas)}
         (tmp / "report.json").write_text(json.dumps(_jsonable(doc), indent=2) + "\n", encoding="utf-8")
         for name, toml in (pipelines or {}).items():

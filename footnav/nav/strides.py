@@ -44,6 +44,10 @@ STRIDE_COLUMNS = (
     "clearance_m",
     "elevation_m",
     "turn_rad",
+    "turn_deg",
+    "first",
+    "last",
+    "standstill",
     "kind",
     "level",
     "start_index",
@@ -53,7 +57,8 @@ STRIDE_COLUMNS = (
 #: numpy dtype of a stride table (the structured-array form of :func:`stride_parameters`).
 STRIDE_DTYPE = np.dtype(
     [("foot", "U5")]
-    + [(c, np.float64) for c in STRIDE_COLUMNS[1:-4]]
+    + [(c, np.float64) for c in STRIDE_COLUMNS[1:-7]]
+    + [("first", np.bool_), ("last", np.bool_), ("standstill", np.bool_)]
     + [("kind", "U5"), ("level", np.int64), ("start_index", np.int64), ("end_index", np.int64)]
 )
 
@@ -61,6 +66,13 @@ STRIDE_DTYPE = np.dtype(
 #: 2 x 60 / stride duration (the usual clinical convention for one foot's strides).
 STEPS_PER_STRIDE = 2
 SECONDS_PER_MINUTE = 60.0
+
+#: A stride is a ``standstill`` one when one of its stances lasts more than this multiple of the
+#: foot's median stance (a pause: the walker stood), ...
+STANDSTILL_STANCE_FACTOR = 1.5
+#: ... or when it lasts more than this multiple of the foot's median stride (a pause mid-stride,
+#: or a stance the detector split). Either way its cadence is not the walk's.
+STANDSTILL_DURATION_FACTOR = 2.0
 
 
 def mid_stances(stance: StanceResult | ArrayLike) -> NDArray[np.int64]:
@@ -99,6 +111,26 @@ def _turn(q_start: NDArray[np.float64], q_end: NDArray[np.float64]) -> NDArray[n
     rel = quat.multiply(q_end, quat.conjugate(q_start))
     angle = 2.0 * np.arctan2(rel[..., 3], rel[..., 0])
     return -((-angle + np.pi) % (2.0 * np.pi) - np.pi)  # wrap to (-pi, pi]
+
+
+def _standstill(
+    t: NDArray[np.float64], mask: NDArray[np.bool_], i0: NDArray[np.int64], i1: NDArray[np.int64], duration: NDArray[np.float64]
+) -> NDArray[np.bool_]:
+    """Strides holding a pause: a stance longer than 1.5x the median stance, or a stride longer
+    than 2x the median stride (:data:`STANDSTILL_STANCE_FACTOR`, :data:`STANDSTILL_DURATION_FACTOR`)."""
+    iv = stance_intervals(mask)
+    long_duration = duration > STANDSTILL_DURATION_FACTOR * np.median(duration)
+    if len(iv) == 0:  # explicit mid-stances on a mask without stances: only the durations say
+        return long_duration
+    stop = np.minimum(iv[:, 1], len(t) - 1)
+    stance_s = t[stop] - t[iv[:, 0]]
+    long_stance = stance_s > STANDSTILL_STANCE_FACTOR * np.median(stance_s)
+    # the stances touched by each stride: those holding i0 and i1 and any between (explicit mids)
+    k0 = np.searchsorted(iv[:, 0], i0, side="right") - 1
+    k1 = np.searchsorted(iv[:, 0], i1, side="right") - 1
+    cum = np.concatenate(([0], np.cumsum(long_stance)))
+    touches_long = cum[np.maximum(k1, 0) + 1] - cum[np.maximum(k0, 0)] > 0
+    return touches_long | long_duration
 
 
 def stride_parameters(
@@ -151,9 +183,18 @@ def stride_parameters(
             It is the sensor's clearance, not the toe's or the heel's.
         ``elevation_m``
             ``z(i1) - z(i0)``.
-        ``turn_rad``
+        ``turn_rad``, ``turn_deg``
             Heading change between the two mid-stances, from the quaternions, wrapped to
-            (-pi, pi]; positive to the left (counter-clockwise seen from above).
+            (-pi, pi]; positive to the left (counter-clockwise seen from above); in degrees too,
+            for filters such as ``turn_deg.abs() < 20``.
+        ``first``, ``last``
+            The foot's first (last) stride: it starts (ends) in the stance before (after) the
+            walk, usually a standstill, so its duration and cadence are not the walk's.
+        ``standstill``
+            One of the stride's stances lasts more than :data:`STANDSTILL_STANCE_FACTOR` x the
+            foot's median stance, or the stride more than :data:`STANDSTILL_DURATION_FACTOR` x
+            the median stride: a pause. Average only strides without ``first``, ``last`` and
+            ``standstill`` for steady-state gait.
         ``kind``
             ``"stair"`` when ``|elevation_m|`` is at least the bound of a level stride (the
             trajectory's ``meta["vertical"]["level_rise_max_m"]``, else
@@ -206,6 +247,9 @@ def stride_parameters(
     out["cadence_spm"] = STEPS_PER_STRIDE * SECONDS_PER_MINUTE / out["duration_s"]
     out["elevation_m"] = pos[i1, 2] - pos[i0, 2]
     out["turn_rad"] = _turn(trajectory.quaternion[i0], trajectory.quaternion[i1])
+    out["turn_deg"] = np.degrees(out["turn_rad"])
+    out["first"][0] = out["last"][-1] = True
+    out["standstill"] = _standstill(t, mask, i0, i1, out["duration_s"])
     bound = trajectory.meta.get("vertical", {}).get("level_rise_max_m", LEVEL_RISE_MAX_M)
     stair = np.abs(out["elevation_m"]) >= bound
     out["kind"] = np.where(stair, "stair", "level")

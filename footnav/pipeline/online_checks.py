@@ -18,7 +18,9 @@ arrived if that is earlier:
   ``CHECK_WINDOW_S`` seconds, extended up to ``CHECK_WINDOW_MAX_S`` while the foot has not moved
   enough for the gyroscope's unit to be judged; and again on the whole recording at the end of a
   stream that kept every sample (``keep=True``, :meth:`ChunkChecks.finish_whole`), as offline.
-  With ``keep=False`` saturation later in the walk is not found.
+  Saturation later in the walk is found chunk by chunk as well (:class:`_ExtremeTally`: the
+  plateau rule of :func:`~footnav.types.imu_checks.detect_clipping` on the largest and smallest
+  value of each axis so far), so a stream with ``keep=False`` reports it when it happens.
 
 Findings that are not errors are warned (DataQualityWarning) when found and kept in
 :attr:`ChunkChecks.records` under the keys the offline run records in the input's meta
@@ -39,11 +41,18 @@ from footnav.errors import DataQualityWarning
 from footnav.types._arrays import _as_float_array
 from footnav.types._derived import row_norms
 from footnav.types.imu_checks import (
+    ACC_FULL_SCALES_G,
     ACC_MAX_MPS2,
     ACC_MOVING_FRACTION,
     ACC_MOVING_MPS2,
+    CLIP_MIN_ACC_MPS2,
+    CLIP_MIN_GYR_RADPS,
+    CLIP_MIN_REPEATS,
+    GRAVITY_MPS2,
+    GYR_FULL_SCALES_DPS,
     GYR_PEAK_MAX_RADPS,
     _check_data,
+    _full_scale_of,
     check_extremes,
     check_time_base,
     check_time_order,
@@ -80,6 +89,40 @@ class _Pending:
     gaps: list[tuple[int, float]] = field(default_factory=list)
     findings: list[tuple[str, Any, str]] = field(default_factory=list)
     head_done: bool = False
+
+
+class _ExtremeTally:
+    """The largest and smallest value of each axis of one sensor so far, how many samples held
+    it and the first of them: :func:`~footnav.types.imu_checks.detect_clipping`'s plateau rule,
+    kept up chunk by chunk (a saturated ADC repeats its extreme code)."""
+
+    def __init__(self, floor: float, scales: tuple[float, ...], unit_si: float) -> None:
+        self.floor, self.scales, self.unit_si = floor, scales, unit_si
+        self.value = np.full(6, np.nan)  # max of axes 0-2, then min of axes 0-2 (as -value)
+        self.count = np.zeros(6, dtype=np.int64)
+        self.first = np.zeros(6, dtype=np.int64)
+
+    def add(self, x: NDArray, offset: int) -> None:
+        """Take the samples ``x`` (M, 3), the first being sample ``offset`` of the stream."""
+        if len(x) == 0:
+            return
+        both = np.concatenate([x, -x], axis=1)
+        peak = both.max(axis=0)
+        for k in range(6):
+            if np.isnan(self.value[k]) or peak[k] > self.value[k]:  # a new extreme: count it afresh
+                same = both[:, k] == peak[k]
+                self.value[k], self.count[k], self.first[k] = peak[k], same.sum(), offset + int(np.argmax(same))
+            elif peak[k] == self.value[k]:
+                self.count[k] += int(np.count_nonzero(both[:, k] == peak[k]))
+
+    def clipped(self) -> tuple[int, int, float | None] | None:
+        """(samples, first index, nominal full scale or None) of the plateaus found, or None."""
+        hits = [k for k in range(6) if self.count[k] >= CLIP_MIN_REPEATS
+                and (abs(self.value[k]) >= self.floor or _full_scale_of(self.value[k], self.scales, self.unit_si))]
+        if not hits:
+            return None
+        fs = next((f for f in (_full_scale_of(self.value[k], self.scales, self.unit_si) for k in hits) if f), None)
+        return int(sum(self.count[k] for k in hits)), int(min(self.first[k] for k in hits)), fs
 
 
 def _empty() -> tuple[NDArray, NDArray, NDArray]:
@@ -127,6 +170,8 @@ class ChunkChecks:
         self._acc_median: float | None = None  # of the checked window: the accelerometer's unit is settled
         self._window_tried = -np.inf  # time of the newest sample at the last window check tried
         self._gap_warnings = 0
+        self._acc_tally = _ExtremeTally(CLIP_MIN_ACC_MPS2, ACC_FULL_SCALES_G, GRAVITY_MPS2)
+        self._gyr_tally = _ExtremeTally(CLIP_MIN_GYR_RADPS, GYR_FULL_SCALES_DPS, np.pi / 180.0)
 
     @property
     def label(self) -> str:
@@ -208,6 +253,8 @@ class ChunkChecks:
         self._tail = pending.tail
         if len(t) == 0:
             return
+        self._acc_tally.add(acc, self.n)
+        self._gyr_tally.add(gyr, self.n)
         self.n += len(t)
         self.t_last, self.median_dt = float(t[-1]), pending.median_dt
         if not self.head_done:
@@ -217,6 +264,28 @@ class ChunkChecks:
             self.head_done = True
             self._acc_median = float(np.median(row_norms(np.concatenate([h[1] for h in self._head]))))
             self._head = []
+        if self.head_done and "clipped" not in self.records:  # the window check covered the head
+            self._take(self._clipping(), [])
+
+    def _clipping(self) -> list[tuple[str, Any, str]]:
+        """Saturation found by the tallies, as the offline check words and records it."""
+        acc, gyr = self._acc_tally.clipped(), self._gyr_tally.clipped()
+        if acc is None and gyr is None:
+            return []
+        parts = []
+        record: dict[str, Any] = {"acc": 0, "first_index": None, "gyr": 0, "gyr_first_index": None,
+                                  "acc_full_scale": None, "gyr_full_scale": None, "online": True}
+        if acc is not None:
+            record.update(acc=acc[0], first_index=acc[1], acc_full_scale=f"+-{acc[2]:g} g" if acc[2] else None)
+            fs = f", full scale {record['acc_full_scale']}" if acc[2] else ""
+            parts.append(f"{acc[0]} accelerometer sample(s) (first at index {acc[1]}{fs})")
+        if gyr is not None:
+            record.update(gyr=gyr[0], gyr_first_index=gyr[1], gyr_full_scale=f"+-{gyr[2]:g} deg/s" if gyr[2] else None)
+            fs = f", full scale {record['gyr_full_scale']}" if gyr[2] else ""
+            parts.append(f"{gyr[0]} gyroscope sample(s) (first at index {gyr[1]}{fs})")
+        message = (f"{self.label}: {' and '.join(parts)} at the sensor's full scale so far: the true value is unknown "
+                   "there (clipping, saturation); recorded in meta['clipped']")
+        return [("clipped", record, message)]
 
     def finish(self) -> tuple[NDArray, NDArray, NDArray]:
         """At the stream's end: the checks still waiting for data, on what arrived; returns the
@@ -245,6 +314,8 @@ class ChunkChecks:
         """At the end of a stream that kept every sample: the unit, at-rest and saturation checks
         on the whole recording, as offline (findings not yet recorded are warned and recorded)."""
         findings = _check_data(imu.t, imu.acc, imu.gyr, self.meta, median_dt=self.median_dt, time_base=False)
+        if "clipped" in self.records:  # warned during the stream; the whole recording's count is the record
+            self.records.update((key, record) for key, record, _ in findings if key == "clipped")
         self._take([f for f in findings if f[0] not in self.records], [])
 
     def _window_due(self, t_first: float, t_now: float) -> bool:

@@ -47,26 +47,27 @@ class PipelineResult:
         """Gait parameters per stride and foot (:func:`footnav.nav.strides.stride_parameters`).
 
         A stride runs from one mid-stance to the next of the same foot (gaitmap's definition);
-        columns ``foot, start_s, end_s, length_m, duration_s, cadence_spm, stance_s, swing_s,
-        clearance_m, elevation_m, turn_rad, start_index, end_index`` (SI units in the names), left
-        foot's strides first, each foot's in time order.
+        columns :data:`footnav.nav.strides.STRIDE_COLUMNS` (SI units in the names), left foot's
+        strides first, each foot's in time order. ``first``, ``last`` and ``standstill`` mark the
+        strides that hold a pause, ``turn_deg`` the turns and ``kind`` the stairs: leave them out
+        to average steady-state gait.
 
         Returns
         -------
-        pandas.DataFrame or numpy structured array
-            A DataFrame when pandas is installed, else a structured array of dtype
-            :data:`footnav.nav.strides.STRIDE_DTYPE` with the same columns.
+        pandas.DataFrame
+            One row per stride.
 
         Examples
         --------
         >>> res = footnav.make_pipeline().run(left, right)          # doctest: +SKIP
-        >>> res.strides().groupby("foot")["length_m"].mean()          # doctest: +SKIP
+        >>> df = res.strides()                                        # doctest: +SKIP
+        >>> steady = df[~df["first"] & ~df["last"] & ~df["standstill"] & (df["turn_deg"].abs() < 20)
+        ...             & (df["kind"] == "level")]                      # doctest: +SKIP
+        >>> steady.groupby("foot")[["length_m", "cadence_spm"]].mean()  # doctest: +SKIP
         """
+        import pandas as pd  # here, not at module level: ``import footnav`` stays light
+
         table = np.concatenate([stride_parameters(tr, st, foot=foot) for foot, tr, st in self._feet()])
-        try:
-            import pandas as pd
-        except ImportError:
-            return table
         return pd.DataFrame({name: table[name] for name in table.dtype.names})
 
     def to_dataframe(self) -> Any:
@@ -76,20 +77,9 @@ class PipelineResult:
         q_y, q_z, pos_std_x_m, pos_std_y_m, pos_std_z_m, stance`` (nav frame, z up; the columns of
         ``left.csv`` written by :func:`footnav.data.results.write_results`), left foot first.
 
-        Raises
-        ------
-        FootnavError
-            pandas is not installed (``pip install pandas``).
         """
-        try:
-            import pandas as pd
-        except ImportError:
-            from footnav.errors import FootnavError
+        import pandas as pd  # a core dependency, imported here so that ``import footnav`` stays light
 
-            raise FootnavError(
-                "PipelineResult.to_dataframe() needs pandas, which is not installed: pip install pandas "
-                "(or use result.left.position etc. directly)"
-            ) from None
         frames = []
         for foot, tr, st in self._feet():
             cols: dict[str, Any] = {"foot": np.full(len(tr.t), foot), "t_s": tr.t}

@@ -116,16 +116,34 @@ def test_turns_round_the_rectangle_sum_to_a_full_turn(direction, sign):
         assert stride_parameters(traj, stance)["turn_rad"].sum() == pytest.approx(sign * 2 * np.pi, abs=0.15)
 
 
-def test_without_pandas_strides_is_a_structured_array_and_to_dataframe_says_how_to_install(straight, monkeypatch):
+def test_strides_is_a_dataframe_and_to_dataframe_has_every_sample(straight):
+    import pandas as pd
+
     _, res = straight
     frame = res.to_dataframe()
     assert len(frame) == len(res.left.t) + len(res.right.t) and frame["stance"].sum() == res.stance_left.mask.sum() + res.stance_right.mask.sum()
     np.testing.assert_array_equal(frame.loc[frame["foot"] == "right", "pos_x_m"], res.right.position[:, 0])
-    monkeypatch.setitem(sys.modules, "pandas", None)
     table = res.strides()
-    assert isinstance(table, np.ndarray) and table.dtype.names == STRIDE_COLUMNS
-    with pytest.raises(FootnavError, match="pip install pandas"):
-        res.to_dataframe()
+    assert isinstance(table, pd.DataFrame) and tuple(table.columns) == STRIDE_COLUMNS
+    assert table["first"].dtype == bool and table["standstill"].dtype == bool
+    np.testing.assert_allclose(table["turn_deg"], np.degrees(table["turn_rad"]))
+
+
+def test_first_last_and_standstill_strides_are_marked():
+    # 10 Hz, stances of 0.5 s every 1.2 s, the third one 3 s long (a pause), and long rests at both ends
+    stances = [(0, 30), (42, 47), (59, 64), (76, 106), (118, 123), (135, 140), (152, 157), (169, 199)]
+    n = 199
+    t = np.arange(n) * 0.1
+    mask = np.zeros(n, bool)
+    for a, b in stances:
+        mask[a:b] = True
+    pos = np.zeros((n, 3))
+    pos[:, 0] = np.cumsum(~mask) * 0.1
+    s = stride_parameters(_trajectory(t, pos, quat.from_yaw(np.zeros(n))), mask)
+    assert len(s) == len(stances) - 1
+    assert list(np.flatnonzero(s["first"])) == [0] and list(np.flatnonzero(s["last"])) == [len(s) - 1]
+    # the strides touching the 3 s rests at both ends and the pause in the middle (stance 3)
+    assert list(np.flatnonzero(s["standstill"])) == [0, 2, 3, 6]
 
 
 def test_write_results_writes_strides_csv(straight, tmp_path):
@@ -137,6 +155,12 @@ def test_write_results_writes_strides_csv(straight, tmp_path):
     assert lines[0].startswith("foot,start_s,end_s,length_m,duration_s,")
     assert len(lines) == 1 + len(res.strides())
     assert lines[1].split(",")[0] == "left"
+    import pandas as pd
+
+    back = pd.read_csv(out / "strides.csv")
+    assert tuple(back.columns) == STRIDE_COLUMNS and back["first"].dtype == bool and back["first"].iloc[0]
+    steady = back[~back["first"] & ~back["last"] & ~back["standstill"] & (back["turn_deg"].abs() < 20) & (back["kind"] == "level")]
+    assert 0 < len(steady) < len(back)
 
 
 def mocap_stride_errors(rec, res, tolerance_s: float = 0.4):

@@ -43,7 +43,7 @@ def _tasks() -> list[tuple[str, Callable[[], object]]]:
             tasks.append((f"fusion {e.name}", lambda name=e.name: evaluate(make_pipeline(fusion=name), rec)))
 
     def online() -> object:  # as ``footnav follow`` composes it by default
-        stream = make_pipeline("threshold", estimator_params={"smoother": "step"}).online(feet=2)
+        stream = make_pipeline().online(feet=2)
         stream.push(left=rec.left, right=rec.right)
         return stream.close()
 

@@ -26,9 +26,10 @@ _FIRST_RUN = textwrap.dedent(
     with event.install_recorder("numba:compile") as compiled:
         footnav.make_pipeline().run(rec)
         footnav.make_pipeline(estimator="madgwick").run(rec)
-        stream = footnav.make_pipeline("threshold", estimator_params={"smoother": "step"}).online(feet=2)
-        stream.push(left=rec.left, right=rec.right)
-        stream.close()
+        for pipe in (footnav.make_pipeline(), footnav.make_pipeline("threshold", estimator_params={"smoother": "step"})):
+            stream = pipe.online(feet=2)
+            stream.push(left=rec.left, right=rec.right)
+            stream.close()
         from footnav.demo import run_demo
         run_demo(plot=None)  # the README's set-up line runs the demo right after the warmup
     names = sorted({ev.data["dispatcher"].py_func.__qualname__ for _, ev in compiled.buffer if ev.is_start})

@@ -42,10 +42,12 @@ def _tasks() -> list[tuple[str, Callable[[], object]]]:
         if e.kind == "fusion" and e.name != "independent" and not e.cls.needs_magnetometer:
             tasks.append((f"fusion {e.name}", lambda name=e.name: evaluate(make_pipeline(fusion=name), rec)))
 
-    def online() -> object:  # as ``footnav follow`` composes it by default
-        stream = make_pipeline().online(feet=2)
-        stream.push(left=rec.left, right=rec.right)
-        return stream.close()
+    def online() -> object:  # as ``footnav follow`` composes it by default, and with its
+        # windowed detector (the start-up of the default one waits 10 s of walk)
+        for pipe in (make_pipeline(), make_pipeline("threshold", estimator_params={"smoother": "step"})):
+            stream = pipe.online(feet=2)
+            stream.push(left=rec.left, right=rec.right)
+            stream.close()
 
     tasks.append(("online stream", online))
     return tasks

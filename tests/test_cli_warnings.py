@@ -60,3 +60,20 @@ def test_small_batches_run_serially_large_ones_and_paths_not():
     assert serial_is_faster(["walk.csv"], 1, 2) is None  # the workers read it: not counted here
     n = rec.left.n_samples + rec.right.n_samples
     assert serial_is_faster([rec] * (SERIAL_BELOW_SAMPLES // n + 1), 1, 2) is None
+
+
+def test_the_python_route_lists_the_reader_s_warnings_in_the_run_s_meta(tmp_path):
+    import warnings
+
+    rec = footnav.simulate("straight", seed=2, distance_m=15.0, rate_hz=100.0)
+    path = write_footnav_csv(replace(rec.left, acc=rec.left.acc * 1.075), tmp_path / "left.csv")
+    with warnings.catch_warnings(record=True) as shown:
+        warnings.simplefilter("always")
+        loaded = footnav.load(path)
+        result = footnav.make_pipeline().run(loaded.left)
+    said = [f"{w.category.__name__}: {w.message}" for w in shown if issubclass(w.category, footnav.DataQualityWarning)]
+    assert any("off g" in s for s in said)
+    assert loaded.left.meta["read_warnings"] == [s for s in said if "off g" in s]
+    for s in said:  # every warning shown, reading and running, is in the run's meta
+        assert s in result.meta["warnings"], (s, result.meta["warnings"])
+    assert len(result.meta["warnings"]) == len(set(result.meta["warnings"]))

@@ -358,7 +358,11 @@ class Pipeline:
         meta = {
             "pipeline": self.config(),
             "footnav_version": __version__,
-            "warnings": [str(w) for w in caught],
+            # what reading the files said (footnav.load records it with the data), then the run's
+            "warnings": list(dict.fromkeys(
+                [w for imu in (left, right) if imu is not None for w in imu.meta.get("read_warnings", ())]
+                + [str(w) for w in caught]
+            )),
             "stance_check": stance_checks,
             "vertical_check": vertical_checks,
             # what the fusion computed (update counts, fitted values, suspended turns, the span)

@@ -41,7 +41,8 @@ from footnav.data.io.pyshoe import read_pyshoe
 from footnav.data.io.xio import read_xio
 from footnav.data.io.xsens import read_xsens
 from footnav.data.io.ximu import is_ximu_cal_header, read_ximu_cal
-from footnav.types import Recording
+from footnav.types import ImuData, Recording
+from footnav.warning_log import recording
 
 __all__ = ["load", "guess_format", "reader_options", "READERS"]
 
@@ -239,7 +240,8 @@ def load(path: Any, format: str | None = None, **options: Any) -> Recording:
     -------
     Recording
         With ``meta["format"]`` the reader used and ``meta["format_guessed"]`` whether it was
-        guessed.
+        guessed; each foot's ``meta["read_warnings"]`` holds the warnings reading gave (a
+        pipeline run lists them in its ``meta["warnings"]``).
 
     Raises
     ------
@@ -254,7 +256,8 @@ def load(path: Any, format: str | None = None, **options: Any) -> Recording:
             raise InvalidInputError(f"unknown format {format!r}; known formats: {', '.join(READERS)}", path=str(p))
         if not p.exists():
             raise DataNotFoundError(f"{str(p)!r} does not exist")
-        rec = READERS[format](p, **options)
+        with recording() as caught:
+            rec = READERS[format](p, **options)
         guessed = False
     else:
         format, reason, implied = guess_format(p)
@@ -270,6 +273,15 @@ def load(path: Any, format: str | None = None, **options: Any) -> Recording:
                 field="rate_hz",
             )
         log.info("footnav.load: reading %s as %r (%s)", p, format, reason)
-        rec = READERS[format](target, **{**implied, **options})
+        with recording() as caught:
+            rec = READERS[format](target, **{**implied, **options})
         guessed = True
+    if caught:  # said once while reading: the run's meta["warnings"] lists them too
+        read = [str(w) for w in caught]
+        rec = replace(rec, left=_noted(rec.left, read), right=None if rec.right is None else _noted(rec.right, read))
     return replace(rec, meta={**rec.meta, "format": format, "format_guessed": guessed})
+
+
+def _noted(imu: ImuData, read: list[str]) -> ImuData:
+    """``imu`` with the warnings its file gave while read, in ``meta["read_warnings"]``."""
+    return replace(imu, meta={**imu.meta, "read_warnings": read})

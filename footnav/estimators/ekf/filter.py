@@ -317,10 +317,15 @@ class InsFilter:
         forward = cursor is None
         if forward:
             cursor = np.array([self._n_events, self._n_log, self._n_log], dtype=np.int64)
+        log = self._log
+        if len(watch_times) == 0 and self._n_log == 0:
+            # nothing to watch and nothing logged to replay: the loop compiled without that code
+            # (None prunes it; a pipeline without the range fusion never compiles it)
+            watch_times = watch = log = None
         out = run(
             self._in, stop_at, k, float(t_stop), int(max_events), bool(step_stops), state, self.n_states, self._q_diag,
             self.noise.zupt_std_mps**2, self.noise.zaru_std_radps**2, self._out, mode, rec, sm, fill, mu, d,
-            self._scratch(rec), watch_times, watch, self._log, cursor,
+            self._scratch(rec), watch_times, watch, log, cursor,
         )
         if forward:
             self._n_log = int(cursor[1])

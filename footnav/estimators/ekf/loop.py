@@ -197,7 +197,9 @@ def run(
     from ``watch[W_NEXT]`` on (once every sample at or before it is processed) the distance
     between the two feet is checked. Where it exceeds the bound, the loop projects the feet
     back (:func:`_project`, with ``watch[W_VAR]`` > 0) or stops, ``watch[W_NEXT]`` left at that
-    time's index. No watch: an empty ``watch_times``. (A fusion's check at every few samples,
+    time's index. No watch: an empty ``watch_times``, or None together with ``watch`` and ``log``
+    (then numba prunes the watch and the log's code from this compilation: a pipeline without a
+    range fusion compiles none of it). (A fusion's check at every few samples,
     and its update at every step, cost a Python round trip each otherwise;
     :meth:`footnav.estimators.ekf.filter.InsFilter.run_range_constrained`.)
 
@@ -231,30 +233,34 @@ def run(
         fill[1] = 0
     events = 0
     reason = FULL
-    n_watch = len(watch_times)
+    n_watch = 0
+    if watch_times is not None:  # pruned at compile time when None (numba's dead-branch pruning)
+        n_watch = len(watch_times)
     while events < max_events:
-        if cursor[1] < cursor[2]:
-            _replay_log(cursor, cursor[0] + events, state, n, ws, record, rec, fill, log)
+        if log is not None:
+            if cursor[1] < cursor[2]:
+                _replay_log(cursor, cursor[0] + events, state, n, ws, record, rec, fill, log)
         if mode == MODE_RECORD and fill[0] >= capacity:  # the loop's own updates filled it
             return FULL, events
         f = _next_foot(t, k, stop_at, t_stop)
-        if n_watch:
-            # the watched times before the next sample (all of them at the end): every sample
-            # at or before each is processed now
-            t_next = t[k[f] + 1] if f >= 0 else np.inf
-            while _apart(watch_times, watch, p, t_next, t_stop):
-                if not watch[W_VAR] > 0.0:
-                    return APART, events
-                if record and fill[0] + 3 > capacity:  # room for two projections and the next sample
-                    if not step:
-                        return FULL, events
-                    smooth_back(fill, step, cov, mu, d, n, n_feet, q_diag, rec, out, sm, ws)
-                    fill[0] = 0
-                    fill[1] = 0
-                status = _project(watch, stance, k, state, n, ws, record, rec, fill, log, cursor, cursor[0] + events)
-                if status != DONE:
-                    return status, events
-                watch[W_NEXT] += 1.0
+        if watch_times is not None:
+            if n_watch:
+                # the watched times before the next sample (all of them at the end): every sample
+                # at or before each is processed now
+                t_next = t[k[f] + 1] if f >= 0 else np.inf
+                while _apart(watch_times, watch, p, t_next, t_stop):
+                    if not watch[W_VAR] > 0.0:
+                        return APART, events
+                    if record and fill[0] + 3 > capacity:  # room for two projections and the next sample
+                        if not step:
+                            return FULL, events
+                        smooth_back(fill, step, cov, mu, d, n, n_feet, q_diag, rec, out, sm, ws)
+                        fill[0] = 0
+                        fill[1] = 0
+                    status = _project(watch, stance, k, state, n, ws, record, rec, fill, log, cursor, cursor[0] + events)
+                    if status != DONE:
+                        return status, events
+                    watch[W_NEXT] += 1.0
         if f < 0:
             reason = DONE
             break
@@ -348,8 +354,9 @@ def run(
             if step_stops:
                 reason = STEP_END
                 break
-    if cursor[1] < cursor[2]:  # a replay's updates at its last instant, before its checkpoint
-        _replay_log(cursor, cursor[0] + events, state, n, ws, record, rec, fill, log)
+    if log is not None:
+        if cursor[1] < cursor[2]:  # a replay's updates at its last instant, before its checkpoint
+            _replay_log(cursor, cursor[0] + events, state, n, ws, record, rec, fill, log)
     if mode == MODE_WHOLE:
         smooth_back(fill, step, cov, mu, d, n, n_feet, q_diag, rec, out, sm, ws)
     return reason, events

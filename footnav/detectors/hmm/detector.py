@@ -19,10 +19,10 @@ from typing import Any, ClassVar
 import numpy as np
 
 from footnav.component import MAX_DURATION_S, StanceDetector, require, require_in_range, require_positive
-from footnav.errors import HmmNotFittedError, InvalidInputError, InvalidParameterError
-from footnav.types import ImuData, StanceResult
+from footnav.errors import GaitModelError, HmmNotFittedError, InvalidInputError, InvalidParameterError
+from footnav.types import ImuData, StanceResult, stance_intervals
 from footnav.warning_log import recording
-from footnav.detectors.hmm.decoding import decode_offline, on_samples, transition_events
+from footnav.detectors.hmm.decoding import MIN_STANCE_S, decode_offline, min_stance_samples, on_samples, transition_events
 from footnav.detectors.hmm.features import FEATURES, model_grid
 from footnav.detectors.hmm.learning import learn
 from footnav.detectors.hmm.model import N_STATES, PHASE_NAMES, STANCE, build_hmm, is_cyclic_left_right
@@ -271,9 +271,15 @@ class HmmDetector(StanceDetector):
         grid = model_grid(imu, learned["features_"], learned["model_rate_hz_"])
         model = build_hmm(learned["startprob_"], learned["transmat_"], learned["means_"], learned["covars_"],
                           seed=self.seed)
-        decoded = decode_offline(model, grid.features)
+        # every stance at least MIN_STANCE_S: the stance chain of decoding.viterbi_min_stance
+        decoded = decode_offline(model, grid.features, min_stance_samples(learned["model_rate_hz_"]))
         phases, score = on_samples(decoded, grid, imu.t)
         mask = phases == STANCE
+        runs = stance_intervals(mask)
+        # (a 1e-9 s margin: 0.05 * 60 Hz is 3.0000000000000004 samples)
+        short = int(np.sum((runs[:, 1] - runs[:, 0]) / imu.rate_hz < MIN_STANCE_S - 1e-9)) if len(runs) else 0
+        if short:  # the chain rules it out; never hand back a mask that fails the learning's check
+            raise GaitModelError(f"the HMM's stance mask has {short} stance runs shorter than {MIN_STANCE_S:g} s")
         events = transition_events(phases)
         meta: dict[str, Any] = {
             "detector": self.describe(),

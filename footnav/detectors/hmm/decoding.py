@@ -25,17 +25,18 @@ from footnav.detectors.hmm.model import EVENTS, N_STATES, STANCE
 __all__ = ["MIN_STANCE_S", "Decoded", "decode_offline", "min_stance_samples", "on_samples", "transition_events",
            "viterbi_min_stance"]
 
-#: Shortest stance the decoder returns, s: the learning check's micro-stance limit
-#: (:data:`~footnav.detectors.hmm.learning.MICRO_STANCE_S`, 0.05 s), a step's stance lasting
-#: 0.2 s or more at any walking speed.
+#: Shortest stance the detector may return, s: the learning check's micro-stance limit
+#: (:data:`~footnav.detectors.hmm.learning.MICRO_STANCE_S`).
 MIN_STANCE_S = 0.05
 
 
-def min_stance_samples(model_rate_hz: float) -> int:
-    """Sub-states of the stance chain at ``model_rate_hz``: ``MIN_STANCE_S`` in model samples, plus
-    one so that a shortest stance still spans ``MIN_STANCE_S`` once mapped to a slower recording's
-    nearest samples."""
-    return int(np.ceil(MIN_STANCE_S * float(model_rate_hz) - 1e-9)) + 1
+def min_stance_samples(model_rate_hz: float, min_stance_s: float = MIN_STANCE_S) -> int:
+    """Sub-states of the stance chain at ``model_rate_hz``: ``min_stance_s`` in model samples, plus
+    one so that a shortest stance still spans ``min_stance_s`` once mapped to a slower recording's
+    nearest samples (1 for 0 s: the plain path)."""
+    if min_stance_s <= 0:
+        return 1
+    return int(np.ceil(min_stance_s * float(model_rate_hz) - 1e-9)) + 1
 
 
 @dataclass(frozen=True)

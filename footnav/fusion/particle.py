@@ -10,62 +10,39 @@ Two modes (``ParticleFusion(mode=...)``):
   (eq. 2, 8-9);
 * **propagation at every time update** (Algorithm 1, eq. 10-12): each particle moves with the
   mechanization's displacement plus a draw of ``N(0, P_vel dt^2)`` and, while the foot moves,
-  the lateral drift ``C_b^n [0, f', 0]'`` with ``f' = Rayleigh(sigma_sys_m) - drift_offset_m``
-  (the offset kept: a mean of ``sigma sqrt(pi/2) - offset`` per step, toward the other foot),
-  split over the swing's samples so that one step's sum has the moments of one draw
-  (:func:`footnav.fusion.particle_ekf.drift_scales`);
+  the lateral drift ``C_b^n [0, f', 0]'`` with ``f' = Rayleigh(sigma_sys_m) - offset``, the
+  offset the Rayleigh mean (``drift_mean="zero"``) or ``drift_offset_m`` (``"offset"``), split
+  over the swing's samples so that one step's sum has the moments of one draw
+  (:func:`footnav.fusion.particle_ekf.drift_scales`); ``sigma_sys_m=0``: no drift;
 * **fusion** (eq. 13-14): at the end of each zero-velocity phase of a foot, the two clouds'
   means and covariances (1/N) are summed into one Gaussian mixture with equal weights, whose
   mean *and* covariance (``sum a_i (Sigma_i + (mu_i - mu)(mu_i - mu)')``) are the pedestrian's
   position;
-* **update** (eq. 15-16): each particle of that foot is weighed by ``N(mu | x_n, Sigma)``, the
-  fused mean and covariance in 2-D, and the cloud is resampled systematically (Kitagawa 1996).
-  The particles never feed back into the EKF; no smoothing.
+* **update** (eq. 15-16): each particle of that foot is weighed by ``N(p_fused | x_n, Sigma^i)``
+  and the cloud is resampled systematically (Kitagawa 1996). ``Sigma^i`` is the shoe's own
+  cloud covariance (eq. 14; ``likelihood_cov="fused"``: the mixture's); the Gaussian is taken
+  across the shoe's heading (``likelihood_axes``) around the pedestrian shifted by half
+  ``step_width_m`` to the shoe's side. The particles never feed back into the EKF; no smoothing.
 
-``"footnav"`` (default) -- footnav's variant, kept because it is better on the simulator
-(measured below): both feet in footnav's generic joint EKF ``[phi, v, p(, b)]``
-(:mod:`footnav.fusion.joint`, with its RTS smoother); the particles move once per step by the
-EKF's displacement and covariance growth; the drift is made zero-mean; the update uses the fused
-*mean* only, across the foot's heading, shifted by half the step width; the EKF follows the
-cloud by Jeffrey's rule. Its points 1-5 below.
+``"footnav"`` (default) -- footnav's variant: both feet in footnav's generic joint EKF
+``[phi, v, p(, b)]`` (:mod:`footnav.fusion.joint`, with its RTS smoother); the particles move
+once per step by the EKF's displacement and covariance growth; the drift is zero-mean; the
+update uses the fused *mean* only, across the foot's heading, shifted by half the step width;
+the EKF follows the cloud by Jeffrey's rule. Its points 1-5 below.
 
-Measured on the simulator's square (``path``: 23.25 m sides, 93 m round as in Sec. 4, three
-laps, back to the start; the paper's MTw noise of Table 1 (gyro 8.7e-4 rad/s/sqrt(Hz), acc
-3e-3 m/s^2/sqrt(Hz)), gyro bias walk 5e-5 rad/s^2/sqrt(Hz), 5 s standstill, 100 Hz; threshold
-detector; seeds 0-4; ``benchmarks/bench_particle.py --square``), RMS cross-track error per foot
-over its footprints, mean +- std over seeds: independent 0.335 +- 0.093 m (forward-only
-0.339), ``"paper"`` 0.385 +- 0.080 m, ``"footnav"`` 0.239 +- 0.105 m. The paper reports (Table
-3, position error on the square) 0.50 / 1.28 m standalone and 0.32 / 0.31 m proposed (left /
-right). With the simulator's default errors the feet's heading errors are independent random
-walks, not the symmetric drift the paper models, and paper mode pulls both feet toward their
-midpoint (eq. 15 takes each foot's position for the pedestrian's), which costs about half the
-step width across the walk: its final cross-track error drops (0.212 -> 0.161 m) but not its RMS.
-
-*With the paper's drift* (``simulate(mirrored_yaw_rate_radps=b)``: a yaw-rate error ``+b`` on
-the left foot and ``-b`` on the right while the foot moves, Sec. 2.1; ``bench_particle.py
---square --mirrored-yaw-rate 0 2e-4 5e-4 1e-3 2e-3``), same square, RMS cross-track per foot,
-independent / paper / footnav / range / step-vector, m:
-
-* b = 2e-4: 0.334 / 0.362 / 0.249 / 0.326 / 0.328;
-* b = 5e-4: 0.396 / 0.399 / 0.238 / 0.365 / 0.329;
-* b = 1e-3: 0.596 / 0.569 / 0.237 / 0.402 / 0.331 (E_s 3.33 / 3.10 / 0.21 / 0.41 / 0.23 m);
-* b = 2e-3: 1.145 / 1.086 / 0.232 / 0.529 / 0.338 (E_s 6.96 / 6.97 / 0.24 / 0.43 / 0.24 m);
-* b = -1e-3 (tracks crossing): 0.655 / 0.709 / 0.258 / 0.363 / 0.327; right turns (cw),
-  b = 1e-3: 0.584 / 0.539 / 0.371 / 0.220 / 0.217.
-
-So on the square paper mode stays within 5-10 % of independent feet however large the drift:
-the paper's 65 % (Table 3) does not appear. Its update weighs the particles by the Gaussian
-sum's covariance, which contains the spread between the two feet's clouds
-(``(mu_i - mu)(mu_i - mu)'``): once the feet have drifted apart the likelihood is as wide as
-their separation and barely moves the cloud (E_s as independent). Reading eq. 15's
-``Sigma^i`` as the foot's own cloud covariance instead (tried) pulls harder but also along
-the walk toward a midpoint half a stride away: worse, 0.450 / 0.418 / 0.634 m RMS at b = 0 /
-5e-4 / 1e-3, 0.27 against 0.12 m on one lap. On the paper's *straight* walk (70 m, 10 seeds,
-b = 4.4e-4, which gives the paper's ~0.5 m standalone, Table 2) paper mode does reduce the
-final lateral error: left / right 0.41 / 0.54 m against 0.66 / 0.82 m independent (range
-constraint 0.48 / 0.57, footnav 0.49 / 0.48; the paper: 0.48 / 0.55 against 0.52 / 0.97).
-footnav mode, which estimates heading in its EKF and corrects it through the cloud, is flat in
-``b`` on the square (0.23-0.26 m with left turns, 0.37 m with right).
+Measured (issue 36) on the paper's experiment rebuilt on the simulator (docs/make_papers.py:
+the MTw's noise of Table 1, its 20 deg/h bias stability as a gyro bias walk of 7e-6
+rad/s^2/sqrt(Hz), the paper's symmetric drift ``simulate(mirrored_yaw_rate_radps=6e-4)``, Sec.
+2.1; threshold detector, forward EKF; 10 seeds; errors after aligning each track on its first
+five steps, Sec. 2.1), total over both feet, paper mode with ``sigma_sys_m=0.1`` against
+independent feet: square (3 laps, Table 3 waypoint error) 0.42 against 0.85 m (-51 %; paper
+0.315 against 0.89 m, -65 %); straight 70 m (Table 2 final error) 0.39 against 0.86 m (-55 %;
+paper -31 %). The other readings: ``likelihood_cov="fused"`` -9 % / -52 % (square / straight:
+the mixture's covariance holds the feet's separation, so once they drift apart the weights are
+nearly uniform), ``likelihood_axes="2d"`` +40 % / +112 %, ``drift_mean="offset"``
+(``drift_offset_m=0.1``) -51 % / -31 %, ``step_width_m=0`` -33 % / -59 % (at sigma 0.05);
+``sigma_sys_m`` 0 / 0.02 / 0.05 / 0.1 / 0.2 on the square: -2 / -14 / -36 / -51 / -53 % (a
+cloud can only move within its own spread, which the drift term sets).
 
 footnav's reading (``mode="footnav"``), where the paper leaves room:
 
@@ -143,6 +120,8 @@ __all__ = ["MODES", "ParticleFusion", "ParticleSession"]
 
 #: Values of ``ParticleFusion(mode=...)``.
 MODES = ("paper", "footnav")
+#: Values of ``drift_mean``, ``likelihood_cov`` and ``likelihood_axes`` (``mode="paper"``), default first.
+DRIFT_MEANS, LIKELIHOOD_COVS, LIKELIHOOD_AXES = ("zero", "offset"), ("own", "fused"), ("lateral", "2d")
 
 _EQUAL = np.ones(2)  # the Gaussian sum weighs the feet equally
 
@@ -165,24 +144,42 @@ class ParticleFusion(Fusion):
     Parameters
     ----------
     mode : {"footnav", "paper"}
-        ``"paper"``: the paper's eq. 3 EKF, particles at each time update, the offset drift and
-        the Gaussian sum's mean and covariance as measurement; ``"footnav"``: footnav's variant
-        (module docstring: better on the simulator's square, 0.24 against 0.39 m RMS
-        cross-track).
+        ``"paper"``: the paper's eq. 3 EKF, particles at each time update with the Rayleigh
+        drift, the Gaussian sum as each shoe's measurement (eq. 10-16; read as the four
+        parameters below say); ``"footnav"``: footnav's variant (joint EKF with RTS smoothing,
+        points 1-5 of the module docstring).
     n_particles : int
         Particles per foot (Lee, Cho & Park (2022), Sec. 3.2: 100).
     sigma_sys_m : float
         Scale sigma of the offset-Rayleigh lateral drift per step, m (Lee, Cho & Park (2022),
-        eq. 12); 0 leaves only the EKF's Gaussian spread.
+        eq. 12; fitted there to Fig. 2's histogram, no number given). 0: no drift term at all,
+        whatever ``drift_offset_m``; only the EKF's Gaussian spread.
     drift_offset_m : float
-        ``"paper"`` only: the offset of eq. 12's Rayleigh distribution, m. The default, sigma,
-        puts the mode at zero and leaves a mean drift of ``0.25 sigma`` per step toward the other
-        foot (the paper fits it to a histogram, Fig. 2, and gives no number). ``"footnav"``
-        always offsets by the mean.
+        ``"paper"`` with ``drift_mean="offset"``: the offset of eq. 12's Rayleigh distribution,
+        m ("the Rayleigh distribution expressed in the positive domain was offset so that the
+        negative domain could also be expressed", Sec. 2.2). With the default, sigma, the mode
+        is at zero and the mean ``0.25 sigma`` per step toward the other foot.
+    drift_mean : {"zero", "offset"}
+        ``"paper"`` only: ``"zero"`` offsets eq. 12's Rayleigh by its mean ``sigma sqrt(pi/2)``
+        (skewed, unbiased: the paper's text describes only the skew, "the mode of the
+        distribution is skewed from the center", Sec. 2.2); ``"offset"`` by ``drift_offset_m``.
+        ``"footnav"`` always offsets by the mean.
+    likelihood_cov : {"own", "fused"}
+        ``"paper"`` only: the ``Sigma^i`` of eq. 15, ``L ~ N(p_fused | mu^i, Sigma^i)``.
+        ``"own"``: as eq. 14 defines it, "the mean and covariance representing each shoe's
+        measured position", shoe i's own cloud covariance; ``"fused"``: the Gaussian sum's
+        covariance (eq. 13), which holds the spread between the two clouds.
+    likelihood_axes : {"lateral", "2d"}
+        ``"paper"`` only: ``"lateral"`` weighs by the component of eq. 15 across shoe i's heading
+        ("Position error occurs only in the lateral direction", Sec. 3.2); ``"2d"`` by the 2-D
+        Gaussian as printed, which also pulls the foot along the walk toward the other foot,
+        half a stride ahead when a stance ends.
     step_width_m : float
-        Lateral distance between the feet, m: where the feet start, and (``"footnav"``) each
-        foot's offset from the pedestrian position in the likelihood (the simulator's walker:
-        0.2 m).
+        Lateral distance between the feet, m: where the feet start, and each foot's offset from
+        the pedestrian position in the likelihood, half of it to the foot's side (the
+        simulator's walker: 0.2 m). 0 with ``"paper"``: both shoes start at the origin and each
+        is taken for the pedestrian ("the estimated shoe position in each shoe can be assumed
+        as two measures of pedestrian position", Sec. 3.2).
     seed : int
         Seed of ``numpy.random.default_rng`` for the particles.
 
@@ -219,10 +216,16 @@ class ParticleFusion(Fusion):
         n_particles: int = 100,
         sigma_sys_m: float = 0.05,
         drift_offset_m: float = 0.05,
+        drift_mean: str = "zero",
+        likelihood_cov: str = "own",
+        likelihood_axes: str = "lateral",
         step_width_m: float = 0.2,
         seed: int = 0,
     ) -> None:
         self.mode = mode
+        self.drift_mean = drift_mean
+        self.likelihood_cov = likelihood_cov
+        self.likelihood_axes = likelihood_axes
         self.n_particles = n_particles
         self.sigma_sys_m = sigma_sys_m
         self.drift_offset_m = drift_offset_m
@@ -238,6 +241,9 @@ class ParticleFusion(Fusion):
         require_non_negative(self, "sigma_sys_m", "step_width_m", high=MAX_LENGTH_M)
         require(self.mode in MODES, self, "mode", " or ".join(repr(m) for m in MODES))
         require_in_range(self, "drift_offset_m", low=-MAX_LENGTH_M, high=MAX_LENGTH_M)
+        require(self.drift_mean in DRIFT_MEANS, self, "drift_mean", " or ".join(repr(m) for m in DRIFT_MEANS))
+        require(self.likelihood_cov in LIKELIHOOD_COVS, self, "likelihood_cov", " or ".join(repr(m) for m in LIKELIHOOD_COVS))
+        require(self.likelihood_axes in LIKELIHOOD_AXES, self, "likelihood_axes", " or ".join(repr(m) for m in LIKELIHOOD_AXES))
 
     def fuse(self, estimator, left, stance_left, right=None, stance_right=None) -> FusionResult:
         """Both feet's EKFs with their horizontal positions carried by particle clouds.
@@ -273,7 +279,7 @@ class ParticleFusion(Fusion):
         assert len(cov0) == N_STATES
         still = float(params.get("still_gyr_max_radps", 0.05))
         half = 0.5 * float(self.step_width_m)
-        feet, metas = [], []
+        feet, metas, yaw0 = [], [], []
         for foot, (imu, st) in enumerate(((left, stance_left), (right, stance_right))):
             # the nav frame of the joint filter (joint.start_joint): the first step along +x,
             # the left foot at +y
@@ -281,12 +287,15 @@ class ParticleFusion(Fusion):
             s0, align, meta = align_first_stance(imu, st, still_gyr_max_radps=still, stacklevel=5)
             side = 1.0 if foot == RIGHT else -1.0  # the right shoe's tail along its +y (Sec. 2.2)
             p0 = np.array([0.0, -side * half, 0.0])
-            scale, offset = drift_scales(st.mask, float(self.sigma_sys_m), float(self.drift_offset_m))
+            sigma = float(self.sigma_sys_m)
+            offset_m = sigma * math.sqrt(0.5 * math.pi) if self.drift_mean == "zero" else float(self.drift_offset_m)
+            scale, offset = drift_scales(st.mask, sigma, offset_m)
             feet.append(PaperFoot(
                 imu.t, imu.acc, imu.gyr, st.mask, s0, quat.multiply(quat.from_yaw(yaw), align.quaternion), p0,
                 align.gyro_bias_radps, cov0, noise, np.tile(p0[:2], (n, 1)), side, scale, offset,
             ))
             metas.append(meta)
+            yaw0.append(quat.yaw_of(feet[-1].q[0]))
         events = sorted(
             (float(imu.t[stop - 1]), foot)
             for foot, (imu, st) in enumerate(((left, stance_left), (right, stance_right)))
@@ -303,8 +312,8 @@ class ParticleFusion(Fusion):
                 moments.append((mean, cov_c))
             # eq. 13: the pedestrian's position, the equal-weight Gaussian sum of the two clouds
             z, cov_z = gaussian_sum(np.array([m for m, _ in moments]), np.array([c for _, c in moments]), _EQUAL)
-            # eq. 15-16: q_n = N(z | x_n, Sigma_fused), systematic resampling
-            weights = _gaussian_weights(feet[foot].cloud, z, cov_z)
+            # eq. 15-16: q_n = N(p_fused | x_n, Sigma), systematic resampling
+            weights = self._paper_weights(feet[foot], z, moments[foot][1], cov_z, yaw0[foot], foot)
             feet[foot].set_cloud(feet[foot].cloud[systematic_resample(weights, rng)])
         out = []
         for f, (imu, st) in enumerate(((left, stance_left), (right, stance_right))):
@@ -317,6 +326,22 @@ class ParticleFusion(Fusion):
             ))
         meta = {"fusion": self.describe(), "pf_updates": len(events), "n_particles": n}
         return FusionResult(left=out[0], right=out[1], path=midpoint_path(out[0], out[1]), meta=meta)
+
+    def _paper_weights(self, pf: PaperFoot, z, cov_own, cov_fused, yaw0: float, foot: int) -> np.ndarray:
+        """Eq. 15's weights of ``pf``'s particles (unnormalised, the largest 1), read as
+        ``likelihood_cov``, ``likelihood_axes`` and ``step_width_m`` say (class docstring)."""
+        # eq. 14-15 name Sigma^i, shoe i's own covariance; "fused" takes the Gaussian sum's (eq. 13)
+        cov = cov_own if self.likelihood_cov == "own" else cov_fused
+        heading = quat.yaw_of(pf.q[0]) - yaw0  # relative to the first step: a skewed mount does not turn it
+        lateral = np.array([-math.sin(heading), math.cos(heading)])  # the shoe's +y, nav frame
+        side = 1.0 if foot == LEFT else -1.0
+        # the pedestrian seen from shoe i: half a step width to its side (0: the shoe is the pedestrian)
+        z = z + side * 0.5 * float(self.step_width_m) * lateral
+        if self.likelihood_axes == "2d":
+            return _gaussian_weights(pf.cloud, z, cov)
+        d = (pf.cloud - z) @ lateral
+        logw = -0.5 * d * d / max(float(lateral @ cov @ lateral), _MIN_VAR_M2)
+        return np.exp(logw - logw.max())
 
     def session(self, estimator: Any, start_s: float) -> ParticleSession:
         """mode="footnav"'s particle updates on a joint filter that grows as samples arrive

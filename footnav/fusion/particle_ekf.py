@@ -61,6 +61,10 @@ def drift_scales(mask: NDArray[np.bool_], sigma_m: float, offset_m: float) -> tu
     """
     moving = ~np.asarray(mask, dtype=bool)
     scale, offset = np.zeros(len(moving)), np.zeros(len(moving))
+    if sigma_m == 0.0:
+        # no Rayleigh term, no drift: the offset alone would push each foot sideways by
+        # offset_m at every step with nothing random around it (issue 36)
+        return scale, offset
     edges = np.flatnonzero(np.diff(np.r_[0, moving.astype(np.int8), 0]))
     mean_step = sigma_m * _SQRT_HALF_PI - offset_m
     for a, b in zip(edges[::2], edges[1::2]):

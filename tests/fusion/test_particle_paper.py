@@ -107,12 +107,10 @@ def test_paper_mode_same_seed_same_output_different_seed_different():
 
 
 def test_paper_mode_on_the_square_against_independent_feet():
-    # measured, 3 laps, seeds 0-4 (module docstring): RMS cross-track per foot independent
-    # 0.335 +- 0.093, paper 0.385 +- 0.080, footnav 0.239 +- 0.105 m; final cross-track 0.212,
-    # 0.161, 0.161 m. Here one lap, 3 seeds, to stay fast (measured: independent 0.116, paper
-    # 0.188, footnav 0.141 m): on one lap the independent feet err little and both modes pay
-    # about half the step width at most (they pull the feet toward their midpoint); neither
-    # reaches the paper's margin.
+    # the simulator's default heading errors (independent per foot, not the paper's drift; that
+    # one is in test_particle_paper_readings.py). One lap, 3 seeds (measured, RMS cross-track:
+    # independent 0.116, paper 0.116 (0.188 before issue 36's own-covariance reading), footnav
+    # 0.141 m): on one lap the independent feet err little, and neither mode may cost much.
     ind, paper, ours = [], [], []
     for seed in range(3):
         rec = square(seed)
@@ -149,9 +147,9 @@ def _final_lateral(res, rec):
 def test_paper_mode_reduces_the_papers_symmetric_drift_on_a_straight_walk():
     # Sec. 2.1's drift (the simulator's mirrored_yaw_rate_radps, +b left, -b right while the
     # foot moves) on the paper's 70 m straight walk (Table 2). Measured, 10 seeds, b = 4.4e-4
-    # (module docstring): final lateral error 0.41 / 0.54 m paper against 0.66 / 0.82 m
+    # (before issue 36): final lateral error 0.41 / 0.54 m paper against 0.66 / 0.82 m
     # independent. Here b = 1e-3 so the drift dominates the random heading errors in 3 seeds
-    # (measured: mean 0.59 m paper against 1.24 m independent, -53 %).
+    # (measured: mean 0.23 m paper against 1.23 m independent, -81 %; 0.59 m before issue 36).
     ind, paper = [], []
     for seed in range(3):
         rec = footnav.simulate("straight", seed=seed, distance_m=70.0, mirrored_yaw_rate_radps=1e-3, **PAPER_SENSOR)

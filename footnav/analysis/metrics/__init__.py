@@ -36,7 +36,7 @@ missed / false, per-sample scores) and ``_checks`` (the input checks they share)
 
 from __future__ import annotations
 
-from footnav.analysis.metrics._alignment import RigidAlignment, align_at_start, rigid_align
+from footnav.analysis.metrics._alignment import RigidAlignment, align_at_start, align_on_first_steps, rigid_align
 from footnav.analysis.metrics._deviation import (
     DEFAULT_RATIO_MIN_DISTANCE_M,
     DtwResult,
@@ -86,6 +86,7 @@ __all__ = [
     "WaypointErrors",
     "rigid_align",
     "align_at_start",
+    "align_on_first_steps",
     "waypoint_errors",
     "ate_rmse",
     "height_rmse",

@@ -1,6 +1,6 @@
 """Rigid alignment of an estimate onto a reference: the least-squares fit over the whole walk
 (:func:`rigid_align`, Umeyama 1991) and the start-and-initial-heading alignment of the papers'
-end and deviation errors (:func:`align_at_start`)."""
+end and deviation errors (:func:`align_at_start`, :func:`align_on_first_steps`)."""
 
 from __future__ import annotations
 
@@ -169,3 +169,33 @@ def align_at_start(estimate: ArrayLike, reference: ArrayLike, *, distance_m: flo
     trans = ref[0] - rot @ est[0]
     aligned = est @ rot.T + trans
     return RigidAlignment(_readonly(aligned), _readonly(rot), _readonly(trans), 1.0, 2)
+
+
+def align_on_first_steps(
+    estimate: ArrayLike, reference: ArrayLike, landings: ArrayLike, *, steps: int = 5
+) -> RigidAlignment:
+    """:func:`align_at_start` with the heading set by the foot's first ``steps`` steps (Lee, Cho
+    & Park (2022), Sec. 2.1: "the shoe's initial direction and the walking direction were
+    matched using the estimated position during the initial five steps").
+
+    Parameters
+    ----------
+    estimate, reference
+        Time-matched positions (N, 3) in m.
+    landings
+        Sample indices (into both) of the foot's landings (heel strikes), ascending; the span
+        ends at the ``steps``-th (or the last, if fewer).
+    steps
+        How many steps set the heading (the paper: 5).
+    """
+    ref = _points(reference, "reference", 3, min_rows=2)
+    idx = np.asarray(landings, dtype=np.int64).ravel()
+    idx = idx[(idx > 0) & (idx < len(ref))]
+    if not (isinstance(steps, (int, np.integer)) and steps >= 1):
+        raise InvalidParameterError(f"steps must be an integer >= 1, got {steps!r}")
+    if len(idx) == 0:
+        raise InvalidInputError("landings: no landing inside the walk")
+    k = int(idx[min(steps, len(idx)) - 1])
+    walked = float(np.sum(np.linalg.norm(np.diff(ref[: k + 1, :2], axis=0), axis=1)))
+    # the span that sets the heading ends at the landing (the next sample's distance is past it)
+    return align_at_start(estimate, ref, distance_m=max(walked, 1e-9))

@@ -14,7 +14,8 @@ guess made by K-means and re-ordered into the cyclic order (:func:`cyclic_order`
 because "Kmeans is not able to provide [the transition order] since it does not take into account
 past observations" (Sec. 2). The stance state is the paper's zero-velocity state ("Stance phase is
 also called zero-velocity state, as the foot is not moving", Sec. 1): the detector's mask is the
-Viterbi path's stance state, with no post-processing.
+Viterbi path's stance state, with no post-processing; the path is decoded with a minimum stance
+duration (below).
 
 What footnav adds to the paper, and why:
 
@@ -36,6 +37,20 @@ What footnav adds to the paper, and why:
   stance cannot make a covariance singular. Baum-Welch therefore runs one hmmlearn ``fit``
   iteration at a time (:func:`~footnav.detectors.hmm.learning.baum_welch`): hmmlearn's public API
   only, no private method overridden.
+
+* **Minimum stance duration** (issue 36). Eq. (1) lets a state last one sample, and a model
+  whose swing state does not cover the swing's zero crossings decodes a one-sample stance there
+  (a false step; the learning's check counts them). The decoder
+  (:func:`~footnav.detectors.hmm.decoding.viterbi_min_stance`) makes the stance state a chain of
+  sub-states sharing the stance emission, ``min_stance_s`` long (0.15 s: 16 sub-states at
+  100 Hz), entered from step-down and left for push-up from its last sub-state: an
+  expanded-state HMM with the same cyclic left-right structure, structural zeros and learned
+  values (the first sub-states' stay probability becomes 1). Baum-Welch and its check still run
+  on the plain four-state model; the detector raises :class:`~footnav.errors.GaitModelError`
+  rather than return a stance shorter than the check's 0.05 s. On the simulator's 10-min walks
+  (66 turns) at 60 / 100 / 200 Hz: unchanged without swing variation or with ``swing_scale``
+  0.7-1.3 (687 of 687 stances, none false); with ``swing_scale=(1, 0.5, 1.5)`` the learned model
+  fails its check and the plain path has about 300-480 false stances, the chain none.
 
 Events come from the Viterbi path's transitions, each at the first sample of the new phase:
 stance -> push-up is ``heel_off``, push-up -> swing ``toe_off``, swing -> step-down

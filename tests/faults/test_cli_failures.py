@@ -19,8 +19,12 @@ def walk(tmp_path_factory):
     return out
 
 
+#: The command line's notice while numba compiles (a first run with an empty cache) is not an error.
+_COMPILE_NOTICE = ("footnav: compiling the numerical kernels", "footnav: compiled in ")
+
+
 def _one_line(err: str) -> str:
-    lines = [line for line in err.splitlines() if line.startswith("footnav")]
+    lines = [line for line in err.splitlines() if line.startswith("footnav") and not line.startswith(_COMPILE_NOTICE)]
     assert "Traceback" not in err and len(lines) == 1, err
     return lines[0]
 

@@ -441,12 +441,15 @@ def make_pipeline(
     >>> result = pipe.run(left=left_imu, right=right_imu)  # doctest: +SKIP
     >>> synced = make_pipeline(sync="data")  # the right foot's clock found from the data
     """
+    aid = None  # no aid unless one (or its parameters) is given
+    if heading_aid is not None or heading_aid_params:
+        aid = _resolve("heading_aid", heading_aid or "none", heading_aid_params)
     return Pipeline(
         detector=_resolve("detector", detector, detector_params),  # type: ignore[arg-type]
         estimator=_resolve("estimator", estimator, estimator_params),  # type: ignore[arg-type]
         fusion=_resolve("fusion", fusion, fusion_params),  # type: ignore[arg-type]
         sync=_resolve_sync(sync),
-        heading_aid=None if heading_aid is None and not heading_aid_params else _resolve("heading_aid", heading_aid or "none", heading_aid_params),  # type: ignore[arg-type]
+        heading_aid=aid,  # type: ignore[arg-type]
     )
 
 

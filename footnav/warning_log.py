@@ -21,7 +21,7 @@ from dataclasses import dataclass
 
 from footnav.errors import DataQualityWarning
 
-__all__ = ["RecordedWarning", "recording", "warn"]
+__all__ = ["RecordedWarning", "merge_warnings", "recording", "warn"]
 
 
 @dataclass(frozen=True)
@@ -82,3 +82,9 @@ def recording(*, quiet: bool = False) -> Iterator[list[RecordedWarning]]:
             _QUIET.reset(quiet_token)
         elif outer is not None:
             outer.extend(log)
+
+
+def merge_warnings(*groups) -> list[str]:
+    """The warnings of several groups (strings or :class:`RecordedWarning`) as one list of
+    strings, in order, each once: a run's ``meta["warnings"]`` after what reading its files said."""
+    return list(dict.fromkeys(str(w) for group in groups for w in group))

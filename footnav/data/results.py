@@ -25,6 +25,7 @@ from footnav.data.output import OutputClaim, claim_output
 from footnav.nav.strides import STRIDE_COLUMNS, stride_parameters
 from footnav.pipeline.result import PipelineResult
 from footnav.types import FootTrajectory, Path
+from footnav.warning_log import merge_warnings
 
 __all__ = ["write_results", "write_report", "with_warnings", "merge_warnings", "versions", "file_sha256", "atomic_folder", "TRAJECTORY_COLUMNS"]
 
@@ -61,17 +62,6 @@ def _strides_csv(result: PipelineResult) -> str:
         for row in stride_parameters(traj, stance, foot=foot):
             writer.writerow([row[c] if c in _VERBATIM else f"{row[c]:.9g}" for c in STRIDE_COLUMNS])
     return buf.getvalue()
-
-
-def merge_warnings(*groups: Iterable[Any]) -> list[str]:
-    """The warnings of several groups as one list of strings, in order, each once."""
-    out: list[str] = []
-    for group in groups:
-        for w in group:
-            text = str(w)
-            if text not in out:
-                out.append(text)
-    return out
 
 
 def with_warnings(result: PipelineResult, earlier: Iterable[Any]) -> PipelineResult:

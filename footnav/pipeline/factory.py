@@ -33,14 +33,14 @@ from footnav.errors import (
     InvalidParameterError,
     PluginError,
 )
-from footnav.nav.floors import hold_result_floors
+from footnav.nav.floors import LEVEL_RISE_MAX_M, hold_result_floors
 from footnav.nav.stance_check import check_stances
 from footnav.nav.vertical_check import check_vertical
 from footnav.pipeline.sync import ClockSync, recording_exchanges
 from footnav.pipeline.result import PipelineResult
 from footnav.types import FusionResult, ImuData, Recording, StanceResult
 from footnav.types._derived import sharing
-from footnav.warning_log import recording, warn
+from footnav.warning_log import merge_warnings, recording, warn
 
 if TYPE_CHECKING:
     from footnav.pipeline.online import OnlineStream
@@ -283,7 +283,8 @@ class Pipeline:
         after the fusion so that every fusion, and the online stream, gets the same."""
         if getattr(self.estimator, "vertical", "free") != "floors":
             return fused
-        return hold_result_floors(fused, level_rise_max_m=self.estimator.level_rise_max_m)
+        bound = getattr(self.estimator, "level_rise_max_m", LEVEL_RISE_MAX_M)
+        return hold_result_floors(fused, level_rise_max_m=bound)
 
     def _check_vertical(self, left, right) -> dict[str, Any]:
         """Each foot's height trend over its level strides (:mod:`footnav.nav.vertical_check`);
@@ -359,10 +360,7 @@ class Pipeline:
             "pipeline": self.config(),
             "footnav_version": __version__,
             # what reading the files said (footnav.load records it with the data), then the run's
-            "warnings": list(dict.fromkeys(
-                [w for imu in (left, right) if imu is not None for w in imu.meta.get("read_warnings", ())]
-                + [str(w) for w in caught]
-            )),
+            "warnings": merge_warnings(*(x.meta.get("read_warnings", ()) for x in (left, right) if x is not None), caught),
             "stance_check": stance_checks,
             "vertical_check": vertical_checks,
             # what the fusion computed (update counts, fitted values, suspended turns, the span)

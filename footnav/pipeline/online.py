@@ -66,7 +66,7 @@ import numpy as np
 from footnav.errors import CompositionError, DataQualityWarning, InvalidInputError, InvalidParameterError
 from footnav.fusion.independent import midpoint_path
 from footnav.nav.clock_sync import ClockMap
-from footnav.nav.floors import FloorHolder
+from footnav.nav.floors import LEVEL_RISE_MAX_M, FloorHolder
 from footnav.nav.initial_alignment import bridged_gaps_message
 from footnav.pipeline.online_foot import FootStream
 from footnav.pipeline.online_io import ClosedStep, FootUpdate, ForwardEstimate, as_chunk, empty_update
@@ -199,7 +199,8 @@ class OnlineStream:
         self._held: list[ClosedStep] = []
         est = pipeline.estimator
         #: each foot's live height hold (the estimator's ``vertical="floors"``), as offline
-        self._floors = [FloorHolder(est.level_rise_max_m) for _ in self.feet] if getattr(est, "vertical", "free") == "floors" else None
+        bound = getattr(est, "level_rise_max_m", LEVEL_RISE_MAX_M)
+        self._floors = [FloorHolder(bound) for _ in self.feet] if getattr(est, "vertical", "free") == "floors" else None
         self._closed = False
         #: the exception that ended the stream inside a push (a component's failure), if any
         self.failure: BaseException | None = None

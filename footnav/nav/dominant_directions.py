@@ -37,10 +37,6 @@ from footnav.types import FootTrajectory
 __all__ = ["HeadingCorrection", "dominant_direction_correction", "turn_by", "turn_increments"]
 
 
-def _wrap(a: NDArray[np.float64] | float) -> NDArray[np.float64] | float:
-    return (np.asarray(a) + np.pi) % (2.0 * np.pi) - np.pi
-
-
 @dataclass(frozen=True, eq=False)
 class HeadingCorrection:
     """The heading error found on one foot's walk and what was done about it.
@@ -129,8 +125,8 @@ def dominant_direction_correction(
     length = np.hypot(d[:, 0], d[:, 1])
     heading = np.arctan2(d[:, 1], d[:, 0])
     limit = np.radians(straight_deg)
-    turn_in = np.abs(_wrap(np.diff(heading, prepend=heading[0])))
-    turn_out = np.abs(_wrap(np.diff(heading, append=heading[-1])))
+    turn_in = np.abs(quat.wrap_angle(np.diff(heading, prepend=heading[0])))
+    turn_out = np.abs(quat.wrap_angle(np.diff(heading, append=heading[-1])))
     straight = (length > min_stride_m) & (turn_in < limit) & (turn_out < limit)
     walked = float(length.sum())
     straight_fraction = float(length[straight].sum()) / walked if walked > 0 else 0.0
@@ -141,7 +137,7 @@ def dominant_direction_correction(
         why = f"no dominant direction (strength {strength:.2f} < {min_strength})"
         return HeadingCorrection(False, why, strength, grid, straight_fraction=straight_fraction)
     step = 2.0 * np.pi / n_directions
-    off = _wrap(n_directions * (heading - grid)) / n_directions  # from the nearest grid direction
+    off = quat.wrap_angle(n_directions * (heading - grid)) / n_directions  # from the nearest grid direction
     direction = np.round((heading - grid) / step).astype(int) % n_directions
     use = straight & (np.abs(off) < np.radians(gate_deg))
     stretches: list[tuple[int, int, float]] = []
@@ -155,7 +151,7 @@ def dominant_direction_correction(
             j += 1
         if j - k + 1 >= min_stretch_strides:
             dd = fp[j + 1, :2] - fp[k, :2]
-            err = float(_wrap(n_directions * (np.arctan2(dd[1], dd[0]) - grid)) / n_directions)
+            err = float(quat.wrap_angle(n_directions * (np.arctan2(dd[1], dd[0]) - grid)) / n_directions)
             stretches.append((k, j, err))
         k = j + 1
     if len(stretches) < 2:

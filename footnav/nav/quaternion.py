@@ -173,9 +173,10 @@ def yaw_of(q: NDArray[np.float64]) -> float:
     return math.atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
 
 
-def wrap_angle(angle_rad: float) -> float:
-    """``angle_rad`` wrapped to [-pi, pi), rad."""
-    return float((angle_rad + np.pi) % (2.0 * np.pi) - np.pi)
+def wrap_angle(angle_rad):
+    """``angle_rad`` (a number or an array) wrapped to [-pi, pi), rad; a float for a number."""
+    wrapped = (np.asarray(angle_rad, dtype=float) + np.pi) % (2.0 * np.pi) - np.pi
+    return float(wrapped) if wrapped.ndim == 0 else wrapped
 
 
 def from_yaw(angle: ArrayLike) -> NDArray[np.float64]:

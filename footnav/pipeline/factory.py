@@ -163,9 +163,10 @@ class Pipeline:
     def config(self) -> dict[str, dict[str, Any]]:
         """``{"detector": {"name": ..., **params}, ...}``: the tables of the pipeline's TOML file
         (and ``"sync"``: the clock sync's parameters, when the pipeline has one)."""
-        tables = {c.kind: {"name": c.name, **c.get_params()} for c in self.components}
+        # None (a value fitted or taken from the data, an unset leading_foot) has no TOML
+        # spelling: a missing key means it, so a None is left out where it is the default
+        tables = {c.kind: {"name": c.name, **_without_default_none(c)} for c in self.components}
         if self.sync is not None:
-            # None (an unset leading_foot) has no TOML spelling: a missing key means it
             tables["sync"] = {k: v for k, v in self.sync.get_params().items() if v is not None}
         return tables
 
@@ -399,6 +400,11 @@ class Pipeline:
                 "clocks={'right': ClockMap} (e.g. fit_clock on the exchanges logged before the walk) or clock_offset_s="
             )
         return OnlineStream(self, feet=feet, **options)
+
+
+def _without_default_none(component: Component) -> dict[str, Any]:
+    defaults = {info.name: info.default for info in component.parameter_info()}
+    return {k: v for k, v in component.get_params().items() if not (v is None and defaults.get(k) is None)}
 
 
 def _toml_value(value: Any) -> str:

@@ -43,8 +43,8 @@ def _numeric_cases():
                     continue
                 if isinstance(default, int):
                     values = (10**12, -(10**12))
-                elif isinstance(default, float) or (default is None and info.name.endswith("_m")):
-                    values = (1e308, -1e308)  # None: step-vector's leg_length_m (fit when None)
+                elif isinstance(default, float) or (default is None and info.name.endswith(("_m", "_radps"))):
+                    values = (1e308, -1e308)  # None: fitted or from the data (leg_length_m, init_gyr_bias_std_radps)
                 else:
                     continue
                 cases += [pytest.param(kind, name, info.name, v, id=f"{kind}-{name}-{info.name}={v:g}") for v in values]

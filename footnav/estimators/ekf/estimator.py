@@ -34,14 +34,19 @@ from footnav.component import (
 from footnav.errors import InvalidParameterError
 from footnav.nav.floors import LEVEL_RISE_MAX_M
 from footnav.nav.heading import turn_to_first_step
-from footnav.nav.heading_drift import heading_drift_cov, standstill_rate_std
+from footnav.nav.heading_drift import TURN_ON_BIAS_STD_RADPS, heading_drift_cov, standstill_rate_std
 from footnav.nav.initial_alignment import align_first_stance
 from footnav.types import FootTrajectory, ImuData, StanceResult
 from footnav.estimators.ekf.filter import InsFilter
 from footnav.estimators.ekf.records import FilterNoise
 from footnav.estimators.ekf.smoother import KEEP_RECORD_MB, SMOOTHERS, SegmentRecords, StepSmoother, smooth
 
-__all__ = ["EkfEstimator"]
+__all__ = ["EkfEstimator", "GYRO_BIAS_STD_FLOOR_RADPS"]
+
+#: Least initial std of the gyro bias states, rad/s (2 deg/h, below any MEMS gyro's in-run bias
+#: stability): a standstill of quantised or noise-free samples has a zero standard error, and a
+#: zero prior would freeze the bias states.
+GYRO_BIAS_STD_FLOOR_RADPS = 1e-5
 
 
 class EkfEstimator(FootEstimator):
@@ -72,22 +77,26 @@ class EkfEstimator(FootEstimator):
         Samples of the first stance used for levelling and gyro bias must turn slower than this,
         rad/s (a detected stance is not always a true standstill).
     bias_states : bool
-        Estimate accelerometer and gyro biases as six more error states (15 in all). Their
-        default priors are loose (the vertical gyro bias is unobservable, so the heading std
-        grows to about 0.6 rad in 13 minutes, against a true heading error of 0.04 rad on the
-        simulator), and the forward estimate then moves heading and position at every stance:
-        with ``smoother="none"`` the per-sample track is 5 % (300 m) to 17 % (1075 m) longer
-        than the walk, the footprints 0.1-0.2 %. Smoothing removes it, and so do priors that
-        match the sensor (``gyr_bias_walk_radps2_sqrthz=1e-5``, ``init_gyr_bias_std_radps=2e-4``
-        on the simulator: 0.3-1.4 %).
+        Estimate accelerometer and gyro biases as six more error states (15 in all). The vertical
+        gyro bias is nearly unobservable from zero-velocity updates, so the heading std grows
+        with the gyro bias priors, and with loose priors the forward estimate re-places heading
+        and position at every stance sample (the per-sample track of ``smoother="none"`` then
+        lengthens: docs/changes.md). The defaults are the data's and the library's own: the
+        initial std from the standstill (``init_gyr_bias_std_radps=None``) and the bias walk of
+        the heading-drift model (``yaw_bias_walk_radps2_sqrthz``'s default).
     acc_bias_walk_mps3_sqrthz : float
         Accelerometer bias random walk, m/s^3/sqrt(Hz) (15 states only).
     gyr_bias_walk_radps2_sqrthz : float
-        Gyroscope bias random walk, rad/s^2/sqrt(Hz) (15 states only).
+        Gyroscope bias random walk, rad/s^2/sqrt(Hz) (15 states only): a consumer MEMS gyro's,
+        as ``yaw_bias_walk_radps2_sqrthz``; raise it for a gyro whose bias wanders faster.
     init_acc_bias_std_mps2 : float
         Initial accelerometer bias uncertainty, m/s^2 (15 states only).
-    init_gyr_bias_std_radps : float
-        Initial gyro bias uncertainty after the initial-standstill estimate, rad/s (15 states only).
+    init_gyr_bias_std_radps : float or None
+        Initial gyro bias uncertainty after the initial-standstill estimate, rad/s (15 states
+        only). None: from the data, the standard error of that estimate (the still samples' mean
+        rate, the larger of the two feet, at least ``GYRO_BIAS_STD_FLOOR_RADPS``); with
+        ``gyro_bias="none"``, a consumer gyro's turn-on bias (``TURN_ON_BIAS_STD_RADPS``).
+        The value used is in ``meta["init_gyr_bias_std_radps"]``.
     zaru_std_radps : float
         Standard deviation of the zero-angular-rate update in stance, rad/s; 0 turns it off
         (15 states only: it observes the gyro bias).
@@ -162,9 +171,9 @@ class EkfEstimator(FootEstimator):
         still_gyr_max_radps: float = 0.05,
         bias_states: bool = False,
         acc_bias_walk_mps3_sqrthz: float = 1e-3,
-        gyr_bias_walk_radps2_sqrthz: float = 1e-4,
+        gyr_bias_walk_radps2_sqrthz: float = 1e-5,
         init_acc_bias_std_mps2: float = 0.05,
-        init_gyr_bias_std_radps: float = 2e-3,
+        init_gyr_bias_std_radps: float | None = None,
         zaru_std_radps: float = 0.0,
         smoother: Literal["whole", "step", "none"] = "whole",
         smoother_cache_mb: float = KEEP_RECORD_MB,
@@ -213,9 +222,10 @@ class EkfEstimator(FootEstimator):
             "gyr_noise_radps_sqrthz",
             "still_gyr_max_radps",
             "gyr_bias_walk_radps2_sqrthz",
-            "init_gyr_bias_std_radps",
             high=MAX_RATE_RADPS,
         )
+        if self.init_gyr_bias_std_radps is not None:
+            require_positive(self, "init_gyr_bias_std_radps", high=MAX_RATE_RADPS)
         require_positive(self, "zupt_std_mps", "init_velocity_std_mps", high=MAX_SPEED_MPS)
         require_positive(self, "init_attitude_std_rad", high=MAX_ANGLE_RAD)
         require_positive(self, "closed_loop_std_m", high=MAX_LENGTH_M)
@@ -288,7 +298,10 @@ class EkfEstimator(FootEstimator):
         var_att, var_vel = self.init_attitude_std_rad**2, self.init_velocity_std_mps**2
         cov0 = [var_att] * 3 + [var_vel] * 3 + [0.0] * 3
         if self.bias_states:
-            cov0 += [self.init_acc_bias_std_mps2**2] * 3 + [self.init_gyr_bias_std_radps**2] * 3
+            gyr0 = self._gyro_bias_prior(metas)
+            cov0 += [self.init_acc_bias_std_mps2**2] * 3 + [gyr0**2] * 3
+            for meta in metas:
+                meta["init_gyr_bias_std_radps"] = gyr0
         noise = FilterNoise(
             acc_mps2_sqrthz=float(self.acc_noise_mps2_sqrthz),
             gyr_radps_sqrthz=float(self.gyr_noise_radps_sqrthz),
@@ -308,6 +321,16 @@ class EkfEstimator(FootEstimator):
         elif self.smoother == "whole":
             filt.segment_records = SegmentRecords(filt, float(self.smoother_cache_mb) * n_feet)
         return filt
+
+    def _gyro_bias_prior(self, metas: Sequence[dict]) -> float:
+        """The gyro bias states' initial std, rad/s: the parameter, or what the data says
+        (``init_gyr_bias_std_radps``). One std for all feet, the larger: the filter of two feet
+        takes one prior."""
+        if self.init_gyr_bias_std_radps is not None:
+            return float(self.init_gyr_bias_std_radps)
+        if self.gyro_bias != "initial-standstill":
+            return TURN_ON_BIAS_STD_RADPS
+        return max([GYRO_BIAS_STD_FLOOR_RADPS] + [float(m["gyro_bias_sem_radps"]) for m in metas])
 
     def _zupt_mask(self, imu: ImuData, stance: StanceResult) -> NDArray[np.bool_]:
         """The samples that get a zero-velocity update: the stance mask without each stance's
@@ -399,7 +422,7 @@ class EkfEstimator(FootEstimator):
         # the smoothed covariance is at most the filtered one: std is the forward filter's, plus
         # the heading drift it does not model (a new array: the filter's own stays as it is)
         if self.heading_drift_in_std and self.n_states == 9:
-            rate_std = filter_meta.get("gyro_bias_sem_radps", self.init_gyr_bias_std_radps)
+            rate_std = filter_meta.get("gyro_bias_sem_radps", self.init_gyr_bias_std_radps or TURN_ON_BIAS_STD_RADPS)
             drift = heading_drift_cov(t, vel, start_index, rate_std, self.yaw_bias_walk_radps2_sqrthz)
             pos_cov = np.concatenate([pos_cov[:, :3] + drift, pos_cov[:, 3:]], axis=1)
             meta["heading_drift"] = {"yaw_rate_std_radps": float(rate_std), "yaw_bias_walk_radps2_sqrthz": float(self.yaw_bias_walk_radps2_sqrthz)}

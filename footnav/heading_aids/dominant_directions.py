@@ -3,12 +3,11 @@ Jimenez et al. 2012, iHDE): the heading aid ``dominant-directions``."""
 
 from __future__ import annotations
 
-from dataclasses import replace
-
 import numpy as np
 
 from footnav.component import HeadingAid, require, require_positive
-from footnav.nav.dominant_directions import dominant_direction_correction, turn_by, turn_increments
+from footnav.nav.dominant_directions import dominant_direction_correction
+from footnav.nav.heading import turn_result
 from footnav.types import FusionResult
 
 __all__ = ["DominantDirectionsAid"]
@@ -74,18 +73,5 @@ class DominantDirectionsAid(HeadingAid):
         """Each foot turned by its own heading error; the pedestrian path by their mean."""
         self.validate_params()
         params = self.get_params()
-        feet, shifts = [], []
-        for traj in (result.left, result.right):
-            if traj is None:
-                feet.append(None)
-                continue
-            found = dominant_direction_correction(traj, **params)
-            dpsi = found.at(traj.t)
-            turned = turn_by(traj, dpsi) if found.applied else traj
-            feet.append(replace(turned, meta={**traj.meta, "heading_aid": {"name": self.name, **found.as_meta()}}))
-            if found.applied:
-                shifts.append(found.at(result.path.t))
-        path = result.path
-        if shifts:
-            path = replace(path, position=turn_increments(path.position, np.mean(shifts, axis=0)))
-        return replace(result, left=feet[0], right=feet[1], path=path)
+        found = [None if traj is None else dominant_direction_correction(traj, **params) for traj in (result.left, result.right)]
+        return turn_result(result, found, self.name)

@@ -26,7 +26,7 @@ to the others is taken for drift), and the heading error changes slowly along a 
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import NDArray
@@ -34,7 +34,7 @@ from numpy.typing import NDArray
 from footnav.nav import quaternion as quat
 from footnav.types import FootTrajectory
 
-__all__ = ["HeadingCorrection", "dominant_direction_correction", "turn_by", "turn_increments"]
+__all__ = ["HeadingCorrection", "dominant_direction_correction"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -167,24 +167,3 @@ def dominant_direction_correction(
         for a, b, e in stretches
     ]
     return HeadingCorrection(True, "", strength, grid, np.array(knots_s), knots_rad, straight_fraction, info)
-
-
-def turn_increments(position: NDArray[np.float64], dpsi: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Positions (N, 3, m) whose increments are turned about z by ``-dpsi`` (rad, per sample,
-    the increment into a sample turned by that sample's angle); the first stays where it is."""
-    c, s = np.cos(-dpsi), np.sin(-dpsi)
-    dp = np.diff(position, axis=0)
-    turned = np.column_stack([c[1:] * dp[:, 0] - s[1:] * dp[:, 1], s[1:] * dp[:, 0] + c[1:] * dp[:, 1], dp[:, 2]])
-    return np.vstack([position[:1], position[:1] + np.cumsum(turned, axis=0)])
-
-
-def turn_by(traj: FootTrajectory, dpsi: NDArray[np.float64]) -> FootTrajectory:
-    """``traj`` with each sample's heading turned by ``-dpsi`` (rad, per sample): its position
-    increments, velocity and attitude about z; the first sample stays where it is."""
-    pos = turn_increments(traj.position, dpsi)
-    c, s = np.cos(-dpsi), np.sin(-dpsi)
-    v = traj.velocity
-    vel = np.column_stack([c * v[:, 0] - s * v[:, 1], s * v[:, 0] + c * v[:, 1], v[:, 2]])
-    half = -0.5 * dpsi
-    qz = np.column_stack([np.cos(half), np.zeros_like(half), np.zeros_like(half), np.sin(half)])
-    return replace(traj, position=pos, velocity=vel, quaternion=quat.multiply(qz, traj.quaternion))

@@ -5,16 +5,34 @@ first step. Turning a whole solution about z is exact for the error-state filter
 along z, so the solution is symmetric under it): positions, velocities, attitude and the
 horizontal position covariance all turn together. The turn is done in place, in one compiled
 pass: the estimators hand over arrays nothing else holds.
+
+A heading aid turns a finished solution by a heading error that changes along the walk:
+:func:`turn_by` turns each sample's increment, velocity and attitude by its own angle, and
+:func:`turn_result` does that to a fusion result's feet and path.
 """
 
 from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import replace
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
 from footnav._numba import njit  # numba.njit that survives a read-only install
+from footnav.nav import quaternion as quat
+from footnav.types import FootTrajectory, FusionResult
 
-__all__ = ["MIN_FIRST_STEP_M", "heading_of_first_step", "rotate_about_z", "turn_to_first_step"]
+__all__ = [
+    "MIN_FIRST_STEP_M",
+    "heading_of_first_step",
+    "rotate_about_z",
+    "turn_by",
+    "turn_increments",
+    "turn_result",
+    "turn_to_first_step",
+]
 
 #: Footprints closer than this (m) do not define a walking direction.
 MIN_FIRST_STEP_M = 0.2
@@ -78,3 +96,47 @@ def turn_to_first_step(pos, vel, q_out, pos_cov, steps, meta: dict):
         return pos, vel, q_out, np.sqrt(np.maximum(pos_cov[:, [0, 2, 3]], 0.0))
     meta["heading_rotation_rad"] = -psi
     return pos, vel, q_out, rotate_about_z(-psi, pos, vel, q_out, pos_cov)
+
+
+def turn_increments(position: NDArray[np.float64], dpsi: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Positions (N, 3, m) whose increments are turned about z by ``-dpsi`` (rad, per sample,
+    the increment into a sample turned by that sample's angle); the first stays where it is."""
+    c, s = np.cos(-dpsi), np.sin(-dpsi)
+    dp = np.diff(position, axis=0)
+    turned = np.column_stack([c[1:] * dp[:, 0] - s[1:] * dp[:, 1], s[1:] * dp[:, 0] + c[1:] * dp[:, 1], dp[:, 2]])
+    return np.vstack([position[:1], position[:1] + np.cumsum(turned, axis=0)])
+
+
+def turn_by(traj: FootTrajectory, dpsi: NDArray[np.float64]) -> FootTrajectory:
+    """``traj`` with each sample's heading turned by ``-dpsi`` (rad, per sample): its position
+    increments, velocity and attitude about z; the first sample stays where it is."""
+    pos = turn_increments(traj.position, dpsi)
+    c, s = np.cos(-dpsi), np.sin(-dpsi)
+    v = traj.velocity
+    vel = np.column_stack([c * v[:, 0] - s * v[:, 1], s * v[:, 0] + c * v[:, 1], v[:, 2]])
+    half = -0.5 * dpsi
+    qz = np.column_stack([np.cos(half), np.zeros_like(half), np.zeros_like(half), np.sin(half)])
+    return replace(traj, position=pos, velocity=vel, quaternion=quat.multiply(qz, traj.quaternion))
+
+
+def turn_result(result: FusionResult, corrections: Sequence[Any], name: str) -> FusionResult:
+    """A fusion result with each foot turned by its heading aid's correction.
+
+    ``corrections`` holds one per foot (left, right; None for a missing foot), each with
+    ``applied``, ``at(t)`` (the heading error, rad, at times t) and ``as_meta()``. A corrected
+    foot's ``meta["heading_aid"]`` says what was done; the pedestrian path turns by the mean of
+    the applied corrections.
+    """
+    feet, shifts = [], []
+    for traj, found in zip((result.left, result.right), corrections):
+        if traj is None or found is None:
+            feet.append(traj)
+            continue
+        turned = turn_by(traj, found.at(traj.t)) if found.applied else traj
+        feet.append(replace(turned, meta={**traj.meta, "heading_aid": {"name": name, **found.as_meta()}}))
+        if found.applied:
+            shifts.append(found.at(result.path.t))
+    path = result.path
+    if shifts:
+        path = replace(path, position=turn_increments(path.position, np.mean(shifts, axis=0)))
+    return replace(result, left=feet[0], right=feet[1], path=path)

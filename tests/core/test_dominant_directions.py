@@ -9,7 +9,8 @@ import pytest
 
 import footnav
 from footnav.errors import CompositionError, InvalidParameterError
-from footnav.nav.dominant_directions import dominant_direction_correction, turn_by
+from footnav.nav.dominant_directions import dominant_direction_correction
+from footnav.nav.heading import turn_by
 from footnav.types import FootTrajectory, StanceResult
 
 

@@ -25,6 +25,7 @@ if TYPE_CHECKING:  # the classes named below (for readers, type checkers and tes
     from footnav.fusion.range_constraint import RangeConstraintFusion  # noqa: F401
     from footnav.fusion.step_vector import StepVectorFusion  # noqa: F401
     from footnav.heading_aids.dominant_directions import DominantDirectionsAid  # noqa: F401
+    from footnav.heading_aids.magnetometer import MagnetometerAid  # noqa: F401
     from footnav.heading_aids.none import NoHeadingAid  # noqa: F401
 
 #: kind -> (name, "module:Class"), in registration order. tests/plugins checks each name against
@@ -54,6 +55,7 @@ BUILTINS = {
     "heading_aid": [
         ("none", "footnav.heading_aids.none:NoHeadingAid"),
         ("dominant-directions", "footnav.heading_aids.dominant_directions:DominantDirectionsAid"),
+        ("magnetometer", "footnav.heading_aids.magnetometer:MagnetometerAid"),
     ],
 }
 

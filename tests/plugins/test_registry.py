@@ -200,6 +200,7 @@ def test_parameter_info_has_units_and_descriptions():
     dimensionless |= {"stance_factor", "swing_fraction", "min_scale", "swing_prominence", "stride_fraction", "pivot_yaw_share"}
     dimensionless |= {"zupt_edge_max_fraction"}  # the EKF's: of a stance's samples
     dimensionless |= {"n_directions", "min_stretch_strides", "min_strength"}  # dominant-directions: counts, a resultant length
+    dimensionless |= {"magnitude_tol", "min_stances", "min_fraction"}  # magnetometer: a fraction, a count, a share
     for kind, names in footnav.list_components().items():
         for name in names:
             for p in getattr(footnav, f"make_{kind}")(name).parameter_info():

@@ -34,6 +34,7 @@ from numpy.typing import NDArray
 from footnav.nav import quaternion as quat
 from footnav.data.simulate.foot import _HEEL_B, _SENSOR_HEIGHT_M, _TOE_B, _foot_motion, _heel_strike_impact
 from footnav.data.simulate.gait import _STANCE, PHASE_NAMES, _plan
+from footnav.data.simulate.magnetometer import magnetometer
 from footnav.data.simulate.options import _COMMON_DEFAULTS as _COMMON_DEFAULTS  # read by tests/faults
 from footnav.data.simulate.options import _NOISE_KEYS, SCENARIOS, _fail, _resolve_options
 from footnav.data.simulate.options import _SCENARIO_DEFAULTS as _SCENARIO_DEFAULTS  # read by tests/faults
@@ -184,6 +185,26 @@ def simulate(scenario: str = "straight", *, seed: int = 0, rate_hz: float = 100.
         Gyroscope bias random walk in rad/s^2/sqrt(Hz) (rad/s per sqrt(s)).
     acc_bias_walk_mps3_sqrthz : float, default 1.0e-4
         Accelerometer bias random walk in m/s^3/sqrt(Hz) (m/s^2 per sqrt(s)).
+    magnetometer : bool, default False
+        Record a magnetometer on each foot (``ImuData.mag``, uT, sensor frame): Earth's field
+        through the sensor's true attitude, plus the disturbances, a hard-iron offset and white
+        noise (both only with ``noise``), from their own child generator of ``seed`` (the other
+        signals are the same with or without it). Drawn values in
+        ``truth.meta["magnetometer"]``.
+    mag_field_ut : float, default 50.0
+        Earth's field strength, uT.
+    mag_dip_deg : float, default 60.0
+        Inclination below the horizontal, deg in [-90, 90] (mid latitudes north: 60-70).
+    mag_north_deg : float, default 30.0
+        Direction of the field's horizontal part in the nav frame, deg from +x (the nav frame's
+        x is the first step's direction, not north).
+    mag_noise_ut : float, default 0.5
+        White noise per sample and axis, uT.
+    mag_hard_iron_ut : float, default 1.0
+        Std per axis of a constant sensor-frame offset (hard iron left after calibration), uT.
+    mag_disturbances : sequence of (x_m, y_m, radius_m, bx_ut, by_ut, bz_ut), default ()
+        Local disturbances (steel, electronics): within ``radius_m`` (horizontal) of ``(x_m,
+        y_m)`` the nav-frame field ``(bx, by, bz)`` uT adds to Earth's.
     mirrored_yaw_rate_radps : float, default 0.0
         The systematic, mirror-symmetric heading drift of the two feet (Lee, Cho & Park (2022),
         Sec. 2.1; Nilsson et al. 2012's "systematic drift"), in rad/s, within [-1, 1]: while a
@@ -262,6 +283,8 @@ def simulate(scenario: str = "straight", *, seed: int = 0, rate_hz: float = 100.
     common_meta = {"scenario": scenario, "options": dict(opts), "seed": seed, "rate_hz": rate_hz}
 
     rng_left, rng_right = np.random.default_rng(seed).spawn(2)
+    # the magnetometer's own children of the seed: the other signals are the same with or without it
+    rng_mag = dict(zip(("left", "right"), np.random.default_rng(seed).spawn(4)[3].spawn(2)))
     imus: dict[str, ImuData] = {}
     truths: dict[str, FootTruth] = {}
     biases_all: dict[str, dict[str, Any]] = {}
@@ -284,10 +307,13 @@ def simulate(scenario: str = "straight", *, seed: int = 0, rate_hz: float = 100.
         acc = acc_true + errors["acc_mps2"] + errors["acc_white"]
         biases = {k: errors[k] for k in ("gyr_turn_on_radps", "acc_turn_on_mps2", "gyr_radps", "acc_mps2")}
         biases_all[foot] = {k: biases[k] for k in ("gyr_turn_on_radps", "acc_turn_on_mps2")}
+        q_sensor = quat.multiply(motion.quaternion, mount_q)
+        mag, mag_meta = magnetometer(rng_mag[foot], motion.position, q_sensor, opts) if opts["magnetometer"] else (None, {})
         imus[foot] = ImuData(
             t=t,
             acc=acc,
             gyr=gyr,
+            mag=mag,
             meta={"source": "simulator", "scenario": scenario, "foot": foot, "seed": seed, "rate_hz": rate_hz},
         )
         events = {
@@ -299,7 +325,7 @@ def simulate(scenario: str = "straight", *, seed: int = 0, rate_hz: float = 100.
         truths[foot] = FootTruth(
             t=t,
             position=motion.position,
-            quaternion=quat.multiply(motion.quaternion, mount_q),
+            quaternion=q_sensor,
             velocity=motion.velocity,
             stance=motion.phase == _STANCE,
             events=events,
@@ -324,6 +350,7 @@ def simulate(scenario: str = "straight", *, seed: int = 0, rate_hz: float = 100.
                 "acc_true_mps2": acc_true,
                 "acc_impact_mps2": impact,
                 "gyr_mirrored_yaw_radps": mirrored,
+                **({"magnetometer": mag_meta} if mag_meta else {}),
                 **plan_info,
                 **line_info,
             },
@@ -334,6 +361,7 @@ def simulate(scenario: str = "straight", *, seed: int = 0, rate_hz: float = 100.
             t=t_right,
             acc=imus["right"].acc,
             gyr=imus["right"].gyr,
+            mag=imus["right"].mag,
             meta={**imus["right"].meta, "time_base": "sensor clock (offset and drift: the recording's meta['clock'])"},
         )
         truths["right"] = replace(truths["right"], meta={**truths["right"].meta, "clock": clock_meta["clock"]})

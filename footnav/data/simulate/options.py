@@ -57,6 +57,14 @@ _COMMON_DEFAULTS: dict[str, Any] = {
     "acc_bias_std_mps2": 2.0e-2,
     "gyr_bias_walk_radps2_sqrthz": 1.0e-5,
     "acc_bias_walk_mps3_sqrthz": 1.0e-4,
+    # A magnetometer (off: the recordings have none, and every other signal is the same either way).
+    "magnetometer": False,
+    "mag_field_ut": 50.0,
+    "mag_dip_deg": 60.0,
+    "mag_north_deg": 30.0,
+    "mag_noise_ut": 0.5,
+    "mag_hard_iron_ut": 1.0,
+    "mag_disturbances": (),
     # The left/right mirror-symmetric heading drift of Lee, Cho & Park (2022), Sec. 2.1 (off).
     "mirrored_yaw_rate_radps": 0.0,
     # Per-swing factors on the pitch angles and the lift, cycled over each foot's swings (off).
@@ -135,6 +143,30 @@ def _walk_length_m(scenario: str, opts: Mapping[str, Any]) -> float:
     return total
 
 
+def _magnetometer_options(opts: dict[str, Any]) -> None:
+    """Check (and normalise in ``opts``) the magnetometer's options."""
+    if not isinstance(opts["magnetometer"], (bool, np.bool_)):
+        raise _fail("magnetometer", opts["magnetometer"], "True or False")
+    opts["magnetometer"] = bool(opts["magnetometer"])
+    opts["mag_field_ut"] = _positive(opts, "mag_field_ut", 1e4)
+    opts["mag_dip_deg"] = _number(opts, "mag_dip_deg")
+    if not -90.0 <= opts["mag_dip_deg"] <= 90.0:
+        raise _fail("mag_dip_deg", opts["mag_dip_deg"], "an inclination in [-90, 90] deg")
+    opts["mag_north_deg"] = _number(opts, "mag_north_deg")
+    if not abs(opts["mag_north_deg"]) <= 360.0:
+        raise _fail("mag_north_deg", opts["mag_north_deg"], "an angle in [-360, 360] deg")
+    opts["mag_noise_ut"] = _non_negative(opts, "mag_noise_ut", 1e4)
+    opts["mag_hard_iron_ut"] = _non_negative(opts, "mag_hard_iron_ut", 1e4)
+    try:
+        zones = tuple(tuple(float(v) for v in zone) for zone in opts["mag_disturbances"])
+    except (TypeError, ValueError):
+        zones = ((),)
+    if not all(len(z) == 6 and all(math.isfinite(v) and abs(v) <= 1e6 for v in z) and z[2] > 0 for z in zones):
+        raise _fail("mag_disturbances", opts["mag_disturbances"],
+                    "a sequence of (x_m, y_m, radius_m > 0, bx_ut, by_ut, bz_ut) zones, finite numbers")
+    opts["mag_disturbances"] = zones
+
+
 def _resolve_options(scenario: Any, rate_hz: Any, options: Mapping[str, Any]) -> dict[str, Any]:
     """Defaults merged with ``options``, every value checked; raises InvalidParameterError."""
     if scenario not in _SCENARIO_DEFAULTS:
@@ -186,6 +218,7 @@ def _resolve_options(scenario: Any, rate_hz: Any, options: Mapping[str, Any]) ->
         if not 0 < value < 90:
             raise _fail(name, opts[name], "a pitch angle in (0, 90) deg")
         opts[name] = value
+    _magnetometer_options(opts)
     if not isinstance(opts["noise"], (bool, np.bool_)):
         raise _fail("noise", opts["noise"], "True or False")
     opts["noise"] = bool(opts["noise"])

@@ -94,7 +94,7 @@ class EkfEstimator(FootEstimator):
     init_gyr_bias_std_radps : float or None
         Initial gyro bias uncertainty after the initial-standstill estimate, rad/s (15 states
         only). None: from the data, the standard error of that estimate (the still samples' mean
-        rate, the larger of the two feet, at least ``GYRO_BIAS_STD_FLOOR_RADPS``); with
+        rate, each foot its own, at least ``GYRO_BIAS_STD_FLOOR_RADPS``); with
         ``gyro_bias="none"``, a consumer gyro's turn-on bias (``TURN_ON_BIAS_STD_RADPS``).
         The value used is in ``meta["init_gyr_bias_std_radps"]``.
     zaru_std_radps : float
@@ -296,12 +296,11 @@ class EkfEstimator(FootEstimator):
             bg0.append(align.gyro_bias_radps if self.gyro_bias == "initial-standstill" else np.zeros(3))
             metas.append(meta)
         var_att, var_vel = self.init_attitude_std_rad**2, self.init_velocity_std_mps**2
-        cov0 = [var_att] * 3 + [var_vel] * 3 + [0.0] * 3
+        cov0 = [[var_att] * 3 + [var_vel] * 3 + [0.0] * 3 for _ in metas]
         if self.bias_states:
-            gyr0 = self._gyro_bias_prior(metas)
-            cov0 += [self.init_acc_bias_std_mps2**2] * 3 + [gyr0**2] * 3
-            for meta in metas:
-                meta["init_gyr_bias_std_radps"] = gyr0
+            for row, meta in zip(cov0, metas):
+                meta["init_gyr_bias_std_radps"] = gyr0 = self._gyro_bias_prior(meta)
+                row += [self.init_acc_bias_std_mps2**2] * 3 + [gyr0**2] * 3
         noise = FilterNoise(
             acc_mps2_sqrthz=float(self.acc_noise_mps2_sqrthz),
             gyr_radps_sqrthz=float(self.gyr_noise_radps_sqrthz),
@@ -322,15 +321,14 @@ class EkfEstimator(FootEstimator):
             filt.segment_records = SegmentRecords(filt, float(self.smoother_cache_mb) * n_feet)
         return filt
 
-    def _gyro_bias_prior(self, metas: Sequence[dict]) -> float:
-        """The gyro bias states' initial std, rad/s: the parameter, or what the data says
-        (``init_gyr_bias_std_radps``). One std for all feet, the larger: the filter of two feet
-        takes one prior."""
+    def _gyro_bias_prior(self, meta: dict) -> float:
+        """A foot's gyro bias states' initial std, rad/s: the parameter, or what its data say
+        (``init_gyr_bias_std_radps``)."""
         if self.init_gyr_bias_std_radps is not None:
             return float(self.init_gyr_bias_std_radps)
         if self.gyro_bias != "initial-standstill":
             return TURN_ON_BIAS_STD_RADPS
-        return max([GYRO_BIAS_STD_FLOOR_RADPS] + [float(m["gyro_bias_sem_radps"]) for m in metas])
+        return max(GYRO_BIAS_STD_FLOOR_RADPS, float(meta["gyro_bias_sem_radps"]))
 
     def _zupt_mask(self, imu: ImuData, stance: StanceResult) -> NDArray[np.bool_]:
         """The samples that get a zero-velocity update: the stance mask without each stance's

@@ -79,7 +79,7 @@ class InsFilter:
     q0, p0, bg0
         Per foot: initial attitude [w, x, y, z] (body to nav), position (m), gyro bias (rad/s).
     cov0_diag
-        Initial error variances of one foot's states.
+        Initial error variances of one foot's states (n_states,), or of each foot's (n_feet, n_states).
     noise
         The :class:`~footnav.estimators.ekf.records.FilterNoise`.
     n_states
@@ -164,7 +164,7 @@ class InsFilter:
             as_matrix_nb(self._q[f], c)
             self._f_n[f] = c @ (self._acc[self._k[f]] - self._ba[f])
         big = nf * n_states
-        self._cov = np.diag(np.tile(np.asarray(cov0_diag, float), nf))
+        self._cov = np.diag(np.broadcast_to(np.asarray(cov0_diag, float), (nf, n_states)).ravel())
         # the state's arrays, named; never rebound, only written in place
         self._state = FilterState(self._q, self._v, self._p, self._ba, self._bg, self._f_n, self._cov)
         self._q_diag = noise.q_diag(n_states)

@@ -265,6 +265,58 @@ def simulator_section(n_seeds: int) -> list[str]:
     return rows + [""]
 
 
+#: Heading aids beside the default (issue 32): name -> pipeline keywords.
+HEADING_AIDS = {"default": {}, "dominant-directions": {"heading_aid": "dominant-directions"},
+                "magnetometer": {"heading_aid": "magnetometer"},
+                "ekf 15 states + ZARU": {"estimator_params": {"bias_states": True, "zaru_std_radps": 0.005}}}
+#: The simulator's hallway block (benchmarks/bench_consistency.py's): one lap is 5.6 minutes.
+BLOCK_LAP = [(150.0, 90.0), (60.0, 90.0)] * 2
+
+
+def heading_section(root, n_seeds: int) -> list[str]:
+    """Heading on long walks: the gait-driven hallway walks and the simulator's 11- and 62-minute
+    walks, each heading aid and the 15-state filter beside the default."""
+    import numpy as np
+
+    rows = ["## Heading on long walks", "",
+            "Each heading aid (docs/heading.md) and the 15-state filter with ZARU beside the default "
+            "pipeline. Gait-driven hallway walks (development set, 8 walks, one foot): footprint RMSE (m), "
+            "median / worst; they have no magnetometer. Simulator: laps of a 150 x 60 m block at 100 Hz "
+            f"with the simulator's magnetometer (50 uT, dip 60 deg, 1 uT hard iron), seeds 0-{n_seeds - 1}, "
+            "left foot's 2-D ATE (m), mean / worst; the default sensor is consumer MEMS grade (gyro bias "
+            f"walk 1e-5 rad/s^2/sqrt(Hz)), the drifty one {DRIFTY_GYRO['gyr_bias_walk_radps2_sqrthz']:g}.", "",
+            "| walk | " + " | ".join(f"`{k}`" if k in ("dominant-directions", "magnetometer") else k for k in HEADING_AIDS) + " |",
+            "|---|" + "---|" * len(HEADING_AIDS)]
+    gd = [n for n in dataset_names(root) if n.startswith("gaitdriven_")]
+    if gd:
+        vals: dict[str, list] = {k: [] for k in HEADING_AIDS}
+        for name in gd:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                rec = load_dataset(name, root)
+                for label, kw in HEADING_AIDS.items():
+                    if label == "magnetometer":
+                        continue
+                    value = _value(evaluate(footnav.make_pipeline(**kw), rec), "footprint_rmse", "left")
+                    if value is not None:
+                        vals[label].append(value)
+        rows.append("| gait-driven walks (8), footprint RMSE | " + " | ".join(
+            f"{np.median(v):.3f} / {np.max(v):.3f}" if v else "no magnetometer" for v in vals.values()) + " |")
+    for laps, sensor, label in ((2, {}, "11.3 min, default sensor"), (2, DRIFTY_GYRO, "11.3 min, drifty gyro"),
+                                (11, {}, "62 min, default sensor"), (11, DRIFTY_GYRO, "62 min, drifty gyro")):
+        ates: dict[str, list] = {k: [] for k in HEADING_AIDS}
+        for seed in range(n_seeds):
+            rec = footnav.simulate("path", seed=seed, segments=BLOCK_LAP * laps, magnetometer=True, **sensor)
+            for key, kw in HEADING_AIDS.items():
+                with warnings.catch_warnings():
+                    warnings.simplefilter("ignore")
+                    res = footnav.make_pipeline(**kw).run(rec.left, rec.right)
+                ates[key].append(metrics.ate_rmse(res.left.position, rec.truth_left.position, dims=2))
+        rows.append(f"| simulator, {laps} laps ({label}) | " + " | ".join(
+            f"{np.mean(v):.2f} / {np.max(v):.2f}" for v in ates.values()) + " |")
+    return rows + [""]
+
+
 def gait_section(root, names) -> list[str]:
     """The default detector against the walking-tuned one on every gait of the development sets."""
     import numpy as np
@@ -486,6 +538,7 @@ def main() -> None:
     lines += stride_section(root, args.gaitmap_python)
     lines += height_section(root, names)
     lines += estimator_section(root, names)
+    lines += heading_section(root, args.seeds)
     lines += fusion_section(root)
     lines += simulator_section(args.seeds)
     Path(args.out).write_text("\n".join(lines), encoding="utf-8")

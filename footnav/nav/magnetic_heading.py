@@ -7,6 +7,9 @@ walk is the filter's heading error (Foxlin 2005, Sec. 4; Jimenez et al. 2010). I
 and electronics bend the field; such a stance shows in the field's strength or its dip (Afzal
 et al. 2011, "quasi-static field" detection) and is left out:
 
+Roll and pitch at stance come from the accelerometer (gravity alone at rest), the yaw from the
+filter: a filter's tilt error would bend the field's vertical part into its horizontal one.
+
 1. Hard iron (a constant offset in the sensor frame, which turns with the heading and would be
    taken for drift): a least-squares sphere fit to the whole recording's readings, used only
    when the foot's attitudes cover the sphere well enough to fix it (``min_spread``).
@@ -151,6 +154,21 @@ def _samples_of(traj: FootTrajectory, imu: ImuData) -> NDArray[np.int64]:
     return np.where(np.abs(imu.t[k - 1] - traj.t) <= np.abs(imu.t[k] - traj.t), k - 1, k)
 
 
+def _stance_attitudes(traj: FootTrajectory, acc: NDArray[np.float64], steps: NDArray[np.int64]) -> NDArray[np.float64]:
+    """Each stance sample's attitude (sensor -> nav): roll and pitch from the stance's mean
+    specific force (gravity alone at rest), yaw the filter's. A roll error dr of the filter
+    turns the field's vertical part into the horizontal and reads as a heading error of up to
+    tan(dip) dr, changing with the walking direction (1.4 deg of roll: +-2.4 deg at dip 60); the
+    accelerometer's tilt at rest is off by only its bias over g."""
+    out = []
+    for a, b in steps:
+        f = acc[a:b].mean(axis=0)
+        roll, pitch = np.arctan2(f[1], f[2]), np.arctan2(-f[0], np.hypot(f[1], f[2]))
+        yaw = quat.yaw(traj.quaternion[a:b])
+        out.append(quat.from_euler(np.full(b - a, roll), np.full(b - a, pitch), yaw))
+    return np.concatenate(out)
+
+
 def _running_median(t: NDArray[np.float64], x: NDArray[np.float64], window_s: float) -> NDArray[np.float64]:
     half = 0.5 * window_s
     lo = np.searchsorted(t, t - half, side="left")
@@ -196,12 +214,13 @@ def magnetic_heading_correction(
     steps = np.asarray(traj.steps).reshape(-1, 2)
     if len(steps) < 2:
         return MagneticCorrection(False, "fewer than two stance phases")
-    raw = np.asarray(imu.mag, dtype=np.float64)[_samples_of(traj, imu)]
+    sample = _samples_of(traj, imu)
+    raw = np.asarray(imu.mag, dtype=np.float64)[sample]
     up = quat.as_matrix(traj.quaternion)[:, 2, :]  # row 2 of C (sensor -> nav): nav up in the sensor frame
     offset, note = hard_iron_offset(raw, up, dip_tol_deg=dip_tol_deg, min_spread=min_spread) if hard_iron else (None, "not asked for")
     mag = raw if offset is None else raw - offset
     idx = np.concatenate([np.arange(a, b) for a, b in steps])
-    m_nav = np.einsum("nij,nj->ni", quat.as_matrix(traj.quaternion[idx]), mag[idx])
+    m_nav = np.einsum("nij,nj->ni", quat.as_matrix(_stance_attitudes(traj, imu.acc[sample], steps)), mag[idx])
     strength = np.linalg.norm(m_nav, axis=1)
     horizontal = np.hypot(m_nav[:, 0], m_nav[:, 1])
     dip = np.degrees(np.arctan2(-m_nav[:, 2], horizontal))

@@ -373,7 +373,8 @@ def cmd_follow(args: argparse.Namespace) -> int:
             if result.right is not None:
                 summary["right_path_length_m"] = result.right.path_length_m
                 summary["right_stances"] = result.stance_right.n_stances
-            out = write_results(result, out_claim, force=args.force, summary=summary, pipeline_toml=pipeline.to_toml())
+            out = write_results(result, out_claim, force=args.force, summary=summary, pipeline_toml=pipeline.to_toml(),
+                                html=True)
         else:
             out = _write_nothing_final(out_claim, summary, stream, pipeline.to_toml())
     print(_format_table(("quantity", "value"), [(k, clip_text(str(v), 200)) for k, v in summary.items()]))

@@ -1,0 +1,216 @@
+"""The report's figures: matplotlib drawings returned as inline SVG text (needs the ``plot``
+extra; :func:`available` says whether it is installed, and nothing here imports matplotlib
+before a figure is asked for).
+
+What is drawn is decimated, never what is computed: a line keeps at most :data:`MAX_LINE_POINTS`
+points (every k-th sample, its last one kept), a foot at most :data:`MAX_FOOTPRINTS` footprint
+markers, so that an hour of two feet stays a page of a few hundred kB.
+"""
+
+from __future__ import annotations
+
+import io
+import re
+from typing import Any
+
+import numpy as np
+
+__all__ = ["angular_rate_norm", "available", "decimate", "height_svg", "overlay_svg", "plan_svg", "stance_svg"]
+
+#: Points a drawn line keeps at most (every k-th sample).
+MAX_LINE_POINTS = 2500
+#: Footprint markers drawn per foot at most.
+MAX_FOOTPRINTS = 1500
+#: Seconds of the stance figure: a stretch of the walk around its middle.
+STANCE_WINDOW_S = 10.0
+
+FOOT_COLORS = {"left": "tab:blue", "right": "tab:red"}
+_PIPELINE_COLORS = ("tab:blue", "tab:orange", "tab:green", "tab:purple", "tab:brown", "tab:pink", "tab:olive", "tab:cyan")
+
+
+def available() -> bool:
+    """True when matplotlib (the ``plot`` extra) can be imported."""
+    try:
+        import matplotlib  # noqa: F401
+    except ImportError:
+        return False
+    return True
+
+
+def decimate(n: int, limit: int = MAX_LINE_POINTS) -> np.ndarray:
+    """Indices of every k-th of ``n`` samples (k the smallest that keeps at most ``limit``), the
+    last sample always among them."""
+    if n <= limit:
+        return np.arange(n)
+    step = int(np.ceil(n / (limit - 1)))
+    idx = np.arange(0, n, step)
+    return idx if idx[-1] == n - 1 else np.append(idx, n - 1)
+
+
+def angular_rate_norm(t: np.ndarray, quaternion: np.ndarray) -> np.ndarray:
+    """|angular rate| (rad/s) from an orientation's successive quaternions (w, x, y, z): what the
+    report shows under the stances when the recording's gyroscope is not at hand (``follow``)."""
+    q = np.asarray(quaternion, dtype=float)
+    if len(q) < 2:
+        return np.zeros(len(q))
+    dot = np.abs(np.sum(q[1:] * q[:-1], axis=1)).clip(0.0, 1.0)
+    dt = np.diff(np.asarray(t, dtype=float))
+    rate = 2.0 * np.arccos(dot) / np.where(dt > 0, dt, np.inf)
+    return np.concatenate([rate[:1], rate])
+
+
+def _figure(width_in: float, height_in: float, **kwargs):
+    from matplotlib.figure import Figure  # no pyplot: no backend, no global figure list
+
+    return Figure(figsize=(width_in, height_in), layout="constrained", **kwargs)
+
+
+def _svg(fig) -> str:
+    """The figure as an ``<svg>`` element to inline: text kept as text (smaller, selectable),
+    no XML prologue, no fixed size (the page scales it), ids unique to this figure."""
+    import matplotlib
+
+    buf = io.StringIO()
+    with matplotlib.rc_context({"svg.fonttype": "none", "svg.hashsalt": "footnav"}):
+        fig.savefig(buf, format="svg", metadata={"Date": None, "Creator": "footnav"})
+    text = buf.getvalue()
+    text = text[text.index("<svg"):]
+    # a hundredth of a point is finer than any screen: matplotlib writes six decimals
+    text = re.sub(r"(\d\.\d\d)\d+", r"\1", text)
+    text = re.sub(r'(<svg[^>]*?) width="[^"]*" height="[^"]*"', r"\1", text, count=1)
+    # several figures in one page: their clip paths and markers must not share ids
+    salt = f"f{id(fig) % 100000}"
+    text = re.sub(r'id="([^"]+)"', lambda m: f'id="{salt}{m.group(1)}"', text)
+    text = re.sub(r'url\(#([^)]+)\)', lambda m: f"url(#{salt}{m.group(1)})", text)
+    text = re.sub(r'xlink:href="#([^"]+)"', lambda m: f'xlink:href="#{salt}{m.group(1)}"', text)
+    return text.strip()
+
+
+def _legend_below(ax, ncol: int = 2) -> None:
+    """The legend under the axes: never over the data."""
+    handles, labels = ax.get_legend_handles_labels()
+    if handles:
+        ax.legend(handles, labels, loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=ncol, fontsize="small",
+                  frameon=False)
+
+
+def _footprints(traj, stance) -> np.ndarray:
+    """Mid-stance positions (K, 3) of a foot: one per stance interval."""
+    intervals = np.asarray(getattr(stance, "intervals", np.zeros((0, 2))), dtype=int).reshape(-1, 2)
+    if len(intervals) == 0:
+        return np.zeros((0, 3))
+    mid = np.clip((intervals[:, 0] + intervals[:, 1]) // 2, 0, len(traj.t) - 1)
+    return np.asarray(traj.position)[mid]
+
+
+def plan_svg(feet: list[tuple[str, Any, Any]], path, truths: dict[str, Any] | None = None) -> str:
+    """Plan view: each foot's path and footprints, the fused path, and each foot's truth."""
+    fig = _figure(8.0, 6.4)
+    ax = fig.add_subplot()
+    for foot, traj, stance in feet:
+        color = FOOT_COLORS[foot]
+        truth = (truths or {}).get(foot)
+        if truth is not None:
+            k = decimate(len(truth.t))
+            ax.plot(truth.position[k, 0], truth.position[k, 1], color=color, lw=4, alpha=0.2, label=f"{foot} truth")
+        k = decimate(len(traj.t))
+        ax.plot(traj.position[k, 0], traj.position[k, 1], color=color, lw=0.8, alpha=0.7, label=f"{foot} foot")
+        prints = _footprints(traj, stance)
+        shown = prints[decimate(len(prints), MAX_FOOTPRINTS)] if len(prints) else prints
+        ax.plot(shown[:, 0], shown[:, 1], "o", color=color, ms=3, mfc="none", mew=0.8,
+                label=f"{foot} footprints ({len(prints)}" + (f", {len(shown)} drawn)" if len(shown) < len(prints) else ")"))
+        ax.plot(*traj.position[0, :2], "o", color=color, ms=8)
+        ax.plot(*traj.position[-1, :2], "s", color=color, ms=8)
+    if path is not None and len(path.t) > 1:
+        k = decimate(len(path.t))
+        ax.plot(path.position[k, 0], path.position[k, 1], color="0.15", lw=1.2, ls="--", label="fused path")
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.set_xlabel("x (m)")
+    ax.set_ylabel("y (m)")
+    ax.grid(True, alpha=0.3)
+    _legend_below(ax, ncol=3)
+    return _svg(fig)
+
+
+def height_svg(feet: list[tuple[str, Any, Any]], strides, truths: dict[str, Any] | None = None) -> str:
+    """Each foot's height over time, the stair strides shaded and the floor level of each
+    stride drawn as a step line on a second axis."""
+    fig = _figure(9.0, 3.8)
+    ax = fig.add_subplot()
+    for foot, traj, _ in feet:
+        color = FOOT_COLORS[foot]
+        truth = (truths or {}).get(foot)
+        if truth is not None:
+            k = decimate(len(truth.t))
+            z0 = float(np.interp(truth.t[0], traj.t, traj.position[:, 2]))
+            ax.plot(truth.t[k], truth.position[k, 2] - truth.position[0, 2] + z0, color=color, lw=4, alpha=0.2,
+                    label=f"{foot} truth")
+        k = decimate(len(traj.t))
+        ax.plot(traj.t[k], traj.position[k, 2], color=color, lw=0.9, label=f"{foot} foot")
+    stair = strides[strides["kind"] == "stair"] if strides is not None and len(strides) else None
+    if stair is not None and len(stair):
+        spans = decimate(len(stair), 400)
+        for i, (start, end) in enumerate(zip(stair["start_s"].to_numpy()[spans], stair["end_s"].to_numpy()[spans])):
+            ax.axvspan(start, end, color="tab:orange", alpha=0.15, lw=0, label="stair strides" if i == 0 else None)
+    if strides is not None and len(strides) and strides["level"].abs().max() > 0:
+        ax2 = ax.twinx()
+        for foot in ("left", "right"):
+            rows = strides[strides["foot"] == foot]
+            if len(rows):
+                ax2.step(rows["end_s"], rows["level"], where="post", color=FOOT_COLORS[foot], lw=1.5, alpha=0.5, ls=":")
+        ax2.set_ylabel("floor (dotted)")
+        ax2.yaxis.get_major_locator().set_params(integer=True)
+    ax.set_xlabel("time (s)")
+    ax.set_ylabel("height z (m)")
+    ax.grid(True, alpha=0.3)
+    _legend_below(ax, ncol=4)
+    return _svg(fig)
+
+
+def stance_window(t: np.ndarray, seconds: float = STANCE_WINDOW_S) -> tuple[float, float]:
+    """The stretch the stance figure shows: ``seconds`` around the middle of ``t``."""
+    if len(t) == 0:
+        return 0.0, 0.0
+    mid = 0.5 * (float(t[0]) + float(t[-1]))
+    start = max(float(t[0]), mid - seconds / 2)
+    return start, min(float(t[-1]), start + seconds)
+
+
+def stance_svg(rows: list[tuple[str, np.ndarray, np.ndarray, np.ndarray, str]], window: tuple[float, float]) -> str:
+    """One panel per foot: the angular rate norm over ``window`` with the stance samples
+    shaded. ``rows``: (foot, t, rate norm, stance mask, what the rate is)."""
+    fig = _figure(9.0, 1.2 + 1.9 * len(rows))
+    axes = fig.subplots(len(rows), 1, sharex=True, squeeze=False)[:, 0]
+    for ax, (foot, t, rate, mask, source) in zip(axes, rows):
+        inside = np.flatnonzero((t >= window[0]) & (t <= window[1]))
+        k = inside[decimate(len(inside))] if len(inside) else inside
+        ax.fill_between(t[k], 0, 1, where=np.asarray(mask)[k], step="mid", color="tab:green", alpha=0.25, lw=0,
+                        transform=ax.get_xaxis_transform(), label="stance")
+        ax.plot(t[k], rate[k], color=FOOT_COLORS[foot], lw=0.9, label=f"{foot}: {source}")
+        ax.set_ylabel("|ω| (rad/s)")
+        ax.grid(True, alpha=0.3)
+        ax.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize="small", frameon=False)
+    axes[-1].set_xlabel("time (s)")
+    return _svg(fig)
+
+
+def overlay_svg(truths: dict[str, Any], estimates: list[tuple[str, str, np.ndarray]]) -> str:
+    """Plan view of an evaluation: each foot's truth, and each pipeline's estimate of it
+    (``(pipeline, foot, xy)``, aligned onto the truth by the caller)."""
+    fig = _figure(8.0, 6.4)
+    ax = fig.add_subplot()
+    for foot, truth in truths.items():
+        k = decimate(len(truth.t))
+        ax.plot(truth.position[k, 0], truth.position[k, 1], color="0.2", lw=4, alpha=0.2,
+                label="truth" if foot == next(iter(truths)) else None)
+    pipelines = list(dict.fromkeys(p for p, _, _ in estimates))
+    for pipe, foot, xy in estimates:
+        color = _PIPELINE_COLORS[pipelines.index(pipe) % len(_PIPELINE_COLORS)]
+        k = decimate(len(xy))
+        ax.plot(xy[k, 0], xy[k, 1], color=color, lw=1.0, ls="-" if foot == "left" else "--", label=f"{pipe} ({foot})")
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.set_xlabel("x (m)")
+    ax.set_ylabel("y (m)")
+    ax.grid(True, alpha=0.3)
+    _legend_below(ax, ncol=3)
+    return _svg(fig)

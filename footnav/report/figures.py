@@ -9,6 +9,7 @@ markers, so that an hour of two feet stays a page of a few hundred kB.
 
 from __future__ import annotations
 
+import functools
 import io
 import re
 from typing import Any
@@ -59,6 +60,25 @@ def angular_rate_norm(t: np.ndarray, quaternion: np.ndarray) -> np.ndarray:
     return np.concatenate([rate[:1], rate])
 
 
+#: Type size of the figures (pt): a figure 8 in wide shown 560 px wide (a phone, see the page's
+#: style) keeps its labels about 9 px high.
+FONT_PT = 12.0
+
+
+def _styled(draw):
+    """Draw under the report's style (type size, SVG text as text, stable ids): settings read
+    when each artist is made, so around the whole drawing."""
+
+    @functools.wraps(draw)
+    def styled(*args, **kwargs):
+        import matplotlib
+
+        with matplotlib.rc_context({"font.size": FONT_PT, "svg.fonttype": "none", "svg.hashsalt": "footnav"}):
+            return draw(*args, **kwargs)
+
+    return styled
+
+
 def _figure(width_in: float, height_in: float, **kwargs):
     from matplotlib.figure import Figure  # no pyplot: no backend, no global figure list
 
@@ -68,11 +88,8 @@ def _figure(width_in: float, height_in: float, **kwargs):
 def _svg(fig) -> str:
     """The figure as an ``<svg>`` element to inline: text kept as text (smaller, selectable),
     no XML prologue, no fixed size (the page scales it), ids unique to this figure."""
-    import matplotlib
-
     buf = io.StringIO()
-    with matplotlib.rc_context({"svg.fonttype": "none", "svg.hashsalt": "footnav"}):
-        fig.savefig(buf, format="svg", metadata={"Date": None, "Creator": "footnav"})
+    fig.savefig(buf, format="svg", metadata={"Date": None, "Creator": "footnav"})
     text = buf.getvalue()
     text = text[text.index("<svg"):]
     # a hundredth of a point is finer than any screen: matplotlib writes six decimals
@@ -87,11 +104,11 @@ def _svg(fig) -> str:
 
 
 def _legend_below(ax, ncol: int = 2) -> None:
-    """The legend under the axes: never over the data."""
+    """The legend under the figure, outside every axes (the constrained layout makes room for
+    it): never over the data nor over the axis labels."""
     handles, labels = ax.get_legend_handles_labels()
     if handles:
-        ax.legend(handles, labels, loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=ncol, fontsize="small",
-                  frameon=False)
+        ax.figure.legend(handles, labels, loc="outside lower center", ncol=ncol, fontsize="small", frameon=False)
 
 
 def _footprints(traj, stance) -> np.ndarray:
@@ -103,6 +120,7 @@ def _footprints(traj, stance) -> np.ndarray:
     return np.asarray(traj.position)[mid]
 
 
+@_styled
 def plan_svg(feet: list[tuple[str, Any, Any]], path, truths: dict[str, Any] | None = None) -> str:
     """Plan view: each foot's path and footprints, the fused path, and each foot's truth."""
     fig = _figure(8.0, 6.4)
@@ -132,6 +150,7 @@ def plan_svg(feet: list[tuple[str, Any, Any]], path, truths: dict[str, Any] | No
     return _svg(fig)
 
 
+@_styled
 def height_svg(feet: list[tuple[str, Any, Any]], strides, truths: dict[str, Any] | None = None) -> str:
     """Each foot's height over time, the stair strides shaded and the floor level of each
     stride drawn as a step line on a second axis."""
@@ -176,6 +195,7 @@ def stance_window(t: np.ndarray, seconds: float = STANCE_WINDOW_S) -> tuple[floa
     return start, min(float(t[-1]), start + seconds)
 
 
+@_styled
 def stance_svg(rows: list[tuple[str, np.ndarray, np.ndarray, np.ndarray, str]], window: tuple[float, float]) -> str:
     """One panel per foot: the angular rate norm over ``window`` with the stance samples
     shaded. ``rows``: (foot, t, rate norm, stance mask, what the rate is)."""
@@ -186,14 +206,15 @@ def stance_svg(rows: list[tuple[str, np.ndarray, np.ndarray, np.ndarray, str]], 
         k = inside[decimate(len(inside))] if len(inside) else inside
         ax.fill_between(t[k], 0, 1, where=np.asarray(mask)[k], step="mid", color="tab:green", alpha=0.25, lw=0,
                         transform=ax.get_xaxis_transform(), label="stance")
-        ax.plot(t[k], rate[k], color=FOOT_COLORS[foot], lw=0.9, label=f"{foot}: {source}")
+        ax.plot(t[k], rate[k], color=FOOT_COLORS[foot], lw=0.9)
         ax.set_ylabel("|ω| (rad/s)")
+        ax.set_title(f"{foot} foot: angular rate ({source}); green: stance", loc="left", fontsize="medium")
         ax.grid(True, alpha=0.3)
-        ax.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize="small", frameon=False)
     axes[-1].set_xlabel("time (s)")
     return _svg(fig)
 
 
+@_styled
 def overlay_svg(truths: dict[str, Any], estimates: list[tuple[str, str, np.ndarray]]) -> str:
     """Plan view of an evaluation: each foot's truth, and each pipeline's estimate of it
     (``(pipeline, foot, xy)``, aligned onto the truth by the caller)."""

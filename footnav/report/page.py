@@ -40,7 +40,7 @@ tr.steady td{background:#eef8f0}td.best{font-weight:700;color:var(--ok)}td.best:
 .ok{border-left:4px solid var(--ok);padding:.3rem .8rem;margin:.5rem 0}
 pre{background:var(--soft);padding:.6rem;overflow-x:auto;font-size:.8rem}
 code{font-size:.9em}dl{display:grid;grid-template-columns:max-content 1fr;gap:.15rem 1rem}dt{color:var(--muted)}dd{margin:0;overflow-wrap:anywhere}
-@media (max-width:600px){body{font-size:14px;padding:.6rem}th,td{padding:.2rem .35rem}dl{grid-template-columns:1fr}dt{margin-top:.4rem}}
+@media (max-width:600px){body{font-size:14px;padding:.6rem}figure svg{min-width:560px}th,td{padding:.2rem .35rem}dl{grid-template-columns:1fr}dt{margin-top:.4rem}}
 """
 
 
@@ -69,7 +69,7 @@ def section(anchor: str, title: str, body: str) -> str:
 def figure(svg: str | None, caption: str, *, figures_ok: bool) -> str:
     if svg is None:
         return f'<p class="muted">{PLOT_HINT if not figures_ok else "Nothing to draw."}</p>'
-    return f"<figure>{svg}<figcaption>{caption}</figcaption></figure>"
+    return f'<figure><div class="scroll">{svg}</div><figcaption>{caption}</figcaption></figure>'
 
 
 def table(header: Sequence[str], rows: Sequence[Sequence[object]], *, row_class: Sequence[str] | None = None,
@@ -101,7 +101,7 @@ def fmt(value: object) -> str:
 
 def page(title: str, subtitle: str, sections: Sequence[tuple[str, str, str]]) -> str:
     """The whole document: a heading, a list of links to the sections, the sections."""
-    links = "".join(f'<a href="#{esc(a)}">{esc(t)}</a>' for a, t, _ in sections)
+    links = " ".join(f'<a href="#{esc(a)}">{esc(t)}</a>' for a, t, _ in sections)  # spaces: room to wrap
     body = "".join(section(a, t, b) for a, t, b in sections)
     return (
         "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"

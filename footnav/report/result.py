@@ -3,10 +3,13 @@
 from __future__ import annotations
 
 from collections.abc import Mapping
+from types import SimpleNamespace
 from typing import Any
 
 import numpy as np
 
+from footnav.analysis.evaluation import trajectory_at
+from footnav.analysis.metrics import rigid_align
 from footnav.data.results import file_sha256, versions
 from footnav.report import figures
 from footnav.report.page import checks_html, esc, figure, page, provenance_html, scrub, table, warnings_html
@@ -17,8 +20,9 @@ __all__ = ["MAX_TABLE_ROWS", "input_hashes", "input_places", "result_html", "ste
 MAX_TABLE_ROWS = 300
 #: A steady stride turns less than this (deg); the definition of PipelineResult.strides' example.
 STEADY_TURN_DEG = 20.0
-_STRIDE_SHOWN = ("foot", "start_s", "length_m", "duration_s", "cadence_spm", "stance_s", "swing_s", "clearance_m",
-                 "elevation_m", "turn_deg", "kind", "level")
+#: Stride columns shown (strides.csv has them all) and their decimals.
+_STRIDE_SHOWN = {"foot": None, "start_s": 2, "length_m": 3, "cadence_spm": 1, "stance_s": 3, "swing_s": 3,
+                 "clearance_m": 3, "elevation_m": 3, "turn_deg": 1, "kind": None, "level": None}
 
 
 def steady_mask(strides) -> np.ndarray:
@@ -60,12 +64,19 @@ def _feet(result) -> list[tuple[str, Any, Any]]:
     return feet
 
 
-def _truths(recording) -> dict[str, Any]:
+def _truths(feet, recording) -> dict[str, Any]:
+    """Each foot's path truth, rigidly aligned in 2-D onto its estimate (the estimate is drawn as
+    computed; the truth's own frame is another)."""
     out = {}
-    for foot in ("left", "right"):
+    for foot, traj, _ in feet:
         truth = None if recording is None else getattr(recording, f"truth_{foot}", None)
-        if truth is not None and len(truth.t) > 1 and getattr(truth, "frame", None) != "footprints":
-            out[foot] = truth
+        if truth is None or len(truth.t) < 2 or getattr(truth, "frame", None) == "footprints":
+            continue
+        est, inside = trajectory_at(traj, truth.t)
+        if len(est) < 2:
+            continue
+        aligned, _, _ = rigid_align(truth.position[inside], est, dims=2)
+        out[foot] = SimpleNamespace(t=np.asarray(truth.t)[inside], position=np.asarray(aligned))
     return out
 
 
@@ -107,11 +118,11 @@ def _strides_section(strides) -> str:
                          "shown; strides.csv holds them all.</p>")
         for i in shown:
             r = strides.iloc[int(i)]
-            rows.append([r[c].item() if hasattr(r[c], "item") else r[c] for c in _STRIDE_SHOWN] + [bool(steady[i])])
+            rows.append([r[c] if d is None else f"{round(r[c], d) + 0.0:.{d}f}" for c, d in _STRIDE_SHOWN.items()] + ["✓" if steady[i] else ""])
             classes.append("steady" if steady[i] else "")
-    header = ("foot", "start (s)", "length (m)", "duration (s)", "cadence", "stance (s)", "swing (s)", "clearance (m)",
-              "elevation (m)", "turn (°)", "kind", "floor", "steady")
-    parts.append(table(header, rows, row_class=classes, text_columns=(0, 10)))
+    header = ("foot", "start (s)", "length (m)", "cadence", "stance (s)", "swing (s)", "clearance (m)", "rise (m)",
+              "turn (°)", "kind", "floor", "steady")
+    parts.append(table(header, rows, row_class=classes, text_columns=(0, 9)))
     return "".join(parts)
 
 
@@ -120,7 +131,7 @@ def result_html(result, *, recording=None, pipeline_toml: str | None = None, sum
     meta = result.meta
     places = input_places(meta)
     feet = _feet(result)
-    truths = _truths(recording)
+    truths = _truths(feet, recording)
     try:
         strides = result.strides()
     except (ValueError, KeyError):
@@ -137,10 +148,10 @@ def result_html(result, *, recording=None, pipeline_toml: str | None = None, sum
     lengths = ", ".join(f"{foot} {traj.path_length_m:.1f} m, {st.n_stances} stances" for foot, traj, st in feet)
     plan = figure(figures.plan_svg(feet, result.path, truths) if ok else None,
                   f"Plan view (nav frame, x along the first steps). Lines: each foot; circles: footprints (mid-stance); "
-                  f"dashed: the fused path; big circle start, square end{'; wide pale lines: truth' if truths else ''}. "
+                  f"dashed: the fused path; big circle start, square end{'; wide pale lines: truth, rigidly aligned in 2-D onto each foot' if truths else ''}. "
                   f"{esc(lengths)}.", figures_ok=ok)
     floors = "; ".join(
-        f"{foot}: climb {v.get('climb_m', 0):.2f} m, descent {v.get('descent_m', 0):.2f} m, floors up {v.get('floors_up', 0)}, "
+        f"{foot}: climb {abs(v.get('climb_m', 0)):.2f} m, descent {abs(v.get('descent_m', 0)):.2f} m, floors up {v.get('floors_up', 0)}, "
         f"down {v.get('floors_down', 0)}" for foot, v in vertical.items()
     )
     height = figure(figures.height_svg(feet, strides, truths) if ok else None,

@@ -293,6 +293,9 @@ def cmd_follow(args: argparse.Namespace) -> int:
         out_claim = claims.enter_context(claim_output(args.out, force=args.force, inputs=inputs, what="output folder"))
         plot_claim = _claim_figure(claims, args.plot, args.force, inputs)
         live = _LivePlot(plot_claim, args.plot_every_s, pipeline)
+        view = _start_view(args, pipeline)
+        if view is not None:
+            claims.callback(view.close)
         sources = [(foot, name, read, parsers[name]) for foot, name, read in raw_sources]
         stop: dict = {"signal": None}
 
@@ -334,6 +337,9 @@ def cmd_follow(args: argparse.Namespace) -> int:
                         _say(_step_line(step), stop)
                         live.add(step)
                     live.draw()
+                    if view is not None:
+                        view.add(update.steps)
+                        view.flush()
                 if bad is not None:
                     raise bad
                 if chunks:
@@ -365,6 +371,9 @@ def cmd_follow(args: argparse.Namespace) -> int:
             _say(_step_line(step), stop)
             live.add(step)
         live.draw(final=True)
+        if view is not None:
+            view.add(stream.last_update.steps)
+            view.flush(force=True)
         complete = code == EXIT_OK and not ended_by.startswith("interrupted") and close_error is None
         summary: dict = {"complete": complete, "ended_by": ended_by}
         if result is not None:
@@ -382,6 +391,23 @@ def cmd_follow(args: argparse.Namespace) -> int:
         print(f"footnav follow: error: {clip_text(ended_by, 600)}", file=sys.stderr)
     print(("" if complete else clip_text(ended_by, 200) + ": ") + f"results written to {out}" + ("" if complete else " (incomplete)"))
     return code
+
+
+def _start_view(args: argparse.Namespace, pipeline):
+    """The live view of ``--view`` (:class:`footnav.report.live.LiveView`), or None; says when
+    there is no display to draw on."""
+    if not getattr(args, "view", False):
+        return None
+    from footnav.cli._common import _require_matplotlib
+
+    _require_matplotlib("--view")
+    from footnav.report.live import LiveView, has_display
+
+    if not has_display():
+        print("footnav follow: no display: --view draws off-screen; open report.html in the output folder at the end",
+              file=sys.stderr)
+    title = "footnav follow: " + " + ".join(c.get("name", k) for k, c in pipeline.config().items())
+    return LiveView(title, args.view_every_s)
 
 
 def _push_good_rows(stream, chunks: dict):

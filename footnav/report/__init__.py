@@ -13,13 +13,23 @@ hour of two feet is a page of a few hundred kB.
 
 from __future__ import annotations
 
+import importlib
 import os
 from collections.abc import Mapping
 from pathlib import Path as FilePath
 from typing import Any
 
-from footnav.report.evaluation import evaluation_html
-from footnav.report.result import result_html
+#: Loaded on first use (PEP 562): the live view's process imports footnav.report.live, which
+#: must not pull in the analysis layer and pandas while the stream it draws is running.
+_LAZY = {"result_html": "footnav.report.result", "evaluation_html": "footnav.report.evaluation"}
+
+
+def __getattr__(name: str):
+    module = _LAZY.get(name)
+    if module is None:
+        raise AttributeError(f"module 'footnav.report' has no attribute {name!r}")
+    return getattr(importlib.import_module(module), name)
+
 
 __all__ = ["REPORT_NAME", "evaluation_html", "result_html", "write_html"]
 
@@ -42,6 +52,8 @@ def write_html(
     ``summary`` extra lines for the provenance. The file is written as it is: to write into a
     result folder with footnav's claims, use :func:`footnav.data.results.write_results`.
     """
+    from footnav.report.result import result_html
+
     path = FilePath(path)
     path.write_text(result_html(result, recording=recording, pipeline_toml=pipeline_toml, summary=summary), encoding="utf-8")
     return path

@@ -185,7 +185,8 @@ def write_report(
         for name, toml in (pipelines or {}).items():
             (tmp / f"pipeline-{name}.toml").write_text(toml, encoding="utf-8")
         if html:
-            from footnav.report import REPORT_NAME, evaluation_html
+            from footnav.report import REPORT_NAME
+            from footnav.report.evaluation import evaluation_html
 
             page = evaluation_html(report, list(recordings), pipelines_toml=pipelines, warnings=doc["warnings"], batch=batch)
             (tmp / REPORT_NAME).write_text(page, encoding="utf-8")
@@ -249,7 +250,8 @@ def write_results(
         if pipeline_toml is not None:
             (tmp / "pipeline.toml").write_text(pipeline_toml, encoding="utf-8")
         if html:
-            from footnav.report import REPORT_NAME, result_html
+            from footnav.report import REPORT_NAME
+            from footnav.report.result import result_html
 
             page = result_html(result, recording=recording, pipeline_toml=pipeline_toml, summary=summary)
             (tmp / REPORT_NAME).write_text(page, encoding="utf-8")

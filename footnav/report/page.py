@@ -127,6 +127,13 @@ def warnings_html(warnings: Sequence[str], places: Iterable[str]) -> str:
            f"where footnav knows one, what to try.</p><ul>{items}</ul></div>"
 
 
+def _signed(value: object) -> str:
+    """A signed figure to the centimetre, without the sign of a rounded zero (-0.00)."""
+    if not isinstance(value, (int, float)) or not math.isfinite(value):
+        return "?"
+    return f"{round(float(value), 2) + 0.0:+.2f}"
+
+
 def checks_html(meta: Mapping[str, Any]) -> str:
     """Each self-check of the run (stances against gait cycles, height trend, how the stream
     ended, the feet's common span) as one sentence per foot, with what to try when it is off."""
@@ -145,7 +152,7 @@ def checks_html(meta: Mapping[str, Any]) -> str:
     for foot, c in (meta.get("vertical_check") or {}).items():
         text = (f"<b>{esc(foot)} height</b>: {c.get('level_strides', '?')} level and {c.get('stair_strides', '?')} stair "
                 f"strides over {c.get('walked_m', float('nan')):.1f} m; trend over level strides "
-                f"{c.get('trend_m', float('nan')):+.2f} m ({c.get('rate_m_per_100m', float('nan')):+.2f} m per 100 m).")
+                f"{_signed(c.get('trend_m'))} m ({_signed(c.get('rate_m_per_100m'))} m per 100 m).")
         if c.get("suspicious"):
             out.append(f'<p class="warn">{text} That is a steady drift: {_VERTICAL_TRY}.</p>')
         else:

@@ -152,11 +152,13 @@ def test_an_hour_of_two_feet_is_a_page_under_2_mb(walk, tmp_path):
 def test_scrub_and_best_of_row():
     assert scrub("/home/someone/walks/left.csv: clipping", ["/home/someone/walks/left.csv"]) == "left.csv: clipping"
     assert scrub("see /var/tmp/x/y.txt and 9.81 m/s^2") == "see y.txt and 9.81 m/s^2"
-    assert best_of_row("ate_2d", [0.5, 0.2, float("nan")]) == 1
-    assert best_of_row("loop_closure_dz", [-0.1, 0.3]) == 0  # the smallest in size
-    assert best_of_row("stance_f1", [0.8, 0.9]) == 1
-    assert best_of_row("path_length", [10.0, 12.0]) is None
-    assert best_of_row("ate_2d", [0.5]) is None
+    assert best_of_row("ate_2d", [0.5, 0.2, float("nan")]) == {1}
+    assert best_of_row("loop_closure_dz", [-0.1, 0.3]) == {0}  # the smallest in size
+    assert best_of_row("stance_f1", [0.8, 0.9]) == {1}
+    assert best_of_row("ate_2d", [0.2, 0.2001, 0.3]) == {0, 1}  # a tie as shown: both
+    assert best_of_row("ate_2d", [0.2, 0.2]) == set()  # all tie: none better
+    assert best_of_row("path_length", [10.0, 12.0]) == set()
+    assert best_of_row("ate_2d", [0.5]) == set()
 
 
 def test_decimation_keeps_the_last_sample_and_the_bound():

@@ -23,15 +23,17 @@ __all__ = ["best_of_row", "evaluation_html"]
 _DESCRIPTIVE = {"path_length", "reference_path_length", "stances", "steps_found"}
 
 
-def best_of_row(name: str, values: Sequence[float]) -> int | None:
-    """Index of the best value of a metric row: the highest for an F1 score, the smallest in
-    size for an error (a signed one too), None for a descriptive metric or fewer than two values."""
-    finite = [(i, v) for i, v in enumerate(values) if v is not None and math.isfinite(v)]
+def best_of_row(name: str, values: Sequence[float], decimals: int = 3) -> set[int]:
+    """Indices of the best values of a metric row, as shown (rounded to ``decimals``): the
+    highest for an F1 score, the smallest in size for an error (a signed one too). None marked
+    for a descriptive metric, fewer than two values, or when every value ties (nothing is better)."""
+    finite = [(i, round(abs(v) if not name.endswith("f1") else v, decimals)) for i, v in enumerate(values)
+              if v is not None and math.isfinite(v)]
     if name in _DESCRIPTIVE or len(finite) < 2:
-        return None
-    if name.endswith("f1"):
-        return max(finite, key=lambda iv: iv[1])[0]
-    return min(finite, key=lambda iv: abs(iv[1]))[0]
+        return set()
+    best = max(v for _, v in finite) if name.endswith("f1") else min(v for _, v in finite)
+    marked = {i for i, v in finite if v == best}
+    return set() if len(marked) == len(finite) else marked
 
 
 def _metrics_table(report, recording: str, pipelines: list[str]) -> str:
@@ -42,10 +44,10 @@ def _metrics_table(report, recording: str, pipelines: list[str]) -> str:
     rows, marks = [], {}
     for i, ((name, foot, unit), by_pipe) in enumerate(cells.items()):
         values = [by_pipe.get(p, float("nan")) for p in pipelines]
-        best = best_of_row(name, values)
-        if best is not None:
-            marks[(i, 3 + best)] = "best"
-        rows.append([name, foot, unit] + values)
+        for j in best_of_row(name, values):
+            marks[(i, 3 + j)] = "best"
+        shown = [f"{v:.0f}" if unit == "count" and math.isfinite(v) else v for v in values]
+        rows.append([name, foot, unit] + shown)
     return table(("metric", "foot", "unit", *pipelines), rows, cell_class=marks, text_columns=(0, 1, 2))
 
 
@@ -86,8 +88,8 @@ def evaluation_html(report, recordings: Sequence[Any] = (), *, pipelines_toml: M
     sections = []
     for i, name in enumerate(names):
         parts = [_metrics_table(report, name, pipelines),
-                 ('<p class="muted">★ the best pipeline of each row: the smallest error, the highest F1 '
-                 "(path lengths and counts describe the walk and have none).</p>")]
+                 ('<p class="muted">★ the best pipeline of each row: the smallest error, the highest F1, as '
+                 "shown (none when all tie; path lengths and counts describe the walk and have none).</p>")]
         svg = _overlay(report, name, by_name.get(name)) if ok else None
         if svg is not None or not ok:
             parts.append(figure(svg, "Each pipeline's path (solid: left foot, dashed: right) rigidly aligned in 2-D "

@@ -16,7 +16,7 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["angular_rate_norm", "available", "decimate", "height_svg", "overlay_svg", "plan_svg", "stance_svg"]
+__all__ = ["angular_rate_norm", "available", "decimate", "envelope", "height_svg", "overlay_svg", "plan_svg", "stance_svg"]
 
 #: Points a drawn line keeps at most (every k-th sample).
 MAX_LINE_POINTS = 2500
@@ -46,6 +46,24 @@ def decimate(n: int, limit: int = MAX_LINE_POINTS) -> np.ndarray:
     step = int(np.ceil(n / (limit - 1)))
     idx = np.arange(0, n, step)
     return idx if idx[-1] == n - 1 else np.append(idx, n - 1)
+
+
+def envelope(t: np.ndarray, y: np.ndarray, limit: int = MAX_LINE_POINTS) -> tuple[np.ndarray, np.ndarray]:
+    """``(t, y)`` to draw a fast-changing signal with at most ``limit`` points: each of
+    ``limit // 2`` buckets of samples gives its lowest and its highest value, in time order, so
+    that decimation neither aliases a periodic signal (a foot's height every stride) nor hides
+    its extremes. Short signals come back whole."""
+    t, y = np.asarray(t, dtype=float), np.asarray(y, dtype=float)
+    n = len(y)
+    if n <= limit:
+        return t, y
+    buckets = max(1, limit // 2)
+    edges = np.linspace(0, n, buckets + 1).astype(int)
+    lo = np.minimum.reduceat(y, edges[:-1])
+    hi = np.maximum.reduceat(y, edges[:-1])
+    tt = np.repeat(0.5 * (t[edges[:-1]] + t[np.maximum(edges[1:] - 1, edges[:-1])]), 2)
+    yy = np.column_stack([lo, hi]).ravel()
+    return tt, yy
 
 
 def angular_rate_norm(t: np.ndarray, quaternion: np.ndarray) -> np.ndarray:
@@ -156,16 +174,21 @@ def height_svg(feet: list[tuple[str, Any, Any]], strides, truths: dict[str, Any]
     stride drawn as a step line on a second axis."""
     fig = _figure(9.0, 3.8)
     ax = fig.add_subplot()
-    for foot, traj, _ in feet:
+    for foot, traj, stance in feet:
         color = FOOT_COLORS[foot]
         truth = (truths or {}).get(foot)
         if truth is not None:
-            k = decimate(len(truth.t))
             z0 = float(np.interp(truth.t[0], traj.t, traj.position[:, 2]))
-            ax.plot(truth.t[k], truth.position[k, 2] - truth.position[0, 2] + z0, color=color, lw=4, alpha=0.2,
-                    label=f"{foot} truth")
-        k = decimate(len(traj.t))
-        ax.plot(traj.t[k], traj.position[k, 2], color=color, lw=0.9, label=f"{foot} foot")
+            tt, zt = envelope(truth.t, truth.position[:, 2] - truth.position[0, 2] + z0)
+            ax.plot(tt, zt, color=color, lw=4, alpha=0.2, label=f"{foot} truth")
+        te, ze = envelope(traj.t, traj.position[:, 2])
+        ax.plot(te, ze, color=color, lw=0.6, alpha=0.45 if len(te) < len(traj.t) else 0.9,
+                label=f"{foot} foot")
+        prints = _footprints(traj, stance)
+        if len(prints):
+            mid = np.clip(np.asarray(stance.intervals, dtype=int).reshape(-1, 2).mean(axis=1).astype(int), 0, len(traj.t) - 1)
+            k = decimate(len(mid))
+            ax.plot(traj.t[mid][k], prints[k, 2], color=color, lw=1.4, label=f"{foot} footprints")
     stair = strides[strides["kind"] == "stair"] if strides is not None and len(strides) else None
     if stair is not None and len(stair):
         spans = decimate(len(stair), 400)
@@ -182,7 +205,7 @@ def height_svg(feet: list[tuple[str, Any, Any]], strides, truths: dict[str, Any]
     ax.set_xlabel("time (s)")
     ax.set_ylabel("height z (m)")
     ax.grid(True, alpha=0.3)
-    _legend_below(ax, ncol=4)
+    _legend_below(ax, ncol=3)
     return _svg(fig)
 
 

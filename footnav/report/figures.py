@@ -16,7 +16,7 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["angular_rate_norm", "available", "decimate", "envelope", "height_svg", "overlay_svg", "plan_svg", "stance_svg"]
+__all__ = ["angular_rate_norm", "available", "decimate", "height_svg", "overlay_svg", "plan_svg", "stance_svg", "stride_bands"]
 
 #: Points a drawn line keeps at most (every k-th sample).
 MAX_LINE_POINTS = 2500
@@ -48,22 +48,37 @@ def decimate(n: int, limit: int = MAX_LINE_POINTS) -> np.ndarray:
     return idx if idx[-1] == n - 1 else np.append(idx, n - 1)
 
 
-def envelope(t: np.ndarray, y: np.ndarray, limit: int = MAX_LINE_POINTS) -> tuple[np.ndarray, np.ndarray]:
-    """``(t, y)`` to draw a fast-changing signal with at most ``limit`` points: each of
-    ``limit // 2`` buckets of samples gives its lowest and its highest value, in time order, so
-    that decimation neither aliases a periodic signal (a foot's height every stride) nor hides
-    its extremes. Short signals come back whole."""
+#: Spans a long height curve is drawn as at most (each its lowest-to-highest band).
+MAX_BANDS = 1500
+
+
+def stride_bands(t: np.ndarray, y: np.ndarray, edges_s: np.ndarray, limit: int = MAX_BANDS):
+    """``(start_s, low, high)`` of ``y`` over the spans between successive ``edges_s`` (a foot's
+    mid-stances: one span a stride), at most ``limit`` spans (neighbours merged): what a long
+    height curve is drawn as. Every-k-th sample aliased the strides (a solid block at one phase
+    of the stride), and buckets shorter than a stride drew a moire; a stride's band is the swing
+    it spans, and its floor the stance height."""
     t, y = np.asarray(t, dtype=float), np.asarray(y, dtype=float)
-    n = len(y)
-    if n <= limit:
-        return t, y
-    buckets = max(1, limit // 2)
-    edges = np.linspace(0, n, buckets + 1).astype(int)
-    lo = np.minimum.reduceat(y, edges[:-1])
-    hi = np.maximum.reduceat(y, edges[:-1])
-    tt = np.repeat(0.5 * (t[edges[:-1]] + t[np.maximum(edges[1:] - 1, edges[:-1])]), 2)
-    yy = np.column_stack([lo, hi]).ravel()
-    return tt, yy
+    idx = np.unique(np.clip(np.searchsorted(t, np.asarray(edges_s, dtype=float)), 0, len(t) - 1))
+    idx = np.unique(np.concatenate([[0], idx]))
+    if len(idx) > limit:
+        idx = idx[:: int(np.ceil(len(idx) / limit))]
+    return t[idx], np.minimum.reduceat(y, idx), np.maximum.reduceat(y, idx)
+
+
+def _height_curve(ax, t, z, edges_s, color: str, label: str, *, lw: float, alpha: float, outline: bool = False) -> None:
+    """The height as a line when short enough to draw whole, else as its band per stride
+    (filled, or with ``outline`` its edges dashed: a truth under its estimate)."""
+    if len(t) <= MAX_LINE_POINTS or len(edges_s) < 2:
+        k = decimate(len(t))
+        ax.plot(np.asarray(t)[k], np.asarray(z)[k], color=color, lw=lw, alpha=alpha, label=label)
+        return
+    start, lo, hi = stride_bands(t, z, edges_s)
+    if outline:
+        ax.step(start, hi, where="post", color=color, lw=0.8, ls="--", label=f"{label}, per stride")
+        ax.step(start, lo, where="post", color=color, lw=0.8, ls="--")
+    else:
+        ax.fill_between(start, lo, hi, step="post", color=color, alpha=0.3 * alpha, lw=0, label=f"{label}, per stride")
 
 
 def angular_rate_norm(t: np.ndarray, quaternion: np.ndarray) -> np.ndarray:
@@ -176,19 +191,18 @@ def height_svg(feet: list[tuple[str, Any, Any]], strides, truths: dict[str, Any]
     ax = fig.add_subplot()
     for foot, traj, stance in feet:
         color = FOOT_COLORS[foot]
+        prints = _footprints(traj, stance)
+        mid = np.clip(np.asarray(stance.intervals, dtype=int).reshape(-1, 2).mean(axis=1).astype(int), 0, len(traj.t) - 1)
+        edges_s = np.asarray(traj.t)[mid] if len(prints) else np.zeros(0)
         truth = (truths or {}).get(foot)
         if truth is not None:
             z0 = float(np.interp(truth.t[0], traj.t, traj.position[:, 2]))
-            tt, zt = envelope(truth.t, truth.position[:, 2] - truth.position[0, 2] + z0)
-            ax.plot(tt, zt, color=color, lw=4, alpha=0.2, label=f"{foot} truth")
-        te, ze = envelope(traj.t, traj.position[:, 2])
-        ax.plot(te, ze, color=color, lw=0.6, alpha=0.45 if len(te) < len(traj.t) else 0.9,
-                label=f"{foot} foot")
-        prints = _footprints(traj, stance)
+            _height_curve(ax, truth.t, truth.position[:, 2] - truth.position[0, 2] + z0, edges_s, color,
+                          f"{foot} truth", lw=4, alpha=0.2, outline=True)
+        _height_curve(ax, traj.t, traj.position[:, 2], edges_s, color, f"{foot} foot", lw=0.6, alpha=0.8)
         if len(prints):
-            mid = np.clip(np.asarray(stance.intervals, dtype=int).reshape(-1, 2).mean(axis=1).astype(int), 0, len(traj.t) - 1)
             k = decimate(len(mid))
-            ax.plot(traj.t[mid][k], prints[k, 2], color=color, lw=1.4, label=f"{foot} footprints")
+            ax.plot(edges_s[k], prints[k, 2], color=color, lw=1.4, label=f"{foot} footprints")
     stair = strides[strides["kind"] == "stair"] if strides is not None and len(strides) else None
     if stair is not None and len(stair):
         spans = decimate(len(stair), 400)

@@ -155,8 +155,8 @@ def result_html(result, *, recording=None, pipeline_toml: str | None = None, sum
         f"down {v.get('floors_down', 0)}" for foot, v in vertical.items()
     )
     height = figure(figures.height_svg(feet, strides, truths) if ok else None,
-                    "Height over time" + (f" ({esc(floors)})" if floors else "") + ". Thin: each foot's height (over a "
-                    "long walk, the lowest and highest of each short stretch); thick: its footprints' heights; orange "
+                    "Height over time" + (f" ({esc(floors)})" if floors else "") + ". Thin line: each foot's height (a "
+                    "long walk's as a band per stride, from its lowest to its highest); thick: its footprints' heights; orange "
                     "bands: stair strides; dotted: the floor of each stride (when the walk changes floors).", figures_ok=ok)
     rows = _stance_rows(result, recording)
     window = figures.stance_window(rows[0][1]) if rows else (0.0, 0.0)

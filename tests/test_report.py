@@ -218,3 +218,16 @@ def test_the_live_view_takes_steps_and_ends_with_the_stream():
     view.add(steps[10:])
     view.close()
     assert view.sent == 20 and not view._process.is_alive() and view._process.exitcode == 0
+
+
+def test_a_stream_with_nothing_final_writes_a_report_saying_so(tmp_path):
+    import subprocess
+    import sys
+
+    out = tmp_path / "nothing"
+    proc = subprocess.run([sys.executable, "-m", "footnav.cli", "follow", "--left", "-", "--out", str(out)],
+                          check=False, stdin=subprocess.DEVNULL, capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 2  # no sample: an error, with the folder written
+    page = _Page((out / REPORT_NAME).read_text(encoding="utf-8"))
+    assert page.ids == {"checks", "provenance"} and "before any step was final" in page.text
+    assert str(tmp_path) not in page.text

@@ -447,7 +447,7 @@ def _close(stream):
 
 def _write_nothing_final(claim, summary: dict, stream, pipeline_toml: str):
     """The result folder of a stream that ended before any sample was final: ``summary.json``
-    (why, and the samples read) and ``pipeline.toml``."""
+    (why, and the samples read), ``pipeline.toml`` and a ``report.html`` saying so."""
     import json
 
     from footnav.data.results import atomic_folder, versions
@@ -455,7 +455,12 @@ def _write_nothing_final(claim, summary: dict, stream, pipeline_toml: str):
     doc = {"summary": summary, "provenance": {"warnings": list(stream.warnings), "online": stream.stats(),
                                               "complete": False, "ended_by": summary["ended_by"]},
            "versions": versions()}
+    from footnav.report import REPORT_NAME
+    from footnav.report.result import nothing_final_html
+
     with atomic_folder(claim) as tmp:
         (tmp / "summary.json").write_text(json.dumps(doc, indent=2, default=str) + "\n", encoding="utf-8")
         (tmp / "pipeline.toml").write_text(pipeline_toml, encoding="utf-8")
+        page = nothing_final_html(summary, [str(w) for w in stream.warnings], pipeline_toml)
+        (tmp / REPORT_NAME).write_text(page, encoding="utf-8")
     return claim.target

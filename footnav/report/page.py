@@ -176,7 +176,8 @@ def provenance_html(meta: Mapping[str, Any], versions: Mapping[str, Any], hashes
                     pipeline_toml: str | None, extra: Mapping[str, Any] | None = None) -> str:
     """The pipeline, the versions and the inputs (file names and SHA-256, never their folders)."""
     pipe = meta.get("pipeline") or {}
-    items = [("pipeline", " + ".join(f"{kind} {c.get('name', '?')}" for kind, c in pipe.items()) or "unknown")]
+    named = " + ".join(f"{kind} {c.get('name', '?')}" for kind, c in pipe.items())
+    items = [("pipeline", named or ("its TOML below" if pipeline_toml else "unknown"))]
     items += [(k, v) for k, v in (extra or {}).items()]
     items += [(name, v) for name, v in versions.items() if v]
     runtime = meta.get("runtime_s")

@@ -14,7 +14,7 @@ from footnav.data.results import file_sha256, versions
 from footnav.report import figures
 from footnav.report.page import checks_html, esc, figure, page, provenance_html, scrub, table, warnings_html
 
-__all__ = ["MAX_TABLE_ROWS", "input_hashes", "input_places", "result_html", "steady_mask"]
+__all__ = ["MAX_TABLE_ROWS", "input_hashes", "input_places", "nothing_final_html", "result_html", "steady_mask"]
 
 #: Stride rows shown per foot at most: the first and last half of them (strides.csv has all).
 MAX_TABLE_ROWS = 300
@@ -178,3 +178,16 @@ def result_html(result, *, recording=None, pipeline_toml: str | None = None, sum
         ("provenance", "Provenance", provenance_html(meta, versions(), hashes, pipeline_toml, extra)),
     ]
     return page(f"footnav: {name}", subtitle, sections)
+
+
+def nothing_final_html(summary: Mapping[str, Any], warnings: list[str], pipeline_toml: str | None = None) -> str:
+    """The page of a stream that ended before any sample was final (``footnav follow``): why it
+    ended, its warnings and the provenance; nothing to draw."""
+    why = esc(scrub(summary.get("ended_by", "")))
+    body = (f'<p class="warn">The stream ended before any step was final ({why}): there is no walk to show. '
+            "A step is final a few seconds after its stance; feed a longer recording, or wait longer with "
+            "<code>--idle-s</code>.</p>")
+    sections = [("checks", "Warnings and self-checks", body + warnings_html(warnings, ())),
+                ("provenance", "Provenance", provenance_html({}, versions(), {}, pipeline_toml,
+                                                             {k: scrub(v) for k, v in summary.items()}))]
+    return page("footnav: nothing final", "a stream that ended before any step was final", sections)

@@ -40,7 +40,7 @@ tr.steady td{background:#eef8f0}td.best{font-weight:700;color:var(--ok)}td.best:
 .ok{border-left:4px solid var(--ok);padding:.3rem .8rem;margin:.5rem 0}
 pre{background:var(--soft);padding:.6rem;overflow-x:auto;font-size:.8rem}
 code{font-size:.9em}dl{display:grid;grid-template-columns:max-content 1fr;gap:.15rem 1rem}dt{color:var(--muted)}dd{margin:0;overflow-wrap:anywhere}
-@media (max-width:600px){body{font-size:14px;padding:.6rem}figure svg{min-width:560px}th,td{padding:.2rem .35rem}dl{grid-template-columns:1fr}dt{margin-top:.4rem}}
+@media (max-width:600px){body{font-size:14px;padding:.6rem}figure svg{min-width:560px}th,td{padding:.2rem .35rem}}
 """
 
 

@@ -105,9 +105,9 @@ def _strides_section(strides) -> str:
                              float(s["cadence_spm"].mean()) if len(s) else float("nan"),
                              float(s["stance_s"].mean()) if len(s) else float("nan"),
                              float(s["clearance_m"].mean()) if len(s) else float("nan")))
-    parts.append(table(("foot", "strides", "steady", "length (m)", "cadence (steps/min)", "stance (s)", "clearance (m)"),
+    parts.append(table(("foot", "strides", "steady", "length (m)", "cadence", "stance (s)", "clearance (m)"),
                        summary_rows))
-    parts.append('<p class="muted">Steady strides (shaded green, mean above): not the first or last of a walk, '
+    parts.append('<p class="muted">Cadence in steps per minute. Steady strides (shaded green, mean above): not the first or last of a walk, '
                  f"no standstill, turning less than {STEADY_TURN_DEG:g}°, level (not on stairs).</p>")
     rows, classes = [], []
     for foot in dict.fromkeys(strides["foot"]):

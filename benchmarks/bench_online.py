@@ -60,9 +60,10 @@ def tiled_walk(minutes: float) -> tuple[footnav.ImuData, footnav.ImuData, footna
     return feet[0], feet[1], loop
 
 
-def replay(pipe, left, right, chunk: int, trace_at_s: float | None = None):
+def replay(pipe, left, right, chunk: int, trace_at_s: float | None = None, view=None):
     """Push both feet in chunks; returns (wall time in push, the stream, peak bytes at
-    ``trace_at_s`` of walk, peak bytes at the end, CPU time in push)."""
+    ``trace_at_s`` of walk, peak bytes at the end, CPU time in push). With ``view`` (a LiveView)
+    each push's steps are handed to it, inside the timed part."""
     stream = pipe.online(feet=2, keep=False)
     n = left.n_samples
     spent, cpu, peak_early = 0.0, 0.0, None
@@ -71,7 +72,10 @@ def replay(pipe, left, right, chunk: int, trace_at_s: float | None = None):
         lc = (left.t[a:b], left.acc[a:b], left.gyr[a:b])
         rc = (right.t[a:b], right.acc[a:b], right.gyr[a:b])
         c0, t0 = time.process_time(), time.perf_counter()
-        stream.push(left=lc, right=rc)
+        update = stream.push(left=lc, right=rc)
+        if view is not None:
+            view.add(update.steps)
+            view.flush()
         spent += time.perf_counter() - t0
         cpu += time.process_time() - c0
         if trace_at_s is not None and peak_early is None and left.t[b - 1] >= trace_at_s:
@@ -91,6 +95,7 @@ def main() -> None:
     ap.add_argument("--repeat", type=int, default=1, help="throughput replays; their median is reported")
     ap.add_argument("--fusion", default="independent", choices=["independent", "range", "step-vector", "particle"],
                     help="independent feet, or both in a coupled fusion's joint filter (step-vector: the pendulum step length)")
+    ap.add_argument("--view", action="store_true", help="with and without footnav follow's live view, in turn")
     args = ap.parse_args()
     params = {"step_length": "pendulum"} if args.fusion == "step-vector" else {}
     pipe = footnav.make_pipeline("threshold", "ekf", args.fusion, estimator_params={"smoother": "step"}, fusion_params=params)
@@ -122,6 +127,10 @@ def main() -> None:
         print(f"  against independent in this process, replayed in turn: {float(np.median(ratios)):.2f}x its time "
               f"(rounds: {', '.join(f'{x:.2f}x' for x in ratios)}; independent {left.duration_s / float(np.median(base_runs)):,.0f}x real time)")
 
+    if args.view:
+        view_ratio(pipe, left, right, chunk, max(1, args.repeat))
+        return
+
     tracemalloc.start()
     _, _, early, end, _ = replay(pipe, left, right, chunk, trace_at_s=min(600.0, left.duration_s / 2))
     tracemalloc.stop()
@@ -151,6 +160,32 @@ def main() -> None:
         off = pipe.run(first, loop.right if coupled else None)
     print(f"offline causal run vs online (chunks of 1): largest position difference "
           f"{np.abs(off.left.position - result.left.position).max():.1e} m")
+
+
+def view_ratio(pipe, left, right, chunk: int, repeat: int) -> None:
+    """Throughput with the live view and without, replayed in turn."""
+    from footnav.report.live import LiveView
+
+    on, off, cpu_on, cpu_off, drawn = [], [], [], [], 0
+    for _ in range(repeat):
+        r = replay(pipe, left, right, chunk)
+        off.append(r[0])
+        cpu_off.append(r[4])
+        view = LiveView("bench_online --view")
+        view.wait_ready()  # its start (matplotlib's import) is once per run, not throughput
+        t0 = time.perf_counter()
+        r = replay(pipe, left, right, chunk, view=view)
+        on.append(r[0])
+        cpu_on.append(r[4])
+        view.close()
+        drawn = view.sent
+    off_s, on_s = float(np.median(off)), float(np.median(on))
+    print(f"live view: {left.duration_s / on_s:,.0f}x real time with it, {left.duration_s / off_s:,.0f}x without "
+          f"(median of {repeat}; rounds with/without: {', '.join(f'{a / b:.2f}' for a, b in zip(on, off))}); "
+          f"with it {on_s / off_s:.2f}x the time; {drawn} steps sent to the view, "
+          f"{time.perf_counter() - t0:.1f} s for the last round with it")
+    print(f"  the stream's own CPU time (its process; the view draws in another): "
+          f"{float(np.median(cpu_on)) / float(np.median(cpu_off)):.2f}x with the view")
 
 
 if __name__ == "__main__":

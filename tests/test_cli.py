@@ -34,7 +34,8 @@ def test_run_writes_results_and_refuses_to_overwrite(sim_csv, tmp_path, capsys):
     args = ["run", "--left", str(sim_csv / "left.csv"), "--right", str(sim_csv / "right.csv"), "--out", str(out)]
     assert main(args) == 0
     assert {p.name for p in out.iterdir()} == {
-        "left.csv", "right.csv", "path.csv", "strides.csv", "trajectories.npz", "summary.json", "pipeline.toml", ".footnav-result"
+        "left.csv", "right.csv", "path.csv", "strides.csv", "trajectories.npz", "summary.json", "pipeline.toml", ".footnav-result",
+        "report.html",
     }
     doc = json.loads((out / "summary.json").read_text())
     assert doc["provenance"]["footnav_version"] == footnav.__version__
@@ -98,7 +99,8 @@ def test_evaluate_writes_a_report_folder_and_figures(sim_csv, tmp_path, capsys):
     out, figs = tmp_path / "report", tmp_path / "figs"
     args = ["evaluate", str(sim_csv), "--out", str(out), "--plot", str(figs), "--jobs", "2"]
     assert main(args) == 0
-    assert {p.name for p in out.iterdir()} == {"report.csv", "report.json", "pipeline-default.toml", ".footnav-result"}
+    assert {p.name for p in out.iterdir()} == {"report.csv", "report.json", "pipeline-default.toml", ".footnav-result",
+                                                "report.html"}
     doc = json.loads((out / "report.json").read_text())
     names = {m["name"] for m in doc["metrics"]}
     assert {"ate_2d", "final_separation", "runtime"} <= names

@@ -17,7 +17,7 @@ LAYERS = {
     "component": 1, "nav": 1,
     "detectors": 2, "estimators": 2, "fusion": 2, "heading_aids": 2,
     "pipeline": 3, "plugins": 3,
-    "analysis": 4, "data": 4,
+    "analysis": 4, "data": 4, "report": 4,
     "cli": 5, "demo": 5, "testing": 5, "__init__": 5,
 }
 #: Modules nothing inside imports: the entry points (the console script, ``python -m``, the demo

@@ -45,12 +45,12 @@ def _fmt(value: object) -> str:
     return str(value)
 
 
-def _require_matplotlib() -> None:
-    """--plot without matplotlib is an error before any work, with the install command."""
+def _require_matplotlib(flag: str = "--plot") -> None:
+    """``flag`` (--plot, --view) without matplotlib is an error before any work, with the install command."""
     try:
         import matplotlib  # noqa: F401
     except ImportError:
-        raise FootnavError("--plot needs matplotlib: pip install 'footnav[plot]'") from None
+        raise FootnavError(f"{flag} needs matplotlib: pip install 'footnav[plot]'") from None
 
 
 def _claim_figure(claims: ExitStack, path, force: bool, inputs):

@@ -19,8 +19,8 @@ def cmd_evaluate(args: argparse.Namespace) -> int:
     from footnav.data.datasets import load_dataset
     from footnav.data.io import load
     from footnav.data.output import claim_output, csv_signature
-    from footnav.pipeline.factory import load_pipeline, make_pipeline
     from footnav.data.results import write_report
+    from footnav.pipeline.factory import load_pipeline, make_pipeline
     from footnav.warning_log import recording
 
     if not args.dataset and not args.recordings:
@@ -73,7 +73,8 @@ def cmd_evaluate(args: argparse.Namespace) -> int:
             if csv_claim:
                 staged.enter_context(csv_claim.staged()).write_text(report.to_csv(), encoding="utf-8")
             if out_claim:
-                write_report(report, out_claim, pipelines={name: pipe.to_toml() for name, pipe in pipelines}, warnings=shown, batch=batch)
+                write_report(report, out_claim, pipelines={name: pipe.to_toml() for name, pipe in pipelines}, warnings=shown, batch=batch,
+                             html=True, recordings=recordings)
     print(report.to_text())
     if args.csv:
         print(f"table written to {args.csv}")
@@ -103,10 +104,10 @@ def cmd_compare_detectors(args: argparse.Namespace) -> int:
 
 
 def _compare(args: argparse.Namespace, csv_claim, plot_claim) -> int:
-    from footnav.data.simulate import simulate
     from footnav.analysis.comparison import compare_detectors
     from footnav.data.datasets import load_dataset
     from footnav.data.io import load
+    from footnav.data.simulate import simulate
 
     if args.recording:
         rec = load(args.recording)

@@ -293,6 +293,9 @@ def cmd_follow(args: argparse.Namespace) -> int:
         out_claim = claims.enter_context(claim_output(args.out, force=args.force, inputs=inputs, what="output folder"))
         plot_claim = _claim_figure(claims, args.plot, args.force, inputs)
         live = _LivePlot(plot_claim, args.plot_every_s, pipeline)
+        view = _start_view(args, pipeline)
+        if view is not None:
+            claims.callback(view.close)
         sources = [(foot, name, read, parsers[name]) for foot, name, read in raw_sources]
         stop: dict = {"signal": None}
 
@@ -334,6 +337,9 @@ def cmd_follow(args: argparse.Namespace) -> int:
                         _say(_step_line(step), stop)
                         live.add(step)
                     live.draw()
+                    if view is not None:
+                        view.add(update.steps)
+                        view.flush()
                 if bad is not None:
                     raise bad
                 if chunks:
@@ -365,6 +371,9 @@ def cmd_follow(args: argparse.Namespace) -> int:
             _say(_step_line(step), stop)
             live.add(step)
         live.draw(final=True)
+        if view is not None:
+            view.add(stream.last_update.steps)
+            view.flush(force=True)
         complete = code == EXIT_OK and not ended_by.startswith("interrupted") and close_error is None
         summary: dict = {"complete": complete, "ended_by": ended_by}
         if result is not None:
@@ -373,7 +382,8 @@ def cmd_follow(args: argparse.Namespace) -> int:
             if result.right is not None:
                 summary["right_path_length_m"] = result.right.path_length_m
                 summary["right_stances"] = result.stance_right.n_stances
-            out = write_results(result, out_claim, force=args.force, summary=summary, pipeline_toml=pipeline.to_toml())
+            out = write_results(result, out_claim, force=args.force, summary=summary, pipeline_toml=pipeline.to_toml(),
+                                html=True)
         else:
             out = _write_nothing_final(out_claim, summary, stream, pipeline.to_toml())
     print(_format_table(("quantity", "value"), [(k, clip_text(str(v), 200)) for k, v in summary.items()]))
@@ -381,6 +391,23 @@ def cmd_follow(args: argparse.Namespace) -> int:
         print(f"footnav follow: error: {clip_text(ended_by, 600)}", file=sys.stderr)
     print(("" if complete else clip_text(ended_by, 200) + ": ") + f"results written to {out}" + ("" if complete else " (incomplete)"))
     return code
+
+
+def _start_view(args: argparse.Namespace, pipeline):
+    """The live view of ``--view`` (:class:`footnav.report.live.LiveView`), or None; says when
+    there is no display to draw on."""
+    if not getattr(args, "view", False):
+        return None
+    from footnav.cli._common import _require_matplotlib
+
+    _require_matplotlib("--view")
+    from footnav.report.live import LiveView, has_display
+
+    if not has_display():
+        print("footnav follow: no display: --view draws off-screen; open report.html in the output folder at the end",
+              file=sys.stderr)
+    title = "footnav follow: " + " + ".join(c.get("name", k) for k, c in pipeline.config().items())
+    return LiveView(title, args.view_every_s)
 
 
 def _push_good_rows(stream, chunks: dict):
@@ -420,7 +447,7 @@ def _close(stream):
 
 def _write_nothing_final(claim, summary: dict, stream, pipeline_toml: str):
     """The result folder of a stream that ended before any sample was final: ``summary.json``
-    (why, and the samples read) and ``pipeline.toml``."""
+    (why, and the samples read), ``pipeline.toml`` and a ``report.html`` saying so."""
     import json
 
     from footnav.data.results import atomic_folder, versions
@@ -428,7 +455,12 @@ def _write_nothing_final(claim, summary: dict, stream, pipeline_toml: str):
     doc = {"summary": summary, "provenance": {"warnings": list(stream.warnings), "online": stream.stats(),
                                               "complete": False, "ended_by": summary["ended_by"]},
            "versions": versions()}
+    from footnav.report import REPORT_NAME
+    from footnav.report.result import nothing_final_html
+
     with atomic_folder(claim) as tmp:
         (tmp / "summary.json").write_text(json.dumps(doc, indent=2, default=str) + "\n", encoding="utf-8")
         (tmp / "pipeline.toml").write_text(pipeline_toml, encoding="utf-8")
+        page = nothing_final_html(summary, [str(w) for w in stream.warnings], pipeline_toml)
+        (tmp / REPORT_NAME).write_text(page, encoding="utf-8")
     return claim.target

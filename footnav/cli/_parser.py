@@ -29,6 +29,7 @@ EPILOG_FOLLOW = """examples:
   footnav follow --left L.csv --right R.csv --out results/live      (files another program appends to)
   sensor-reader | footnav follow --left - --out results/live       (CSV lines on standard input)
   footnav follow --left walk.csv --detector glrt --idle-s 10 --out results/live
+  footnav follow --left L.csv --right R.csv --view --out results/live  (the walk drawn live; report.html at the end)
 Ctrl-C, SIGTERM or SIGHUP end it; the result folder then holds everything up to the last sample
 read (summary.json: "complete": false, "ended_by"). A bad row, a refused chunk or a failing
 component end it too, with the rows before written, and exit code 2 (bad input) or 1.
@@ -189,6 +190,10 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--max-wait-s", type=_positive, default=2.0, help="longest wait for the other foot before a step is printed, s")
     p.add_argument("--plot", help="a live figure (PNG) of the footprints so far, redrawn as steps close and at the end")
     p.add_argument("--plot-every-s", type=_positive, default=1.0, help="redraw the --plot figure at most this often, s")
+    p.add_argument("--view", action="store_true",
+                   help="draw the footprints live in a window (its own process: the stream is not slowed); without a "
+                        "display it draws off-screen and report.html at the end is the view (needs matplotlib)")
+    p.add_argument("--view-every-s", type=_positive, default=0.25, help="redraw the --view window at most this often, s")
     p.add_argument("--out", required=True, help="output folder (must not exist or be empty)")
     p.add_argument("--force", action="store_true", help="replace an output folder that footnav wrote")
     p.set_defaults(func=cmd_follow)

@@ -53,18 +53,22 @@ def _read_recording(path: str, args: argparse.Namespace):
 
 def _run_inputs(args: argparse.Namespace):
     """The left and right feet from --left / --right: one file per foot, or one two-foot
-    recording (gaitmap, IPOL, azure_fgo ...) given as --left."""
+    recording (gaitmap, IPOL, azure_fgo ...) given as --left; and what the report draws beside
+    the result (the feet's gyroscopes, the truth a recording holds)."""
+    from types import SimpleNamespace
+
     rec = _read_recording(args.left, args)
     if args.right is None:
         if rec.right is not None:
             print(f"footnav: {args.left} holds both feet ({rec.meta.get('format')}): running both", file=sys.stderr)
-        return rec.left, rec.right
+        return rec.left, rec.right, rec
     if rec.right is not None:
         raise FootnavError(f"{args.left} holds both feet already; give it alone, without --right")
     other = _read_recording(args.right, args)
     if other.right is not None:
         raise FootnavError(f"{args.right} holds both feet; give it alone as --left")
-    return rec.left, other.left
+    seen = SimpleNamespace(name=None, left=rec.left, right=other.left, truth_left=rec.truth_left, truth_right=other.truth_left)
+    return rec.left, other.left, seen
 
 
 def cmd_run(args: argparse.Namespace) -> int:
@@ -79,7 +83,7 @@ def cmd_run(args: argparse.Namespace) -> int:
         out_claim = claims.enter_context(claim_output(args.out, force=args.force, inputs=inputs, what="output folder"))
         plot_claim = _claim_figure(claims, args.plot, args.force, inputs)
         with recording() as read_warnings:  # shown as they happen, and kept for summary.json
-            left, right = _run_inputs(args)
+            left, right, seen = _run_inputs(args)
         result = with_warnings(pipeline.run(left, right), read_warnings)
         summary = {
             "left_path_length_m": result.left.path_length_m,
@@ -91,7 +95,8 @@ def cmd_run(args: argparse.Namespace) -> int:
         with plot_claim.staged() if plot_claim else nullcontext() as figure:
             if figure is not None:
                 _plot_trajectories(result, None, figure)
-            out = write_results(result, out_claim, force=args.force, summary=summary, pipeline_toml=pipeline.to_toml())
+            out = write_results(result, out_claim, force=args.force, summary=summary, pipeline_toml=pipeline.to_toml(),
+                                html=True, recording=seen)
     print(_format_table(("quantity", "value"), list(summary.items())))
     print(f"results written to {out}")
     if plot_claim:

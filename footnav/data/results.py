@@ -15,9 +15,10 @@ import hashlib
 import io
 import json
 import os
+from collections.abc import Iterable, Iterator, Mapping
 from contextlib import contextmanager
 from pathlib import Path as FilePath
-from typing import Any, Iterable, Iterator, Mapping
+from typing import Any
 
 import numpy as np
 
@@ -27,7 +28,7 @@ from footnav.pipeline.result import PipelineResult
 from footnav.types import FootTrajectory, Path
 from footnav.warning_log import merge_warnings
 
-__all__ = ["write_results", "write_report", "with_warnings", "merge_warnings", "versions", "file_sha256", "atomic_folder", "TRAJECTORY_COLUMNS"]
+__all__ = ["TRAJECTORY_COLUMNS", "atomic_folder", "file_sha256", "merge_warnings", "versions", "with_warnings", "write_report", "write_results"]
 
 #: Packages whose versions are recorded with every result.
 _DEPENDENCIES = ("numpy", "scipy", "numba", "hmmlearn", "scikit-learn", "pluggy", "pandas", "joblib")
@@ -159,10 +160,14 @@ def write_report(
     pipelines: Mapping[str, str] | None = None,
     warnings: Iterable[Any] = (),
     batch: Mapping[str, Any] | None = None,
+    html: bool = False,
+    recordings: Iterable[Any] = (),
 ) -> FilePath:
     """Write an evaluation report into ``folder``: ``report.csv``, ``report.json`` (metrics,
     truth checks, ``warnings``: the given ones, then every run's ``meta["warnings"]``, each once;
-    versions, input hashes, ``batch``: how it ran) and each pipeline's TOML (``pipelines``: name -> TOML text)."""
+    versions, input hashes, ``batch``: how it ran) and each pipeline's TOML (``pipelines``: name -> TOML text);
+    with ``html``, ``report.html`` too (:func:`footnav.report.evaluation_html`: the metrics with the
+    best of each row marked, each pipeline's path over the truth of ``recordings``)."""
     sources = [
         m["source"]
         for res in report.results.values()
@@ -179,6 +184,12 @@ def write_report(
         (tmp / "report.json").write_text(json.dumps(_jsonable(doc), indent=2) + "\n", encoding="utf-8")
         for name, toml in (pipelines or {}).items():
             (tmp / f"pipeline-{name}.toml").write_text(toml, encoding="utf-8")
+        if html:
+            from footnav.report import REPORT_NAME
+            from footnav.report.evaluation import evaluation_html
+
+            page = evaluation_html(report, list(recordings), pipelines_toml=pipelines, warnings=doc["warnings"], batch=batch)
+            (tmp / REPORT_NAME).write_text(page, encoding="utf-8")
     return folder.target if isinstance(folder, OutputClaim) else FilePath(folder)
 
 
@@ -189,11 +200,15 @@ def write_results(
     force: bool = False,
     summary: Mapping[str, Any] | None = None,
     pipeline_toml: str | None = None,
+    html: bool = False,
+    recording: Any = None,
 ) -> FilePath:
     """Write ``result`` into ``folder``: ``left.csv`` (``right.csv``), ``path.csv``,
     ``strides.csv`` (gait parameters per stride and foot, :meth:`PipelineResult.strides`),
     ``trajectories.npz`` (the same arrays), ``summary.json`` (``summary`` plus provenance: pipeline,
-    versions, warnings, inputs and their SHA-256) and ``pipeline.toml``.
+    versions, warnings, inputs and their SHA-256) and ``pipeline.toml``; with ``html``,
+    ``report.html`` (:mod:`footnav.report`; ``recording``, optional, gives the truth and the
+    gyroscope it draws). Everything is listed in the folder's marker, as footnav's.
 
     Raises
     ------
@@ -234,4 +249,10 @@ def write_results(
         (tmp / "summary.json").write_text(json.dumps(_jsonable(doc), indent=2) + "\n", encoding="utf-8")
         if pipeline_toml is not None:
             (tmp / "pipeline.toml").write_text(pipeline_toml, encoding="utf-8")
+        if html:
+            from footnav.report import REPORT_NAME
+            from footnav.report.result import result_html
+
+            page = result_html(result, recording=recording, pipeline_toml=pipeline_toml, summary=summary)
+            (tmp / REPORT_NAME).write_text(page, encoding="utf-8")
     return folder.target if isinstance(folder, OutputClaim) else FilePath(folder)

@@ -243,7 +243,7 @@ def test_sigkill_at_any_moment_of_a_replacement_leaves_one_whole_result(workspac
     mine = {".res.v2.partial.md", ".res.backup.partial", ".res.x.old"}
     users = _snapshot(workspace)
     assert subprocess.run(cmd, cwd=workspace, capture_output=True).returncode == 0
-    whole = {"left.csv", "path.csv", "strides.csv", "trajectories.npz", "summary.json", "pipeline.toml", MARKER}
+    whole = {"left.csv", "path.csv", "strides.csv", "trajectories.npz", "summary.json", "pipeline.toml", "report.html", MARKER}
     start = time.perf_counter()
     subprocess.run(cmd, cwd=workspace, capture_output=True)
     duration = time.perf_counter() - start

@@ -1,6 +1,6 @@
 """Online mode: throughput, memory and latency of a 1-hour two-foot replay.
 
-Run:  python benchmarks/bench_online.py [--minutes 60] [--chunk-s 1.0] [--repeat 1]
+Run:  python benchmarks/bench_online.py [--minutes 60] [--chunk-s 1.0] [--repeat 1] [--pipeline default]
 
 A simulated 5.6-minute walk (a 60 x 25 m loop, standstills at both ends) is repeated to fill
 ``--minutes`` at 100 Hz and pushed through ``pipeline.online(feet=2, keep=False)`` (threshold
@@ -16,6 +16,9 @@ foot, both feet in each push. Reported:
   and the newest sample pushed when it became final, against the detector's declared
   ``latency_s`` (chunks of one sample, on the first minutes: a longer chunk only adds its length);
 * the offline causal run of the first loop against the online one (largest position difference).
+
+``--pipeline default`` replays ``make_pipeline()``'s components instead (the adaptive detector, the
+whole-walk smoother's step-wise output live and its rerun at close, the floors).
 
 ``--fusion range`` (or ``step-vector``, with the pendulum step length, or ``particle``) runs both
 feet in the coupled fusion's joint filter instead (:mod:`footnav.pipeline.online_joint`; the
@@ -96,18 +99,28 @@ def main() -> None:
     ap.add_argument("--fusion", default="independent", choices=["independent", "range", "step-vector", "particle"],
                     help="independent feet, or both in a coupled fusion's joint filter (step-vector: the pendulum step length)")
     ap.add_argument("--view", action="store_true", help="with and without footnav follow's live view, in turn")
+    ap.add_argument("--pipeline", default="bench", choices=["bench", "default"],
+                    help="bench: threshold + step-wise EKF (the figures since issue 19); default: make_pipeline()'s "
+                         "components (adaptive detector, whole-walk smoother, floors) with --fusion")
     args = ap.parse_args()
     params = {"step_length": "pendulum"} if args.fusion == "step-vector" else {}
-    pipe = footnav.make_pipeline("threshold", "ekf", args.fusion, estimator_params={"smoother": "step"}, fusion_params=params)
+    if args.pipeline == "default":
+        pipe = footnav.make_pipeline(fusion=args.fusion, fusion_params=params)
+    else:
+        pipe = footnav.make_pipeline("threshold", "ekf", args.fusion, estimator_params={"smoother": "step"}, fusion_params=params)
     left, right, loop = tiled_walk(args.minutes)
     chunk = max(1, round(args.chunk_s * RATE_HZ))
+    print(f"pipeline: {pipe!r}")
     print(f"machine: {cpu_name()}, {platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()}")
     print(f"walk: {left.duration_s / 60:.1f} min at {RATE_HZ:g} Hz, two feet, {left.n_samples} samples per foot; "
           f"chunks of {chunk} samples per foot")
 
     replay(pipe, loop.left.slice(0, 2000), loop.right.slice(0, 2000), chunk)  # compile and warm up
     coupled = args.fusion != "independent"
-    base = footnav.make_pipeline("threshold", "ekf", "independent", estimator_params={"smoother": "step"}) if coupled else None
+    base = None
+    if coupled:
+        base = footnav.make_pipeline() if args.pipeline == "default" else footnav.make_pipeline(
+            "threshold", "ekf", "independent", estimator_params={"smoother": "step"})
     if coupled:
         replay(base, loop.left.slice(0, 2000), loop.right.slice(0, 2000), chunk)
     runs, base_runs = [], []

@@ -30,7 +30,7 @@ class MagnetometerAid(HeadingAid):
     magnitude_tol : float
         A sample passes when its field strength is within this fraction of the walk's median.
     dip_tol_deg : float
-        ... and its dip within this of the walk's median, deg.
+        A sample passes when its dip is also within this of the walk's median dip, deg.
     window_s : float
         Running median of the stances' heading errors over this window, s.
     min_stances : int

@@ -13,7 +13,8 @@ components are in :mod:`footnav.component`.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any, Protocol, Sequence, runtime_checkable
+from collections.abc import Sequence
+from typing import TYPE_CHECKING, Any, Protocol, runtime_checkable
 
 if TYPE_CHECKING:
     import numpy as np
@@ -54,8 +55,9 @@ class OnlineFilter(Protocol):
         """Samples ``foot``'s segment has room for."""
         ...
 
-    def samples(self, foot: int) -> Sequence[NDArray[Any]]:
-        """``foot``'s samples given so far: t, acc, gyr, stance (views)."""
+    def samples(self, foot: int) -> Any:
+        """``foot``'s samples given so far, a NamedTuple of arrays ``t``, ``acc``, ``gyr``,
+        ``stance`` (views)."""
         ...
 
     def index(self, foot: int) -> int:

@@ -21,15 +21,15 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from footnav.online_contract import OnlineFilter
 from footnav.errors import InvalidInputError
 from footnav.nav.heading import rotate_about_z
 from footnav.nav.initial_alignment import bridged_gaps
-from footnav.types import FootTrajectory, ImuData, StanceResult, stance_intervals
-from footnav.warning_log import recording
+from footnav.online_contract import OnlineFilter
 from footnav.pipeline.online_checks import ChunkChecks
 from footnav.pipeline.online_io import ClosedStep, FootUpdate, ForwardEstimate, as_chunk, empty_update
 from footnav.pipeline.online_steps import StepTracker
+from footnav.types import FootTrajectory, ImuData, StanceResult, stance_intervals
+from footnav.warning_log import recording
 
 __all__ = ["SEGMENT_SAMPLES", "ClosedStep", "FootStream", "FootUpdate", "ForwardEstimate", "as_chunk"]
 

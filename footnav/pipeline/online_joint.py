@@ -37,10 +37,18 @@ from numpy.typing import NDArray
 
 from footnav.errors import CompositionError, DataQualityWarning
 from footnav.fusion.independent import midpoint_path
-from footnav.online_contract import OnlineFilter
-from footnav.fusion.joint import OUTSIDE_SPAN, FeetView, continue_rigidly, forward_only, fused_start, on_whole_span, start_filter
+from footnav.fusion.joint import (
+    OUTSIDE_SPAN,
+    FeetView,
+    continue_rigidly,
+    forward_only,
+    fused_start,
+    on_whole_span,
+    start_filter,
+)
 from footnav.nav.heading import rotate_about_z
 from footnav.nav.spans import CommonSpan, FootCut, common_bounds
+from footnav.online_contract import OnlineFilter
 from footnav.pipeline.online_foot import SEGMENT_SAMPLES, FootStream, _Grow
 from footnav.pipeline.online_io import FootUpdate, ForwardEstimate, empty_update
 from footnav.pipeline.online_steps import StepTracker, stance_runs

@@ -291,13 +291,13 @@ class OnlineEstimatorContract(EstimatorContract):
             for a in range(0, rec.left.n_samples, 37):
                 chunks = [(imu.t[a : a + 37], imu.acc[a : a + 37], imu.gyr[a : a + 37]) for imu in (rec.left, rec.right)]
                 update = stream.push(left=chunks[0], right=chunks[1])
-                for foot in got:
-                    got[foot].append(getattr(update, foot).position)
+                for foot, parts in got.items():
+                    parts.append(getattr(update, foot).position)
             result = stream.close()
-        for foot in got:
-            got[foot].append(getattr(stream.last_update, foot).position)
+        for foot, parts in got.items():
+            parts.append(getattr(stream.last_update, foot).position)
             ref = getattr(offline, foot).position
             np.testing.assert_allclose(getattr(result, foot).position, ref, atol=self.online_atol_m, rtol=0, err_msg=foot)
             if getattr(pipe.estimator, "smoother", None) != "whole":
-                pushed = np.concatenate(got[foot])
+                pushed = np.concatenate(parts)
                 np.testing.assert_allclose(pushed, ref, atol=self.online_atol_m, rtol=0, err_msg=foot)

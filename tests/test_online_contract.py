@@ -7,7 +7,7 @@ from __future__ import annotations
 import math
 import warnings
 from types import SimpleNamespace
-from typing import NamedTuple
+from typing import ClassVar, NamedTuple
 
 import numpy as np
 import pytest
@@ -194,7 +194,7 @@ class TestToyEstimatorIsOnline(OnlineEstimatorContract):
 
 class TestEkfIsOnline(OnlineEstimatorContract):
     component = EkfEstimator
-    params = {"smoother": "step"}
+    params: ClassVar[dict] = {"smoother": "step"}
 
 
 class TestEkfWholeIsOnline(OnlineEstimatorContract):

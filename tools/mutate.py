@@ -101,7 +101,7 @@ def M(name, path, edits, tests, kind=""):
 
 Q, MECH = "footnav/nav/quaternion.py", "footnav/nav/mechanization.py"
 _EKF = "footnav/estimators/ekf/"
-KER, BACK, LOOP, REC = _EKF + "kernels.py", _EKF + "backward.py", _EKF + "loop.py", _EKF + "records.py"
+KER, BACK, LOOP, REC = _EKF + "_kernels.py", _EKF + "_backward.py", _EKF + "_loop.py", _EKF + "_records.py"
 FILT, SM = _EKF + "filter.py", _EKF + "smoother.py"
 KAL = "footnav/nav/kalman.py"
 AL, WIN, HD = "footnav/nav/initial_alignment.py", "footnav/nav/windows.py", "footnav/nav/heading_drift.py"

@@ -18,7 +18,6 @@ from typing import Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from footnav.nav import quaternion as quat
 from footnav.component import (
     MAX_ACC_MPS2,
     MAX_ANGLE_RAD,
@@ -32,15 +31,16 @@ from footnav.component import (
     require_positive,
 )
 from footnav.errors import InvalidParameterError
+from footnav.estimators.ekf._records import FilterNoise
+from footnav.estimators.ekf.filter import InsFilter
+from footnav.estimators.ekf.online import OnlineInsFilter
+from footnav.estimators.ekf.smoother import KEEP_RECORD_MB, SMOOTHERS, SegmentRecords, StepSmoother, smooth
+from footnav.nav import quaternion as quat
 from footnav.nav.floors import LEVEL_RISE_MAX_M
 from footnav.nav.heading import turn_to_first_step
 from footnav.nav.heading_drift import heading_drift_cov, standstill_rate_std
 from footnav.nav.initial_alignment import align_first_stance
 from footnav.types import FootTrajectory, ImuData, StanceResult
-from footnav.estimators.ekf._online import OnlineInsFilter
-from footnav.estimators.ekf.filter import InsFilter
-from footnav.estimators.ekf.records import FilterNoise
-from footnav.estimators.ekf.smoother import KEEP_RECORD_MB, SMOOTHERS, SegmentRecords, StepSmoother, smooth
 
 __all__ = ["EkfEstimator"]
 

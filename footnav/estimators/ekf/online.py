@@ -5,7 +5,7 @@ A stream (:mod:`footnav.pipeline.online`) fills a segment with the samples that 
 the samples it still needs, the state where the filter stands (or at a checkpoint) and the
 step-wise smoother's open step, its record re-indexed to the new segment. Every index this
 module takes or gives is a foot's own sample index in the segment (:meth:`InsFilter.index`'s);
-the record's layout (:class:`~footnav.estimators.ekf.records.Record`) stays inside the EKF.
+the record's layout (:class:`~footnav.estimators.ekf._records.Record`) stays inside the EKF.
 This is the reference implementation of :class:`footnav.component.OnlineFilter`.
 """
 
@@ -16,8 +16,8 @@ from collections.abc import Sequence
 import numpy as np
 from numpy.typing import NDArray
 
+from footnav.estimators.ekf._records import EV_SAMPLE, Record
 from footnav.estimators.ekf.filter import InsFilter
-from footnav.estimators.ekf.records import Record
 from footnav.estimators.ekf.smoother import StepSmoother
 
 __all__ = ["OnlineInsFilter"]
@@ -37,7 +37,7 @@ class OnlineInsFilter(InsFilter):
         if not fill:
             return None
         rec = ss.record
-        mine = (rec.foot[:fill] == foot) & (rec.nu[:fill] >= 0) & (rec.k[:fill] >= 0)  # samples (k -1: an update between them)
+        mine = (rec.foot[:fill] == foot) & (rec.kind[:fill] == EV_SAMPLE)
         if not mine.any():
             return None
         return int(rec.k[:fill][mine].min()) - self.global_index(foot, 0)
@@ -128,7 +128,7 @@ class OnlineInsFilter(InsFilter):
             return
         rec = Record(*(np.array(x) for x in ss.record))
         for f in range(self.n_feet):
-            mine = (rec.foot[:fill] == f) & (rec.k[:fill] >= 0)
+            mine = (rec.foot[:fill] == f) & (rec.kind[:fill] == EV_SAMPLE)
             rec.k[:fill][mine] += new.global_index(f, 0) - self.global_index(f, 0) - keep[f]
         nss.record = rec
         nss.fill[:] = ss.fill

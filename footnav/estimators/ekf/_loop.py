@@ -166,7 +166,7 @@ def _position_update(foot, y0, y1, y2, r, state, n, ws, record, rec, fill):
     ``r`` per axis, m^2), fed back into every foot (the joint covariance links them) and
     recorded as an ``EV_OWN_UPDATE`` event. False (nothing changed) when S is not positive
     definite. One signature for every caller: each would compile its own otherwise."""
-    q, v, p, ba, bg, f_n, cov = state
+    q, v, p, ba, bg, cov = state.q, state.v, state.p, state.ba, state.bg, state.cov
     dx, gain, sy = ws.dx, ws.gain, ws.sy
     o = foot * n
     if not update3(cov, dx, o + POS, y0, y1, y2, r, np.inf, gain, sy, ws.hp):
@@ -309,7 +309,7 @@ def _propagate(f, kp, kn, samples, state, model, ws):
 def _zero_updates(f, kn, gyr, state, model, ws):
     """Foot ``f``'s updates at stance sample ``kn``: the ZUPT, then the ZARU. Returns how many
     were applied (0, 1 or 2); their K, S^-1 y and y are left in ``ws``."""
-    q, v, p, ba, bg, f_n, cov = state
+    q, v, p, ba, bg, cov = state.q, state.v, state.p, state.ba, state.bg, state.cov
     n = model.n
     o = f * n
     y = ws.y
@@ -354,21 +354,27 @@ def _record_sample(rec, fill, f, kn, dt, nu, n, big, ws):
                 rec.c[e, i, j] = ws.c[i, j]
     fill[0] = e + 1
     if nu > 0:  # an update row (a sample in swing has none)
-        row = fill[1]
-        for u in range(nu):
-            rec.base[row, u] = o + (VEL if u == 0 else GYR_BIAS)
-        for a in range(3 * nu):
-            rec.y[row, a] = ws.y[a]
+        _record_updates(rec, fill, o, nu, big, ws)
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def _record_updates(rec, fill, o, nu, big, ws):
+    """A sample's ``nu`` updates (the ZUPT's, then the ZARU's) as the update row at ``fill[1]``."""
+    row = fill[1]
+    for u in range(nu):
+        rec.base[row, u] = o + (VEL if u == 0 else GYR_BIAS)
+    for a in range(3 * nu):
+        rec.y[row, a] = ws.y[a]
+    for a in range(3):
+        rec.sy[row, a] = ws.sy[a]
+        for i in range(big):
+            rec.gain[row, i, a] = ws.gain[i, a]
+    if nu > 1:
         for a in range(3):
-            rec.sy[row, a] = ws.sy[a]
+            rec.sy[row, 3 + a] = ws.sy_z[a]
             for i in range(big):
-                rec.gain[row, i, a] = ws.gain[i, a]
-        if nu > 1:
-            for a in range(3):
-                rec.sy[row, 3 + a] = ws.sy_z[a]
-                for i in range(big):
-                    rec.gain[row, i, 3 + a] = ws.gain_z[i, a]
-        fill[1] = row + 1
+                rec.gain[row, i, 3 + a] = ws.gain_z[i, a]
+    fill[1] = row + 1
 
 
 @njit(cache=True, inline="always", error_model="numpy")
@@ -439,13 +445,12 @@ def run(samples, span, state, model, out, mode, bufs, ws, watch, replay):
     if watch is not None:  # pruned at compile time when None (numba's dead-branch pruning)
         n_watch = len(watch.times)
     while events < span.max_events:
-        if replay is not None:
-            if replay.next[0] < replay.end:
-                _replay_log(replay, replay.before + events, state, n, ws, record, bufs.rec, fill)
+        if replay is not None:  # a replay's logged updates at this instant
+            _replay_log(replay, replay.before + events, state, n, ws, record, bufs.rec, fill)
         if mode == MODE_RECORD and fill[0] >= capacity:  # the loop's own updates filled it
             return FULL, events
         f = _next_foot(samples.t, k, stop_at, t_stop)
-        if watch is not None:
+        if watch is not None:  # noqa: SIM102 - one test per statement: numba prunes this one when None
             if n_watch:
                 t_next = samples.t[k[f] + 1] if f >= 0 else np.inf
                 status = _watched(watch, replay, stance, k, state, model, ws, record, step, bufs, t_next, t_stop, replay.before + events, n_feet, out)
@@ -472,9 +477,8 @@ def run(samples, span, state, model, out, mode, bufs, ws, watch, replay):
             if span.step_stops:
                 reason = STEP_END
                 break
-    if replay is not None:
-        if replay.next[0] < replay.end:  # a replay's updates at its last instant, before its checkpoint
-            _replay_log(replay, replay.before + events, state, n, ws, record, bufs.rec, fill)
+    if replay is not None:  # a replay's updates at its last instant, before its checkpoint
+        _replay_log(replay, replay.before + events, state, n, ws, record, bufs.rec, fill)
     if mode == MODE_WHOLE:
         _cut(bufs, step, state.cov, model, n_feet, out, ws)
     return reason, events

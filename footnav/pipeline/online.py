@@ -19,8 +19,9 @@ How it stays equal to the offline run, per foot (:mod:`footnav.pipeline.online_f
    offline ones but where the window's typical stride is not the walk's, ``online_exact`` False).
    A detector without a bounded latency (``latency_s = None``: the HMM's Viterbi path needs the
    whole recording) is refused.
-2. **The forward filter** (the estimator's :class:`~footnav.online_contract.OnlineFilter`, aligned
-   by ``estimator.start`` once the first stance is final; the EKF's ``OnlineInsFilter``) runs on the final samples. The filter
+2. **The forward filter** (the estimator's :class:`~footnav.online_contract.OnlineFilter`, e.g.
+   the EKF's ``OnlineInsFilter``, aligned by ``estimator.start`` once the first stance is
+   final) runs on the final samples. The filter
    is built over a fixed-size *segment* of samples that the stream fills as they become final;
    when the segment is full, a new one starts from the filter's last checkpoint at a step end
    (its state, covariance and the step-wise smoother's chaining value there). The filter is

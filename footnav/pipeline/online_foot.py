@@ -6,7 +6,7 @@ Global sample indices count the foot's samples since the stream began; the filte
 local index ``k`` is global ``seg0 + k``. What the stream guarantees (the offline causal run,
 bounded memory, the latency) is explained in :mod:`footnav.pipeline.online`.
 
-A segment is the estimator's online filter (:class:`footnav.component.OnlineFilter`, e.g. the
+A segment is the estimator's online filter (:class:`footnav.online_contract.OnlineFilter`, e.g. the
 EKF's) with room for the samples to come (``capacity``), fed the final samples with ``extend``
 and started from a step-end checkpoint of the previous segment with ``rebase``: the stream reads
 no filter's internals. What a push takes and returns is in :mod:`footnav.pipeline.online_io`.

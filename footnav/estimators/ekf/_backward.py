@@ -1,11 +1,12 @@
 """The compiled backward pass of the RTS smoother (Bryson-Frazier form) over a recorded run.
 
 The mathematics is in :mod:`footnav.estimators.ekf.smoother`; this module holds what runs per
-event of the filter's event log (:class:`~footnav.estimators.ekf._records.Record`): one small
-inlined helper per job (a sample's smoothed output, back through a 3-block update, a caller's
-update, a transition; the step-wise smoother's chaining) and the pass itself, which the
-forward loop (:mod:`footnav.estimators.ekf._loop`) calls where a step or a segment ends, so that
-recording and smoothing need no second compiled entry point.
+event of the filter's event log (:class:`~footnav.estimators.ekf._records.Record`, read by its
+named fields and each event's ``kind``): the adjoint's transition ``mu <- F' mu``,
+``d <- F^-1 d``, the step-wise smoother's chaining and the pass itself, which the forward loop
+(:mod:`footnav.estimators.ekf._loop`) calls where a step or a segment ends, so that recording
+and smoothing need no second compiled entry point. (The per-event work stays in the pass's body,
+the log's arrays unpacked once: see :mod:`._loop` on helpers per sample.)
 """
 
 from __future__ import annotations
@@ -53,85 +54,22 @@ def _finv_apply(d, o, n, x, y, z, c, e, dt):
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def _smoothed_sample(o, k, d, out_q, out_v, out_p, sm_q, sm_v, sm_p, dq, q_tmp):
-    """A sample's smoothed output: its filtered one corrected by ``-d`` (foot block at ``o``)."""
-    from_rotvec_nb(d[o], d[o + 1], d[o + 2], dq)
-    multiply_nb(dq, out_q[k], q_tmp)
-    normalize_nb(q_tmp)
-    for i in range(4):
-        sm_q[k, i] = q_tmp[i]
-    for i in range(3):
-        sm_v[k, i] = out_v[k, i] - d[o + 3 + i]
-        sm_p[k, i] = out_p[k, i] - d[o + 6 + i]
-
-
-@njit(cache=True, inline="always", error_model="numpy")
-def _back_gain(rec, row, col, m, mu, d, kt, big):
-    """Back through one update's K (columns ``col:col + m`` of ``row``): ``kt = S^-1 y - K' mu``,
-    ``d <- d + K y``."""
-    for a in range(m):
-        acc = rec.sy[row, col + a]
-        for i in range(big):
-            acc -= rec.gain[row, i, col + a] * mu[i]
-        kt[a] = acc
-    for i in range(big):
-        acc = 0.0
-        for a in range(m):
-            acc += rec.gain[row, i, col + a] * rec.y[row, col + a]
-        d[i] += acc
-
-
-@njit(cache=True, inline="always", error_model="numpy")
-def _back_selections(rec, row, updates, mu, d, kt, big):
-    """Back through ``updates`` 3-block selection updates of ``row``, last first:
-    ``mu <- mu + H' kt`` with H a selection (its 3-block at ``base``)."""
-    for u in range(updates - 1, -1, -1):
-        _back_gain(rec, row, 3 * u, 3, mu, d, kt, big)
-        for a in range(3):
-            mu[rec.base[row, u] + a] += kt[a]
-
-
-@njit(cache=True, inline="always", error_model="numpy")
-def _back_caller_update(rec, row, m, mu, d, kt, big):
-    """Back through a caller's update of ``m`` rows: K in ``row``, H' in ``row + 1``;
-    ``mu <- mu + H' kt``."""
-    _back_gain(rec, row, 0, m, mu, d, kt, big)
-    for i in range(big):
-        acc = 0.0
-        for a in range(m):
-            acc += rec.gain[row + 1, i, a] * kt[a]
-        mu[i] += acc
-
-
-@njit(cache=True, inline="always", error_model="numpy")
-def _back_transition(rec, e, o, n, q_diag, mu, d):
-    """Back through sample ``e``'s transition: ``d <- F^-1 (d - Q mu)``, ``mu <- F' mu``."""
-    dt = rec.dt[e]
-    for i in range(n):
-        d[o + i] -= q_diag[i] * dt * mu[o + i]
-    x, y, z = rec.fdt[e, 0], rec.fdt[e, 1], rec.fdt[e, 2]
-    _finv_apply(d, o, n, x, y, z, rec.c, e, dt)
-    _ft_apply(mu, o, n, x, y, z, rec.c, e, dt)
-
-
-@njit(cache=True, inline="always", error_model="numpy")
-def _chain_steps(rec, used, n, n_feet, d, out_p, sm_p, ws):
+def _chain_steps(ev_foot, ev_k, ev_kind, used, n, n_feet, d, out_p, sm_p, offset, seen):
     """Each foot's smoothed positions of the step moved to start where its previous step's
     smoothing left it (``d``: P mu before the step; a foot's first sample in it follows its
     start sample)."""
-    offset, seen = ws.offset, ws.seen
     for f in range(n_feet):
         seen[f] = 0.0
     for e in range(used):
-        f = rec.foot[e]
-        if rec.kind[e] == EV_SAMPLE and seen[f] == 0.0:
+        f = ev_foot[e]
+        if ev_kind[e] == EV_SAMPLE and seen[f] == 0.0:
             seen[f] = 1.0
-            k0 = rec.k[e] - 1
+            k0 = ev_k[e] - 1
             for i in range(3):
                 offset[f, i] = d[f * n + 6 + i] + sm_p[k0, i] - out_p[k0, i]
     for e in range(used):
-        if rec.kind[e] == EV_SAMPLE:
-            f, k = rec.foot[e], rec.k[e]
+        if ev_kind[e] == EV_SAMPLE:
+            f, k = ev_foot[e], ev_k[e]
             for i in range(3):
                 sm_p[k, i] += offset[f, i]
 
@@ -155,9 +93,14 @@ def smooth_back(fill, chain, cov, mu, d, n, n_feet, q_diag, rec, out, sm, ws):
     an integral: the step's smoothed displacement is added to its smoothed start). On return,
     ``mu`` and ``d`` are those before the first event.
     """
+    # the arrays unpacked once, out of the loops: a tuple's field read in a loop costs numba a
+    # reference count each time (measured: the loop 2x slower)
+    ev_foot, ev_k, ev_fdt, ev_dt, ev_c, ev_kind, ev_width, ev_base, ev_gain, ev_sy, ev_y = rec
+    out_q, out_v, out_p = out.q, out.v, out.p
+    sm_q, sm_v, sm_p = sm.q, sm.v, sm.p
+    kt, dq, q_tmp = ws.kt, ws.dq, ws.q_tmp
     big = len(mu)
     used, row = fill[0], fill[1]
-    kt = ws.kt
     for i in range(big):
         if chain:
             mu[i] = 0.0
@@ -168,18 +111,57 @@ def smooth_back(fill, chain, cov, mu, d, n, n_feet, q_diag, rec, out, sm, ws):
                 acc += cov[i, j] * mu[j]
             d[i] = acc
     for e in range(used - 1, -1, -1):
-        kind = rec.kind[e]
-        o = rec.foot[e] * n
+        kind = ev_kind[e]
+        o = ev_foot[e] * n
+        k = ev_k[e]
         if kind == EV_SAMPLE:  # its smoothed output, then back through its updates and transition
-            _smoothed_sample(o, rec.k[e], d, out.q, out.v, out.p, sm.q, sm.v, sm.p, ws.dq, ws.q_tmp)
-        # an event's update rows come before the next event's
-        if kind == EV_CALLER_UPDATE:
+            from_rotvec_nb(d[o], d[o + 1], d[o + 2], dq)
+            multiply_nb(dq, out_q[k], q_tmp)
+            normalize_nb(q_tmp)
+            for i in range(4):
+                sm_q[k, i] = q_tmp[i]
+            for i in range(3):
+                sm_v[k, i] = out_v[k, i] - d[o + 3 + i]
+                sm_p[k, i] = out_p[k, i] - d[o + 6 + i]
+        # its updates, last first (an event's update rows come before the next event's): 3-block
+        # selections (a sample's ZUPT and ZARU, K in columns 3u:3u+3; the loop's own update), or
+        # a caller's of m rows (K in columns 0:m of its first row, H' in those of its second)
+        caller = kind == EV_CALLER_UPDATE
+        m = ev_width[e] if caller else 3
+        updates = 1 if caller else ev_width[e] // 3
+        if caller:
             row -= CALLER_UPDATE_ROWS
-            _back_caller_update(rec, row, rec.width[e], mu, d, kt, big)
-        elif rec.width[e] > 0:
+        elif updates > 0:
             row -= 1
-            _back_selections(rec, row, rec.width[e] // 3, mu, d, kt, big)
-        if kind == EV_SAMPLE:
-            _back_transition(rec, e, o, n, q_diag, mu, d)
+        for u in range(updates - 1, -1, -1):
+            col = 3 * u
+            for a in range(m):  # kt = S^-1 y - K' mu
+                acc = ev_sy[row, col + a]
+                for i in range(big):
+                    acc -= ev_gain[row, i, col + a] * mu[i]
+                kt[a] = acc
+            for i in range(big):  # d <- d + K y
+                acc = 0.0
+                for a in range(m):
+                    acc += ev_gain[row, i, col + a] * ev_y[row, col + a]
+                d[i] += acc
+            if caller:  # mu <- mu + H' kt
+                for i in range(big):
+                    acc = 0.0
+                    for a in range(m):
+                        acc += ev_gain[row + 1, i, a] * kt[a]
+                    mu[i] += acc
+            else:
+                for a in range(m):
+                    mu[ev_base[row, u] + a] += kt[a]
+        if kind != EV_SAMPLE:
+            continue
+        # back through the sample's transition: d <- F^-1 (d - Q mu), mu <- F' mu
+        dt = ev_dt[e]
+        for i in range(n):
+            d[o + i] -= q_diag[i] * dt * mu[o + i]
+        x, y, z = ev_fdt[e, 0], ev_fdt[e, 1], ev_fdt[e, 2]
+        _finv_apply(d, o, n, x, y, z, ev_c, e, dt)
+        _ft_apply(mu, o, n, x, y, z, ev_c, e, dt)
     if chain:
-        _chain_steps(rec, used, n, n_feet, d, out.p, sm.p, ws)
+        _chain_steps(ev_foot, ev_k, ev_kind, used, n, n_feet, d, out_p, sm_p, ws.offset, ws.seen)

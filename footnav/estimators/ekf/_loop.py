@@ -2,19 +2,23 @@
 
 Two feet share one covariance: each foot's samples are processed in time order, and a
 measurement that links the feet (Zhao et al. (2019), eq. 7) updates both. One compiled entry
-point, :func:`run`, does all the per-sample work by small one-job helpers, inlined into it:
-:func:`_propagate` (strapdown and covariance prediction), :func:`_zero_updates` (ZUPT, then
-ZARU), :func:`_position_update` (the loop's own update between samples, a range projection),
-:func:`_record_sample` (the event log the smoother reads, :class:`~footnav.estimators.ekf._records.Record`)
-and :func:`_write_output`; step-wise smoothing at each step end, and the whole-walk smoother's
-recording, replay and backward pass of one segment
-(:func:`footnav.estimators.ekf._backward.smooth_back`). One entry point keeps the first call's
-compilation short: each compiled caller would re-optimise the loop it calls.
+point, :func:`run`, does the per-sample work: the strapdown and covariance prediction, the ZUPT
+and ZARU, the record of each event in the event log the smoother reads
+(:class:`~footnav.estimators.ekf._records.Record`, by kind), the outputs; the jobs around it are
+one-job helpers: :func:`_next_foot`, the range watch (:func:`_apart`, :func:`_watched`,
+:func:`_project`), the loop's own update between samples (:func:`_position_update`,
+:func:`_logged_update`, :func:`_replay_log`) and the backward pass where a step or a segment
+ends (:func:`_cut`, :func:`footnav.estimators.ekf._backward.smooth_back`). One entry point keeps
+the first call's compilation short: each compiled caller would re-optimise the loop it calls.
 
 Its arguments are named tuples (:class:`Span`, :class:`Model`, :class:`Buffers`, :class:`Watch`,
-:class:`Replay`; numba passes a tuple as one argument and reads its fields by name), its mode
-and its stop reason small enums mirrored as ints for the compiled code.
-"""
+:class:`Replay`; numba passes a tuple as one argument), unpacked once at the top of :func:`run`;
+its mode and its stop reason small enums mirrored as ints for the compiled code. The per-sample
+steps stay in :func:`run`'s body, with their arrays unpacked once, on measurement: helpers
+inlined per sample (``_propagate``, ``_zero_updates``, ``_record_sample``, ``_write_output``,
+each with the arrays as arguments) made the loop 10-25 % slower (numba counts references for
+each array argument it binds, and for each field read of a tuple), and reading the tuples'
+fields per sample 2x slower."""
 
 from __future__ import annotations
 
@@ -144,19 +148,18 @@ def _next_foot(t, k, stop_at, t_stop):
 
 
 @njit(cache=True, error_model="numpy")
-def _apart(watch, p, t_next, t_stop):
-    """Check the watched times before ``t_next`` (and not after ``t_stop``) from
-    ``watch.index[0]`` on: True at the first where feet 0 and 1 are more than ``watch.bound_m``
-    apart, the index left there; else False, the index past the checked times."""
-    times = watch.times
-    i = watch.index[0]
+def _apart(times, index, bound_m, p, t_next, t_stop):
+    """Check the watched ``times`` before ``t_next`` (and not after ``t_stop``) from
+    ``index[0]`` on: True at the first where feet 0 and 1 are more than ``bound_m`` apart, the
+    index left there; else False, the index past the checked times."""
+    i = index[0]
     while i < len(times) and times[i] < t_next and times[i] <= t_stop:
         dx, dy, dz = p[0, 0] - p[1, 0], p[0, 1] - p[1, 1], p[0, 2] - p[1, 2]
-        if not np.sqrt(dx * dx + dy * dy + dz * dz) <= watch.bound_m:  # a NaN distance stops too
-            watch.index[0] = i
+        if not np.sqrt(dx * dx + dy * dy + dz * dz) <= bound_m:  # a NaN distance stops too
+            index[0] = i
             return True
         i += 1
-    watch.index[0] = i
+    index[0] = i
     return False
 
 
@@ -262,13 +265,14 @@ def _cut(bufs, step, cov, model, n_feet, out, ws):
     bufs.fill[1] = 0
 
 
-@njit(cache=True, inline="always", error_model="numpy")
+@njit(cache=True, error_model="numpy")
 def _watched(watch, replay, stance, k, state, model, ws, record, step, bufs, t_next, t_stop, event, n_feet, out):
-    """The watched times before the next sample's ``t_next`` (all of them at the end): every
-    sample at or before each is processed now. -1 to go on, else the reason to return."""
+    """The feet are apart at the watched time ``watch.index[0]`` (:func:`_apart`): project them
+    (or stop), then go on through the watched times before the next sample's ``t_next``; -1
+    to go on, else the reason to return."""
     fill = bufs.fill
     capacity = len(bufs.rec.k)
-    while _apart(watch, state.p, t_next, t_stop):
+    while True:
         if not watch.var_m2 > 0.0:
             return APART
         if record and fill[0] + 3 > capacity:  # room for two projections and the next sample
@@ -279,117 +283,8 @@ def _watched(watch, replay, stance, k, state, model, ws, record, step, bufs, t_n
         if status != DONE:
             return status
         watch.index[0] += 1
-    return -1
-
-
-@njit(cache=True, inline="always", error_model="numpy")
-def _propagate(f, kp, kn, samples, state, model, ws):
-    """Foot ``f`` from sample ``kp`` to ``kn``: the strapdown and the covariance prediction.
-    Returns dt; ``ws.f_prev`` holds f^n at the interval's start, ``ws.c`` C there (15 states)."""
-    t, acc, gyr = samples.t, samples.acc, samples.gyr
-    q, v, p, ba, bg, f_n, cov = state
-    n = model.n
-    a_prev, w_prev, a_cur, w_cur, f_prev, c = ws.a_prev, ws.w_prev, ws.a_cur, ws.w_cur, ws.f_prev, ws.c
-    for i in range(3):
-        a_prev[i] = acc[kp, i] - ba[f, i]
-        w_prev[i] = gyr[kp, i] - bg[f, i]
-        a_cur[i] = acc[kn, i] - ba[f, i]
-        w_cur[i] = gyr[kn, i] - bg[f, i]
-    dt = t[kn] - t[kp]
-    # F uses the attitude (bias columns only) and specific force at the start of the interval
-    if n == 15:
-        as_matrix_nb(q[f], c)
-    f_prev[0], f_prev[1], f_prev[2] = f_n[f, 0], f_n[f, 1], f_n[f, 2]  # strapdown_step overwrites f_n[f] with f^n(k)
-    strapdown_step(q, v, p, f_n, f, a_prev, w_prev, a_cur, w_cur, dt, ws.dq, ws.q_tmp, ws.c_next)
-    predict_cov(cov, f * n, n, f_prev, c, dt, model.q_diag)
-    return dt
-
-
-@njit(cache=True, inline="always", error_model="numpy")
-def _zero_updates(f, kn, gyr, state, model, ws):
-    """Foot ``f``'s updates at stance sample ``kn``: the ZUPT, then the ZARU. Returns how many
-    were applied (0, 1 or 2); their K, S^-1 y and y are left in ``ws``."""
-    q, v, p, ba, bg, cov = state.q, state.v, state.p, state.ba, state.bg, state.cov
-    n = model.n
-    o = f * n
-    y = ws.y
-    nu = 0
-    # ZUPT: z = v^ - 0 = dv + noise
-    y[0], y[1], y[2] = v[f, 0], v[f, 1], v[f, 2]
-    if update3(cov, ws.dx, o + VEL, y[0], y[1], y[2], model.r_zupt, np.inf, ws.gain, ws.sy, ws.hp):
-        # the foot's own block of dx only, though P took all of it (P - K H P): once a fusion
-        # links the feet, the other foot's share is dropped, by choice (docs/concepts.md,
-        # "The joint filter's ZUPT feedback": feeding all of it back measured 2-15 mm worse)
-        feedback(q, v, p, ba, bg, f, ws.dx, o, n, ws.dq, ws.q_tmp)
-        nu = 1
-    # zero angular rate, after the ZUPT (sequential updates with R block-diagonal equal
-    # the joint one): w^ = w - bg^, so -w^ = dbg + noise. Skipped when the rate is
-    # implausible for a still foot (chi-square gate): a detected stance is not always
-    # still, and real rotation would be taken for gyro bias
-    if model.r_zaru > 0.0 and n == 15 and nu == 1:
-        for i in range(3):
-            y[3 + i] = bg[f, i] - gyr[kn, i]
-        if update3(cov, ws.dx, o + GYR_BIAS, y[3], y[4], y[5], model.r_zaru, ZARU_GATE, ws.gain_z, ws.sy_z, ws.hp):
-            feedback(q, v, p, ba, bg, f, ws.dx, o, n, ws.dq, ws.q_tmp)
-            nu = 2
-    return nu
-
-
-@njit(cache=True, inline="always", error_model="numpy")
-def _record_sample(rec, fill, f, kn, dt, nu, n, big, ws):
-    """Sample ``kn`` of foot ``f`` as the ``EV_SAMPLE`` event at ``fill[0]``: its transition
-    (f^n dt, dt, C) and, with ``nu`` updates, their row at ``fill[1]``."""
-    e = fill[0]
-    o = f * n
-    rec.foot[e] = f
-    rec.k[e] = kn
-    rec.kind[e] = EV_SAMPLE
-    rec.width[e] = 3 * nu
-    rec.dt[e] = dt
-    f_prev = ws.f_prev
-    rec.fdt[e, 0], rec.fdt[e, 1], rec.fdt[e, 2] = f_prev[0] * dt, f_prev[1] * dt, f_prev[2] * dt
-    if n == 15:
-        for i in range(3):
-            for j in range(3):
-                rec.c[e, i, j] = ws.c[i, j]
-    fill[0] = e + 1
-    if nu > 0:  # an update row (a sample in swing has none)
-        _record_updates(rec, fill, o, nu, big, ws)
-
-
-@njit(cache=True, inline="always", error_model="numpy")
-def _record_updates(rec, fill, o, nu, big, ws):
-    """A sample's ``nu`` updates (the ZUPT's, then the ZARU's) as the update row at ``fill[1]``."""
-    row = fill[1]
-    for u in range(nu):
-        rec.base[row, u] = o + (VEL if u == 0 else GYR_BIAS)
-    for a in range(3 * nu):
-        rec.y[row, a] = ws.y[a]
-    for a in range(3):
-        rec.sy[row, a] = ws.sy[a]
-        for i in range(big):
-            rec.gain[row, i, a] = ws.gain[i, a]
-    if nu > 1:
-        for a in range(3):
-            rec.sy[row, 3 + a] = ws.sy_z[a]
-            for i in range(big):
-                rec.gain[row, i, 3 + a] = ws.gain_z[i, a]
-    fill[1] = row + 1
-
-
-@njit(cache=True, inline="always", error_model="numpy")
-def _write_output(out, kn, state, f, o):
-    """Sample ``kn``'s forward estimate: foot ``f``'s state and position covariance."""
-    q, v, p, cov = state.q, state.v, state.p, state.cov
-    for i in range(4):
-        out.q[kn, i] = q[f, i]
-    for i in range(3):
-        out.v[kn, i] = v[f, i]
-        out.p[kn, i] = p[f, i]
-    out.pcov[kn, 0] = cov[o + POS, o + POS]
-    out.pcov[kn, 1] = cov[o + POS, o + POS + 1]
-    out.pcov[kn, 2] = cov[o + POS + 1, o + POS + 1]
-    out.pcov[kn, 3] = cov[o + POS + 2, o + POS + 2]
+        if not _apart(watch.times, watch.index, watch.bound_m, state.p, t_next, t_stop):
+            return -1
 
 
 @njit(cache=True, error_model="numpy")
@@ -424,16 +319,24 @@ def run(samples, span, state, model, out, mode, bufs, ws, watch, replay):
 
     Returns (reason, events): a :class:`Stop` and the samples processed.
     """
-    stance = samples.stance
+    # every array unpacked once, out of the loop: a tuple's field read per sample costs numba a
+    # reference count each time (measured: the loop 2x slower)
+    t, acc, gyr, stance = samples
+    q, v, p, ba, bg, f_n, cov = state
+    out_q, out_v, out_p, out_pcov = out
     k, stop_at, t_stop = span.k, span.stop_at, span.t_stop
-    n_feet = len(k)
-    n = model.n
-    big = state.cov.shape[0]
+    n, q_diag, r_zupt, r_zaru = model
+    ev_foot, ev_k, ev_fdt, ev_dt, ev_c, ev_kind, ev_width, ev_base, ev_gain, ev_sy, ev_y = bufs.rec
     fill = bufs.fill
-    capacity = len(bufs.rec.k)
+    c, c_next, dq, q_tmp, f_prev = ws.c, ws.c_next, ws.dq, ws.q_tmp, ws.f_prev
+    a_prev, w_prev, a_cur, w_cur = ws.a_prev, ws.w_prev, ws.a_cur, ws.w_cur
+    y, sy, sy_z, dx, gain, gain_z, hp = ws.y, ws.sy, ws.sy_z, ws.dx, ws.gain, ws.gain_z, ws.hp
+    n_feet = len(k)
+    big = cov.shape[0]
+    capacity = len(ev_k)
     step = mode == MODE_STEP or mode == MODE_CLOSE  # a variable, not a literal: one compiled pass
     if mode == MODE_CLOSE or mode == MODE_BACK:
-        _cut(bufs, step, state.cov, model, n_feet, out, ws)
+        _cut(bufs, step, cov, model, n_feet, out, ws)
         return DONE, 0
     record = mode == MODE_STEP or mode == MODE_WHOLE or mode == MODE_RECORD
     if mode == MODE_WHOLE:
@@ -444,18 +347,25 @@ def run(samples, span, state, model, out, mode, bufs, ws, watch, replay):
     n_watch = 0
     if watch is not None:  # pruned at compile time when None (numba's dead-branch pruning)
         n_watch = len(watch.times)
+        w_times, w_index, w_bound = watch.times, watch.index, watch.bound_m
+    if replay is not None:  # pruned with the watch (the filter passes both or neither)
+        r_next, r_end, r_before = replay.next, replay.end, replay.before
     while events < span.max_events:
-        if replay is not None:  # a replay's logged updates at this instant
-            _replay_log(replay, replay.before + events, state, n, ws, record, bufs.rec, fill)
+        if replay is not None:  # noqa: SIM102 - one test per statement: numba prunes this one when None
+            if r_next[0] < r_end:  # a replay's logged updates at this instant
+                _replay_log(replay, r_before + events, state, n, ws, record, bufs.rec, fill)
         if mode == MODE_RECORD and fill[0] >= capacity:  # the loop's own updates filled it
             return FULL, events
-        f = _next_foot(samples.t, k, stop_at, t_stop)
+        f = _next_foot(t, k, stop_at, t_stop)
         if watch is not None:  # noqa: SIM102 - one test per statement: numba prunes this one when None
             if n_watch:
-                t_next = samples.t[k[f] + 1] if f >= 0 else np.inf
-                status = _watched(watch, replay, stance, k, state, model, ws, record, step, bufs, t_next, t_stop, replay.before + events, n_feet, out)
-                if status >= 0:
-                    return status, events
+                # the watched times before the next sample (all of them at the end): every sample
+                # at or before each is processed now
+                t_next = t[k[f] + 1] if f >= 0 else np.inf
+                if _apart(w_times, w_index, w_bound, p, t_next, t_stop):
+                    status = _watched(watch, replay, stance, k, state, model, ws, record, step, bufs, t_next, t_stop, r_before + events, n_feet, out)
+                    if status >= 0:
+                        return status, events
         if f < 0:
             reason = DONE
             break
@@ -463,22 +373,90 @@ def run(samples, span, state, model, out, mode, bufs, ws, watch, replay):
         kp = k[f]
         kn = kp + 1
         k[f] = kn
-        dt = _propagate(f, kp, kn, samples, state, model, ws)
-        nu = _zero_updates(f, kn, samples.gyr, state, model, ws) if stance[kn] else 0
+        # the strapdown; F uses the attitude (bias columns only) and the specific force at the
+        # start of the interval (strapdown_step overwrites f_n[f] with f^n(k))
+        for i in range(3):
+            a_prev[i] = acc[kp, i] - ba[f, i]
+            w_prev[i] = gyr[kp, i] - bg[f, i]
+            a_cur[i] = acc[kn, i] - ba[f, i]
+            w_cur[i] = gyr[kn, i] - bg[f, i]
+        dt = t[kn] - t[kp]
+        if n == 15:
+            as_matrix_nb(q[f], c)
+        f_prev[0], f_prev[1], f_prev[2] = f_n[f, 0], f_n[f, 1], f_n[f, 2]
+        strapdown_step(q, v, p, f_n, f, a_prev, w_prev, a_cur, w_cur, dt, dq, q_tmp, c_next)
+        predict_cov(cov, o, n, f_prev, c, dt, q_diag)
+        nu = 0
+        if stance[kn]:
+            # ZUPT: z = v^ - 0 = dv + noise
+            y[0], y[1], y[2] = v[f, 0], v[f, 1], v[f, 2]
+            if update3(cov, dx, o + VEL, y[0], y[1], y[2], r_zupt, np.inf, gain, sy, hp):
+                # the foot's own block of dx only, though P took all of it (P - K H P): once a
+                # fusion links the feet, the other foot's share is dropped, by choice
+                # (docs/concepts.md, "The joint filter's ZUPT feedback": all of it measured worse)
+                feedback(q, v, p, ba, bg, f, dx, o, n, dq, q_tmp)
+                nu = 1
+            # zero angular rate, after the ZUPT (sequential updates with R block-diagonal equal
+            # the joint one): w^ = w - bg^, so -w^ = dbg + noise. Skipped when the rate is
+            # implausible for a still foot (chi-square gate): a detected stance is not always
+            # still, and real rotation would be taken for gyro bias
+            if r_zaru > 0.0 and n == 15 and nu == 1:
+                for i in range(3):
+                    y[3 + i] = bg[f, i] - gyr[kn, i]
+                if update3(cov, dx, o + GYR_BIAS, y[3], y[4], y[5], r_zaru, ZARU_GATE, gain_z, sy_z, hp):
+                    feedback(q, v, p, ba, bg, f, dx, o, n, dq, q_tmp)
+                    nu = 2
         if record:
             if fill[0] == capacity:  # a full buffer: the step is cut here (MODE_STEP only)
-                _cut(bufs, step, state.cov, model, n_feet, out, ws)
-            _record_sample(bufs.rec, fill, f, kn, dt, nu, n, big, ws)
-        _write_output(out, kn, state, f, o)
+                _cut(bufs, step, cov, model, n_feet, out, ws)
+            # the sample as the EV_SAMPLE event at fill[0]: its transition and its width
+            e = fill[0]
+            ev_foot[e] = f
+            ev_k[e] = kn
+            ev_kind[e] = EV_SAMPLE
+            ev_width[e] = 3 * nu
+            ev_dt[e] = dt
+            ev_fdt[e, 0], ev_fdt[e, 1], ev_fdt[e, 2] = f_prev[0] * dt, f_prev[1] * dt, f_prev[2] * dt
+            if n == 15:
+                for i in range(3):
+                    for j in range(3):
+                        ev_c[e, i, j] = c[i, j]
+            fill[0] = e + 1
+            if nu > 0:  # its updates' row at fill[1] (a sample in swing has none)
+                row = fill[1]
+                for u in range(nu):
+                    ev_base[row, u] = o + (VEL if u == 0 else GYR_BIAS)
+                for a in range(3 * nu):
+                    ev_y[row, a] = y[a]
+                for a in range(3):
+                    ev_sy[row, a] = sy[a]
+                    for i in range(big):
+                        ev_gain[row, i, a] = gain[i, a]
+                if nu > 1:
+                    for a in range(3):
+                        ev_sy[row, 3 + a] = sy_z[a]
+                        for i in range(big):
+                            ev_gain[row, i, 3 + a] = gain_z[i, a]
+                fill[1] = row + 1
+        for i in range(4):
+            out_q[kn, i] = q[f, i]
+        for i in range(3):
+            out_v[kn, i] = v[f, i]
+            out_p[kn, i] = p[f, i]
+        out_pcov[kn, 0] = cov[o + POS, o + POS]
+        out_pcov[kn, 1] = cov[o + POS, o + POS + 1]
+        out_pcov[kn, 2] = cov[o + POS + 1, o + POS + 1]
+        out_pcov[kn, 3] = cov[o + POS + 2, o + POS + 2]
         events += 1
         if stance[kn] and kn < stop_at[f] and not stance[kn + 1]:  # the foot's stance ends: a step
             if mode == MODE_STEP:
-                _cut(bufs, step, state.cov, model, n_feet, out, ws)
+                _cut(bufs, step, cov, model, n_feet, out, ws)
             if span.step_stops:
                 reason = STEP_END
                 break
-    if replay is not None:  # a replay's updates at its last instant, before its checkpoint
-        _replay_log(replay, replay.before + events, state, n, ws, record, bufs.rec, fill)
+    if replay is not None:  # noqa: SIM102 - one test per statement: numba prunes this one when None
+        if r_next[0] < r_end:  # a replay's updates at its last instant, before its checkpoint
+            _replay_log(replay, r_before + events, state, n, ws, record, bufs.rec, fill)
     if mode == MODE_WHOLE:
-        _cut(bufs, step, state.cov, model, n_feet, out, ws)
+        _cut(bufs, step, cov, model, n_feet, out, ws)
     return reason, events

@@ -39,8 +39,8 @@ from footnav.errors import InvalidParameterError
 from footnav.types import FootTrajectory, FusionResult, Recording, StanceResult, stance_intervals
 
 __all__ = [
-    "ComponentContract", "DetectorContract", "EstimatorContract", "FusionContract", "StepableEstimatorContract",
-    "contract_walk",
+    "ComponentContract", "DetectorContract", "EstimatorContract", "FusionContract", "OnlineEstimatorContract",
+    "StepableEstimatorContract", "contract_walk",
 ]
 
 _WALK: dict[int, Recording] = {}
@@ -244,3 +244,60 @@ class StepableEstimatorContract(EstimatorContract):
                 assert err <= MAX_FUSION_ERROR_M, f"{name}: {foot} foot ends {err:.2f} m from its true position"
             signed = _signed_separation(rec, res)
             assert signed >= MIN_SIGNED_SEPARATION_M, f"{name}: the left foot is {-signed:.2f} m right of the right foot"
+
+
+class OnlineEstimatorContract(EstimatorContract):
+    """Contract for an estimator a stream runs (:class:`footnav.online_contract.OnlineEstimator`):
+    it has every member, its ``start`` returns an :class:`~footnav.online_contract.OnlineFilter`,
+    and the ``threshold`` detector's pipeline with it, fed both feet of the contract walk in
+    chunks into filter segments of ``online_segment`` samples (many ``rebase`` s), returns the
+    offline run's positions within ``online_atol_m`` (per step with ``smoother="whole"``: its
+    pushes are then smoothed per step, only ``close`` is compared)."""
+
+    #: Filter segment size in the stream test (samples; a stream's default is 16384).
+    online_segment: ClassVar[int] = 300
+    #: Largest difference of the online positions from the offline ones, m.
+    online_atol_m: ClassVar[float] = 1e-9
+
+    def test_has_every_member_of_the_online_protocol(self):
+        from footnav.online_contract import OnlineEstimator, online_gaps
+
+        est = self.make()
+        assert online_gaps(est) == [], f"{self.component.__name__} lacks {online_gaps(est)}"
+        assert isinstance(est, OnlineEstimator)
+
+    def test_start_returns_an_online_filter(self):
+        from footnav.online_contract import ONLINE_FILTER_MEMBERS, OnlineFilter
+
+        rec = contract_walk()
+        filt = self.make().start([rec.left], [StanceResult(rec.truth_left.stance)])
+        missing = [m for m in ONLINE_FILTER_MEMBERS if not hasattr(filt, m)]
+        assert isinstance(filt, OnlineFilter), f"start() returned a {type(filt).__name__} lacking {missing}"
+
+    def test_a_stream_in_small_segments_gives_the_offline_result(self, monkeypatch):
+        import warnings
+
+        from footnav.pipeline import online_foot
+        from footnav.pipeline.factory import make_pipeline
+
+        monkeypatch.setattr(online_foot, "SEGMENT_SAMPLES", self.online_segment)
+        rec = contract_walk()
+        pipe = make_pipeline("threshold", self.make(), "independent")
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            offline = pipe.run(rec.left, rec.right)
+            stream = pipe.online(feet=2)
+            got: dict[str, list] = {"left": [], "right": []}
+            for a in range(0, rec.left.n_samples, 37):
+                chunks = [(imu.t[a : a + 37], imu.acc[a : a + 37], imu.gyr[a : a + 37]) for imu in (rec.left, rec.right)]
+                update = stream.push(left=chunks[0], right=chunks[1])
+                for foot, parts in got.items():
+                    parts.append(getattr(update, foot).position)
+            result = stream.close()
+        for foot, parts in got.items():
+            parts.append(getattr(stream.last_update, foot).position)
+            ref = getattr(offline, foot).position
+            np.testing.assert_allclose(getattr(result, foot).position, ref, atol=self.online_atol_m, rtol=0, err_msg=foot)
+            if getattr(pipe.estimator, "smoother", None) != "whole":
+                pushed = np.concatenate(parts)
+                np.testing.assert_allclose(pushed, ref, atol=self.online_atol_m, rtol=0, err_msg=foot)

@@ -14,7 +14,7 @@ PACKAGE = Path(__file__).resolve().parents[1] / "footnav"
 #: Rank of each top-level part of the package: a module may import its own rank or lower.
 LAYERS = {
     "_version": 0, "_numba": 0, "errors": 0, "warning_log": 0, "types": 0,
-    "component": 1, "nav": 1,
+    "component": 1, "online_contract": 1, "nav": 1,
     "detectors": 2, "estimators": 2, "fusion": 2, "heading_aids": 2,
     "pipeline": 3, "plugins": 3,
     "analysis": 4, "data": 4, "report": 4,
@@ -100,6 +100,17 @@ def test_the_check_catches_an_import_that_runs_back_up(tmp_path, monkeypatch):
     assert len(found) == 2
     assert "footnav.types.imu (layer 0) imports footnav.pipeline.factory (layer 3)" in found[0]
     assert "imports the package root" in found[1]
+
+
+def test_the_pipeline_imports_nothing_of_the_ekf():
+    """The pipeline runs any estimator through the contracts (footnav.component,
+    footnav.online_contract), never through the EKF's own modules (issue 38)."""
+    bad = [
+        f"{p.relative_to(PACKAGE.parent)}:{line}: {target}"
+        for p in _sources() if module_name(p).startswith("footnav.pipeline")
+        for line, target in imports(p) if target.startswith("footnav.estimators.ekf")
+    ]
+    assert bad == []
 
 
 @pytest.mark.parametrize("path", _sources(), ids=lambda p: str(p.relative_to(PACKAGE)))

@@ -101,7 +101,7 @@ def M(name, path, edits, tests, kind=""):
 
 Q, MECH = "footnav/nav/quaternion.py", "footnav/nav/mechanization.py"
 _EKF = "footnav/estimators/ekf/"
-KER, BACK, LOOP, REC = _EKF + "kernels.py", _EKF + "backward.py", _EKF + "loop.py", _EKF + "records.py"
+KER, BACK, LOOP, REC = _EKF + "_kernels.py", _EKF + "_backward.py", _EKF + "_loop.py", _EKF + "_records.py"
 FILT, SM = _EKF + "filter.py", _EKF + "smoother.py"
 KAL = "footnav/nav/kalman.py"
 AL, WIN, HD = "footnav/nav/initial_alignment.py", "footnav/nav/windows.py", "footnav/nav/heading_drift.py"
@@ -182,20 +182,20 @@ MUTANTS: list[Mutant] = [
       FILTER, "missing term"),
     M("ins-f-end-of-interval", LOOP, ("predict_cov(cov, o, n, f_prev, c, dt, q_diag)", "predict_cov(cov, o, n, f_n[f], c, dt, q_diag)"),
       FILTER, "off-by-one"),
-    M("ins-update-r-as-std", FILT, ("s = hm @ ph + np.diag(r)", "s = hm @ ph + np.diag(np.sqrt(r))"), SMOOTH + ["tests/fusion"], "wrong unit"),
-    M("ins-update-dx-sign", FILT, ("dx = gain @ y", "dx = -(gain @ y)"), SMOOTH + ["tests/fusion"], "sign"),
+    M("ins-update-r-as-std", KAL, ("acc += r[a]", "acc += np.sqrt(r[a])"), SMOOTH + ["tests/fusion"], "wrong unit"),
+    M("ins-update-dx-sign", KAL, ("dx[i] = acc", "dx[i] = -acc"), SMOOTH + ["tests/fusion"], "sign"),
     # -- estimators/ekf/smoother.py ---------------------------------------------------------
     M("smooth-caller-adjoint-sign", SM, ("mu += h.T @ (sy - gain.T @ mu)", "mu += h.T @ (sy + gain.T @ mu)"),
       SMOOTH + ["tests/fusion"], "sign"),
     M("smooth-initial-position-sign", SM, ("out.p[a : k + 1] - d[6:9]", "out.p[a : k + 1] + d[6:9]"), SMOOTH, "sign"),
     M("smooth-initial-velocity-dropped", SM, ("sm_v[a : k + 1] = out.v[a : k + 1] - d[3:6]", "sm_v[a : k + 1] = out.v[a : k + 1]"),
       SMOOTH, "missing term"),
-    M("smooth-caller-updates-order", SM, ("in reversed(cps[b].updates):", "in cps[b].updates:"), SMOOTH + ["tests/fusion", "tests/core/test_mutants_smoother_order.py"], "order"),
-    M("smooth-step-h-sign", SM, ("rec.gain[e, :, m : 2 * m] = h.T", "rec.gain[e, :, m : 2 * m] = -h.T"),
+    M("smooth-caller-updates-order", SM, ("for h, gain, sy, _ in reversed(cps[b].updates[", "for h, gain, sy, _ in (cps[b].updates["), SMOOTH + ["tests/fusion", "tests/core/test_mutants_smoother_order.py"], "order"),
+    M("smooth-step-h-sign", SM, ("record.gain[row + 1, :, :m] = h.T", "record.gain[row + 1, :, :m] = -h.T"),
       SMOOTH + ["tests/fusion"], "sign"),
     M("smooth-initial-q-swapped", SM, ("quat.multiply(dq, out.q[a : k + 1])", "quat.multiply(out.q[a : k + 1], dq)"),
       SMOOTH, "swapped arguments"),
-    M("smooth-keep-threshold", SM, ("or 2 * used < self.capacity:", "or used < self.capacity:"), SMOOTH, "constant"),
+    M("smooth-keep-threshold", SM, ("while self.nbytes > self.budget_bytes:", "while self.nbytes > 2 * self.budget_bytes:"), SMOOTH, "constant"),
     # -- core/initial_alignment.py -----------------------------------------------------------
     M("align-roll-sign", AL, ("roll = np.arctan2(f[1], f[2])", "roll = np.arctan2(-f[1], f[2])"), ALIGN, "sign"),
     M("align-pitch-sign", AL, ("pitch = np.arctan2(-f[0], np.hypot(f[1], f[2]))", "pitch = np.arctan2(f[0], np.hypot(f[1], f[2]))"),
@@ -210,7 +210,7 @@ MUTANTS: list[Mutant] = [
       WINDOWS, "off-by-one"),
     M("win-rms-denominator", WIN, ("np.maximum(sum_of_squares, 0.0) / win)", "np.maximum(sum_of_squares, 0.0) / (win - 1))"), WINDOWS, "off-by-one"),
     M("win-variance-sign", WIN, ("mean_sq_c - np.einsum", "mean_sq_c + np.einsum"), WINDOWS, "sign"),
-    M("win-gravity-literal", WIN, ("np.linalg.norm(acc, axis=1) - GRAVITY_MPS2) ** 2", "np.linalg.norm(acc, axis=1) - 9.81) ** 2"),
+    M("win-gravity-literal", WIN, ("(row_norms(acc) - GRAVITY_MPS2) ** 2", "(row_norms(acc) - 9.81) ** 2"),
       WINDOWS, "constant"),
     # -- core/heading_drift.py ---------------------------------------------------------------
     M("drift-lever-sign", HD, ("ax, ay = -vel[k - 1, 1] * dt, vel[k - 1, 0] * dt", "ax, ay = vel[k - 1, 1] * dt, vel[k - 1, 0] * dt"),
@@ -272,8 +272,8 @@ MUTANTS: list[Mutant] = [
     M("glrt-sigma-gyr-degrees", GLRT, ("OPENSHOE_SIGMA_GYR_RADPS = 0.1 * np.pi / 180.0", "OPENSHOE_SIGMA_GYR_RADPS = 0.1"), DETECT, "wrong unit"),
     M("thr-combine-center-shift", THR, ("np.arange(n_samples) - win // 2, 0, k_last)", "np.arange(n_samples) - win // 2 + 1, 0, k_last)"),
       DETECT, "off-by-one"),
-    M("thr-min-stance-boundary", THR, ("if stop - start < min_len:", "if stop - start <= min_len:"), DETECT, "boundary"),
-    M("thr-min-swing-boundary", THR, ("if next_start - stop < min_gap:", "if next_start - stop <= min_gap:"), DETECT, "boundary"),
+    M("thr-min-stance-boundary", THR, ("if j - i < min_len:", "if j - i <= min_len:"), DETECT, "boundary"),
+    M("thr-min-swing-boundary", THR, ("if stop >= 0 and i - stop < min_gap:", "if stop >= 0 and i - stop <= min_gap:"), DETECT, "boundary"),
     M("thr-heel-off-index", THR, ('"heel_off": runs[:, 1] - 1}', '"heel_off": runs[:, 1]}'), DETECT, "off-by-one"),
     M("thr-combine-slice", THR, ("filtered[win // 2 : win // 2 + n_samples]", "filtered[win // 2 + 1 : win // 2 + 1 + n_samples]"),
       DETECT, "off-by-one"),
@@ -308,19 +308,19 @@ MUTANTS: list[Mutant] = [
     # -- fusion ------------------------------------------------------------------------------
     M("range-mirror", RC, ("z = p[anchor] + sign * bound * u", "z = p[anchor] - sign * bound * u"), FUSION, "sign"),
     M("range-symmetric-sign", RC, ("centre + 0.5 * bound * u", "centre - 0.5 * bound * u"), FUSION, "sign"),
-    M("range-anchor-swapped", RC, ("anchor = LEFT if standing[LEFT] else RIGHT", "anchor = RIGHT if standing[LEFT] else LEFT"), FUSION,
+    M("range-anchor-swapped", RC, ("anchor = LEFT if feet_standing[LEFT] else RIGHT", "anchor = RIGHT if feet_standing[LEFT] else LEFT"), FUSION,
       "swapped arguments"),
     M("range-landing-index", RC, ("imu.t[stance.intervals[1:, 0]]", "imu.t[stance.intervals[1:, 0] - 1]"), FUSION, "off-by-one"),
     M("step-vector-width-side", SV, ("side = 1.0 if front == LEFT else -1.0", "side = -1.0 if front == LEFT else 1.0"), FUSION, "sign"),
-    M("step-vector-theta-half", SV, ("theta = 2.0 * np.arccos(", "theta = np.arccos("), FUSION, "constant"),
-    M("step-vector-pendulum-factor", SV, ("return 2.0 * leg_length_m * np.sin(0.5 * theta)", "return leg_length_m * np.sin(0.5 * theta)"),
+    M("step-vector-theta-half", SV, ("theta = 2.0 * math.acos(", "theta = math.acos("), FUSION, "constant"),
+    M("step-vector-pendulum-factor", SV, ("return 2.0 * leg_length_m * math.sin(0.5 * theta)", "return leg_length_m * math.sin(0.5 * theta)"),
       FUSION, "constant"),
     M("step-vector-fit-half", SV, ("ratios.append(0.5 * stride / s1)", "ratios.append(stride / s1)"), FUSION, "constant"),
     M("step-vector-innovation-sign", SV, ("y = (filt.position(front) - filt.position(rear)) - dp_n", "y = (filt.position(rear) - filt.position(front)) - dp_n"),
       FUSION, "sign"),
     M("step-vector-rot-transposed", SV, ("rot = np.array([[c, -sn, 0.0], [sn, c, 0.0]", "rot = np.array([[c, sn, 0.0], [-sn, c, 0.0]"), FUSION, "transpose"),
-    M("step-vector-frame-dropped", SV, ("filt.update(rot.T @ h, rot.T @ y, r)", "filt.update(h, y, r)"), FUSION, "missing term"),
-    M("step-vector-heel-strike-boundary", SV, ("earlier = hs[(hs <= start)", "earlier = hs[(hs < start)"), FUSION, "boundary"),
+    M("step-vector-frame-dropped", SV, ("filt.update(rot.T @ h, rot.T @ y, self._r)", "filt.update(h, y, self._r)"), FUSION, "missing term"),
+    M("step-vector-heel-strike-boundary", SV, ('j = np.searchsorted(hs, starts, side="right") - 1', 'j = np.searchsorted(hs, starts, side="left") - 1'), FUSION, "boundary"),
     M("dtw-fusion-band-wider", FD, ("band = max(1, int(round(band_s * rate_hz)))", "band = max(1, int(round(band_s * rate_hz)) + 1)"), FUSION, "off-by-one"),
     M("dtw-fusion-heading-band-wider", FD, ("band = max(int(round(self.band_s * self.dtw_rate_hz)),", "band = max(int(round(self.band_s * self.dtw_rate_hz)) + 1,"),
       FUSION, "off-by-one"),
@@ -328,7 +328,7 @@ MUTANTS: list[Mutant] = [
     M("joint-start-sides", JN, ("[np.array([0.0, half, 0.0]), np.array([0.0, -half, 0.0])]", "[np.array([0.0, -half, 0.0]), np.array([0.0, half, 0.0])]"),
       FUSION, "swapped arguments"),
     M("dtw-fusion-offset-side", FD, ("side = 1.0 if moving == LEFT else -1.0", "side = -1.0 if moving == LEFT else 1.0"), FUSION, "sign"),
-    M("particle-update-late", PF, ("(float(imu.t[stop - 1]), foot)", "(float(imu.t[stop]), foot)", 1), FUSION, "off-by-one"),
+    M("particle-update-late", PF, ("landings = [imu.t[st.intervals[1:, 0]]", "landings = [imu.t[st.intervals[1:, 0] + 1]"), FUSION, "off-by-one"),
     M("particle-paper-update-late", PF, ("(float(imu.t[stop - 1]), foot)", "(float(imu.t[stop]), foot)", 0), FUSION, "off-by-one"),
     M("particle-weights-unnormalised", PFC, (("cum = logw[0] / total", "cum = logw[0]"), ("cum += logw[j] / total", "cum += logw[j]")),
       FUSION, "missing term"),
@@ -338,7 +338,7 @@ MUTANTS: list[Mutant] = [
     M("particle-rayleigh-mean", PFC, ("sigma_m * np.sqrt(np.pi / 2)", "sigma_m * np.sqrt(np.pi)"), FUSION, "constant"),
     M("particle-mixture-spread", PFC, ('+ np.einsum("i,ij,ik->jk", a, d, d)', ""), FUSION, "missing term"),
     M("particle-eig-radius", PFC, ("rad = np.sqrt(0.25 * (p - s) ** 2 + q * q)", "rad = np.sqrt(0.5 * (p - s) ** 2 + q * q)"), FUSION, "constant"),
-    M("particle-foot-offset-sign", PF, ("z_foot = z + side * half_width * lateral", "z_foot = z - side * half_width * lateral"), FUSION, "sign"),
+    M("particle-foot-offset-sign", PF, ("z_foot = z + side * 0.5 * self.step_width_m * lateral", "z_foot = z - side * 0.5 * self.step_width_m * lateral"), FUSION, "sign"),
     M("particle-drift-sign", PF, ("drift = -side * offset_rayleigh", "drift = side * offset_rayleigh"), FUSION, "sign"),
     M("particle-gaussian-half", PFC, ('logw = -0.5 * np.einsum("ni,ij,nj->n"', 'logw = -np.einsum("ni,ij,nj->n"'), FUSION, "constant"),
     M("particle-ekf-scale-sqrt", PE, ("s = sigma_m / math.sqrt(b - a)", "s = sigma_m / (b - a)"), FUSION, "missing term"),
@@ -347,7 +347,7 @@ MUTANTS: list[Mutant] = [
       FUSION, "transpose"),
     M("joint-half-width", JN, ("half = 0.5 * float(step_width_m)", "half = float(step_width_m)"), FUSION, "constant"),
     M("joint-alone-std", JN, ("np.sqrt(fused.position_std[k] ** 2 + grow)", "np.sqrt(grow)"), FUSION, "missing term"),
-    M("joint-alone-rotation-transposed", JN, ("- alone.position[anchor]) @ rot.T + fused.position[k]", "- alone.position[anchor]) @ rot + fused.position[k]"),
+    M("joint-alone-rotation-transposed", JN, ("(pos - alone_anchor[0]) @ rot.T + fused_anchor[0]", "(pos - alone_anchor[0]) @ rot + fused_anchor[0]"),
       FUSION, "transpose"),
 ]
 

@@ -9,7 +9,10 @@ Usage::
 Each case runs a pipeline (every detector, every estimator variant, every fusion) on shared
 recordings (``--data-dir``, default ../shared/data; cases whose data is absent are skipped and
 listed) and on simulated walks, and stores every array of the result: positions, velocities,
-quaternions, position stds, footprints and stance masks. ``--compare`` exits 1 when any array
+quaternions, position stds, footprints and stance masks. The online cases (``ONLINE_CASES``) push
+the same recordings through ``pipeline.online`` in chunks, with small filter segments (many
+restarts), and store what the pushes returned (samples, forward estimates, closed steps) and
+``close``'s result. ``--compare`` exits 1 when any array
 differs in shape or in a single bit (NaNs compare equal to NaNs), printing the largest absolute
 difference of each that does.
 """
@@ -51,6 +54,23 @@ CASES = [
     ("gaitdriven-ekf-step", "gaitdriven_31", "adaptive", "ekf", {"smoother": "step"}, "independent"),
 ]
 
+#: (name, recording, detector, estimator params, fusion, fusion params, chunk sizes): online runs.
+STEP = {"smoother": "step"}
+ONLINE_CASES = [
+    ("online-sim-threshold-step", SIM, "threshold", STEP, "independent", {}, (7, 13)),
+    ("online-sim-glrt-15", SIM, "glrt", {**STEP, "bias_states": True}, "independent", {}, (333, 333)),
+    ("online-sim-forward", SIM, "threshold", {"smoother": "none"}, "independent", {}, (50, 50)),
+    ("online-sim-range", SIM, "threshold", STEP, "range", {"max_separation_m": 0.6}, (7, 5)),
+    ("online-sim-range-forward", SIM, "threshold", {"smoother": "none"}, "range", {"max_separation_m": 0.6}, (7, 5)),
+    ("online-sim-step-vector", SIM, "threshold", STEP, "step-vector", {"step_length": "pendulum"}, (7, 5)),
+    ("online-sim-particle", SIM, "threshold", STEP, "particle", {}, (11, 9)),
+    ("online-sim-default", SIM, "adaptive", {}, "independent", {}, (100, 100)),
+    ("online-ipol-range", "ipol_1-1", "threshold", STEP, "range", {}, (64, 64)),
+    ("online-azure-step-vector", "azure_fgo", "threshold", STEP, "step-vector", {"step_length": "pendulum"}, (100, 100)),
+]
+#: The filter segments' size in the online cases (samples; 16384 by default): restarts often.
+ONLINE_SEGMENT = 300
+
 
 def _simulated():
     from footnav import simulate
@@ -72,18 +92,67 @@ def _arrays(result) -> dict[str, np.ndarray]:
     return out
 
 
-def snapshot(data_dir: str | None) -> tuple[dict[str, np.ndarray], list[str]]:
+def _chunks(imu, size):
+    for a in range(0, imu.n_samples, size):
+        yield imu.t[a : a + size], imu.acc[a : a + size], imu.gyr[a : a + size]
+
+
+def _online(pipe, recording, sizes) -> dict[str, np.ndarray]:
+    """Push both feet in chunks (the earlier foot's next chunk first); every array the pushes
+    returned, concatenated per foot, the closed steps, and close()'s result."""
+    from footnav.pipeline import online_foot, online_joint
+
+    saved = online_foot.SEGMENT_SAMPLES, online_joint.SEGMENT_SAMPLES
+    online_foot.SEGMENT_SAMPLES = online_joint.SEGMENT_SAMPLES = ONLINE_SEGMENT
+    try:
+        stream = pipe.online(feet=2)
+        queues = {"left": _chunks(recording.left, sizes[0]), "right": _chunks(recording.right, sizes[1])}
+        heads = {foot: next(q, None) for foot, q in queues.items()}
+        updates = []
+        while any(h is not None for h in heads.values()):
+            foot = min((f for f, h in heads.items() if h is not None), key=lambda f: heads[f][0][0])
+            updates.append(stream.push(**{foot: heads[foot]}))
+            heads[foot] = next(queues[foot], None)
+        result = stream.close()
+        updates.append(stream.last_update)
+    finally:
+        online_foot.SEGMENT_SAMPLES, online_joint.SEGMENT_SAMPLES = saved
+    out = {}
+    for side in ("left", "right"):
+        parts = [getattr(u, side) for u in updates]
+        for name in ("t", "position", "velocity", "quaternion", "stance"):
+            out[f"pushed.{side}.{name}"] = np.concatenate([getattr(p, name) for p in parts])
+        fwd = [p.forward for p in parts if p.forward is not None]
+        for name in ("t", "position", "velocity", "quaternion", "position_cov"):
+            out[f"pushed.{side}.forward.{name}"] = np.array([getattr(e, name) for e in fwd])
+    steps = [s for u in updates for s in u.steps]
+    out["pushed.steps.t"] = np.array([s.t for s in steps])
+    out["pushed.steps.foot"] = np.array([s.foot == "left" for s in steps])
+    out["pushed.steps.position"] = np.array([s.position for s in steps]).reshape(-1, 3)
+    out["pushed.steps.stride_heading"] = np.array([(s.stride_length_m, s.heading_rad) for s in steps]).reshape(-1, 2)
+    if result is not None:
+        out.update({f"closed.{k}": v for k, v in _arrays(result).items()})
+    return out
+
+
+def _recording(recordings: dict, source: str, data_dir: str | None):
     import footnav
     from footnav.data.datasets import load_dataset
 
+    if source not in recordings:
+        try:
+            recordings[source] = _simulated() if source == SIM else load_dataset(source, data_dir)
+        except footnav.FootnavError as exc:
+            recordings[source] = exc
+    return recordings[source]
+
+
+def snapshot(data_dir: str | None) -> tuple[dict[str, np.ndarray], list[str]]:
+    import footnav
+
     arrays, skipped, recordings = {}, [], {}
     for name, source, detector, estimator, params, fusion in CASES:
-        if source not in recordings:
-            try:
-                recordings[source] = _simulated() if source == SIM else load_dataset(source, data_dir)
-            except footnav.FootnavError as exc:
-                recordings[source] = exc
-        recording = recordings[source]
+        recording = _recording(recordings, source, data_dir)
         if isinstance(recording, Exception):
             skipped.append(f"{name}: {recording}")
             continue
@@ -94,6 +163,18 @@ def snapshot(data_dir: str | None) -> tuple[dict[str, np.ndarray], list[str]]:
             result = pipe.run(recording)
         for key, value in _arrays(result).items():
             arrays[f"{name}/{key}"] = value
+        print(f"{name:32s} {time.perf_counter() - start:6.1f} s", flush=True)
+    for name, source, detector, params, fusion, fusion_params, sizes in ONLINE_CASES:
+        recording = _recording(recordings, source, data_dir)
+        if isinstance(recording, Exception):
+            skipped.append(f"{name}: {recording}")
+            continue
+        start = time.perf_counter()
+        pipe = footnav.make_pipeline(detector, "ekf", fusion, estimator_params=params, fusion_params=fusion_params)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            for key, value in _online(pipe, recording, sizes).items():
+                arrays[f"{name}/{key}"] = value
         print(f"{name:32s} {time.perf_counter() - start:6.1f} s", flush=True)
     return arrays, skipped
 

@@ -88,7 +88,7 @@ def warm_worker() -> float:
 def cache_folder() -> str | None:
     """The folder numba caches the ekf's loop in (the other kernels' are beside it), or None
     when footnav compiles without a cache (see :mod:`footnav._numba`)."""
-    from footnav.estimators.ekf.loop import run
+    from footnav.estimators.ekf._loop import run
 
     cache = getattr(run, "_cache", None)
     return getattr(cache, "cache_path", None)

@@ -13,7 +13,7 @@ in O(N) and O(N^2) operations instead of the dense products' O(N^2 m) and O(N^3)
 form of the covariance update (not Joseph's) keeps P symmetric when it is written from one value
 into both triangles; the dense reference the tests compare with is tests/reference_kalman.py.
 
-Callers: :mod:`footnav.estimators.ekf.loop` (its ZUPT and ZARU), :mod:`footnav.estimators.madgwick`
+Callers: :mod:`footnav.estimators.ekf._loop` (its ZUPT and ZARU), :mod:`footnav.estimators.madgwick`
 (its ZUPT); :func:`sym3_inverse` also serves :mod:`footnav.fusion.particle_ekf`.
 
 :func:`update_dense` is the general form for the few measurements a coupled fusion makes per step

@@ -19,8 +19,9 @@ How it stays equal to the offline run, per foot (:mod:`footnav.pipeline.online_f
    offline ones but where the window's typical stride is not the walk's, ``online_exact`` False).
    A detector without a bounded latency (``latency_s = None``: the HMM's Viterbi path needs the
    whole recording) is refused.
-2. **The forward filter** (the estimator's :class:`~footnav.estimators.ekf.InsFilter`, aligned
-   by ``estimator.start`` once the first stance is final) runs on the final samples. The filter
+2. **The forward filter** (the estimator's :class:`~footnav.online_contract.OnlineFilter`, e.g.
+   the EKF's ``OnlineInsFilter``, aligned by ``estimator.start`` once the first stance is
+   final) runs on the final samples. The filter
    is built over a fixed-size *segment* of samples that the stream fills as they become final;
    when the segment is full, a new one starts from the filter's last checkpoint at a step end
    (its state, covariance and the step-wise smoother's chaining value there). The filter is
@@ -68,6 +69,7 @@ from footnav.fusion.independent import midpoint_path
 from footnav.nav.clock_sync import ClockMap
 from footnav.nav.floors import LEVEL_RISE_MAX_M, FloorHolder
 from footnav.nav.initial_alignment import bridged_gaps_message
+from footnav.online_contract import online_gaps
 from footnav.pipeline.online_foot import FootStream
 from footnav.pipeline.online_io import ClosedStep, FootUpdate, ForwardEstimate, as_chunk, empty_update
 from footnav.pipeline.online_joint import JointStream
@@ -542,8 +544,12 @@ def check_online(pipeline: Any, feet: int) -> float:
         if feet < 2:
             raise CompositionError(f"fusion {fus.name!r} fuses both feet in one filter online: it needs feet=2")
         fus.session(est, 0.0)  # refuses parameters that need the whole walk (CompositionError)
-    if not callable(getattr(est, "start", None)):
-        raise CompositionError(f"estimator {est.name!r} has no step-able filter (start(imus, stances)); online mode needs one, such as 'ekf'")
+    gaps = online_gaps(est)
+    if gaps:
+        raise CompositionError(
+            f"estimator {est.name!r} has no step-able filter a stream can run (footnav.online_contract.OnlineEstimator: "
+            f"start(imus, stances) and the rest); it lacks {', '.join(gaps)}; online mode needs one, such as 'ekf'"
+        )
     est.validate_params()
     if getattr(est, "smoother", None) not in ("whole", "step", "none"):
         raise CompositionError(

@@ -6,10 +6,10 @@ Global sample indices count the foot's samples since the stream began; the filte
 local index ``k`` is global ``seg0 + k``. What the stream guarantees (the offline causal run,
 bounded memory, the latency) is explained in :mod:`footnav.pipeline.online`.
 
-A segment is an :class:`~footnav.estimators.ekf.filter.InsFilter` built with room for the
-samples to come (``capacity``), fed the final samples with ``InsFilter.extend`` and started from
-a step-end checkpoint of the previous segment with ``InsFilter.resume``: only public methods.
-What a push takes and returns is in :mod:`footnav.pipeline.online_io`.
+A segment is the estimator's online filter (:class:`footnav.online_contract.OnlineFilter`, e.g. the
+EKF's) with room for the samples to come (``capacity``), fed the final samples with ``extend``
+and started from a step-end checkpoint of the previous segment with ``rebase``: the stream reads
+no filter's internals. What a push takes and returns is in :mod:`footnav.pipeline.online_io`.
 """
 
 from __future__ import annotations
@@ -24,38 +24,17 @@ from numpy.typing import NDArray
 from footnav.errors import InvalidInputError
 from footnav.nav.heading import rotate_about_z
 from footnav.nav.initial_alignment import bridged_gaps
-from footnav.types import FootTrajectory, ImuData, StanceResult, stance_intervals
-from footnav.warning_log import recording
-from footnav.estimators.ekf.filter import InsFilter
-from footnav.estimators.ekf.records import FilterState
-from footnav.estimators.ekf.smoother import StepSmoother
+from footnav.online_contract import OnlineFilter
 from footnav.pipeline.online_checks import ChunkChecks
 from footnav.pipeline.online_io import ClosedStep, FootUpdate, ForwardEstimate, as_chunk, empty_update
 from footnav.pipeline.online_steps import StepTracker
+from footnav.types import FootTrajectory, ImuData, StanceResult, stance_intervals
+from footnav.warning_log import recording
 
-__all__ = ["SEGMENT_SAMPLES", "ClosedStep", "FootStream", "FootUpdate", "ForwardEstimate", "as_chunk", "filter_segment"]
+__all__ = ["SEGMENT_SAMPLES", "ClosedStep", "FootStream", "FootUpdate", "ForwardEstimate", "as_chunk"]
 
 #: Samples a filter segment holds at first (grown when a stance or swing outlasts it).
 SEGMENT_SAMPLES = 16384
-
-
-def filter_segment(samples: list[tuple], size: list[int], like: InsFilter, state: FilterState, base: list[int], step_smoother: bool) -> InsFilter:
-    """A filter with room for ``size[f]`` samples of each foot over its fed ``samples[f]`` (t,
-    acc, gyr, stance), resumed from ``state`` at its sample ``base[f]``, with a checkpoint at
-    every step end (where a new segment can start) and optionally a step-wise smoother;
-    ``like`` (the aligned filter, or the old segment) gives the noise, and the outputs up to
-    ``base`` until the caller copies its own."""
-    n = like.n_states
-    filt = InsFilter(
-        [x[0] for x in samples], [x[1] for x in samples], [x[2] for x in samples], [x[3] for x in samples], list(base),
-        [like.quaternion(f) for f in range(like.n_feet)], [like.position(f) for f in range(like.n_feet)],
-        [like.biases(f)[1] for f in range(like.n_feet)], np.diag(like.covariance)[:n], like.noise, n, capacity=list(size),
-    )
-    filt.step_stops = True
-    if step_smoother:
-        filt.step_smoother = StepSmoother(filt)
-    filt.resume(state, list(base))
-    return filt
 
 
 class _Grow:
@@ -150,9 +129,8 @@ class FootStream:
         self.margin = 0  # final samples re-detected before the frontier, samples
         self.run_start: int | None = None  # start of the stance run open at the frontier
         self.first_stance_closed = False
-        self.filt: InsFilter | None = None
+        self.filt: OnlineFilter | None = None
         self.seg0 = 0
-        self.base_k = 0  # local index of the segment's initial state
         self.n_checkpoints = 1  # the segment's checkpoints already read
         self.start_index = 0  # where the filter started (the first stance), global
         self.meta: dict = {}
@@ -314,55 +292,42 @@ class FootStream:
         # (bridged_gaps), when all of them are known, as the offline estimate says them once
         first = est.start([ImuData(t=t, acc=acc, gyr=gyr, meta=self.input_meta())], [StanceResult(mask=mask)])
         self.start_index = first.start_index(0)
-        self.seg0, self.base_k = 0, self.start_index
-        # the aligned state (f^n too, from the first stance's sample)
-        self._base_state = first.checkpoints[0].state.copy()
-        self.filt = self._segment((t, acc, gyr, mask), max(SEGMENT_SAMPLES, 2 * self.n_final), first, self._base_state, self.base_k)
+        self.seg0 = 0
+        # the aligned state (f^n too, from the first stance's sample): its first checkpoint
+        self.filt = first.rebase([0], [max(SEGMENT_SAMPLES, 2 * self.n_final)], at=0, step_smoother=self._smooths)
         self.n_fed = self.n_final
         self.filt.meta = first.meta
         self.meta = dict(first.meta[0])
         self.n_checkpoints = 1
         return True
 
-    def _segment(self, samples: tuple, size: int, like: InsFilter, state: FilterState, base: int) -> InsFilter:
+    @property
+    def _smooths(self) -> bool:
         # the whole-walk smoother's samples are given step-wise smoothed as they become final
-        return filter_segment([samples], [size], like, state, [base], self.stream.pipeline.estimator.smoother != "none")
+        return self.stream.pipeline.estimator.smoother != "none"
 
     def _restart(self) -> None:
         """A new segment from the old one's last checkpoint (a step end, or a full smoother
         buffer: after either the smoother's record is empty), with the state, the outputs and
         the smoother's chaining value there; the final samples after it are filtered again (the
-        loop is deterministic: the same numbers). Without any checkpoint the segment grows."""
+        loop is deterministic: the same numbers). Without any checkpoint the segment grows, from
+        its start (its first checkpoint)."""
         old = self.filt
-        k_now = old.index(0)
-        cps = old.checkpoints[1:]  # the first is the segment's start
-        if cps:
-            cp = cps[-1]
-            shift, base = int(cp.k[0]), 0
-            state = cp.state
-            if shift == k_now and old.step_smoother is not None and old.step_smoother.fill[0]:
-                old.close_step(old.step_smoother)  # the cut the next sample would make
-            self._harvest(False, upto=shift)
+        if len(old.checkpoints) > 1:  # the first is the segment's start
+            at = len(old.checkpoints) - 1
+            shift = int(old.checkpoints[at].k[0])
             size = max(SEGMENT_SAMPLES, 2 * (self.n_final - self.seg0 - shift))
+            new = old.rebase([shift], [size], at=at)  # closes a full buffer's step where it stands
+            self._harvest(False, upto=shift)
         else:  # a stance or swing longer than the segment: a longer one, from the same start
-            shift, base = 0, self.base_k
-            state = self._base_state
-            size = 2 * max(old.capacity(0), self.n_final - self.seg0)
+            shift, size = 0, 2 * max(old.capacity(0), self.n_final - self.seg0)
+            new = old.rebase([0], [size], at=0)
         n = self.n_fed - self.seg0 - shift
-        new = self._segment(tuple(x[shift : shift + n] for x in old.samples(0)), size, old, state, base)
-        pairs = list(zip(old.outputs(0), new.outputs(0)))
-        if new.step_smoother is not None:
-            pairs += list(zip(old.step_smoother.smoothed, new.step_smoother.smoothed))
-        for src, dst in pairs:
-            dst[: base + 1] = src[shift : shift + base + 1]
-        new.meta = old.meta
         self.filt = new
         self.seg0 += shift
-        self.base_k = base
-        self._base_state = state.copy()
         self.n_checkpoints = 1
         # the fed samples after the checkpoint again (the same numbers: the loop is deterministic)
-        if n - 2 > base:
+        if n - 2 > new.index(0):
             new.run_until(float(new.samples(0).t[n - 2]))
 
     def _harvest(self, final: bool, upto: int | None = None) -> None:
@@ -386,15 +351,12 @@ class FootStream:
             i += 1
         self.n_checkpoints = i
         if final:
-            if filt.step_smoother is not None:
-                filt.close_step(filt.step_smoother)
+            filt.close_open_step()
             end = k_now
         if end is None or self.seg0 + end < self.n_out:
             return
         a, b = self.n_out - self.seg0, end + 1
-        q, v, p, pcov = filt.outputs(0)
-        if filt.step_smoother is not None:
-            q, v, p = filt.step_smoother.smoothed
+        q, v, p, pcov = filt.final_outputs(0)
         fed = filt.samples(0)
         t, stance = fed.t[a:b], fed.stance[a:b]
         self.out.append(t, q[a:b], v[a:b], p[a:b], pcov[a:b], stance)

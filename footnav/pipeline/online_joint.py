@@ -36,13 +36,20 @@ import numpy as np
 from numpy.typing import NDArray
 
 from footnav.errors import CompositionError, DataQualityWarning
-from footnav.estimators.ekf.filter import InsFilter
-from footnav.estimators.ekf.records import Record
 from footnav.fusion.independent import midpoint_path
-from footnav.fusion.joint import OUTSIDE_SPAN, FeetView, continue_rigidly, forward_only, fused_start, on_whole_span, start_filter
+from footnav.fusion.joint import (
+    OUTSIDE_SPAN,
+    FeetView,
+    continue_rigidly,
+    forward_only,
+    fused_start,
+    on_whole_span,
+    start_filter,
+)
 from footnav.nav.heading import rotate_about_z
 from footnav.nav.spans import CommonSpan, FootCut, common_bounds
-from footnav.pipeline.online_foot import SEGMENT_SAMPLES, FootStream, _Grow, filter_segment
+from footnav.online_contract import OnlineFilter
+from footnav.pipeline.online_foot import SEGMENT_SAMPLES, FootStream, _Grow
 from footnav.pipeline.online_io import FootUpdate, ForwardEstimate, empty_update
 from footnav.pipeline.online_steps import StepTracker, stance_runs
 from footnav.types import FootTrajectory, FusionResult, ImuData, StanceResult, stance_intervals
@@ -116,7 +123,7 @@ class JointStream:
             f.steps.collect = False  # the steps are the fused feet's (JointFoot.steps)
         self.start_s: float | None = None
         self.session: Any = None
-        self.filt: InsFilter | None = None
+        self.filt: OnlineFilter | None = None
         self.meta: list[dict] = []
         self.start_index = [0, 0]  # each foot's filter start, in the common span
         self.until = -math.inf  # the joint filter has run to this time
@@ -200,16 +207,16 @@ class JointStream:
         cuts = [self._cut(jf, self._stop(jf, cap)) for jf in self.feet]
         self.session = self.fusion.session(self.estimator, self.start_s)
         first = start_filter(self.estimator, [c[0] for c in cuts], [c[1] for c in cuts], [jf.yaw for jf in self.feet], self.session.step_width_m)
-        if not isinstance(first, InsFilter):
+        if not isinstance(first, OnlineFilter):
             raise CompositionError(
-                f"online fusion {self.fusion.name!r} needs the estimator's filter in segments (footnav's InsFilter); "
+                f"online fusion {self.fusion.name!r} needs the estimator's filter in segments (footnav.component.OnlineFilter); "
                 f"estimator {self.estimator.name!r} gives a {type(first).__name__}"
             )
         self.meta = first.meta
         self.start_index = [first.start_index(f) for f in range(2)]
         samples = [(c[0].t, c[0].acc, c[0].gyr, c[1].mask) for c in cuts]
         size = [max(SEGMENT_SAMPLES, 2 * len(s[0])) for s in samples]
-        self.filt = filter_segment(samples, size, first, first.checkpoints[0].state.copy(), self.start_index, self.smooth)
+        self.filt = first.rebase([0, 0], size, at=0, step_smoother=self.smooth)  # from its aligned start
         self.filt.meta = first.meta
         for f, jf in enumerate(self.feet):
             jf.n_fed = jf.i0 + len(samples[f][0])
@@ -286,9 +293,9 @@ class JointStream:
         filt = self.filt
         cps = filt.checkpoints
         ends = None
-        if final or filt.step_smoother is None:
-            if final and filt.step_smoother is not None:
-                filt.close_step(filt.step_smoother)
+        if final or not self.smooth:
+            if final:
+                filt.close_open_step()
             ends = [filt.index(f) for f in range(2)]
         else:
             for i in range(self.n_checkpoints, len(cps)):
@@ -305,9 +312,7 @@ class JointStream:
             a, b = jf.n_out - jf.seg0, ends[f] + 1
             if b <= a:
                 continue
-            q, v, p, pcov = filt.outputs(f)
-            if filt.step_smoother is not None:
-                q, v, p = (x[filt.global_index(f, 0) : filt.global_index(f, 0) + filt.capacity(f)] for x in filt.step_smoother.smoothed)
+            q, v, p, pcov = filt.final_outputs(f)
             fed = filt.samples(f)
             jf.out.append(fed.t[a:b], q[a:b], v[a:b], p[a:b], pcov[a:b], fed.stance[a:b])
             jf.n_out = jf.seg0 + b
@@ -322,13 +327,11 @@ class JointStream:
                 jf.step_final_at.append((jf.seg0 + k, jf.alone.input.end - 1))
 
     def _restart(self, need: list[int]) -> None:
-        """A new segment where the filter stands, holding each foot's samples not yet final (and
-        the one before, which a step's smoothing chains to), room for its samples up to global
-        index ``need[f]``, and the smoother's open step, its record re-indexed."""
+        """A new segment where the filter stands (:meth:`OnlineFilter.rebase`), holding each
+        foot's samples not yet final (and the one before, which a step's smoothing chains to),
+        room for its samples up to global index ``need[f]``, and the smoother's open step."""
         old = self.filt
-        ss = old.step_smoother
-        fill = int(ss.fill[0]) if ss is not None else 0
-        shift, samples, size, base = [], [], [], []
+        shift, size = [], []
         for f, jf in enumerate(self.feet):
             k_now = old.index(f)
             # the session reads back to history_s before the foot's latest stance start
@@ -337,34 +340,13 @@ class JointStream:
             started = [g for g in jf.run_starts if g <= jf.seg0 + k_now]
             if back and started:
                 s = min(s, started[-1] - jf.seg0 - back)
-            if fill:
-                rec = ss.record
-                mine = (rec.foot[:fill] == f) & (rec.nu[:fill] >= 0) & (rec.k[:fill] >= 0)  # samples (k -1: an update between them)
-                if mine.any():
-                    s = min(s, int(rec.k[:fill][mine].min()) - old.global_index(f, 0) - 1)
+            first = old.open_step_start(f)
+            if first is not None:
+                s = min(s, first - 1)
             s = max(s, 0)
             shift.append(s)
-            samples.append(tuple(x[s:] for x in old.samples(f)))
             size.append(max(SEGMENT_SAMPLES, 2 * (need[f] - jf.seg0 - s)))
-            base.append(k_now - s)
-        new = filter_segment(samples, size, old, old.state(), base, self.smooth)
-        for f in range(2):
-            s, b = shift[f], base[f]
-            for src, dst in zip(old.outputs(f), new.outputs(f)):
-                dst[: b + 1] = src[s : s + b + 1]
-            if ss is not None:
-                go, gn = old.global_index(f, 0), new.global_index(f, 0)
-                for src, dst in zip(ss.smoothed, new.step_smoother.smoothed):
-                    dst[gn : gn + b + 1] = src[go + s : go + s + b + 1]
-        if fill:
-            rec = Record(*(np.array(x) for x in ss.record))
-            for f in range(2):
-                mine = (rec.foot[:fill] == f) & (rec.k[:fill] >= 0)
-                rec.k[:fill][mine] += new.global_index(f, 0) - old.global_index(f, 0) - shift[f]
-            new.step_smoother.record = rec
-            new.step_smoother.fill[:] = ss.fill
-        new.meta = old.meta
-        self.filt = new
+        self.filt = old.rebase(shift, size)
         for f, jf in enumerate(self.feet):
             jf.seg0 += shift[f]
         self.n_checkpoints = 1

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from footnav.estimators.ekf.buffers import staggered
+from footnav.estimators.ekf._buffers import staggered
 
 
 def _span(a):

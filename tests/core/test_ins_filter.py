@@ -10,8 +10,8 @@ from footnav import StanceResult
 from footnav.nav import quaternion as quat
 from footnav.estimators.ekf import EkfEstimator
 from footnav.estimators.ekf import filter as ekf_filter
-from footnav.estimators.ekf.kernels import predict_cov
-from footnav.estimators.ekf.records import FilterNoise
+from footnav.estimators.ekf._kernels import predict_cov
+from footnav.estimators.ekf._records import FilterNoise
 from footnav.estimators.ekf.smoother import SegmentRecords, smooth
 
 
@@ -222,7 +222,7 @@ def test_joint_filter_of_two_independent_feet_equals_two_single_filters():
 
 @pytest.mark.xfail(
     strict=True,
-    reason="known: the loop's ZUPT feeds back only the updated foot's block of dx (loop.run's comment); "
+    reason="known: the loop's ZUPT feeds back only the updated foot's block of dx (docs/concepts.md, the joint filter's ZUPT feedback); "
     "feeding all of it back made dtw and step-vector 0.002-0.015 m worse on azure_fgo and gaitmap until "
     "their noises are chosen again",
 )
@@ -336,12 +336,12 @@ def test_a_kept_chunk_holds_gains_only_for_the_samples_with_updates(monkeypatch)
     sr = filt.segment_records
     sr.finish()  # the open chunk kept in place
     assert len(sr.kept) == len(sr.chunks) >= 3
-    per_event = 8 + 8 + 24 + 8 + 8  # foot, k, f^n dt, dt, nu (9 states: no C)
+    per_event = 8 + 8 + 24 + 8 + 4 + 4  # foot, k, f^n dt, dt, kind, width (9 states: no C)
     per_row = 16 + 9 * 3 * 8 + 24 + 24  # base, K, S^-1 y, y
     *closed, last = sr.kept
     for b, (record, (events, rows), nbytes) in sr.kept.items():
         head = record.head(events, rows)
-        assert rows == np.count_nonzero(head.nu)
+        assert rows == np.count_nonzero(head.width)
         assert nbytes == events * per_event + rows * per_row
         if b != last:  # a closed chunk is a copy of what it used
             assert len(record.k) == events == 300 and len(record.gain) == rows

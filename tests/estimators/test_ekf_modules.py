@@ -10,7 +10,7 @@ import pytest
 from footnav.estimators import ekf
 
 #: The order of footnav/estimators/ekf/__init__.py: each module may import only those before it.
-ORDER = ["buffers", "records", "kernels", "backward", "loop", "filter", "smoother", "estimator"]
+ORDER = ["_buffers", "_records", "_kernels", "_backward", "_loop", "filter", "smoother", "online", "estimator"]
 PACKAGE = Path(ekf.__file__).parent
 
 
@@ -45,8 +45,8 @@ def test_imports_run_one_way(name):
 
 def test_the_check_sees_an_import_back():
     """The rule fails when a lower module imports a higher one (here: records -> filter)."""
-    bad = "from footnav.estimators.ekf import filter as f\nfrom footnav.estimators.ekf.loop import run\n"
-    assert _ekf_imports(bad) == {"filter", "loop"}
+    bad = "from footnav.estimators.ekf import filter as f\nfrom footnav.estimators.ekf._loop import run\n"
+    assert _ekf_imports(bad) == {"filter", "_loop"}
 
 
 def test_public_names_and_registration():
@@ -55,3 +55,8 @@ def test_public_names_and_registration():
     assert type(footnav.make_estimator("ekf")) is ekf.EkfEstimator  # the registration's class
     assert ekf.InsFilter.__module__ == "footnav.estimators.ekf.filter"
     assert ekf.smooth.__module__ == "footnav.estimators.ekf.smoother"
+    assert ekf.OnlineInsFilter.__module__ == "footnav.estimators.ekf.online"
+    # the internals are private: no public module of that name
+    for name in ("loop", "backward", "records", "kernels", "buffers"):
+        assert not (PACKAGE / f"{name}.py").exists()
+        assert hasattr(ekf, "__all__") and name not in ekf.__all__

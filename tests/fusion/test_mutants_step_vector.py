@@ -22,7 +22,7 @@ import pytest
 
 from footnav.types import FootTrajectory, ImuData, StanceResult
 from footnav.estimators.ekf.filter import InsFilter
-from footnav.estimators.ekf.records import POS, FilterNoise
+from footnav.estimators.ekf._records import POS, FilterNoise
 from footnav.fusion.joint import FeetView
 from footnav.fusion.step_vector import StepVectorFusion
 

@@ -18,7 +18,6 @@ from typing import Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from footnav.nav import quaternion as quat
 from footnav.component import (
     MAX_ACC_MPS2,
     MAX_ANGLE_RAD,
@@ -32,14 +31,16 @@ from footnav.component import (
     require_positive,
 )
 from footnav.errors import InvalidParameterError
+from footnav.estimators.ekf._records import FilterNoise
+from footnav.estimators.ekf.filter import InsFilter
+from footnav.estimators.ekf.online import OnlineInsFilter
+from footnav.estimators.ekf.smoother import KEEP_RECORD_MB, SMOOTHERS, SegmentRecords, StepSmoother, smooth
+from footnav.nav import quaternion as quat
 from footnav.nav.floors import LEVEL_RISE_MAX_M
 from footnav.nav.heading import turn_to_first_step
 from footnav.nav.heading_drift import TURN_ON_BIAS_STD_RADPS, heading_drift_cov, standstill_rate_std
 from footnav.nav.initial_alignment import align_first_stance
 from footnav.types import FootTrajectory, ImuData, StanceResult
-from footnav.estimators.ekf.filter import InsFilter
-from footnav.estimators.ekf.records import FilterNoise
-from footnav.estimators.ekf.smoother import KEEP_RECORD_MB, SMOOTHERS, SegmentRecords, StepSmoother, smooth
 
 __all__ = ["EkfEstimator", "GYRO_BIAS_STD_FLOOR_RADPS"]
 
@@ -266,8 +267,9 @@ class EkfEstimator(FootEstimator):
         *,
         initial_yaw_rad: Sequence[float] | None = None,
         initial_position_m: Sequence[NDArray[np.float64]] | None = None,
-    ) -> InsFilter:
-        """Align each foot at its first standstill and return the filter, ready to run.
+    ) -> OnlineInsFilter:
+        """Align each foot at its first standstill and return the filter, ready to run (an
+        :class:`InsFilter` a stream can run in segments, :class:`footnav.component.OnlineFilter`).
 
         Parameters
         ----------
@@ -281,7 +283,7 @@ class EkfEstimator(FootEstimator):
 
         Returns
         -------
-        InsFilter
+        OnlineInsFilter
             Its ``meta`` holds the alignment of each foot.
         """
         self.validate_params()
@@ -309,7 +311,7 @@ class EkfEstimator(FootEstimator):
             gyr_bias_walk_radps2_sqrthz=float(self.gyr_bias_walk_radps2_sqrthz),
             zaru_std_radps=float(self.zaru_std_radps),
         )
-        filt = InsFilter(
+        filt = OnlineInsFilter(
             [imu.t for imu in imus], [imu.acc for imu in imus], [imu.gyr for imu in imus],
             [self._zupt_mask(imu, st) for imu, st in zip(imus, stances)], starts, q0, p0, bg0,
             np.array(cov0), noise, self.n_states,

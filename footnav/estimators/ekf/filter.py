@@ -1,12 +1,12 @@
 """The step-able error-state ZUPT-aided INS for one foot or two feet in one joint filter.
 
-:class:`InsFilter` runs the compiled per-sample loop (:mod:`footnav.estimators.ekf.loop`)
+:class:`InsFilter` runs the compiled per-sample loop (:mod:`footnav.estimators.ekf._loop`)
 between the points where a caller wants to act (:meth:`~InsFilter.run_until`) and keeps
-checkpoints (:class:`~footnav.estimators.ekf.records.Checkpoint`: state and covariance) every
+checkpoints (:class:`~footnav.estimators.ekf._records.Checkpoint`: state and covariance) every
 ``MAX_SEGMENT_EVENTS`` samples and where the caller updates, so that
 :mod:`footnav.estimators.ekf.smoother` can smooth the run afterwards in memory that grows with
 the number of steps (plus a bounded cache of the latest segments' records), not of samples.
-The error model and its kernels are in :mod:`footnav.estimators.ekf.kernels`.
+The error model and its kernels are in :mod:`footnav.estimators.ekf._kernels`.
 
 A stream (:mod:`footnav.pipeline.online`) builds a filter with room for samples still to come
 (``capacity``), hands them over as they arrive (:meth:`~InsFilter.extend`) and starts a new filter
@@ -21,38 +21,27 @@ import numpy as np
 from numpy.typing import NDArray
 
 from footnav.errors import InvalidInputError
+from footnav.estimators.ekf._buffers import staggered
+from footnav.estimators.ekf._kernels import feedback_all
+from footnav.estimators.ekf._loop import (
+    APART, DONE, FULL, MODE_BACK, MODE_CLOSE, MODE_FILTER, MODE_RECORD, MODE_STEP, NOT_PD, STEP_END, Buffers, Model, Replay, Span,
+    Watch, run,
+)
+from footnav.estimators.ekf._records import (
+    ACC_BIAS, ATT, GYR_BIAS, POS, VEL, CallerUpdate, Checkpoint, FilterNoise, FilterState, Outputs, Record, Samples, Smoothed,
+    UpdateLog, Work, empty_log, empty_record, work,
+)
 from footnav.nav.kalman import DENSE_BAD_INPUT, DENSE_NOT_PD, update_dense
 from footnav.nav.quaternion import as_matrix_nb
-from footnav.estimators.ekf.buffers import staggered
-from footnav.estimators.ekf.kernels import feedback_all
-from footnav.estimators.ekf.loop import (
-    APART, DONE, FULL, MODE_BACK, MODE_CLOSE, MODE_FILTER, MODE_RECORD, MODE_STEP, NOT_PD, STEP_END, W_APPLIED, W_NEXT, run,
-)
-from footnav.estimators.ekf.records import (
-    ACC_BIAS,
-    ATT,
-    GYR_BIAS,
-    POS,
-    VEL,
-    CallerUpdate,
-    Checkpoint,
-    FilterNoise,
-    FilterState,
-    Outputs,
-    Record,
-    Samples,
-    Smoothed,
-    UpdateLog,
-    Work,
-    empty_log,
-    empty_record,
-    work,
-)
 
 __all__ = ["MAX_SEGMENT_EVENTS", "InsFilter"]
 
-#: The loop's watch switched off (:meth:`InsFilter.run_until_apart`): no watched times.
-_NO_WATCH = np.zeros(0)
+
+def _watch(times: NDArray[np.float64], bound_m: float = 0.0, var_m2: float = 0.0, symmetric: bool = False, start: int = 0) -> Watch:
+    """The loop's :class:`~footnav.estimators.ekf._loop.Watch` (typed alike for every call: one
+    compilation)."""
+    return Watch(times, float(bound_m), float(var_m2), bool(symmetric), np.array([start], dtype=np.int64), np.zeros(1, dtype=np.int64))
+
 
 #: Largest number of samples between two checkpoints (and in a step-wise smoother's buffer):
 #: bounds the smoother's buffers when a foot stands still for minutes.
@@ -68,7 +57,7 @@ class InsFilter:
     :attr:`covariance`), applies its own measurements (:meth:`update`, :meth:`update_position`)
     between runs, and collects the per-sample results with :meth:`outputs`. Full segments, the
     instants of the caller's updates and (with :attr:`step_stops`) step ends leave a
-    :class:`~footnav.estimators.ekf.records.Checkpoint` for the smoother.
+    :class:`~footnav.estimators.ekf._records.Checkpoint` for the smoother.
 
     Parameters
     ----------
@@ -81,7 +70,7 @@ class InsFilter:
     cov0_diag
         Initial error variances of one foot's states (n_states,), or of each foot's (n_feet, n_states).
     noise
-        The :class:`~footnav.estimators.ekf.records.FilterNoise`.
+        The :class:`~footnav.estimators.ekf._records.FilterNoise`.
     n_states
         States per foot (9 or 15).
     capacity
@@ -104,7 +93,7 @@ class InsFilter:
         A :class:`footnav.estimators.ekf.smoother.SegmentRecords` when the forward run keeps its
         record for the whole-walk smoother, or None.
     checkpoints
-        The :class:`~footnav.estimators.ekf.records.Checkpoint` s so far, the start first.
+        The :class:`~footnav.estimators.ekf._records.Checkpoint` s so far, the start first.
     meta
         Per-foot notes of whoever built the filter (the estimator's alignment).
     """
@@ -182,10 +171,10 @@ class InsFilter:
         self._n_log = 0
         # the record and smoother arguments of a plain filtering call (not used by it; of the
         # same types as a smoother's, so that numba compiles the loop once)
-        self._no_record = empty_record(big)
         self._no_sm = Smoothed(np.zeros((0, 4)), np.zeros((0, 3)), np.zeros((0, 3)))
-        self._no_fill = np.zeros(2, dtype=np.int64)
         self._no_vec = np.zeros(big)
+        self._no_bufs = Buffers(empty_record(big), self._no_sm, np.zeros(2, dtype=np.int64), self._no_vec, self._no_vec)
+        self._model = Model(n_states, self._q_diag, float(noise.zupt_std_mps**2), float(noise.zaru_std_radps**2))
         self._work = work(big, nf)
         self._dense: dict[int, tuple] = {}  # update's scratch by rows
         self.step_smoother = None
@@ -290,7 +279,7 @@ class InsFilter:
         self._stop_at[foot] += m
 
     def resume(self, state: FilterState, index: Sequence[int]) -> None:
-        """Continue from ``state`` (a :class:`~footnav.estimators.ekf.records.Checkpoint`'s, of
+        """Continue from ``state`` (a :class:`~footnav.estimators.ekf._records.Checkpoint`'s, of
         this filter or of another over the same samples), foot f's last processed sample being
         its sample ``index[f]``.
 
@@ -310,25 +299,23 @@ class InsFilter:
             self.segment_records = type(self.segment_records)(self, self.segment_records.budget_bytes / 1e6)
 
     # -- acting --------------------------------------------------------------------------------
-    def _call(self, mode, k, stop_at, t_stop, max_events, step_stops, state, rec, sm, fill, mu, d, watch_times=_NO_WATCH, watch=_NO_WATCH, cursor=None):
-        """One call of the compiled loop from ``state`` (a :class:`FilterState`); ``cursor``:
-        the loop's (samples before, next log entry, end of the entries to replay), default the
-        forward run's (nothing to replay; new entries after the filter's)."""
-        forward = cursor is None
+    def _call(self, mode: int, span: Span, state: FilterState, bufs: Buffers, watch: Watch | None = None, replay: Replay | None = None):
+        """One call of the compiled loop from ``state`` (a :class:`FilterState`); ``replay``
+        default the forward run's (nothing to replay; new entries after the filter's), ``watch``
+        default none."""
+        forward = replay is None
         if forward:
-            cursor = np.array([self._n_events, self._n_log, self._n_log], dtype=np.int64)
-        log = self._log
-        if len(watch_times) == 0 and self._n_log == 0:
-            # nothing to watch and nothing logged to replay: the loop compiled without that code
-            # (None prunes it; a pipeline without the range fusion never compiles it)
-            watch_times = watch = log = None
-        out = run(
-            self._in, stop_at, k, float(t_stop), int(max_events), bool(step_stops), state, self.n_states, self._q_diag,
-            self.noise.zupt_std_mps**2, self.noise.zaru_std_radps**2, self._out, mode, rec, sm, fill, mu, d,
-            self._scratch(rec), watch_times, watch, log, cursor,
-        )
-        if forward:
-            self._n_log = int(cursor[1])
+            replay = Replay(self._log, self._n_events, np.array([self._n_log], dtype=np.int64), self._n_log)
+        if watch is None:
+            if self._n_log == 0:
+                # nothing to watch and nothing logged to replay: the loop compiled without that code
+                # (None prunes it; a pipeline without the range fusion never compiles it)
+                replay = None
+            else:
+                watch = _watch(np.zeros(0))
+        out = run(self._in, span, state, self._model, self._out, mode, bufs, self._scratch(bufs.rec), watch, replay)
+        if forward and replay is not None:
+            self._n_log = int(replay.next[0])
         return out
 
     @property
@@ -345,7 +332,7 @@ class InsFilter:
 
     def run_until(self, t_stop: float = np.inf) -> None:
         """Process every sample with time <= ``t_stop`` (s) of each foot, in time order."""
-        self._run(t_stop, _NO_WATCH, _NO_WATCH)
+        self._run(t_stop, None)
 
     def run_until_apart(self, times: NDArray[np.float64], bound_m: float, start: int = 0) -> int | None:
         """Run through ``times`` (s, increasing) from index ``start`` until the two feet are more
@@ -367,9 +354,9 @@ class InsFilter:
         times = np.ascontiguousarray(times, dtype=np.float64)
         if start >= len(times):
             return None
-        watch = np.array([float(bound_m), float(start), 0.0, 0.0, 0.0])  # no projection: stop
-        if self._run(float(times[-1]), times, watch) == APART:
-            return int(watch[W_NEXT])
+        watch = _watch(times, bound_m, start=start)  # no projection (variance 0): stop
+        if self._run(float(times[-1]), watch) == APART:
+            return int(watch.index[0])
         return None
 
     def run_range_constrained(
@@ -383,7 +370,7 @@ class InsFilter:
         the moving foot onto the sphere around the standing one (``symmetric=False``, one foot
         standing), else both feet about their centroid. Each measurement is fed back into both
         feet and kept for the smoothers like the filter's own updates; a replay from a
-        checkpoint applies it again (:class:`~footnav.estimators.ekf.records.UpdateLog`), so the
+        checkpoint applies it again (:class:`~footnav.estimators.ekf._records.UpdateLog`), so the
         run needs no checkpoint at each, and no return to Python.
 
         Returns
@@ -411,29 +398,27 @@ class InsFilter:
             for old, new in zip(self._log, grown):
                 new[: self._n_log] = old[: self._n_log]
             self._log = grown
-        watch = np.array([float(bound_m), float(start), float(std_m) ** 2, 1.0 if symmetric else 0.0, 0.0])
-        reason = self._run(float(times[-1]), times, watch)
+        watch = _watch(times, bound_m, float(std_m) ** 2, symmetric, start)
+        reason = self._run(float(times[-1]), watch)
         if reason == NOT_PD:
             raise InvalidInputError("range constraint: innovation covariance is not positive definite", field="std_m")
-        return (int(watch[W_NEXT]) if reason == APART else None), int(watch[W_APPLIED])
+        return (int(watch.index[0]) if reason == APART else None), int(watch.applied[0])
 
-    def _run(self, t_stop: float, watch_times: NDArray[np.float64], watch: NDArray[np.float64]) -> int:
-        """:meth:`run_until` with the loop's watch (:func:`footnav.estimators.ekf.loop.run`);
+    def _run(self, t_stop: float, watch: Watch | None) -> int:
+        """:meth:`run_until` with the loop's watch (:func:`footnav.estimators.ekf._loop.run`);
         returns why it stopped: ``DONE``, ``APART`` or ``NOT_PD``."""
         ss, sr = self.step_smoother, self.segment_records
         while True:
             # the buffers anew at each call: a caller's update may widen the step smoother's record
             if ss is not None:
-                mode, bufs = MODE_STEP, (ss.record, ss.smoothed, ss.fill, ss.mu, ss.d)
+                mode, bufs = MODE_STEP, Buffers(ss.record, ss.smoothed, ss.fill, ss.mu, ss.d)
             elif sr is not None:
-                mode, bufs = MODE_RECORD, (sr.record, self._no_sm, sr.fill, self._no_vec, self._no_vec)
+                mode, bufs = MODE_RECORD, Buffers(sr.record, self._no_sm, sr.fill, self._no_vec, self._no_vec)
             else:
-                mode, bufs = MODE_FILTER, (self._no_record, self._no_sm, self._no_fill, self._no_vec, self._no_vec)
+                mode, bufs = MODE_FILTER, self._no_bufs
             # a checkpoint at least every MAX_SEGMENT_EVENTS: the smoother re-runs one at a time
-            reason, events = self._call(
-                mode, self._k, self._stop_at, t_stop, MAX_SEGMENT_EVENTS - self._since_checkpoint, self.step_stops,
-                self._state, *bufs, watch_times, watch,
-            )
+            span = Span(self._stop_at, self._k, float(t_stop), MAX_SEGMENT_EVENTS - self._since_checkpoint, bool(self.step_stops))
+            reason, events = self._call(mode, span, self._state, bufs, watch)
             self._n_events += events
             self._since_checkpoint += events
             # checkpoints where a step ends or a segment is full; a stop for the caller needs one
@@ -460,10 +445,8 @@ class InsFilter:
 
     def close_step(self, smoother) -> None:
         """Smooth ``smoother``'s open step now (:class:`footnav.estimators.ekf.smoother.StepSmoother`)."""
-        self._call(
-            MODE_CLOSE, self._k, self._stop_at, -np.inf, 0, False, self._state,
-            smoother.record, smoother.smoothed, smoother.fill, smoother.mu, smoother.d,
-        )
+        bufs = Buffers(smoother.record, smoother.smoothed, smoother.fill, smoother.mu, smoother.d)
+        self._call(MODE_CLOSE, Span(self._stop_at, self._k, -np.inf, 0, False), self._state, bufs)
 
     def update(
         self,
@@ -563,15 +546,14 @@ class InsFilter:
 
     def replay(self, a: int, b: int, mode: int, record: Record, smoothed: Smoothed, fill, mu, d) -> None:
         """Re-run from checkpoint ``a`` to checkpoint ``b`` in ``mode`` (``MODE_STEP`` or
-        ``MODE_WHOLE``, see :func:`footnav.estimators.ekf.loop.run`) with the smoother's buffers;
+        ``MODE_WHOLE``, see :func:`footnav.estimators.ekf._loop.run`) with the smoother's buffers;
         the filter's own state is untouched and the outputs written meanwhile are the first
         run's (the loop is deterministic)."""
         ca, cb = self.checkpoints[a], self.checkpoints[b]
         n_ev = cb.n_events - ca.n_events
-        cursor = np.array([ca.n_events, ca.n_log, cb.n_log], dtype=np.int64)  # the loop's own updates again
-        _, events = self._call(
-            mode, ca.k.copy(), cb.k.copy(), np.inf, n_ev, False, ca.state.copy(), record, smoothed, fill, mu, d, cursor=cursor,
-        )
+        replay = Replay(self._log, ca.n_events, np.array([ca.n_log], dtype=np.int64), cb.n_log)  # the loop's own updates again
+        span = Span(cb.k.copy(), ca.k.copy(), np.inf, n_ev, False)
+        _, events = self._call(mode, span, ca.state.copy(), Buffers(record, smoothed, fill, mu, d), replay=replay)
         if events != n_ev:  # pragma: no cover - the checkpoints come from this very loop
             raise RuntimeError("replay did not reproduce the forward run")
 
@@ -581,7 +563,7 @@ class InsFilter:
         rows) of ``record``, ``cov`` the covariance after its last event."""
         fill = np.array(fill, dtype=np.int64)
         state = self._state._replace(cov=cov)  # only cov is read
-        self._call(MODE_BACK, self._k, self._stop_at, -np.inf, 0, False, state, record, smoothed, fill, mu, d)
+        self._call(MODE_BACK, Span(self._stop_at, self._k, -np.inf, 0, False), state, Buffers(record, smoothed, fill, mu, d))
 
     def outputs(self, foot: int | None = None) -> Outputs:
         """Per-sample attitude, velocity, position and position covariance (xx, xy, yy, zz) of

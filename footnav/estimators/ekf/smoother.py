@@ -25,13 +25,13 @@ re-runs the segments of a chunk that was not kept from their checkpoints into th
 So memory is O(steps) plus at most that budget, a recording whose record fits in it is filtered
 once, and a fusion's update at every step costs no pass of its own. A sample of one foot with 9 error states
 takes 56 bytes, and 280 more when it has an update (the gain K is most of it; the
-:class:`~footnav.estimators.ekf.records.Record` keeps one only for samples with updates): on the
+:class:`~footnav.estimators.ekf._records.Record` keeps one only for samples with updates): on the
 simulator's walks (42 % of the samples in stance) about 175 bytes, so 64 MB per foot hold about
 an hour of one foot at 100 Hz (31 minutes when every sample held a gain).
 The step-wise smoother records each step as the filter runs and smooths it at its end, inside
 the same compiled loop: two buffers' worth of memory whatever the length of the recording, and
 no sample is run twice.
-The backward pass itself is compiled in :mod:`footnav.estimators.ekf.backward` and run by the
+The backward pass itself is compiled in :mod:`footnav.estimators.ekf._backward` and run by the
 forward loop's smoothing modes; this module decides what is recorded, kept and replayed.
 """
 
@@ -42,12 +42,19 @@ from typing import Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from footnav.nav import quaternion as quat
 from footnav.estimators.ekf import filter as ekf_filter  # MAX_SEGMENT_EVENTS read at run time
-from footnav.estimators.ekf.buffers import staggered
+from footnav.estimators.ekf._buffers import staggered
+from footnav.estimators.ekf._loop import MODE_RECORD, MODE_STEP, MODE_WHOLE
+from footnav.estimators.ekf._records import (
+    CALLER_UPDATE_ROWS,
+    EV_CALLER_UPDATE,
+    SMOOTHED_PLACE,
+    Record,
+    Smoothed,
+    empty_record,
+)
 from footnav.estimators.ekf.filter import InsFilter
-from footnav.estimators.ekf.loop import MODE_RECORD, MODE_STEP, MODE_WHOLE
-from footnav.estimators.ekf.records import SMOOTHED_PLACE, Record, Smoothed, empty_record
+from footnav.nav import quaternion as quat
 
 __all__ = ["KEEP_RECORD_MB", "SMOOTHERS", "SegmentRecords", "StepSmoother", "smooth"]
 
@@ -196,18 +203,19 @@ def has_room(record: Record, fill: NDArray[np.int64]) -> bool:
 
 
 def write_caller_update(record: Record, fill: NDArray[np.int64], h: NDArray, gain: NDArray, sy: NDArray, y: NDArray) -> None:
-    """Record a caller's update of m rows as the event at ``fill[0]`` (``nu`` = -m): K, S^-1 y
-    and y in row ``fill[1]``, H' in the next (:func:`footnav.estimators.ekf.backward.smooth_back`
-    reads them); ``fill`` is advanced."""
+    """Record a caller's update of m rows as the ``EV_CALLER_UPDATE`` event at ``fill[0]`` (its
+    ``width`` m): K, S^-1 y and y in update row ``fill[1]``, H' in the next
+    (:func:`footnav.estimators.ekf._backward.smooth_back` reads them); ``fill`` is advanced."""
     m = len(y)
     e, row = int(fill[0]), int(fill[1])
-    record.nu[e] = -m
+    record.kind[e] = EV_CALLER_UPDATE
+    record.width[e] = m
     record.k[e] = -1  # no sample
     record.gain[row, :, :m] = gain
     record.gain[row + 1, :, :m] = h.T
     record.sy[row, :m] = sy
     record.y[row, :m] = y
-    fill[0], fill[1] = e + 1, row + 2
+    fill[0], fill[1] = e + 1, row + CALLER_UPDATE_ROWS
 
 
 def _nbytes(record: Record) -> int:
@@ -332,7 +340,7 @@ def smooth(filt: InsFilter, mode: Literal["whole", "step"] = "whole") -> Smoothe
 
 def _copy_outputs(filt: InsFilter) -> Smoothed:
     """Copies of the filter's attitude, velocity and position to be smoothed, at page offsets
-    after the filter's own arrays (:mod:`footnav.estimators.ekf.buffers`)."""
+    after the filter's own arrays (:mod:`footnav.estimators.ekf._buffers`)."""
     out = filt.outputs()
     outputs = (out.q, out.v, out.p)
     copies = staggered([(x.shape, x.dtype) for x in outputs], first=SMOOTHED_PLACE)

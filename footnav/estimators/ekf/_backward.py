@@ -1,14 +1,18 @@
 """The compiled backward pass of the RTS smoother (Bryson-Frazier form) over a recorded run.
 
 The mathematics is in :mod:`footnav.estimators.ekf.smoother`; this module holds what runs per
-event: the adjoint's transition ``mu <- F' mu``, ``d <- F^-1 d`` and the pass itself, which the
-forward loop (:mod:`footnav.estimators.ekf.loop`) calls where a step or a segment ends, so that
-recording and smoothing need no second compiled entry point.
+event of the filter's event log (:class:`~footnav.estimators.ekf._records.Record`, read by its
+named fields and each event's ``kind``): the adjoint's transition ``mu <- F' mu``,
+``d <- F^-1 d``, the step-wise smoother's chaining and the pass itself, which the forward loop
+(:mod:`footnav.estimators.ekf._loop`) calls where a step or a segment ends, so that recording
+and smoothing need no second compiled entry point. (The per-event work stays in the pass's body,
+the log's arrays unpacked once: see :mod:`._loop` on helpers per sample.)
 """
 
 from __future__ import annotations
 
 from footnav._numba import njit  # numba.njit that survives a read-only install
+from footnav.estimators.ekf._records import CALLER_UPDATE_ROWS, EV_CALLER_UPDATE, EV_SAMPLE
 from footnav.nav.quaternion import from_rotvec_nb, multiply_nb, normalize_nb
 
 __all__ = ["smooth_back"]
@@ -49,12 +53,34 @@ def _finv_apply(d, o, n, x, y, z, c, e, dt):
     d[o + 8] -= dt * d[o + 5]
 
 
+@njit(cache=True, inline="always", error_model="numpy")
+def _chain_steps(ev_foot, ev_k, ev_kind, used, n, n_feet, d, out_p, sm_p, offset, seen):
+    """Each foot's smoothed positions of the step moved to start where its previous step's
+    smoothing left it (``d``: P mu before the step; a foot's first sample in it follows its
+    start sample)."""
+    for f in range(n_feet):
+        seen[f] = 0.0
+    for e in range(used):
+        f = ev_foot[e]
+        if ev_kind[e] == EV_SAMPLE and seen[f] == 0.0:
+            seen[f] = 1.0
+            k0 = ev_k[e] - 1
+            for i in range(3):
+                offset[f, i] = d[f * n + 6 + i] + sm_p[k0, i] - out_p[k0, i]
+    for e in range(used):
+        if ev_kind[e] == EV_SAMPLE:
+            f, k = ev_foot[e], ev_k[e]
+            for i in range(3):
+                sm_p[k, i] += offset[f, i]
+
+
 @njit(cache=True, error_model="numpy")
 def smooth_back(fill, chain, cov, mu, d, n, n_feet, q_diag, rec, out, sm, ws):
     """Bryson-Frazier backward pass over the recorded events ``fill[0] - 1`` down to 0 (and
-    their ``fill[1]`` update rows, :class:`~footnav.estimators.ekf.records.Record`).
+    their ``fill[1]`` update rows) of the event log ``rec``
+    (:class:`~footnav.estimators.ekf._records.Record`, read by its named fields and kinds).
 
-    Each event's smoothed sample is its filtered output corrected by ``-d``, where ``d = P mu``
+    Each sample's smoothed output is its filtered output corrected by ``-d``, where ``d = P mu``
     is the smoothed minus the filtered error state. Going back through an update (K, y,
     S^-1 y): ``d <- d + K y``, ``mu <- mu + H' (S^-1 y - K' mu)``; through a transition:
     ``d <- F^-1 (d - Q mu)``, ``mu <- F' mu`` (from ``d = P mu``, P- = F P+ F' + Q and
@@ -67,12 +93,14 @@ def smooth_back(fill, chain, cov, mu, d, n, n_feet, q_diag, rec, out, sm, ws):
     an integral: the step's smoothed displacement is added to its smoothed start). On return,
     ``mu`` and ``d`` are those before the first event.
     """
-    ev_foot, ev_k, ev_fdt, ev_dt, ev_c, ev_nu, ev_base, ev_gain, ev_sy, ev_y = rec  # a Record
-    out_q, out_v, out_p = out.q, out.v, out.p  # the filter's Outputs
-    sm_q, sm_v, sm_p = sm  # Smoothed, written
+    # the arrays unpacked once, out of the loops: a tuple's field read in a loop costs numba a
+    # reference count each time (measured: the loop 2x slower)
+    ev_foot, ev_k, ev_fdt, ev_dt, ev_c, ev_kind, ev_width, ev_base, ev_gain, ev_sy, ev_y = rec
+    out_q, out_v, out_p = out.q, out.v, out.p
+    sm_q, sm_v, sm_p = sm.q, sm.v, sm.p
+    kt, dq, q_tmp = ws.kt, ws.dq, ws.q_tmp
     big = len(mu)
     used, row = fill[0], fill[1]
-    kt, dq, q_tmp = ws.kt, ws.dq, ws.q_tmp
     for i in range(big):
         if chain:
             mu[i] = 0.0
@@ -83,10 +111,10 @@ def smooth_back(fill, chain, cov, mu, d, n, n_feet, q_diag, rec, out, sm, ws):
                 acc += cov[i, j] * mu[j]
             d[i] = acc
     for e in range(used - 1, -1, -1):
-        nu = ev_nu[e]
+        kind = ev_kind[e]
         o = ev_foot[e] * n
-        k = ev_k[e]  # -1: the loop's own update between samples, no sample and no transition
-        if nu >= 0 and k >= 0:  # a sample: its smoothed output, then back through its updates and transition
+        k = ev_k[e]
+        if kind == EV_SAMPLE:  # its smoothed output, then back through its updates and transition
             from_rotvec_nb(d[o], d[o + 1], d[o + 2], dq)
             multiply_nb(dq, out_q[k], q_tmp)
             normalize_nb(q_tmp)
@@ -95,28 +123,29 @@ def smooth_back(fill, chain, cov, mu, d, n, n_feet, q_diag, rec, out, sm, ws):
             for i in range(3):
                 sm_v[k, i] = out_v[k, i] - d[o + 3 + i]
                 sm_p[k, i] = out_p[k, i] - d[o + 6 + i]
-        # the updates, last first: a sample's nu 3-state selections (none when nu = 0; K in
-        # columns 3u:3u+3), or a caller's update between samples of m = -nu rows (K in columns
-        # 0:m of its first row, H' in those of its second); an event's rows come before the
-        # next event's
-        m = 3 if nu >= 0 else -nu
-        if nu > 0:
+        # its updates, last first (an event's update rows come before the next event's): 3-block
+        # selections (a sample's ZUPT and ZARU, K in columns 3u:3u+3; the loop's own update), or
+        # a caller's of m rows (K in columns 0:m of its first row, H' in those of its second)
+        caller = kind == EV_CALLER_UPDATE
+        m = ev_width[e] if caller else 3
+        updates = 1 if caller else ev_width[e] // 3
+        if caller:
+            row -= CALLER_UPDATE_ROWS
+        elif updates > 0:
             row -= 1
-        elif nu < 0:
-            row -= 2
-        for u in range((nu if nu >= 0 else 1) - 1, -1, -1):
+        for u in range(updates - 1, -1, -1):
             col = 3 * u
-            for a in range(m):
+            for a in range(m):  # kt = S^-1 y - K' mu
                 acc = ev_sy[row, col + a]
                 for i in range(big):
                     acc -= ev_gain[row, i, col + a] * mu[i]
                 kt[a] = acc
-            for i in range(big):
+            for i in range(big):  # d <- d + K y
                 acc = 0.0
                 for a in range(m):
                     acc += ev_gain[row, i, col + a] * ev_y[row, col + a]
                 d[i] += acc
-            if nu < 0:
+            if caller:  # mu <- mu + H' kt
                 for i in range(big):
                     acc = 0.0
                     for a in range(m):
@@ -125,8 +154,9 @@ def smooth_back(fill, chain, cov, mu, d, n, n_feet, q_diag, rec, out, sm, ws):
             else:
                 for a in range(m):
                     mu[ev_base[row, u] + a] += kt[a]
-        if nu < 0 or k < 0:
+        if kind != EV_SAMPLE:
             continue
+        # back through the sample's transition: d <- F^-1 (d - Q mu), mu <- F' mu
         dt = ev_dt[e]
         for i in range(n):
             d[o + i] -= q_diag[i] * dt * mu[o + i]
@@ -134,20 +164,4 @@ def smooth_back(fill, chain, cov, mu, d, n, n_feet, q_diag, rec, out, sm, ws):
         _finv_apply(d, o, n, x, y, z, ev_c, e, dt)
         _ft_apply(mu, o, n, x, y, z, ev_c, e, dt)
     if chain:
-        # d is now P mu before the step; a foot's first event in it follows its start sample
-        offset, seen = ws.offset, ws.seen
-        for f in range(n_feet):
-            seen[f] = 0.0
-        for e in range(used):
-            f = ev_foot[e]
-            if ev_nu[e] >= 0 and ev_k[e] >= 0 and seen[f] == 0.0:
-                seen[f] = 1.0
-                k0 = ev_k[e] - 1
-                for i in range(3):
-                    offset[f, i] = d[f * n + 6 + i] + sm_p[k0, i] - out_p[k0, i]
-        for e in range(used):
-            if ev_nu[e] >= 0 and ev_k[e] >= 0:
-                f, k = ev_foot[e], ev_k[e]
-                for i in range(3):
-                    sm_p[k, i] += offset[f, i]
-
+        _chain_steps(ev_foot, ev_k, ev_kind, used, n, n_feet, d, out_p, sm_p, ws.offset, ws.seen)

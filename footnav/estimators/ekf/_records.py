@@ -1,6 +1,6 @@
 """The EKF's named types: its noise, its state, a checkpoint, the smoother's record, the loop's scratch.
 
-Everything the forward loop (:mod:`.loop`), the backward pass (:mod:`.backward`), the step-able
+Everything the forward loop (:mod:`._loop`), the backward pass (:mod:`._backward`), the step-able
 filter (:mod:`.filter`) and the smoother (:mod:`.smoother`) hand each other is one of these, with
 named fields, so no module reads another's data by position. They are ``NamedTuple`` s where the
 compiled loop receives them (numba passes a tuple of arrays as one argument, at no cost, and reads
@@ -13,16 +13,20 @@ foot f's block starts at ``f * n_states`` of the joint state, each 3-vector at t
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from enum import IntEnum
 from typing import NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
 
-from footnav.estimators.ekf.buffers import staggered
+from footnav.estimators.ekf._buffers import staggered
 
 __all__ = [
     "ACC_BIAS",
     "ATT",
+    "EV_CALLER_UPDATE",
+    "EV_OWN_UPDATE",
+    "EV_SAMPLE",
     "GYR_BIAS",
     "POS",
     "RECORD_PLACE",
@@ -30,6 +34,7 @@ __all__ = [
     "VEL",
     "CallerUpdate",
     "Checkpoint",
+    "EventKind",
     "FilterNoise",
     "FilterState",
     "Outputs",
@@ -193,39 +198,61 @@ class Smoothed(NamedTuple):
     p: NDArray[np.float64]
 
 
-class Record(NamedTuple):
-    """What the backward pass needs of each event (a sample, or a caller's update between
-    samples), filled by the compiled loop: never the covariance.
+class EventKind(IntEnum):
+    """What an event of a :class:`Record` is (its ``kind``)."""
 
-    The first six arrays have a row per event. The last four (``base``, ``gain``, ``sy``,
-    ``y``) have a row per event *with updates* (``nu`` not 0), in the events' order: a sample
-    in swing has none, so a walk's record takes about 60 % of the bytes of one with a gain per
-    sample, and the whole-walk smoother's budget holds more of the walk (:mod:`.smoother`).
-    The backward pass finds an event's row by counting down from the rows used.
+    #: A sample: its transition, then its own updates (the ZUPT, and the ZARU after it).
+    SAMPLE = 0
+    #: The loop's own position update between samples (a range projection, :class:`UpdateLog`):
+    #: one update of a 3-block, no sample, no transition.
+    OWN_UPDATE = 1
+    #: A caller's update between samples (:meth:`InsFilter.update`) of ``width`` rows: K in
+    #: its first update row, H' in its second; no sample, no transition.
+    CALLER_UPDATE = 2
+
+
+#: :class:`EventKind` as plain ints, which the compiled code compares with.
+EV_SAMPLE, EV_OWN_UPDATE, EV_CALLER_UPDATE = int(EventKind.SAMPLE), int(EventKind.OWN_UPDATE), int(EventKind.CALLER_UPDATE)
+
+#: Update rows an event of each kind takes (a sample: one when it has updates, else none).
+CALLER_UPDATE_ROWS = 2
+
+
+class Record(NamedTuple):
+    """The event log the backward pass reads (samples, and updates between them), filled by
+    the compiled loop and by the caller's updates: never the covariance.
+
+    The first seven arrays have a row per event. The last four (``base``, ``gain``, ``sy``,
+    ``y``) have rows per event *with updates* (``width`` not 0; a caller's takes two), in the
+    events' order: a sample in swing has none, so a walk's record takes about 60 % of the bytes
+    of one with a gain per sample, and the whole-walk smoother's budget holds more of the walk
+    (:mod:`.smoother`). The backward pass finds an event's rows by counting down from the rows
+    used.
 
     Attributes
     ----------
     foot
         (n,) the event's foot.
     k
-        (n,) its sample, an index of the concatenated samples; -1 for the loop's own position
-        update between samples (:class:`UpdateLog`), which has no sample and no transition.
+        (n,) its sample, an index of the concatenated samples (read for ``EV_SAMPLE`` only).
     fdt
-        (n, 3) f^n dt at the start of the interval.
+        (n, 3) f^n dt at the start of the interval (samples).
     dt
-        (n,) the interval, s.
+        (n,) the interval, s (samples).
     c
-        (n, 3, 3) C at the start of the interval (bias states only).
-    nu
-        (n,) updates at the sample: 0, 1 (ZUPT), 2 (and ZARU); -m for a caller's update of m rows;
-        1 for the loop's own position update (``k`` -1).
+        (n, 3, 3) C at the start of the interval (samples; bias states only).
+    kind
+        (n,) an :class:`EventKind`.
+    width
+        (n,) gain columns its update rows use: a sample's 0, 3 (ZUPT) or 6 (and ZARU), three
+        per 3-block update; the loop's own update 3; a caller's m (its rows).
     base
-        (rows, 2) first error state of each update's 3-block.
+        (rows, 2) first error state of each 3-block update of the row (samples, own updates).
     gain
-        (rows, N, cols) K, three columns per update at a sample. A caller's update takes two
-        rows: K (m columns), then H' in the next (so m up to ``cols`` needs no wider rows).
+        (rows, N, cols) K, three columns per 3-block update; a caller's update: K (m columns),
+        then H' in its second row (so m up to ``cols`` needs no wider rows).
     sy
-        (rows, cols) S^-1 y (two updates of 3 at a sample, or a caller's).
+        (rows, cols) S^-1 y.
     y
         (rows, cols) the innovations y.
     """
@@ -235,7 +262,8 @@ class Record(NamedTuple):
     fdt: NDArray[np.float64]
     dt: NDArray[np.float64]
     c: NDArray[np.float64]
-    nu: NDArray[np.int64]
+    kind: NDArray[np.int32]
+    width: NDArray[np.int32]
     base: NDArray[np.int64]
     gain: NDArray[np.float64]
     sy: NDArray[np.float64]
@@ -243,11 +271,11 @@ class Record(NamedTuple):
 
     def head(self, n: int, rows: int) -> Record:
         """Views of the first ``n`` events and their first ``rows`` update rows."""
-        return Record(*(a[:n] for a in self[:6]), *(a[:rows] for a in self[6:]))
+        return Record(*(a[:n] for a in self[:_PER_EVENT]), *(a[:rows] for a in self[_PER_EVENT:]))
 
     def copy_head(self, n: int, rows: int, *, stagger: bool = False) -> Record:
         """Copies of :meth:`head`, sharing nothing with this record; ``stagger``: in one buffer
-        at staggered page offsets (:mod:`.buffers`; worth its up to ten pages for a long
+        at staggered page offsets (:mod:`._buffers`; worth its up to ten pages for a long
         segment that the backward pass reads, not for a short one)."""
         head = self.head(n, rows)
         if not stagger:
@@ -258,11 +286,15 @@ class Record(NamedTuple):
         return Record(*copies)
 
 
-#: Place of the record's arrays in :func:`footnav.estimators.ekf.buffers.staggered`'s pattern,
+#: The :class:`Record`'s arrays with a row per event (the rest have a row per update row).
+_PER_EVENT = 7
+
+
+#: Place of the record's arrays in :func:`footnav.estimators.ekf._buffers.staggered`'s pattern,
 #: after the filter's eight per-sample arrays.
 RECORD_PLACE = 8
-#: Place of the smoothed copies, after the record's ten arrays.
-SMOOTHED_PLACE = RECORD_PLACE + 10
+#: Place of the smoothed copies, after the record's eleven arrays.
+SMOOTHED_PLACE = RECORD_PLACE + 11
 
 
 def empty_record(
@@ -284,7 +316,8 @@ def empty_record(
         ((n, 3), f8),  # f^n dt at the start of the interval
         ((n,), f8),  # dt
         ((n if bias_states else 0, 3, 3), f8),  # C at the start of the interval (bias states only)
-        ((n,), i8),  # updates at the sample: 0, 1 (ZUPT), 2 (and ZARU); -m a caller's
+        ((n,), np.int32),  # kind (EventKind)
+        ((n,), np.int32),  # width: gain columns of its update rows
         ((r, 2), i8),  # per update row: first error state of each update's 3-block
         ((r, big, cols), f8),  # K, three columns per update; a caller's: K, then H' in the next row
         ((r, cols), f8),  # S^-1 y (two updates of 3 at a sample, or a caller's)

@@ -119,18 +119,32 @@ def test_interrupted_evaluate_leaves_no_partial_result(sim_csv, tmp_path):
     import sys
 
     out = tmp_path / "report"
-    # the simulated walk 40 times over: seconds of work against the moment between the line below
-    # and the signal (no sleep before it: a sleep let a fast child finish first, 5 runs in 18)
-    cmd = [sys.executable, "-m", "footnav.cli", "-v", "evaluate", *[str(sim_csv)] * 40, "--out", str(out)]
+    # Deterministic: the child runs the real evaluate_many over and over until the signal comes, so
+    # the signal always lands in the runs (signalling on a log line raced a fast child that had
+    # already finished the batch: 5 failures in 18 runs on a loaded machine).
+    child = (
+        "import sys\n"
+        "import footnav.analysis.batch as batch\n"
+        "real = batch.evaluate_many\n"
+        "def until_interrupted(*a, **k):\n"
+        "    print('runs started', file=sys.stderr, flush=True)\n"
+        "    while True:\n"
+        "        real(*a, **k)\n"
+        "batch.evaluate_many = until_interrupted\n"
+        "from footnav.cli import main\n"
+        "sys.exit(main(sys.argv[1:]))\n"
+    )
+    cmd = [sys.executable, "-c", child, "evaluate", str(sim_csv), "--out", str(out)]
     proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
-    for line in proc.stderr:  # -v logs each file read, then the start of the runs
-        if b"evaluating" in line:
+    for line in proc.stderr:
+        if b"runs started" in line:
             break
     proc.send_signal(signal.SIGINT)
     _, err = proc.communicate(timeout=60)
     assert proc.returncode == 1 and b"interrupted" in err, (proc.returncode, err[-500:])
     assert not out.exists()
     assert not [p for p in tmp_path.iterdir() if p.name.endswith(".partial")]
+    assert not [p for p in tmp_path.iterdir() if p.name.startswith(".")], list(tmp_path.iterdir())
 
 
 def test_interrupt_while_writing_leaves_no_partial_result(sim_csv, tmp_path, monkeypatch):

@@ -1,4 +1,5 @@
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -42,7 +43,7 @@ def test_run_writes_results_and_refuses_to_overwrite(sim_csv, tmp_path, capsys):
     import hashlib
 
     left_csv = str(sim_csv / "left.csv")
-    assert doc["input_sha256"][left_csv] == hashlib.sha256(open(left_csv, "rb").read()).hexdigest()
+    assert doc["input_sha256"][left_csv] == hashlib.sha256(Path(left_csv).read_bytes()).hexdigest()
     arrays = np.load(out / "trajectories.npz", allow_pickle=False)
     csv_left = np.loadtxt(out / "left.csv", delimiter=",")
     np.testing.assert_allclose(arrays["left_position"], csv_left[:, 1:4], rtol=1e-8, atol=1e-9)

@@ -119,6 +119,13 @@ RC, SV, FD = "footnav/fusion/range_constraint.py", "footnav/fusion/step_vector.p
 PF, PE, JN = "footnav/fusion/particle.py", "footnav/fusion/particle_ekf.py", "footnav/fusion/joint.py"
 PFC = "footnav/fusion/particle_cloud.py"
 
+# issue 37: the code added or changed since the last round, with the test files that mirror it
+FR, CAL = "footnav/nav/final_rest.py", "footnav/nav/calibration.py"
+NAV_FR = ["tests/nav/test_final_rest.py", "tests/estimators/test_ekf.py"]
+NAV_CAL = ["tests/nav/test_calibration.py", "tests/fusion/test_step_vector_paper.py"]
+NAV_SC = ["tests/nav/test_stance_check.py", "tests/core/test_stance_check.py"]
+ADAPT = ["tests/detectors/test_adaptive.py", "tests/detectors/test_mutants_adaptive.py"]
+
 MUTANTS: list[Mutant] = [
     # -- core/quaternion.py ------------------------------------------------------------------
     M("quat-mul-nb-term", Q, ("out[1] = p[0] * q[1] + p[1] * q[0] + p[2] * q[3] - p[3] * q[2]",
@@ -349,6 +356,28 @@ MUTANTS: list[Mutant] = [
     M("joint-alone-std", JN, ("np.sqrt(fused.position_std[k] ** 2 + grow)", "np.sqrt(grow)"), FUSION, "missing term"),
     M("joint-alone-rotation-transposed", JN, ("- alone.position[anchor]) @ rot.T + fused.position[k]", "- alone.position[anchor]) @ rot + fused.position[k]"),
       FUSION, "transpose"),
+    # -- issue 37: nav/final_rest.py, nav/calibration.py, nav/stance_check.py, detectors/adaptive.py --
+    M("final-rest-or-and", FR, ("if tail_s > FINAL_REST_MAX_TAIL_S or rest_s < need_s:", "if tail_s > FINAL_REST_MAX_TAIL_S and rest_s < need_s:"),
+      NAV_FR, "or/and"),
+    M("final-rest-need-min", FR, ("need_s = max(FINAL_REST_MIN_S, 2.0 * median_s)", "need_s = min(FINAL_REST_MIN_S, 2.0 * median_s)"),
+      NAV_FR, "operator"),
+    M("final-rest-tail-boundary", FR, ("if tail_s > FINAL_REST_MAX_TAIL_S or", "if tail_s >= FINAL_REST_MAX_TAIL_S or"), NAV_FR, "boundary"),
+    M("final-rest-rest-last-sample", FR, ("rest_s = float(t[b - 1] - t[a])", "rest_s = float(t[b] - t[a])"), NAV_FR, "off-by-one"),
+    M("calib-mean-of-norms", CAL, ("f_norm = float(np.linalg.norm(imu.acc[start:stop].mean(axis=0)))",
+                                   "f_norm = float(np.linalg.norm(imu.acc[start:stop], axis=1).mean())"), NAV_CAL, "biased estimator"),
+    M("calib-bias-whole-recording", CAL, ("gyro_bias_radps=imu.gyr[start:stop].mean(axis=0)", "gyro_bias_radps=imu.gyr.mean(axis=0)"),
+      NAV_CAL, "missing term"),
+    M("calib-one-sided", CAL, ("if not abs(f_norm / GRAVITY_MPS2 - 1.0) <= MAX_SCALE_ERROR:", "if not f_norm / GRAVITY_MPS2 - 1.0 <= MAX_SCALE_ERROR:"),
+      NAV_CAL, "one-sided"),
+    M("calib-scale-inverted", CAL, ("acc_scale=GRAVITY_MPS2 / f_norm,", "acc_scale=f_norm / GRAVITY_MPS2,"), NAV_CAL, "swapped arguments"),
+    M("check-cycle-either-swings", SC, ("stride &= swinging[:-1] & swinging[1:]", "stride &= swinging[:-1] | swinging[1:]"), NAV_SC, "and/or"),
+    M("check-cycle-first-peak-only", SC, ("stride &= swinging[:-1] & swinging[1:]", "stride &= swinging[:-1]"), NAV_SC, "missing term"),
+    M("check-count-offset", SC, ("missed = (count[b] - count[a + 1]) == 0", "missed = (count[b] - count[a + 2]) == 0"), NAV_SC, "off-by-one"),
+    M("check-max-stride-boundary", SC, ("& ((b - a) <= max_stride_s * imu.rate_hz)", "& ((b - a) < min_stride_s * 4 * imu.rate_hz)"),
+      NAV_SC, "constant"),
+    M("adaptive-pivot-up-next", ADA, ("up = c[1::2][:-1] - c[0::2][:-1]", "up = c[1::2][1:] - c[0::2][1:]"), ADAPT, "off-by-one"),
+    M("adaptive-pivot-share-inverted", ADA, ("& (yaw >= self.pivot_yaw_share * total)", "& (total - yaw >= self.pivot_yaw_share * total)"),
+      ADAPT, "operator"),
 ]
 
 #: Mutants that cannot change any result, with the reason (reported, not counted as survivors to kill).

@@ -118,6 +118,10 @@ MW, EKFP = "footnav/estimators/madgwick.py", _EKF + "estimator.py"
 RC, SV, FD = "footnav/fusion/range_constraint.py", "footnav/fusion/step_vector.py", "footnav/fusion/dtw.py"
 PF, PE, JN = "footnav/fusion/particle.py", "footnav/fusion/particle_ekf.py", "footnav/fusion/joint.py"
 PFC = "footnav/fusion/particle_cloud.py"
+VC, SPN = "footnav/nav/vertical_check.py", "footnav/nav/spans.py"
+NAV_VC = ["tests/nav/test_vertical_check.py", "tests/core/test_vertical_check.py"]
+NAV_SPN = ["tests/nav/test_spans.py", "tests/fusion/test_spans.py"]
+JOINT = ["tests/fusion/test_joint.py", "tests/fusion/test_spans.py", "tests/fusion/test_mutants_joint.py"]
 
 # issue 37: the code added or changed since the last round, with the test files that mirror it
 FR, CAL = "footnav/nav/final_rest.py", "footnav/nav/calibration.py"
@@ -379,6 +383,26 @@ MUTANTS: list[Mutant] = [
     M("adaptive-pivot-up-next", ADA, ("up = c[1::2][:-1] - c[0::2][:-1]", "up = c[1::2][1:] - c[0::2][1:]"), ADAPT, "off-by-one"),
     M("adaptive-pivot-share-inverted", ADA, ("& (yaw >= self.pivot_yaw_share * total)", "& (total - yaw >= self.pivot_yaw_share * total)"),
       ADAPT, "operator"),
+    # -- issue 37: nav/vertical_check.py, nav/spans.py, fusion/joint.py (outside the common span) --
+    M("vcheck-rate-one-sided", VC, ("and abs(self.rate_m_per_100m) >= WARN_RATE_M_PER_100M", "and self.rate_m_per_100m >= WARN_RATE_M_PER_100M"),
+      NAV_VC, "one-sided"),
+    M("vcheck-trend-one-sided", VC, ("and abs(self.trend_m) >= WARN_TREND_M", "and self.trend_m >= WARN_TREND_M"), NAV_VC, "one-sided"),
+    M("vcheck-and-or", VC, ("self.level_strides >= MIN_LEVEL_STRIDES\n            and", "self.level_strides >= MIN_LEVEL_STRIDES\n            or"),
+      NAV_VC, "and/or"),
+    M("vcheck-trend-dropped", VC, ("and abs(self.trend_m) >= WARN_TREND_M\n", "\n"), NAV_VC, "missing term"),
+    M("vcheck-level-one-sided", VC, ("level = np.abs(rise) < level_rise_max_m", "level = rise < level_rise_max_m"), NAV_VC, "one-sided"),
+    M("spans-marked-and", SPN, ("marked = abs(d_start) > tol or abs(d_end) > tol", "marked = abs(d_start) > tol and abs(d_end) > tol"),
+      NAV_SPN, "or/and"),
+    M("spans-marked-one-sided", SPN, ("marked = abs(d_start) > tol or", "marked = d_start > tol or"), NAV_SPN, "one-sided"),
+    M("spans-tolerance-min", SPN, ("tol = max(MARKED_S, MARKED_FRACTION", "tol = min(MARKED_S, MARKED_FRACTION"), NAV_SPN, "operator"),
+    M("spans-stop-side", SPN, ('i1 = int(np.searchsorted(t, stop, side="right"))', 'i1 = int(np.searchsorted(t, stop, side="left"))'),
+      NAV_SPN, "boundary"),
+    M("spans-refusal-boundary", SPN, ("if stop < start + min_common_s:", "if stop <= start + min_common_s:"), NAV_SPN, "boundary"),
+    M("joint-continue-velocity-unturned", JN, ("fused_anchor[0], vel @ rot.T,", "fused_anchor[0], vel,"), JOINT, "missing term"),
+    M("joint-continue-velocity-transposed", JN, ("fused_anchor[0], vel @ rot.T,", "fused_anchor[0], vel @ rot,"), JOINT, "transpose"),
+    M("joint-continue-turn-sign", JN, ("turn = float(quat.yaw(fused_anchor[1]) - quat.yaw(alone_anchor[1]))",
+                                       "turn = float(quat.yaw(alone_anchor[1]) - quat.yaw(fused_anchor[1]))"), JOINT, "sign"),
+    M("check-count-includes-peak", SC, ("missed = (count[b] - count[a + 1]) == 0", "missed = (count[b] - count[a]) == 0"), NAV_SC, "off-by-one"),
 ]
 
 #: Mutants that cannot change any result, with the reason (reported, not counted as survivors to kill).

@@ -61,21 +61,31 @@ def test_a_stance_in_every_cycle_is_counted_and_none_missed():
     np.testing.assert_allclose(check.missed_s, [2.5], atol=0.02)
 
 
-def test_a_stance_right_after_the_first_peak_counts():
-    # mutant: check-count-offset. A stance starting on the sample after the peak is in the cycle.
+def test_the_cycle_holds_the_samples_after_its_first_peak_up_to_its_second():
+    # mutant: check-count-offset, check-count-includes-peak. Peaks at samples 100 and 200.
     imu, st = _foot([1.0, 2.0], [True, True])
-    mask = st.mask.copy()
-    mask[101:130] = True
-    check = check_stances(imu, StanceResult(mask))
-    assert check.n_cycles == 1 and len(check.missed_s) == 0
+    one_after = st.mask.copy()
+    one_after[101] = True  # a stance of one sample right after the first peak: the cycle has it
+    assert len(check_stances(imu, StanceResult(one_after)).missed_s) == 0
+    at_peak = st.mask.copy()
+    at_peak[95:101] = True  # a stance ending on the first peak: not inside the cycle
+    check = check_stances(imu, StanceResult(at_peak))
+    assert check.n_cycles == 1 and len(check.missed_s) == 1
+    before_second = st.mask.copy()
+    before_second[199] = True  # the last sample before the second peak is inside
+    assert len(check_stances(imu, StanceResult(before_second)).missed_s) == 0
 
 
 def test_stride_bounds_exclude_pauses_and_half_strides():
-    # peaks 0.4 s apart (two humps of one stride) and 3 s apart (a pause) are not cycles
-    imu, st = _foot([1.0, 1.4, 4.4, 5.4], [True] * 4, duration_s=6.5)
+    # mutant: check-max-stride-boundary. Intervals 0.4 s (two humps of one stride: not a cycle),
+    # 2.4 s (a slow stride, under max_stride_s = 2.5 s: a cycle), 3 s (a pause: not a cycle)
+    imu, st = _foot([1.0, 1.4, 3.8, 6.8], [True] * 4, duration_s=8.0)
     check = check_stances(imu, st)
     assert check.n_cycles == 1
-    np.testing.assert_allclose(check.missed_s, [4.9], atol=0.02)
+    np.testing.assert_allclose(check.missed_s, [2.6], atol=0.02)
+    # 2.45 s and 0.6 s are strides
+    imu, st = _foot([1.0, 3.45, 4.05], [True] * 3, duration_s=5.0)
+    assert check_stances(imu, st).n_cycles == 2
 
 
 def test_a_stance_over_an_accelerating_peak_is_caught_and_over_a_pivot_is_not():

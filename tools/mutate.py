@@ -118,6 +118,7 @@ MW, EKFP = "footnav/estimators/madgwick.py", _EKF + "estimator.py"
 RC, SV, FD = "footnav/fusion/range_constraint.py", "footnav/fusion/step_vector.py", "footnav/fusion/dtw.py"
 PF, PE, JN = "footnav/fusion/particle.py", "footnav/fusion/particle_ekf.py", "footnav/fusion/joint.py"
 PFC = "footnav/fusion/particle_cloud.py"
+PEKF = ["tests/fusion/test_particle_ekf.py", "tests/fusion/test_particle_paper.py"]
 VC, SPN = "footnav/nav/vertical_check.py", "footnav/nav/spans.py"
 NAV_VC = ["tests/nav/test_vertical_check.py", "tests/core/test_vertical_check.py"]
 NAV_SPN = ["tests/nav/test_spans.py", "tests/fusion/test_spans.py"]
@@ -403,6 +404,23 @@ MUTANTS: list[Mutant] = [
     M("joint-continue-turn-sign", JN, ("turn = float(quat.yaw(fused_anchor[1]) - quat.yaw(alone_anchor[1]))",
                                        "turn = float(quat.yaw(alone_anchor[1]) - quat.yaw(fused_anchor[1]))"), JOINT, "sign"),
     M("check-count-includes-peak", SC, ("missed = (count[b] - count[a + 1]) == 0", "missed = (count[b] - count[a]) == 0"), NAV_SC, "off-by-one"),
+    # -- issue 37: fusion/particle_ekf.py (the paper-mode foot's EKF, eq. 3-7; its height) --------
+    M("particle-ekf-pz-feedback-sign", PE, ("p[0, 2] -= dxs[PZ]", "p[0, 2] += dxs[PZ]"), PEKF, "sign"),
+    M("particle-ekf-att-feedback-sign", PE, ("from_rotvec_nb(dxs[ATT], dxs[ATT + 1], 0.0, dq)", "from_rotvec_nb(-dxs[ATT], -dxs[ATT + 1], 0.0, dq)"),
+      PEKF, "sign"),
+    M("particle-ekf-ba-feedback-sign", PE, ("ba[i] -= dxs[ACC_BIAS + i]", "ba[i] += dxs[ACC_BIAS + i]"), PEKF, "sign"),
+    M("particle-ekf-bias-phi-sign", PE, (("tmp[VEL + i, col] += dt * (acc_term - bias_term)", "tmp[VEL + i, col] += dt * (acc_term + bias_term)"),
+                                         ("cov[r, VEL + i] += dt * (acc_term - bias_term)", "cov[r, VEL + i] += dt * (acc_term + bias_term)")),
+      PEKF, "sign"),
+    M("particle-ekf-pz-phi-dropped", PE, (("tmp[PZ, col] += dt * cov[VEL + 2, col]", "pass"), ("cov[r, PZ] += dt * tmp[r, VEL + 2]", "pass")),
+      PEKF, "missing term"),
+    M("particle-ekf-att-q-dropped", PE, ("cov[ATT + 1, ATT + 1] += noise[1] * dt", "pass"), PEKF, "missing term"),
+    M("particle-ekf-skew-transposed", PE, ("fa = ((0.0, -fz), (fz, 0.0), (-fy, fx))", "fa = ((0.0, fz), (-fz, 0.0), (fy, -fx))"), PEKF, "transpose"),
+    M("particle-ekf-out-height-dropped", PE, ("out_pos[k, 0], out_pos[k, 1], out_pos[k, 2] = mx, my, p[0, 2]",
+                                              "out_pos[k, 0], out_pos[k, 1], out_pos[k, 2] = mx, my, 0.0"), PEKF, "missing term"),
+    M("particle-ekf-std-z-index", PE, ("out_std[k, 2] = math.sqrt(max(cov[PZ, PZ], 0.0))", "out_std[k, 2] = math.sqrt(max(cov[VEL + 2, VEL + 2], 0.0))"),
+      PEKF, "off-by-one"),
+    M("particle-ekf-zupt-r-dropped", PE, ("cov[VEL, VEL] + noise[3], cov[VEL, VEL + 1]", "cov[VEL, VEL], cov[VEL, VEL + 1]"), PEKF, "missing term"),
 ]
 
 #: Mutants that cannot change any result, with the reason (reported, not counted as survivors to kill).

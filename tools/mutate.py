@@ -118,6 +118,8 @@ MW, EKFP = "footnav/estimators/madgwick.py", _EKF + "estimator.py"
 RC, SV, FD = "footnav/fusion/range_constraint.py", "footnav/fusion/step_vector.py", "footnav/fusion/dtw.py"
 PF, PE, JN = "footnav/fusion/particle.py", "footnav/fusion/particle_ekf.py", "footnav/fusion/joint.py"
 PFC = "footnav/fusion/particle_cloud.py"
+OUT, MARK = "footnav/data/output.py", "footnav/data/result_marker.py"
+DATA_OUT = ["tests/data/test_output.py", "tests/data/test_result_marker.py", "tests/faults/test_user_files.py"]
 PEKF = ["tests/fusion/test_particle_ekf.py", "tests/fusion/test_particle_paper.py"]
 VC, SPN = "footnav/nav/vertical_check.py", "footnav/nav/spans.py"
 NAV_VC = ["tests/nav/test_vertical_check.py", "tests/core/test_vertical_check.py"]
@@ -421,6 +423,22 @@ MUTANTS: list[Mutant] = [
     M("particle-ekf-std-z-index", PE, ("out_std[k, 2] = math.sqrt(max(cov[PZ, PZ], 0.0))", "out_std[k, 2] = math.sqrt(max(cov[VEL + 2, VEL + 2], 0.0))"),
       PEKF, "off-by-one"),
     M("particle-ekf-zupt-r-dropped", PE, ("cov[VEL, VEL] + noise[3], cov[VEL, VEL + 1]", "cov[VEL, VEL], cov[VEL, VEL + 1]"), PEKF, "missing term"),
+    # -- issue 37: data/output.py, data/result_marker.py (clean-up acts on its own names only) -----
+    M("output-entry-prefix-match", OUT, ('and valid.fullmatch(item["entry"])', 'and valid.match(item["entry"])'), DATA_OUT, "boundary"),
+    M("output-entry-unescaped", OUT, ('rf"\\.{re.escape(target.name)}\\.footnav-', 'rf"\\.{target.name}\\.footnav-'), DATA_OUT, "missing term"),
+    M("output-entry-any-token", OUT, ('\\d+-[0-9a-f]{{8}}"', '\\d+-[0-9a-f]+"'), DATA_OUT, "boundary"),
+    M("output-recover-aside-or", OUT, ('elif role == "aside" and not (target.exists() or target.is_symlink()):',
+                                       'elif role == "aside" or not (target.exists() or target.is_symlink()):'), DATA_OUT, "and/or"),
+    M("output-recover-file-as-folder", OUT, ("            elif not _is_real_dir(path):\n", "            elif not path.exists():\n"),
+      DATA_OUT, "missing term"),
+    M("output-partial-suffix-kind", OUT, ('(self.target.suffix if self.kind == "file" else "")', '(self.target.suffix if self.kind == "folder" else "")'),
+      DATA_OUT, "swapped arguments"),
+    M("marker-foreign-any-level", MARK, ("elif rel not in files and not (rel == MARKER and not prefix):", "elif rel not in files and not rel.endswith(MARKER):"),
+      DATA_OUT, "missing term"),
+    M("marker-inside-follows-links", MARK, ("        if not _is_real_dir(path):\n            return False", "        if not path.is_dir():\n            return False"),
+      DATA_OUT, "missing term"),
+    M("marker-relative-allows-parent", MARK, ('part not in ("", ".", "..")', 'part not in ("", ".")'), DATA_OUT, "missing term"),
+    M("marker-legacy-prefix-match", MARK, ("_LEGACY_PATTERN.fullmatch(n)", "_LEGACY_PATTERN.match(n)"), DATA_OUT, "boundary"),
 ]
 
 #: Mutants that cannot change any result, with the reason (reported, not counted as survivors to kill).

@@ -118,6 +118,13 @@ MW, EKFP = "footnav/estimators/madgwick.py", _EKF + "estimator.py"
 RC, SV, FD = "footnav/fusion/range_constraint.py", "footnav/fusion/step_vector.py", "footnav/fusion/dtw.py"
 PF, PE, JN = "footnav/fusion/particle.py", "footnav/fusion/particle_ekf.py", "footnav/fusion/joint.py"
 PFC = "footnav/fusion/particle_cloud.py"
+OF, OJ = "footnav/pipeline/online_foot.py", "footnav/pipeline/online_joint.py"
+FL, DD, IC = "footnav/nav/floors.py", "footnav/nav/dominant_directions.py", "footnav/types/imu_checks.py"
+ONLINE_FWD = ["tests/pipeline/test_online_foot.py", "tests/pipeline/test_online_joint.py"]
+NAV_HD = ["tests/nav/test_heading_drift.py", "tests/estimators/test_consistency.py"]
+NAV_FL = ["tests/nav/test_floors.py", "tests/core/test_floors.py"]
+NAV_DD = ["tests/nav/test_dominant_directions.py", "tests/core/test_dominant_directions.py"]
+TYPES_IC = ["tests/types/test_imu_checks.py", "tests/faults/test_time_units.py"]
 OUT, MARK = "footnav/data/output.py", "footnav/data/result_marker.py"
 DATA_OUT = ["tests/data/test_output.py", "tests/data/test_result_marker.py", "tests/faults/test_user_files.py"]
 PEKF = ["tests/fusion/test_particle_ekf.py", "tests/fusion/test_particle_paper.py"]
@@ -439,6 +446,42 @@ MUTANTS: list[Mutant] = [
       DATA_OUT, "missing term"),
     M("marker-relative-allows-parent", MARK, ('part not in ("", ".", "..")', 'part not in ("", ".")'), DATA_OUT, "missing term"),
     M("marker-legacy-prefix-match", MARK, ("_LEGACY_PATTERN.fullmatch(n)", "_LEGACY_PATTERN.match(n)"), DATA_OUT, "boundary"),
+    # -- issue 37: the online forward estimate, heading drift, floors, dominant directions, input checks --
+    M("online-forward-cov-turned-back", OF, ("c, s = math.cos(-self.psi), math.sin(-self.psi)", "c, s = math.cos(self.psi), math.sin(self.psi)"),
+      ONLINE_FWD, "sign"),
+    M("online-forward-cov-transposed", OF, ("pos, vel, q, cov = p[0], v[0], qq[0], rot @ cov @ rot.T", "pos, vel, q, cov = p[0], v[0], qq[0], rot.T @ cov @ rot"),
+      ONLINE_FWD, "transpose"),
+    M("online-joint-forward-cov-block", OJ, ('sl = filt.block(f, "pos")\n            out.append(ForwardEstimate', 'sl = filt.block(0, "pos")\n            out.append(ForwardEstimate'),
+      ONLINE_FWD, "index"),
+    M("drift-xy-cross-swapped", HD, ("nxy = pxy + ax * pyp + ay * pxp + ax * ay * ppp", "nxy = pxy + ax * pxp + ay * pyp + ax * ay * ppp"),
+      NAV_HD, "swapped arguments"),
+    M("drift-psi-bias-term", HD, ("nxp = pxp + ax * ppp + dt * (pxb + ax * ppb)", "nxp = pxp + ax * ppp + dt * pxb"), NAV_HD, "missing term"),
+    M("drift-start-offset", HD, ("for k in range(start + 1, len(t)):", "for k in range(start, len(t)):"), NAV_HD, "off-by-one"),
+    M("drift-ddof0", HD, ("np.var(used, axis=0, ddof=1)", "np.var(used, axis=0)"), NAV_HD, "biased estimator"),
+    M("drift-still-unfiltered", HD, ("    if still.sum() < MIN_STILL_SAMPLES:  # as align_at_rest: then the whole range is used\n        still[:] = True",
+                                     "    still[:] = True"), NAV_HD, "missing term"),
+    M("floors-upper-median", FL, ("return 0.5 * (zs[first + (n - 1) // 2] + zs[first + n // 2])", "return zs[first + n // 2]"), NAV_FL, "statistic"),
+    M("floors-flight-sign-kept", FL, ("if np.sign(rise_m[j]) != sign:", "if np.sign(rise_m[j]) == sign:"), NAV_FL, "operator"),
+    M("floors-floor-one-sided", FL, ("if abs(rise) >= FLOOR_MIN_RISE_M else 0", "if rise >= FLOOR_MIN_RISE_M else 0"), NAV_FL, "one-sided"),
+    M("floors-stair-one-sided", FL, ("stair = np.abs(rise) >= self.level_rise_max_m", "stair = rise >= self.level_rise_max_m"), NAV_FL, "one-sided"),
+    M("floors-landing-boundary", FL, ("while j < n and gap <= LANDING_STRIDES:", "while j < n and gap < LANDING_STRIDES:"), NAV_FL, "boundary"),
+    M("floors-descent-sign", FL, ("descent_m=float(-np.sum(np.where(stair & (rise < 0), rise, 0.0)))", "descent_m=float(np.sum(np.where(stair & (rise < 0), rise, 0.0)))"),
+      NAV_FL, "sign"),
+    M("dd-straight-either-side", DD, ("& (turn_in < limit) & (turn_out < limit)", "& ((turn_in < limit) | (turn_out < limit))"), NAV_DD, "and/or"),
+    M("dd-refusal-and", DD, ("if strength < min_strength or straight.sum() < min_stretch_strides:", "if strength < min_strength and straight.sum() < min_stretch_strides:"),
+      NAV_DD, "or/and"),
+    M("dd-gate-one-sided", DD, ("use = straight & (np.abs(off) < np.radians(gate_deg))", "use = straight & (off < np.radians(gate_deg))"), NAV_DD, "one-sided"),
+    M("dd-turn-velocity-sign", DD, ("vel = np.column_stack([c * v[:, 0] - s * v[:, 1], s * v[:, 0] + c * v[:, 1], v[:, 2]])",
+                                    "vel = np.column_stack([c * v[:, 0] + s * v[:, 1], -s * v[:, 0] + c * v[:, 1], v[:, 2]])"), NAV_DD, "sign"),
+    M("dd-turn-attitude-sign", DD, ("half = -0.5 * dpsi", "half = 0.5 * dpsi"), NAV_DD, "sign"),
+    M("dd-stretch-length", DD, ("if j - k + 1 >= min_stretch_strides:", "if j - k >= min_stretch_strides:"), NAV_DD, "off-by-one"),
+    M("imu-rest-warn-one-sided", IC, ("if abs(off) > ACC_REST_WARN_FRACTION:", "if off > ACC_REST_WARN_FRACTION:"), TYPES_IC, "one-sided"),
+    M("imu-rest-error-one-sided", IC, ("if abs(off) > ACC_REST_ERROR_FRACTION:", "if off > ACC_REST_ERROR_FRACTION:"), TYPES_IC, "one-sided"),
+    M("imu-rest-all-samples", IC, ("g_rest = float(np.median(acc_norm[rest]))", "g_rest = float(np.median(acc_norm))"), TYPES_IC, "missing term"),
+    M("imu-gyr-unit-or", IC, ("if moving >= ACC_MOVING_FRACTION and n_moving >= max(10, 0.2 * rate) and w_peak",
+                              "if moving >= ACC_MOVING_FRACTION or n_moving >= max(10, 0.2 * rate) and w_peak"), TYPES_IC, "and/or"),
+    M("gait-second-pass-or", GC, ("if stride_fraction > 0 and len(intervals) >= 3:", "if stride_fraction > 0 or len(intervals) >= 3:"),
+      NAV_SC + ["tests/detectors/test_adaptive.py"], "and/or"),
 ]
 
 #: Mutants that cannot change any result, with the reason (reported, not counted as survivors to kill).

@@ -118,6 +118,10 @@ MW, EKFP = "footnav/estimators/madgwick.py", _EKF + "estimator.py"
 RC, SV, FD = "footnav/fusion/range_constraint.py", "footnav/fusion/step_vector.py", "footnav/fusion/dtw.py"
 PF, PE, JN = "footnav/fusion/particle.py", "footnav/fusion/particle_ekf.py", "footnav/fusion/joint.py"
 PFC = "footnav/fusion/particle_cloud.py"
+TC = "footnav/analysis/truth_checks.py"
+TRUTH = ["tests/analysis/test_truth_checks.py", "tests/faults/test_truth_checks.py"]
+METRICS_NEW = ["tests/analysis/test_metrics.py"] + METRICS
+STRIDES_NEW = ["tests/nav/test_strides.py"] + STRIDES
 OF, OJ = "footnav/pipeline/online_foot.py", "footnav/pipeline/online_joint.py"
 FL, DD, IC = "footnav/nav/floors.py", "footnav/nav/dominant_directions.py", "footnav/types/imu_checks.py"
 ONLINE_FWD = ["tests/pipeline/test_online_foot.py", "tests/pipeline/test_online_joint.py"]
@@ -482,6 +486,19 @@ MUTANTS: list[Mutant] = [
                               "if moving >= ACC_MOVING_FRACTION or n_moving >= max(10, 0.2 * rate) and w_peak"), TYPES_IC, "and/or"),
     M("gait-second-pass-or", GC, ("if stride_fraction > 0 and len(intervals) >= 3:", "if stride_fraction > 0 or len(intervals) >= 3:"),
       NAV_SC + ["tests/detectors/test_adaptive.py"], "and/or"),
+    # -- issue 37: strides (standstill strides), metrics (height), the truth checks before metrics --
+    M("strides-standstill-and", ST, ("return touches_long | long_duration", "return touches_long & long_duration"), STRIDES_NEW, "or/and"),
+    M("strides-standstill-mean", ST, ("long_stance = stance_s > STANDSTILL_STANCE_FACTOR * np.median(stance_s)",
+                                      "long_stance = stance_s > STANDSTILL_STANCE_FACTOR * np.mean(stance_s)"), STRIDES_NEW, "statistic"),
+    M("strides-standstill-k0-side", ST, ('k0 = np.searchsorted(iv[:, 0], i0, side="right") - 1', 'k0 = np.searchsorted(iv[:, 0], i0, side="left") - 1'),
+      STRIDES_NEW, "boundary"),
+    M("metrics-height-rmse-offset", MET_TR, ("return float(np.sqrt(np.mean((d - d.mean()) ** 2)))", "return float(np.sqrt(np.mean(d**2)))"),
+      METRICS_NEW, "missing term"),
+    M("truth-coverage-and", TC, ("if n_in < 2 or coverage < COVERAGE_MIN:", "if n_in < 2 and coverage < COVERAGE_MIN:"), TRUTH, "or/and"),
+    M("truth-scale-or", TC, ("if ratio > SCALE_ERROR_RATIO and speed > MAX_FOOT_SPEED_MPS:", "if ratio > SCALE_ERROR_RATIO or speed > MAX_FOOT_SPEED_MPS:"),
+      TRUTH, "and/or"),
+    M("truth-scale-warn-one-sided", TC, ("if ratio > SCALE_WARN_RATIO or ratio < 1.0 / SCALE_WARN_RATIO:", "if ratio > SCALE_WARN_RATIO:"),
+      TRUTH, "one-sided"),
 ]
 
 #: Mutants that cannot change any result, with the reason (reported, not counted as survivors to kill).

@@ -13,7 +13,7 @@ from footnav.types import ImuData
 
 
 def _imu(t0, t1, rate=10.0):
-    t = t0 + np.arange(int(round((t1 - t0) * rate)) + 1) / rate
+    t = t0 + np.arange(round((t1 - t0) * rate) + 1) / rate
     acc = np.tile([0.0, 0.0, 9.81], (len(t), 1))
     return ImuData(t=t, acc=acc, gyr=np.zeros((len(t), 3)))
 

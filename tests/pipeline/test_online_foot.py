@@ -33,7 +33,7 @@ def test_forward_covariance_is_the_offline_filters_at_the_same_sample(turned_wal
         warnings.simplefilter("ignore")
         off = pipe.run(rec.left).left
         stream = pipe.online(feet=1)
-        checked, start = 0, 0
+        start = 0
         for stop in (900, 1400, 2100):
             update = stream.push(left=rec.left.slice(start, stop))
             start = stop
@@ -44,7 +44,6 @@ def test_forward_covariance_is_the_offline_filters_at_the_same_sample(turned_wal
             np.testing.assert_allclose(fwd.velocity, off.velocity[k], atol=1e-9)
             np.testing.assert_allclose(np.sqrt(np.diag(fwd.position_cov)), off.position_std[k], rtol=1e-9, atol=1e-12)
             np.testing.assert_allclose(fwd.position_cov, fwd.position_cov.T, atol=1e-15)
-            checked += 1
     # the case tells a wrong turn apart: turned the other way, the diagonal differs by far
     psi = stream.feet[0].psi
     c, s = np.cos(2 * psi), np.sin(2 * psi)

@@ -118,6 +118,9 @@ MW, EKFP = "footnav/estimators/madgwick.py", _EKF + "estimator.py"
 RC, SV, FD = "footnav/fusion/range_constraint.py", "footnav/fusion/step_vector.py", "footnav/fusion/dtw.py"
 PF, PE, JN = "footnav/fusion/particle.py", "footnav/fusion/particle_ekf.py", "footnav/fusion/joint.py"
 PFC = "footnav/fusion/particle_cloud.py"
+RES, PYS = "footnav/data/results.py", "footnav/data/io/pyshoe.py"
+DATA_RES = ["tests/data/test_results.py", "tests/core/test_strides.py"]
+DATA_PYS = ["tests/data/io/test_pyshoe.py", "tests/core/io/test_io_pyshoe.py"]
 TC = "footnav/analysis/truth_checks.py"
 TRUTH = ["tests/analysis/test_truth_checks.py", "tests/faults/test_truth_checks.py"]
 METRICS_NEW = ["tests/analysis/test_metrics.py"] + METRICS
@@ -499,6 +502,17 @@ MUTANTS: list[Mutant] = [
       TRUTH, "and/or"),
     M("truth-scale-warn-one-sided", TC, ("if ratio > SCALE_WARN_RATIO or ratio < 1.0 / SCALE_WARN_RATIO:", "if ratio > SCALE_WARN_RATIO:"),
       TRUTH, "one-sided"),
+    # -- issue 37: data/results.py, data/io/pyshoe.py ----------------------------------------------
+    M("results-right-stance-left", RES, ('_write_trajectory(traj, stance.mask, tmp / f"{foot}.csv")',
+                                         '_write_trajectory(traj, result.stance_left.mask, tmp / f"{foot}.csv")'), DATA_RES, "wrong variable"),
+    M("results-jsonable-or", RES, ("if isinstance(value, float) and not np.isfinite(value):", "if isinstance(value, float) or not np.isfinite(value):"),
+      DATA_RES, "and/or"),
+    M("results-velocity-column", RES, ("[traj.t, traj.position, traj.velocity, traj.quaternion", "[traj.t, traj.position, traj.position, traj.quaternion"),
+      DATA_RES, "wrong variable"),
+    M("pyshoe-rest-one-sided", PYS, ("np.abs(np.linalg.norm(acc, axis=1) - GRAVITY_MPS2) < REST_ACC_TOL_MPS2", "(np.linalg.norm(acc, axis=1) - GRAVITY_MPS2) < REST_ACC_TOL_MPS2"),
+      DATA_PYS, "one-sided"),
+    M("pyshoe-rest-or", PYS, ("rest = (np.linalg.norm(gyr, axis=1) < REST_GYR_RADPS) & (", "rest = (np.linalg.norm(gyr, axis=1) < REST_GYR_RADPS) | ("),
+      DATA_PYS, "and/or"),
 ]
 
 #: Mutants that cannot change any result, with the reason (reported, not counted as survivors to kill).

@@ -33,9 +33,11 @@ def test_too_few_straight_strides_alone_is_no_dominant_direction():
 
 
 def test_a_stretch_of_exactly_the_minimum_counts():
-    # mutant: dd-stretch-length. Runs of 5 strides at 0 and 90 deg: 3 straight strides each
-    found = dominant_direction_correction(_walk([0.0] * 5 + [90.0] * 5))
+    # mutant: dd-stretch-length. Runs of 4 strides at 0 and 90 deg: 3 straight strides each (the
+    # strides at the turn are not straight)
+    found = dominant_direction_correction(_walk([0.0] * 4 + [90.0] * 4))
     assert found.applied and len(found.stretches) == 2
+    assert [(s["first_stride"], s["last_stride"]) for s in found.stretches] == [(0, 2), (5, 7)]
 
 
 def test_the_gate_holds_on_both_sides_of_a_grid_direction():

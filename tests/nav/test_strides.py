@@ -47,3 +47,14 @@ def test_a_long_stance_alone_makes_both_its_strides_standstill_ones():
     # x 1.5 = 1.1 s would leave stance 3 out
     flagged = set(np.flatnonzero(s["standstill"]))
     assert {2, 3} <= flagged and {9, 10, 11} <= flagged and not {0, 1, 4, 5, 6, 7} & flagged
+
+
+def test_a_stride_from_a_two_sample_stance_after_a_long_one_is_not_a_standstill_one():
+    # mutant: strides-standstill-k0-side. Stances of 5 samples every 12; the 4th lasts 10 (long),
+    # the 5th only 2, so its mid-stance is its first sample. The stride from the 5th stance to
+    # the 6th touches no long stance: only the two strides touching the 4th are standstill ones
+    starts = [0, 12, 24, 36, 53, 62, 74, 86]
+    lengths = [5, 5, 5, 10, 2, 5, 5, 5]
+    s = _strides([(a, a + w) for a, w in zip(starts, lengths)], 95)
+    assert s["start_index"][4] == 53
+    assert list(np.flatnonzero(s["standstill"])) == [2, 3]

@@ -118,6 +118,8 @@ MW, EKFP = "footnav/estimators/madgwick.py", _EKF + "estimator.py"
 RC, SV, FD = "footnav/fusion/range_constraint.py", "footnav/fusion/step_vector.py", "footnav/fusion/dtw.py"
 PF, PE, JN = "footnav/fusion/particle.py", "footnav/fusion/particle_ekf.py", "footnav/fusion/joint.py"
 PFC = "footnav/fusion/particle_cloud.py"
+OCH = "footnav/pipeline/online_checks.py"
+ONLINE_CHECKS = ["tests/pipeline/test_online_checks.py", "tests/core/test_online_clipping.py", "tests/faults/test_time_units.py"]
 RES, PYS = "footnav/data/results.py", "footnav/data/io/pyshoe.py"
 DATA_RES = ["tests/data/test_results.py", "tests/core/test_strides.py"]
 DATA_PYS = ["tests/data/io/test_pyshoe.py", "tests/core/io/test_io_pyshoe.py"]
@@ -513,6 +515,13 @@ MUTANTS: list[Mutant] = [
       DATA_PYS, "one-sided"),
     M("pyshoe-rest-or", PYS, ("rest = (np.linalg.norm(gyr, axis=1) < REST_GYR_RADPS) & (", "rest = (np.linalg.norm(gyr, axis=1) < REST_GYR_RADPS) | ("),
       DATA_PYS, "and/or"),
+    # -- issue 37: pipeline/online_checks.py (the live stream's input checks) -----------------------
+    M("online-check-moving-one-sided", OCH, ("moving = int(np.count_nonzero(np.abs(norm - np.median(norm)) > ACC_MOVING_MPS2))",
+                                             "moving = int(np.count_nonzero(norm - np.median(norm) > ACC_MOVING_MPS2))"), ONLINE_CHECKS, "one-sided"),
+    M("online-check-standing-and", OCH, ("if moving < max(10, 0.2 / median_dt) or moving < ACC_MOVING_FRACTION * len(norm):",
+                                         "if moving < max(10, 0.2 / median_dt) and moving < ACC_MOVING_FRACTION * len(norm):"), ONLINE_CHECKS, "or/and"),
+    M("online-check-window-due-and", OCH, ("if t_now - t_first < CHECK_WINDOW_S or t_now - self._window_tried < 1.0:",
+                                           "if t_now - t_first < CHECK_WINDOW_S and t_now - self._window_tried < 1.0:"), ONLINE_CHECKS, "or/and"),
 ]
 
 #: Mutants that cannot change any result, with the reason (reported, not counted as survivors to kill).

@@ -1,0 +1,50 @@
+"""footnav.pipeline.online_checks: the live stream judges the gyroscope's unit once the foot has
+moved enough, at the push the rule names (a numpy count on the samples pushed so far).
+
+The walk starts with 25 s of standing and its angular rate is divided by 57.3 (as if rad/s data
+had been declared deg/s): the unit check must warn, but only once at least max(10, 0.2 s) samples *and* 5 % of the window have
+|acc| more than 0.5 g off its median (a standing foot cannot tell a unit)."""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+
+import footnav
+from footnav.errors import DataQualityWarning
+from footnav.types import GRAVITY_MPS2
+
+
+def test_the_unit_check_waits_for_enough_motion_and_no_longer():
+    # mutant: online-check-standing-and, online-check-moving-one-sided
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        rec = footnav.simulate("straight", seed=1, distance_m=20.0, standstill_s=25.0)
+    imu = rec.left
+    gyr = imu.gyr / 57.3
+    chunk = 150  # 1.5 s per push (the check is tried at most once per second)
+    stops = list(range(chunk, imu.n_samples, chunk))
+    # the rule, on the samples pushed so far (each window check reads them all)
+    expected = None
+    for i, stop in enumerate(stops):
+        if imu.t[stop - 1] - imu.t[0] < 10.0:
+            continue
+        norm = np.linalg.norm(imu.acc[:stop], axis=1)
+        moving = np.count_nonzero(np.abs(norm - np.median(norm)) > 0.5 * GRAVITY_MPS2)
+        if moving >= max(10, 0.2 * imu.rate_hz) and moving >= 0.05 * stop:
+            expected = i
+            break
+    assert expected is not None and imu.t[stops[expected]] < 60.0
+    stream = footnav.make_pipeline("threshold", "ekf", "independent", estimator_params={"smoother": "step"}).online(feet=1)
+    warned_at = None
+    start = 0
+    for i, stop in enumerate(stops):
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            stream.push(left=(imu.t[start:stop], imu.acc[start:stop], gyr[start:stop]))
+        start = stop
+        if any(issubclass(w.category, DataQualityWarning) and "deg/s" in str(w.message) for w in caught):
+            warned_at = i
+            break
+    assert warned_at == expected

@@ -7,6 +7,7 @@ Usage::
     python tools/mutate.py --check         # every snippet is found exactly where it should be
     python tools/mutate.py --only ins-zupt-sign range-mirror -j 1
     python tools/mutate.py --overlay tests/core/test_new.py   # add an uncommitted file to each copy
+    python tools/mutate.py --group issue37 # the third round's mutants (issue 37)
 
 Each mutant is a small edit of one file (an exact snippet and its replacement; a few mutants
 change several snippets that must change together, such as every place one constant is
@@ -524,6 +525,20 @@ MUTANTS: list[Mutant] = [
                                            "if t_now - t_first < CHECK_WINDOW_S and t_now - self._window_tried < 1.0:"), ONLINE_CHECKS, "or/and"),
 ]
 
+#: Mutants of the last rounds, runnable together (``--group NAME``). ``issue37``: the mutants written
+#: for the code added since the second round (from ``final-rest-or-and`` on) and the 16 of the
+#: earlier rounds whose snippets the refactors since rewrote (ported to the current code).
+PORTED_ISSUE37 = (
+    "ins-update-r-as-std", "ins-update-dx-sign", "smooth-caller-updates-order", "smooth-step-h-sign",
+    "smooth-keep-threshold", "win-gravity-literal", "thr-min-stance-boundary", "thr-min-swing-boundary",
+    "range-anchor-swapped", "step-vector-theta-half", "step-vector-pendulum-factor", "step-vector-frame-dropped",
+    "step-vector-heel-strike-boundary", "particle-update-late", "particle-foot-offset-sign", "joint-alone-rotation-transposed",
+)
+_FIRST_ISSUE37 = [m.name for m in MUTANTS].index("final-rest-or-and")
+GROUPS: dict[str, list[str]] = {
+    "issue37": [m.name for m in MUTANTS if m.name in PORTED_ISSUE37] + [m.name for m in MUTANTS[_FIRST_ISSUE37:]],
+}
+
 #: Mutants that cannot change any result, with the reason (reported, not counted as survivors to kill).
 EQUIVALENT: dict[str, str] = {
     "smooth-initial-position-sign": "P0 has zero position rows in every footnav start (the start position defines the "
@@ -634,6 +649,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--list", action="store_true", help="list the mutants and exit")
     parser.add_argument("--check", action="store_true", help="check that every mutant applies to HEAD, run nothing")
     parser.add_argument("--only", nargs="+", metavar="NAME", help="run these mutants only")
+    parser.add_argument("--group", choices=sorted(GROUPS), help="run this group of mutants only (see GROUPS)")
     parser.add_argument("-j", "--jobs", type=int, default=2, help="mutants run at once (default 2; each compiles numba kernels)")
     parser.add_argument("--timeout", type=float, default=600.0, help="seconds per mutant before it counts as a timeout")
     parser.add_argument("--overlay", nargs="*", default=[], metavar="PATH", help="working-tree paths copied over HEAD in each copy")
@@ -646,6 +662,8 @@ def main(argv: list[str] | None = None) -> int:
     names = [m.name for m in MUTANTS]
     if len(set(names)) != len(names):
         raise SystemExit("duplicate mutant names")
+    if args.group:
+        args.only = [*(args.only or []), *GROUPS[args.group]]
     if args.only:
         unknown = set(args.only) - set(names)
         if unknown:

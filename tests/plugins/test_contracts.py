@@ -1,42 +1,45 @@
 """Every registered component runs through its kind's contract (footnav.testing), the defaults
 (``adaptive`` detector, ``ekf`` estimator, ``independent`` fusion, ``none`` heading aid) included.
 
-The contract classes are made here from the registry, one per (kind, name): a component added to
-the registry is checked without a line of test code, and a kind without a contract fails below.
+The contract classes are made from the registry (tests/registry_contracts.py) in one test module
+per kind, beside that kind's tests: tests/detectors/test_detector_contracts.py,
+tests/estimators/test_estimator_contracts.py, tests/fusion/test_fusion_contracts.py and
+tests/heading_aids/test_heading_aid_contracts.py. Here: that every kind has a contract and a
+module, and that the defaults are among the classes made.
 """
 
 from __future__ import annotations
 
+from pathlib import Path
+
+from registry_contracts import CONTRACTS, class_name, contract_classes  # tests/registry_contracts.py
+
 import footnav
 from footnav.component import KINDS
-from footnav.plugins.manager import get_registry
-from footnav.testing import DetectorContract, EstimatorContract, FusionContract, HeadingAidContract
 
-CONTRACTS = {
-    "detector": DetectorContract,
-    "estimator": EstimatorContract,
-    "fusion": FusionContract,
-    "heading_aid": HeadingAidContract,
+TESTS = Path(__file__).resolve().parents[1]
+MODULES = {
+    "detector": TESTS / "detectors" / "test_detector_contracts.py",
+    "estimator": TESTS / "estimators" / "test_estimator_contracts.py",
+    "fusion": TESTS / "fusion" / "test_fusion_contracts.py",
+    "heading_aid": TESTS / "heading_aids" / "test_heading_aid_contracts.py",
 }
 
 
-def _class_name(kind: str, name: str) -> str:
-    return "Test" + "".join(part.capitalize() for part in f"{kind}-{name}".replace("_", "-").split("-")) + "Contract"
+def test_every_kind_has_a_contract_and_a_module_running_it():
+    assert set(KINDS) <= set(CONTRACTS) and set(KINDS) <= set(MODULES)
+    for kind, path in MODULES.items():
+        assert f'contract_classes("{kind}")' in path.read_text(encoding="utf-8"), path
 
 
-_REGISTRY = get_registry()
-for _kind, _names in footnav.list_components().items():
-    for _name in _names:
-        _cls = _REGISTRY.get(_kind, _name).cls
-        globals()[_class_name(_kind, _name)] = type(_class_name(_kind, _name), (CONTRACTS[_kind],), {"component": _cls})
-
-
-def test_every_kind_has_a_contract():
-    assert set(KINDS) <= set(CONTRACTS)
-
-
-def test_the_defaults_are_among_the_contracted():
+def test_every_registered_component_and_the_defaults_get_a_class():
+    for kind, names in footnav.list_components().items():
+        made = contract_classes(kind)
+        assert sorted(made) == sorted(class_name(kind, n) for n in names)
+        for cls in made.values():
+            assert issubclass(cls, CONTRACTS[kind]) and cls.component.kind == kind
     pipe = footnav.make_pipeline()
-    for comp in pipe.components:
-        assert _class_name(comp.kind, comp.name) in globals(), comp
-    assert {"adaptive", "independent"} <= {c.name for c in pipe.components}
+    defaults = {c.kind: c.name for c in pipe.components}
+    assert defaults["detector"] == "adaptive" and defaults["fusion"] == "independent"
+    for kind, name in defaults.items():
+        assert class_name(kind, name) in contract_classes(kind)

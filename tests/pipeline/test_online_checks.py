@@ -10,19 +10,27 @@ from __future__ import annotations
 import warnings
 
 import numpy as np
+import pytest
 
 import footnav
 from footnav.errors import DataQualityWarning
 from footnav.types import GRAVITY_MPS2
 
 
-def test_the_unit_check_waits_for_enough_motion_and_no_longer():
-    # mutant: online-check-standing-and, online-check-moving-one-sided
+@pytest.mark.parametrize("light_swings", [False, True])
+def test_the_unit_check_waits_for_enough_motion_and_no_longer(light_swings):
+    # mutant: online-check-standing-and, online-check-moving-one-sided. With light_swings the
+    # specific force of every swing sample is scaled to 0.3 (|f| ~3 m/s^2, far *below* the
+    # median): motion that only a two-sided count sees
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         rec = footnav.simulate("straight", seed=1, distance_m=20.0, standstill_s=25.0)
     imu = rec.left
     gyr = imu.gyr / 57.3
+    if light_swings:
+        acc = imu.acc.copy()
+        acc[~rec.truth_left.stance] *= 0.3
+        imu = footnav.ImuData(t=imu.t, acc=acc, gyr=imu.gyr)
     chunk = 150  # 1.5 s per push (the check is tried at most once per second)
     stops = list(range(chunk, imu.n_samples, chunk))
     # the rule, on the samples pushed so far (each window check reads them all)

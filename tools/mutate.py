@@ -551,9 +551,6 @@ EQUIVALENT: dict[str, str] = {
     "last peak has j >= 1; j = 0 needs a recording that starts inside the first swing",
     "hmm-position-centre": "in practice: +0.5 moves every state's mean position within a segment by the same "
     "0.5 / L; only their order is used, and it changes only for states closer than that",
-    "online-check-window-due-and": "_window_due only throttles how often the live window check is tried (once "
-    "per second of data); the check itself returns 'not yet' while the window is under CHECK_WINDOW_S, so trying "
-    "it more often costs time and changes no finding",
 }
 
 

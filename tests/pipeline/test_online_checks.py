@@ -56,3 +56,45 @@ def test_the_unit_check_waits_for_enough_motion_and_no_longer(light_swings):
             warned_at = i
             break
     assert warned_at == expected
+
+
+def test_the_window_check_is_tried_at_most_once_per_second_of_data():
+    # mutant: online-check-window-due-and. Pushes of 0.4 s: once the first 10 s are in, the check
+    # is tried at a push only when a second of data has passed since its last try, so the
+    # warning comes at the first *tried* push where the foot has moved enough, which is not
+    # the first push where it has (checked below: the case tells the two apart)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        rec = footnav.simulate("straight", seed=1, distance_m=20.0, standstill_s=25.0)
+    imu = rec.left
+    gyr = imu.gyr / 57.3
+    for chunk in (40, 30, 70, 90):
+        stops = list(range(chunk, imu.n_samples, chunk))
+        tried, first_moved, first_tried = -np.inf, None, None
+        for i, stop in enumerate(stops):
+            t_now = imu.t[stop - 1]
+            norm = np.linalg.norm(imu.acc[:stop], axis=1)
+            moving = np.count_nonzero(np.abs(norm - np.median(norm)) > 0.5 * GRAVITY_MPS2)
+            enough = t_now - imu.t[0] >= 10.0 and moving >= max(10, 0.2 * imu.rate_hz) and moving >= 0.05 * stop
+            if enough and first_moved is None:
+                first_moved = i
+            due = t_now - imu.t[0] >= 10.0 and t_now - tried >= 1.0
+            if due:
+                tried = t_now
+                if enough:
+                    first_tried = i
+                    break
+        if first_tried != first_moved:
+            break
+    assert first_moved is not None and first_tried is not None and first_tried > first_moved
+    stream = footnav.make_pipeline("threshold", "ekf", "independent", estimator_params={"smoother": "step"}).online(feet=1)
+    warned_at, start = None, 0
+    for i, stop in enumerate(stops):
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            stream.push(left=(imu.t[start:stop], imu.acc[start:stop], gyr[start:stop]))
+        start = stop
+        if any(issubclass(w.category, DataQualityWarning) and "deg/s" in str(w.message) for w in caught):
+            warned_at = i
+            break
+    assert warned_at == first_tried

@@ -609,6 +609,19 @@ def imports_the_copy(copy: Path) -> bool:
     return Path(out.stdout.strip()).resolve().is_relative_to(copy.resolve())
 
 
+#: The test runs in progress (each in its own session): ended with the run (SIGTERM, Ctrl-C), so
+#: none outlives its removed copy.
+_RUNNING: set[subprocess.Popen] = set()
+
+
+def _end_running() -> None:
+    for proc in list(_RUNNING):
+        try:
+            os.killpg(proc.pid, signal.SIGKILL)
+        except (ProcessLookupError, PermissionError):
+            pass
+
+
 def run_tests(copy: Path, tests: list[str], timeout_s: float) -> tuple[str, float, str]:
     """Run ``tests`` in ``copy`` with its own numba cache: (outcome, seconds, last output)."""
     env = _env(copy)
@@ -616,12 +629,15 @@ def run_tests(copy: Path, tests: list[str], timeout_s: float) -> tuple[str, floa
     cmd = [sys.executable, "-m", "pytest", "-x", "-q", "-p", "no:cacheprovider", *paths]
     start = time.monotonic()
     proc = subprocess.Popen(cmd, cwd=copy, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, start_new_session=True)
+    _RUNNING.add(proc)
     try:
         out, _ = proc.communicate(timeout=timeout_s)
     except subprocess.TimeoutExpired:
         os.killpg(proc.pid, signal.SIGKILL)
         out, _ = proc.communicate()
         return "timeout", time.monotonic() - start, out[-2000:]
+    finally:
+        _RUNNING.discard(proc)
     seconds = time.monotonic() - start
     if proc.returncode == 0:
         return "survived", seconds, out[-2000:]
@@ -714,6 +730,7 @@ def main(argv: list[str] | None = None) -> int:
                 results.append(r)
                 print(f"[{len(results):3d}/{len(mutants)}] {r['outcome']:8s} {r['seconds']:6.1f} s  {r['name']}", flush=True)
     finally:
+        _end_running()
         shutil.rmtree(workdir, ignore_errors=True)
     order = {n: i for i, n in enumerate(names)}
     results.sort(key=lambda r: order[r["name"]])

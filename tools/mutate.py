@@ -691,7 +691,7 @@ def main(argv: list[str] | None = None) -> int:
         print(f"{len(mutants)} mutants in {len({m.path for m in mutants})} files")
         return 0
 
-    signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))  # so the copies are removed (finally below)
+    signal.signal(signal.SIGTERM, lambda *_: (_end_running(), sys.exit(143)))  # so the copies are removed (finally below)
     workdir = Path(tempfile.mkdtemp(prefix="footnav-mutate-"))
     try:
         base = workdir / "base"

@@ -1,4 +1,5 @@
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -43,7 +44,7 @@ def test_run_writes_results_and_refuses_to_overwrite(sim_csv, tmp_path, capsys):
     import hashlib
 
     left_csv = str(sim_csv / "left.csv")
-    assert doc["input_sha256"][left_csv] == hashlib.sha256(open(left_csv, "rb").read()).hexdigest()
+    assert doc["input_sha256"][left_csv] == hashlib.sha256(Path(left_csv).read_bytes()).hexdigest()
     arrays = np.load(out / "trajectories.npz", allow_pickle=False)
     csv_left = np.loadtxt(out / "left.csv", delimiter=",")
     np.testing.assert_allclose(arrays["left_position"], csv_left[:, 1:4], rtol=1e-8, atol=1e-9)
@@ -121,18 +122,32 @@ def test_interrupted_evaluate_leaves_no_partial_result(sim_csv, tmp_path):
     import sys
 
     out = tmp_path / "report"
-    # the simulated walk 40 times over: seconds of work against the moment between the line below
-    # and the signal (no sleep before it: a sleep let a fast child finish first, 5 runs in 18)
-    cmd = [sys.executable, "-m", "footnav.cli", "-v", "evaluate", *[str(sim_csv)] * 40, "--out", str(out)]
+    # Deterministic: the child runs the real evaluate_many over and over until the signal comes, so
+    # the signal always lands in the runs (signalling on a log line raced a fast child that had
+    # already finished the batch: 5 failures in 18 runs on a loaded machine).
+    child = (
+        "import sys\n"
+        "import footnav.analysis.batch as batch\n"
+        "real = batch.evaluate_many\n"
+        "def until_interrupted(*a, **k):\n"
+        "    print('runs started', file=sys.stderr, flush=True)\n"
+        "    while True:\n"
+        "        real(*a, **k)\n"
+        "batch.evaluate_many = until_interrupted\n"
+        "from footnav.cli import main\n"
+        "sys.exit(main(sys.argv[1:]))\n"
+    )
+    cmd = [sys.executable, "-c", child, "evaluate", str(sim_csv), "--out", str(out)]
     proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
-    for line in proc.stderr:  # -v logs each file read, then the start of the runs
-        if b"evaluating" in line:
+    for line in proc.stderr:
+        if b"runs started" in line:
             break
     proc.send_signal(signal.SIGINT)
     _, err = proc.communicate(timeout=60)
     assert proc.returncode == 1 and b"interrupted" in err, (proc.returncode, err[-500:])
     assert not out.exists()
     assert not [p for p in tmp_path.iterdir() if p.name.endswith(".partial")]
+    assert not [p for p in tmp_path.iterdir() if p.name.startswith(".")], list(tmp_path.iterdir())
 
 
 def test_interrupt_while_writing_leaves_no_partial_result(sim_csv, tmp_path, monkeypatch):

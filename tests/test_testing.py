@@ -5,16 +5,25 @@ contract's accuracy check and the wrong one fails it, so the contract's conforma
 component works, not only that its result has the right shape.
 """
 
+import dataclasses
+
 import numpy as np
 import pytest
 
-from footnav.nav import quaternion as quat
-from footnav.component import FootEstimator, Fusion, StanceDetector
-from footnav.nav.initial_alignment import align_at_rest
-from footnav.types import FootTrajectory, FusionResult, StanceResult, stance_intervals
+from footnav.component import FootEstimator, Fusion, HeadingAid, StanceDetector
 from footnav.fusion.independent import IndependentFusion
 from footnav.fusion.step_vector import StepVectorFusion
-from footnav.testing import DetectorContract, EstimatorContract, FusionContract, StepableEstimatorContract, contract_walk
+from footnav.nav import quaternion as quat
+from footnav.nav.initial_alignment import align_at_rest
+from footnav.testing import (
+    DetectorContract,
+    EstimatorContract,
+    FusionContract,
+    HeadingAidContract,
+    StepableEstimatorContract,
+    contract_walk,
+)
+from footnav.types import FootTrajectory, FusionResult, StanceResult, stance_intervals
 
 G = 9.80665  # standard gravity, m/s^2 (CGPM 1901), written out: not read from the library
 
@@ -138,3 +147,27 @@ def test_contract_walk_is_the_documented_walk():
     assert rec.truth_left.position[-1, 0] == pytest.approx(10.0, abs=0.8)
     assert rec.truth_left.position[0, 1] == pytest.approx(0.1, abs=1e-9)
     assert rec.truth_right.position[0, 1] == pytest.approx(-0.1, abs=1e-9)
+
+
+class _TurningAid(HeadingAid):
+    """A heading aid that turns both feet about their start by ``turn_rad`` (wrong when not 0)."""
+
+    name = "turning-test"
+
+    def __init__(self, *, turn_rad: float = 0.0) -> None:
+        self.turn_rad = turn_rad
+
+    def correct(self, result, left, right=None):
+        c, s = np.cos(self.turn_rad), np.sin(self.turn_rad)
+        rot = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+        feet = []
+        for traj in (result.left, result.right):
+            p0 = traj.position[0]
+            feet.append(dataclasses.replace(traj, position=(traj.position - p0) @ rot.T + p0))
+        return dataclasses.replace(result, left=feet[0], right=feet[1])
+
+
+def test_heading_aid_contract_passes_no_turn_and_fails_a_turn():
+    _check(HeadingAidContract, _TurningAid, {}, "test_feet_still_end_near_the_truth")
+    with pytest.raises(AssertionError, match="from the truth"):
+        _check(HeadingAidContract, _TurningAid, {"turn_rad": 0.2}, "test_feet_still_end_near_the_truth")

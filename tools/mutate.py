@@ -7,6 +7,7 @@ Usage::
     python tools/mutate.py --check         # every snippet is found exactly where it should be
     python tools/mutate.py --only ins-zupt-sign range-mirror -j 1
     python tools/mutate.py --overlay tests/core/test_new.py   # add an uncommitted file to each copy
+    python tools/mutate.py --group issue37 # the third round's mutants (issue 37)
 
 Each mutant is a small edit of one file (an exact snippet and its replacement; a few mutants
 change several snippets that must change together, such as every place one constant is
@@ -118,6 +119,37 @@ MW, EKFP = "footnav/estimators/madgwick.py", _EKF + "estimator.py"
 RC, SV, FD = "footnav/fusion/range_constraint.py", "footnav/fusion/step_vector.py", "footnav/fusion/dtw.py"
 PF, PE, JN = "footnav/fusion/particle.py", "footnav/fusion/particle_ekf.py", "footnav/fusion/joint.py"
 PFC = "footnav/fusion/particle_cloud.py"
+OCH = "footnav/pipeline/online_checks.py"
+ONLINE_CHECKS = ["tests/pipeline/test_online_checks.py", "tests/core/test_online_clipping.py", "tests/faults/test_time_units.py"]
+RES, PYS = "footnav/data/results.py", "footnav/data/io/pyshoe.py"
+DATA_RES = ["tests/data/test_results.py", "tests/core/test_strides.py"]
+DATA_PYS = ["tests/data/io/test_pyshoe.py", "tests/core/io/test_io_pyshoe.py"]
+TC = "footnav/analysis/truth_checks.py"
+TRUTH = ["tests/analysis/test_truth_checks.py", "tests/faults/test_truth_checks.py"]
+METRICS_NEW = ["tests/analysis/test_metrics.py"] + METRICS
+STRIDES_NEW = ["tests/nav/test_strides.py"] + STRIDES
+OF, OJ = "footnav/pipeline/online_foot.py", "footnav/pipeline/online_joint.py"
+FL, DD, IC = "footnav/nav/floors.py", "footnav/nav/dominant_directions.py", "footnav/types/imu_checks.py"
+HT = "footnav/nav/heading.py"  # turn_by: the heading aids' turn
+ONLINE_FWD = ["tests/pipeline/test_online_foot.py", "tests/pipeline/test_online_joint.py"]
+NAV_HD = ["tests/nav/test_heading_drift.py", "tests/estimators/test_consistency.py"]
+NAV_FL = ["tests/nav/test_floors.py", "tests/core/test_floors.py"]
+NAV_DD = ["tests/nav/test_dominant_directions.py", "tests/core/test_dominant_directions.py", "tests/heading_aids/test_magnetometer.py"]
+TYPES_IC = ["tests/types/test_imu_checks.py", "tests/faults/test_time_units.py"]
+OUT, MARK = "footnav/data/output.py", "footnav/data/result_marker.py"
+DATA_OUT = ["tests/data/test_output.py", "tests/data/test_result_marker.py", "tests/faults/test_user_files.py"]
+PEKF = ["tests/fusion/test_particle_ekf.py", "tests/fusion/test_particle_paper.py"]
+VC, SPN = "footnav/nav/vertical_check.py", "footnav/nav/spans.py"
+NAV_VC = ["tests/nav/test_vertical_check.py", "tests/core/test_vertical_check.py"]
+NAV_SPN = ["tests/nav/test_spans.py", "tests/fusion/test_spans.py"]
+JOINT = ["tests/fusion/test_joint.py", "tests/fusion/test_spans.py", "tests/fusion/test_mutants_joint.py"]
+
+# issue 37: the code added or changed since the last round, with the test files that mirror it
+FR, CAL = "footnav/nav/final_rest.py", "footnav/nav/calibration.py"
+NAV_FR = ["tests/nav/test_final_rest.py", "tests/estimators/test_ekf.py"]
+NAV_CAL = ["tests/nav/test_calibration.py", "tests/fusion/test_step_vector_paper.py"]
+NAV_SC = ["tests/nav/test_stance_check.py", "tests/core/test_stance_check.py"]
+ADAPT = ["tests/detectors/test_adaptive.py", "tests/detectors/test_mutants_adaptive.py"]
 
 MUTANTS: list[Mutant] = [
     # -- core/quaternion.py ------------------------------------------------------------------
@@ -349,7 +381,163 @@ MUTANTS: list[Mutant] = [
     M("joint-alone-std", JN, ("np.sqrt(fused.position_std[k] ** 2 + grow)", "np.sqrt(grow)"), FUSION, "missing term"),
     M("joint-alone-rotation-transposed", JN, ("(pos - alone_anchor[0]) @ rot.T + fused_anchor[0]", "(pos - alone_anchor[0]) @ rot + fused_anchor[0]"),
       FUSION, "transpose"),
+    # -- issue 37: nav/final_rest.py, nav/calibration.py, nav/stance_check.py, detectors/adaptive.py --
+    M("final-rest-or-and", FR, ("if tail_s > FINAL_REST_MAX_TAIL_S or rest_s < need_s:", "if tail_s > FINAL_REST_MAX_TAIL_S and rest_s < need_s:"),
+      NAV_FR, "or/and"),
+    M("final-rest-need-min", FR, ("need_s = max(FINAL_REST_MIN_S, 2.0 * median_s)", "need_s = min(FINAL_REST_MIN_S, 2.0 * median_s)"),
+      NAV_FR, "operator"),
+    M("final-rest-tail-boundary", FR, ("if tail_s > FINAL_REST_MAX_TAIL_S or", "if tail_s >= FINAL_REST_MAX_TAIL_S or"), NAV_FR, "boundary"),
+    M("final-rest-rest-last-sample", FR, ("rest_s = float(t[b - 1] - t[a])", "rest_s = float(t[b] - t[a])"), NAV_FR, "off-by-one"),
+    M("calib-mean-of-norms", CAL, ("f_norm = float(np.linalg.norm(imu.acc[start:stop].mean(axis=0)))",
+                                   "f_norm = float(np.linalg.norm(imu.acc[start:stop], axis=1).mean())"), NAV_CAL, "biased estimator"),
+    M("calib-bias-whole-recording", CAL, ("gyro_bias_radps=imu.gyr[start:stop].mean(axis=0)", "gyro_bias_radps=imu.gyr.mean(axis=0)"),
+      NAV_CAL, "missing term"),
+    M("calib-one-sided", CAL, ("if not abs(f_norm / GRAVITY_MPS2 - 1.0) <= MAX_SCALE_ERROR:", "if not f_norm / GRAVITY_MPS2 - 1.0 <= MAX_SCALE_ERROR:"),
+      NAV_CAL, "one-sided"),
+    M("calib-scale-inverted", CAL, ("acc_scale=GRAVITY_MPS2 / f_norm,", "acc_scale=f_norm / GRAVITY_MPS2,"), NAV_CAL, "swapped arguments"),
+    M("check-cycle-either-swings", SC, ("stride &= swinging[:-1] & swinging[1:]", "stride &= swinging[:-1] | swinging[1:]"), NAV_SC, "and/or"),
+    M("check-cycle-first-peak-only", SC, ("stride &= swinging[:-1] & swinging[1:]", "stride &= swinging[:-1]"), NAV_SC, "missing term"),
+    M("check-count-offset", SC, ("missed = (count[b] - count[a + 1]) == 0", "missed = (count[b] - count[a + 2]) == 0"), NAV_SC, "off-by-one"),
+    M("check-max-stride-boundary", SC, ("& ((b - a) <= max_stride_s * imu.rate_hz)", "& ((b - a) < min_stride_s * 4 * imu.rate_hz)"),
+      NAV_SC, "constant"),
+    M("adaptive-pivot-up-next", ADA, ("up = c[1::2][:-1] - c[0::2][:-1]", "up = c[1::2][1:] - c[0::2][1:]"), ADAPT, "off-by-one"),
+    M("adaptive-pivot-share-inverted", ADA, ("& (yaw >= self.pivot_yaw_share * total)", "& (total - yaw >= self.pivot_yaw_share * total)"),
+      ADAPT, "operator"),
+    # -- issue 37: nav/vertical_check.py, nav/spans.py, fusion/joint.py (outside the common span) --
+    M("vcheck-rate-one-sided", VC, ("and abs(self.rate_m_per_100m) >= WARN_RATE_M_PER_100M", "and self.rate_m_per_100m >= WARN_RATE_M_PER_100M"),
+      NAV_VC, "one-sided"),
+    M("vcheck-trend-one-sided", VC, ("and abs(self.trend_m) >= WARN_TREND_M", "and self.trend_m >= WARN_TREND_M"), NAV_VC, "one-sided"),
+    M("vcheck-and-or", VC, ("self.level_strides >= MIN_LEVEL_STRIDES\n            and", "self.level_strides >= MIN_LEVEL_STRIDES\n            or"),
+      NAV_VC, "and/or"),
+    M("vcheck-trend-dropped", VC, ("and abs(self.trend_m) >= WARN_TREND_M\n", "\n"), NAV_VC, "missing term"),
+    M("vcheck-level-one-sided", VC, ("level = np.abs(rise) < level_rise_max_m", "level = rise < level_rise_max_m"), NAV_VC, "one-sided"),
+    M("spans-marked-and", SPN, ("marked = abs(d_start) > tol or abs(d_end) > tol", "marked = abs(d_start) > tol and abs(d_end) > tol"),
+      NAV_SPN, "or/and"),
+    M("spans-marked-one-sided", SPN, ("marked = abs(d_start) > tol or", "marked = d_start > tol or"), NAV_SPN, "one-sided"),
+    M("spans-tolerance-min", SPN, ("tol = max(MARKED_S, MARKED_FRACTION", "tol = min(MARKED_S, MARKED_FRACTION"), NAV_SPN, "operator"),
+    M("spans-stop-side", SPN, ('i1 = int(np.searchsorted(t, stop, side="right"))', 'i1 = int(np.searchsorted(t, stop, side="left"))'),
+      NAV_SPN, "boundary"),
+    M("spans-refusal-boundary", SPN, ("if stop < start + min_common_s:", "if stop <= start + min_common_s:"), NAV_SPN, "boundary"),
+    M("joint-continue-velocity-unturned", JN, ("fused_anchor[0], vel @ rot.T,", "fused_anchor[0], vel,"), JOINT, "missing term"),
+    M("joint-continue-velocity-transposed", JN, ("fused_anchor[0], vel @ rot.T,", "fused_anchor[0], vel @ rot,"), JOINT, "transpose"),
+    M("joint-continue-turn-sign", JN, ("turn = float(quat.yaw(fused_anchor[1]) - quat.yaw(alone_anchor[1]))",
+                                       "turn = float(quat.yaw(alone_anchor[1]) - quat.yaw(fused_anchor[1]))"), JOINT, "sign"),
+    M("check-count-includes-peak", SC, ("missed = (count[b] - count[a + 1]) == 0", "missed = (count[b] - count[a]) == 0"), NAV_SC, "off-by-one"),
+    # -- issue 37: fusion/particle_ekf.py (the paper-mode foot's EKF, eq. 3-7; its height) --------
+    M("particle-ekf-pz-feedback-sign", PE, ("p[0, 2] -= dxs[PZ]", "p[0, 2] += dxs[PZ]"), PEKF, "sign"),
+    M("particle-ekf-att-feedback-sign", PE, ("from_rotvec_nb(dxs[ATT], dxs[ATT + 1], 0.0, dq)", "from_rotvec_nb(-dxs[ATT], -dxs[ATT + 1], 0.0, dq)"),
+      PEKF, "sign"),
+    M("particle-ekf-ba-feedback-sign", PE, ("ba[i] -= dxs[ACC_BIAS + i]", "ba[i] += dxs[ACC_BIAS + i]"), PEKF, "sign"),
+    M("particle-ekf-bias-phi-sign", PE, (("tmp[VEL + i, col] += dt * (acc_term - bias_term)", "tmp[VEL + i, col] += dt * (acc_term + bias_term)"),
+                                         ("cov[r, VEL + i] += dt * (acc_term - bias_term)", "cov[r, VEL + i] += dt * (acc_term + bias_term)")),
+      PEKF, "sign"),
+    M("particle-ekf-pz-phi-dropped", PE, (("tmp[PZ, col] += dt * cov[VEL + 2, col]", "pass"), ("cov[r, PZ] += dt * tmp[r, VEL + 2]", "pass")),
+      PEKF, "missing term"),
+    M("particle-ekf-att-q-dropped", PE, ("cov[ATT + 1, ATT + 1] += noise[1] * dt", "pass"), PEKF, "missing term"),
+    M("particle-ekf-skew-transposed", PE, ("fa = ((0.0, -fz), (fz, 0.0), (-fy, fx))", "fa = ((0.0, fz), (-fz, 0.0), (fy, -fx))"), PEKF, "transpose"),
+    M("particle-ekf-out-height-dropped", PE, ("out_pos[k, 0], out_pos[k, 1], out_pos[k, 2] = mx, my, p[0, 2]",
+                                              "out_pos[k, 0], out_pos[k, 1], out_pos[k, 2] = mx, my, 0.0"), PEKF, "missing term"),
+    M("particle-ekf-std-z-index", PE, ("out_std[k, 2] = math.sqrt(max(cov[PZ, PZ], 0.0))", "out_std[k, 2] = math.sqrt(max(cov[VEL + 2, VEL + 2], 0.0))"),
+      PEKF, "off-by-one"),
+    M("particle-ekf-zupt-r-dropped", PE, ("cov[VEL, VEL] + noise[3], cov[VEL, VEL + 1]", "cov[VEL, VEL], cov[VEL, VEL + 1]"), PEKF, "missing term"),
+    # -- issue 37: data/output.py, data/result_marker.py (clean-up acts on its own names only) -----
+    M("output-entry-prefix-match", OUT, ('and valid.fullmatch(item["entry"])', 'and valid.match(item["entry"])'), DATA_OUT, "boundary"),
+    M("output-entry-unescaped", OUT, ('rf"\\.{re.escape(target.name)}\\.footnav-', 'rf"\\.{target.name}\\.footnav-'), DATA_OUT, "missing term"),
+    M("output-entry-any-token", OUT, ('\\d+-[0-9a-f]{{8}}"', '\\d+-[0-9a-f]+"'), DATA_OUT, "boundary"),
+    M("output-recover-aside-or", OUT, ('elif role == "aside" and not (target.exists() or target.is_symlink()):',
+                                       'elif role == "aside" or not (target.exists() or target.is_symlink()):'), DATA_OUT, "and/or"),
+    M("output-recover-file-as-folder", OUT, ("            elif not _is_real_dir(path):\n", "            elif not path.exists():\n"),
+      DATA_OUT, "missing term"),
+    M("output-partial-suffix-kind", OUT, ('(self.target.suffix if self.kind == "file" else "")', '(self.target.suffix if self.kind == "folder" else "")'),
+      DATA_OUT, "swapped arguments"),
+    M("marker-foreign-any-level", MARK, ("elif rel not in files and not (rel == MARKER and not prefix):", "elif rel not in files and not rel.endswith(MARKER):"),
+      DATA_OUT, "missing term"),
+    M("marker-inside-follows-links", MARK, ("        if not _is_real_dir(path):\n            return False", "        if not path.is_dir():\n            return False"),
+      DATA_OUT, "missing term"),
+    M("marker-relative-allows-parent", MARK, ('part not in ("", ".", "..")', 'part not in ("", ".")'), DATA_OUT, "missing term"),
+    M("marker-legacy-prefix-match", MARK, ("_LEGACY_PATTERN.fullmatch(n)", "_LEGACY_PATTERN.match(n)"), DATA_OUT, "boundary"),
+    # -- issue 37: the online forward estimate, heading drift, floors, dominant directions, input checks --
+    M("online-forward-cov-turned-back", OF, ("c, s = math.cos(-self.psi), math.sin(-self.psi)", "c, s = math.cos(self.psi), math.sin(self.psi)"),
+      ONLINE_FWD, "sign"),
+    M("online-forward-cov-transposed", OF, ("pos, vel, q, cov = p[0], v[0], qq[0], rot @ cov @ rot.T", "pos, vel, q, cov = p[0], v[0], qq[0], rot.T @ cov @ rot"),
+      ONLINE_FWD, "transpose"),
+    M("online-joint-forward-cov-block", OJ, ('sl = filt.block(f, "pos")\n            out.append(ForwardEstimate', 'sl = filt.block(0, "pos")\n            out.append(ForwardEstimate'),
+      ONLINE_FWD, "index"),
+    M("drift-xy-cross-swapped", HD, ("nxy = pxy + ax * pyp + ay * pxp + ax * ay * ppp", "nxy = pxy + ax * pxp + ay * pyp + ax * ay * ppp"),
+      NAV_HD, "swapped arguments"),
+    M("drift-psi-bias-term", HD, ("nxp = pxp + ax * ppp + dt * (pxb + ax * ppb)", "nxp = pxp + ax * ppp + dt * pxb"), NAV_HD, "missing term"),
+    M("drift-start-offset", HD, ("for k in range(start + 1, len(t)):", "for k in range(start, len(t)):"), NAV_HD, "off-by-one"),
+    M("drift-ddof0", HD, ("np.var(used, axis=0, ddof=1)", "np.var(used, axis=0)"), NAV_HD, "biased estimator"),
+    M("drift-still-unfiltered", HD, ("    if still.sum() < MIN_STILL_SAMPLES:  # as align_at_rest: then the whole range is used\n        still[:] = True",
+                                     "    still[:] = True"), NAV_HD, "missing term"),
+    M("floors-upper-median", FL, ("return 0.5 * (zs[first + (n - 1) // 2] + zs[first + n // 2])", "return zs[first + n // 2]"), NAV_FL, "statistic"),
+    M("floors-flight-sign-kept", FL, ("if np.sign(rise_m[j]) != sign:", "if np.sign(rise_m[j]) == sign:"), NAV_FL, "operator"),
+    M("floors-floor-one-sided", FL, ("if abs(rise) >= FLOOR_MIN_RISE_M else 0", "if rise >= FLOOR_MIN_RISE_M else 0"), NAV_FL, "one-sided"),
+    M("floors-stair-one-sided", FL, ("stair = np.abs(rise) >= self.level_rise_max_m", "stair = rise >= self.level_rise_max_m"), NAV_FL, "one-sided"),
+    M("floors-landing-boundary", FL, ("while j < n and gap <= LANDING_STRIDES:", "while j < n and gap < LANDING_STRIDES:"), NAV_FL, "boundary"),
+    M("floors-descent-sign", FL, ("descent_m=float(-np.sum(np.where(stair & (rise < 0), rise, 0.0)))", "descent_m=float(np.sum(np.where(stair & (rise < 0), rise, 0.0)))"),
+      NAV_FL, "sign"),
+    M("dd-straight-either-side", DD, ("& (turn_in < limit) & (turn_out < limit)", "& ((turn_in < limit) | (turn_out < limit))"), NAV_DD, "and/or"),
+    M("dd-refusal-and", DD, ("if strength < min_strength or straight.sum() < min_stretch_strides:", "if strength < min_strength and straight.sum() < min_stretch_strides:"),
+      NAV_DD, "or/and"),
+    M("dd-gate-one-sided", DD, ("use = straight & (np.abs(off) < np.radians(gate_deg))", "use = straight & (off < np.radians(gate_deg))"), NAV_DD, "one-sided"),
+    M("dd-turn-velocity-sign", HT, ("vel = np.column_stack([c * v[:, 0] - s * v[:, 1], s * v[:, 0] + c * v[:, 1], v[:, 2]])",
+                                    "vel = np.column_stack([c * v[:, 0] + s * v[:, 1], -s * v[:, 0] + c * v[:, 1], v[:, 2]])"), NAV_DD, "sign"),
+    M("dd-turn-attitude-sign", HT, ("half = -0.5 * dpsi", "half = 0.5 * dpsi"), NAV_DD, "sign"),
+    M("dd-stretch-length", DD, ("if j - k + 1 >= min_stretch_strides:", "if j - k >= min_stretch_strides:"), NAV_DD, "off-by-one"),
+    M("imu-rest-warn-one-sided", IC, ("if abs(off) > ACC_REST_WARN_FRACTION:", "if off > ACC_REST_WARN_FRACTION:"), TYPES_IC, "one-sided"),
+    M("imu-rest-error-one-sided", IC, ("if abs(off) > ACC_REST_ERROR_FRACTION:", "if off > ACC_REST_ERROR_FRACTION:"), TYPES_IC, "one-sided"),
+    M("imu-rest-all-samples", IC, ("g_rest = float(np.median(acc_norm[rest]))", "g_rest = float(np.median(acc_norm))"), TYPES_IC, "missing term"),
+    M("imu-gyr-unit-or", IC, ("if moving >= ACC_MOVING_FRACTION and n_moving >= max(10, 0.2 * rate) and w_peak",
+                              "if moving >= ACC_MOVING_FRACTION or n_moving >= max(10, 0.2 * rate) and w_peak"), TYPES_IC, "and/or"),
+    M("gait-second-pass-or", GC, ("if stride_fraction > 0 and len(intervals) >= 3:", "if stride_fraction > 0 or len(intervals) >= 3:"),
+      NAV_SC + ["tests/detectors/test_adaptive.py"], "and/or"),
+    # -- issue 37: strides (standstill strides), metrics (height), the truth checks before metrics --
+    M("strides-standstill-and", ST, ("return touches_long | long_duration", "return touches_long & long_duration"), STRIDES_NEW, "or/and"),
+    M("strides-standstill-mean", ST, ("long_stance = stance_s > STANDSTILL_STANCE_FACTOR * np.median(stance_s)",
+                                      "long_stance = stance_s > STANDSTILL_STANCE_FACTOR * np.mean(stance_s)"), STRIDES_NEW, "statistic"),
+    M("strides-standstill-k0-side", ST, ('k0 = np.searchsorted(iv[:, 0], i0, side="right") - 1', 'k0 = np.searchsorted(iv[:, 0], i0, side="left") - 1'),
+      STRIDES_NEW, "boundary"),
+    M("metrics-height-rmse-offset", MET_TR, ("return float(np.sqrt(np.mean((d - d.mean()) ** 2)))", "return float(np.sqrt(np.mean(d**2)))"),
+      METRICS_NEW, "missing term"),
+    M("truth-coverage-and", TC, ("if n_in < 2 or coverage < COVERAGE_MIN:", "if n_in < 2 and coverage < COVERAGE_MIN:"), TRUTH, "or/and"),
+    M("truth-scale-or", TC, ("if ratio > SCALE_ERROR_RATIO and speed > MAX_FOOT_SPEED_MPS:", "if ratio > SCALE_ERROR_RATIO or speed > MAX_FOOT_SPEED_MPS:"),
+      TRUTH, "and/or"),
+    M("truth-scale-warn-one-sided", TC, ("if ratio > SCALE_WARN_RATIO or ratio < 1.0 / SCALE_WARN_RATIO:", "if ratio > SCALE_WARN_RATIO:"),
+      TRUTH, "one-sided"),
+    # -- issue 37: data/results.py, data/io/pyshoe.py ----------------------------------------------
+    M("results-right-stance-left", RES, ('_write_trajectory(traj, stance.mask, tmp / f"{foot}.csv")',
+                                         '_write_trajectory(traj, result.stance_left.mask, tmp / f"{foot}.csv")'), DATA_RES, "wrong variable"),
+    M("results-jsonable-or", RES, ("if isinstance(value, float) and not np.isfinite(value):", "if isinstance(value, float) or not np.isfinite(value):"),
+      DATA_RES, "and/or"),
+    M("results-velocity-column", RES, ("[traj.t, traj.position, traj.velocity, traj.quaternion", "[traj.t, traj.position, traj.position, traj.quaternion"),
+      DATA_RES, "wrong variable"),
+    M("pyshoe-rest-one-sided", PYS, ("np.abs(np.linalg.norm(acc, axis=1) - GRAVITY_MPS2) < REST_ACC_TOL_MPS2", "(np.linalg.norm(acc, axis=1) - GRAVITY_MPS2) < REST_ACC_TOL_MPS2"),
+      DATA_PYS, "one-sided"),
+    M("pyshoe-rest-or", PYS, ("rest = (np.linalg.norm(gyr, axis=1) < REST_GYR_RADPS) & (", "rest = (np.linalg.norm(gyr, axis=1) < REST_GYR_RADPS) | ("),
+      DATA_PYS, "and/or"),
+    # -- issue 37: pipeline/online_checks.py (the live stream's input checks) -----------------------
+    M("online-check-moving-one-sided", OCH, ("moving = int(np.count_nonzero(np.abs(norm - np.median(norm)) > ACC_MOVING_MPS2))",
+                                             "moving = int(np.count_nonzero(norm - np.median(norm) > ACC_MOVING_MPS2))"), ONLINE_CHECKS, "one-sided"),
+    M("online-check-standing-and", OCH, ("if moving < max(10, 0.2 / median_dt) or moving < ACC_MOVING_FRACTION * len(norm):",
+                                         "if moving < max(10, 0.2 / median_dt) and moving < ACC_MOVING_FRACTION * len(norm):"), ONLINE_CHECKS, "or/and"),
+    M("online-check-window-due-and", OCH, ("if t_now - t_first < CHECK_WINDOW_S or t_now - self._window_tried < 1.0:",
+                                           "if t_now - t_first < CHECK_WINDOW_S and t_now - self._window_tried < 1.0:"), ONLINE_CHECKS, "or/and"),
 ]
+
+#: Mutants of the last rounds, runnable together (``--group NAME``). ``issue37``: the mutants written
+#: for the code added since the second round (from ``final-rest-or-and`` on) and the 16 of the
+#: earlier rounds whose snippets the refactors since rewrote (ported to the current code).
+PORTED_ISSUE37 = (
+    "ins-update-r-as-std", "ins-update-dx-sign", "smooth-caller-updates-order", "smooth-step-h-sign",
+    "smooth-keep-threshold", "win-gravity-literal", "thr-min-stance-boundary", "thr-min-swing-boundary",
+    "range-anchor-swapped", "step-vector-theta-half", "step-vector-pendulum-factor", "step-vector-frame-dropped",
+    "step-vector-heel-strike-boundary", "particle-update-late", "particle-foot-offset-sign", "joint-alone-rotation-transposed",
+)
+_FIRST_ISSUE37 = [m.name for m in MUTANTS].index("final-rest-or-and")
+GROUPS: dict[str, list[str]] = {
+    "issue37": [m.name for m in MUTANTS if m.name in PORTED_ISSUE37] + [m.name for m in MUTANTS[_FIRST_ISSUE37:]],
+}
 
 #: Mutants that cannot change any result, with the reason (reported, not counted as survivors to kill).
 EQUIVALENT: dict[str, str] = {
@@ -421,6 +609,19 @@ def imports_the_copy(copy: Path) -> bool:
     return Path(out.stdout.strip()).resolve().is_relative_to(copy.resolve())
 
 
+#: The test runs in progress (each in its own session): ended with the run (SIGTERM, Ctrl-C), so
+#: none outlives its removed copy.
+_RUNNING: set[subprocess.Popen] = set()
+
+
+def _end_running() -> None:
+    for proc in list(_RUNNING):
+        try:
+            os.killpg(proc.pid, signal.SIGKILL)
+        except (ProcessLookupError, PermissionError):
+            pass
+
+
 def run_tests(copy: Path, tests: list[str], timeout_s: float) -> tuple[str, float, str]:
     """Run ``tests`` in ``copy`` with its own numba cache: (outcome, seconds, last output)."""
     env = _env(copy)
@@ -428,12 +629,15 @@ def run_tests(copy: Path, tests: list[str], timeout_s: float) -> tuple[str, floa
     cmd = [sys.executable, "-m", "pytest", "-x", "-q", "-p", "no:cacheprovider", *paths]
     start = time.monotonic()
     proc = subprocess.Popen(cmd, cwd=copy, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, start_new_session=True)
+    _RUNNING.add(proc)
     try:
         out, _ = proc.communicate(timeout=timeout_s)
     except subprocess.TimeoutExpired:
         os.killpg(proc.pid, signal.SIGKILL)
         out, _ = proc.communicate()
         return "timeout", time.monotonic() - start, out[-2000:]
+    finally:
+        _RUNNING.discard(proc)
     seconds = time.monotonic() - start
     if proc.returncode == 0:
         return "survived", seconds, out[-2000:]
@@ -461,6 +665,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--list", action="store_true", help="list the mutants and exit")
     parser.add_argument("--check", action="store_true", help="check that every mutant applies to HEAD, run nothing")
     parser.add_argument("--only", nargs="+", metavar="NAME", help="run these mutants only")
+    parser.add_argument("--group", choices=sorted(GROUPS), help="run this group of mutants only (see GROUPS)")
     parser.add_argument("-j", "--jobs", type=int, default=2, help="mutants run at once (default 2; each compiles numba kernels)")
     parser.add_argument("--timeout", type=float, default=600.0, help="seconds per mutant before it counts as a timeout")
     parser.add_argument("--overlay", nargs="*", default=[], metavar="PATH", help="working-tree paths copied over HEAD in each copy")
@@ -473,6 +678,8 @@ def main(argv: list[str] | None = None) -> int:
     names = [m.name for m in MUTANTS]
     if len(set(names)) != len(names):
         raise SystemExit("duplicate mutant names")
+    if args.group:
+        args.only = [*(args.only or []), *GROUPS[args.group]]
     if args.only:
         unknown = set(args.only) - set(names)
         if unknown:
@@ -484,7 +691,7 @@ def main(argv: list[str] | None = None) -> int:
         print(f"{len(mutants)} mutants in {len({m.path for m in mutants})} files")
         return 0
 
-    signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))  # so the copies are removed (finally below)
+    signal.signal(signal.SIGTERM, lambda *_: (_end_running(), sys.exit(143)))  # so the copies are removed (finally below)
     workdir = Path(tempfile.mkdtemp(prefix="footnav-mutate-"))
     try:
         base = workdir / "base"
@@ -523,6 +730,7 @@ def main(argv: list[str] | None = None) -> int:
                 results.append(r)
                 print(f"[{len(results):3d}/{len(mutants)}] {r['outcome']:8s} {r['seconds']:6.1f} s  {r['name']}", flush=True)
     finally:
+        _end_running()
         shutil.rmtree(workdir, ignore_errors=True)
     order = {n: i for i, n in enumerate(names)}
     results.sort(key=lambda r: order[r["name"]])

@@ -7,10 +7,10 @@ import pytest
 
 import footnav
 from footnav.analysis import metrics
-from footnav.errors import DataNotFoundError, InvalidParameterError
-from footnav.types import GRAVITY_MPS2, ImuData
 from footnav.detectors.adaptive import AdaptiveDetector
 from footnav.detectors.threshold import ThresholdDetector
+from footnav.errors import DataNotFoundError, InvalidParameterError
+from footnav.types import GRAVITY_MPS2, ImuData
 
 
 def test_finds_one_stance_per_cycle_where_the_foot_never_stops(never_still_gait):
@@ -149,3 +149,29 @@ def test_gaitdriven_every_footprint_within_a_metre():
         # 2.3 m worst on these 8 trials (data README): 1 m on every trial is about its median.
         # Measured 2026-11-25: 0.18-0.63 m (trial 35 the worst), so 1 m is 1.6x the worst
         assert errors.rmse_m <= 1.0, name
+
+
+def _turn_between_tilted_rests(turn_axis, tilt_after_deg: float, rate_hz: float = 100.0) -> ImuData:
+    """1 s at rest level (gravity along body z), 0.4 s turning at up to 4 rad/s about the unit body
+    ``turn_axis``, then 1 s at rest tilted by ``tilt_after_deg`` about body x."""
+    rest, turn = int(rate_hz), int(0.4 * rate_hz)
+    hump = 4.0 * np.sin(np.pi * np.arange(turn) / turn) ** 2
+    gyr = np.zeros((2 * rest + turn, 3))
+    gyr[rest : rest + turn] = hump[:, None] * np.asarray(turn_axis, float)[None, :]
+    acc = np.tile([0.0, 0.0, GRAVITY_MPS2], (len(gyr), 1))
+    tilt = np.radians(tilt_after_deg)
+    acc[rest + turn :] = GRAVITY_MPS2 * np.array([0.0, np.sin(tilt), np.cos(tilt)])
+    return ImuData(t=np.arange(len(gyr)) / rate_hz, acc=acc, gyr=gyr)
+
+
+def test_the_pivot_test_reads_the_stance_before_the_gap():
+    # mutant: adaptive-pivot-up-next. The stances differ in tilt (level, then 50 deg), so "up"
+    # taken from the stance before and from the stance after disagree. Share of the squared rate
+    # about "up" (hand-computed): turning about the level z, 1 before / cos^2(50) = 0.41 after;
+    # turning about the tilted up, cos^2(50) = 0.41 before / 1 after. The rule (share >= 0.9 of
+    # the stance *before*: the foot pivots from where it stood) bridges the first only.
+    tilt = np.radians(50.0)
+    about_level = AdaptiveDetector().detect(_turn_between_tilted_rests([0.0, 0.0, 1.0], 50.0))
+    assert about_level.n_stances == 1 and len(about_level.meta["pivots_s"]) == 1
+    about_tilted = AdaptiveDetector().detect(_turn_between_tilted_rests([0.0, np.sin(tilt), np.cos(tilt)], 50.0))
+    assert about_tilted.n_stances == 2 and len(about_tilted.meta["pivots_s"]) == 0

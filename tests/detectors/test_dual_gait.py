@@ -8,11 +8,6 @@ import footnav
 from footnav import CompositionError, InvalidInputError
 from footnav.analysis import metrics
 from footnav.detectors.dual_gait import DualGaitDetector
-from footnav.testing import DetectorContract
-
-
-class TestDualGaitContract(DetectorContract):
-    component = DualGaitDetector
 
 
 @pytest.fixture(scope="module")

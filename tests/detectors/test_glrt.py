@@ -12,10 +12,6 @@ from footnav.testing import DetectorContract
 G = footnav.GRAVITY_MPS2
 
 
-class TestGlrtContract(DetectorContract):
-    component = GlrtDetector
-
-
 class TestGlrtAnyContract(DetectorContract):
     component = GlrtDetector
     params = {"combine": "any"}

@@ -27,10 +27,6 @@ G = footnav.GRAVITY_MPS2
 STEP_TOLERANCE_S = 0.15
 
 
-class TestHmmContract(DetectorContract):
-    component = HmmDetector
-
-
 class TestHmmAccNormContract(DetectorContract):
     component = HmmDetector
     params = {"features": "gyr+acc_norm", "seed": 3}

@@ -16,26 +16,9 @@ from footnav.detectors.threshold import (
     window_sums,
     windows_to_samples,
 )
-from footnav.testing import DetectorContract
 
 G = footnav.GRAVITY_MPS2
 FAMILY = [ThresholdDetector, AccMagnitudeDetector, AccVarianceDetector, AredDetector]
-
-
-class TestThresholdContract(DetectorContract):
-    component = ThresholdDetector
-
-
-class TestAccMagnitudeContract(DetectorContract):
-    component = AccMagnitudeDetector
-
-
-class TestAccVarianceContract(DetectorContract):
-    component = AccVarianceDetector
-
-
-class TestAredContract(DetectorContract):
-    component = AredDetector
 
 
 def test_registry_names():

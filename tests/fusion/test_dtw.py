@@ -9,7 +9,6 @@ from footnav.estimators.ekf import EkfEstimator
 from footnav.fusion.dtw import DtwFusion, feet_heading_mismatch, feet_timeless_average
 from footnav.fusion.independent import IndependentFusion
 from footnav.fusion.joint import start_joint
-from footnav.testing import FusionContract
 
 DRIFTY = {"gyr_bias_walk_radps2_sqrthz": 1e-4}
 
@@ -22,10 +21,6 @@ def _turned(xy, angle):
 
 def _on_grid(traj, t, dims):
     return np.column_stack([np.interp(t, traj.t, traj.position[:, i]) for i in range(dims)])
-
-
-class TestDtwContract(FusionContract):
-    component = DtwFusion
 
 
 def _fuse(fusion, rec):

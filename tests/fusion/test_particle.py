@@ -17,14 +17,9 @@ from footnav.fusion.particle_cloud import (
     offset_rayleigh,
     systematic_resample,
 )
-from footnav.testing import FusionContract
 
 # a consumer-grade gyro (bias walk 5x the simulator's default) so that the feet drift apart
 DRIFTY = {"gyr_bias_walk_radps2_sqrthz": 5e-5}
-
-
-class TestParticleContract(FusionContract):
-    component = ParticleFusion
 
 
 class _FixedU:

@@ -9,19 +9,10 @@ from footnav.estimators.ekf import EkfEstimator
 from footnav.fusion.independent import IndependentFusion
 from footnav.fusion.range_constraint import RangeConstraintFusion
 from footnav.fusion.step_vector import StepVectorFusion, pendulum_step_length
-from footnav.testing import FusionContract
 
 # a consumer-grade gyro (bias walk 10x the simulator's default) so that the feet drift apart as
 # in seed 001's experiments
 DRIFTY = {"gyr_bias_walk_radps2_sqrthz": 1e-4}
-
-
-class TestStepVectorContract(FusionContract):
-    component = StepVectorFusion
-
-
-class TestRangeContract(FusionContract):
-    component = RangeConstraintFusion
 
 
 def _fuse(fusion, rec):

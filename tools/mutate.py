@@ -140,7 +140,7 @@ OUT, MARK = "footnav/data/output.py", "footnav/data/result_marker.py"
 DATA_OUT = ["tests/data/test_output.py", "tests/data/test_result_marker.py", "tests/faults/test_user_files.py"]
 PEKF = ["tests/fusion/test_particle_ekf.py", "tests/fusion/test_particle_paper.py"]
 VC, SPN = "footnav/nav/vertical_check.py", "footnav/nav/spans.py"
-NAV_VC = ["tests/nav/test_vertical_check.py", "tests/core/test_vertical_check.py"]
+NAV_VC = ["tests/nav/test_vertical_check.py"]
 NAV_SPN = ["tests/nav/test_spans.py", "tests/fusion/test_spans.py"]
 JOINT = ["tests/fusion/test_joint.py", "tests/fusion/test_spans.py", "tests/fusion/test_mutants_joint.py"]
 

@@ -136,6 +136,16 @@ def _svg(fig) -> str:
     return text.strip()
 
 
+def _plan_svg(fig, ax) -> str:
+    """A plan view's axes finished (equal scales, labels in m, grid, legend below) as SVG."""
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.set_xlabel("x (m)")
+    ax.set_ylabel("y (m)")
+    ax.grid(True, alpha=0.3)
+    _legend_below(ax, ncol=3)
+    return _svg(fig)
+
+
 def _legend_below(ax, ncol: int = 2) -> None:
     """The legend under the figure, outside every axes (the constrained layout makes room for
     it): never over the data nor over the axis labels."""
@@ -175,12 +185,7 @@ def plan_svg(feet: list[tuple[str, Any, Any]], path, truths: dict[str, Any] | No
     if path is not None and len(path.t) > 1:
         k = decimate(len(path.t))
         ax.plot(path.position[k, 0], path.position[k, 1], color="0.15", lw=1.2, ls="--", label="fused path")
-    ax.set_aspect("equal", adjustable="datalim")
-    ax.set_xlabel("x (m)")
-    ax.set_ylabel("y (m)")
-    ax.grid(True, alpha=0.3)
-    _legend_below(ax, ncol=3)
-    return _svg(fig)
+    return _plan_svg(fig, ax)
 
 
 @_styled
@@ -266,9 +271,4 @@ def overlay_svg(truths: dict[str, Any], estimates: list[tuple[str, str, np.ndarr
         color = _PIPELINE_COLORS[pipelines.index(pipe) % len(_PIPELINE_COLORS)]
         k = decimate(len(xy))
         ax.plot(xy[k, 0], xy[k, 1], color=color, lw=1.0, ls="-" if foot == "left" else "--", label=f"{pipe} ({foot})")
-    ax.set_aspect("equal", adjustable="datalim")
-    ax.set_xlabel("x (m)")
-    ax.set_ylabel("y (m)")
-    ax.grid(True, alpha=0.3)
-    _legend_below(ax, ncol=3)
-    return _svg(fig)
+    return _plan_svg(fig, ax)

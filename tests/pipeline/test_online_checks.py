@@ -44,18 +44,7 @@ def test_the_unit_check_waits_for_enough_motion_and_no_longer(light_swings):
             expected = i
             break
     assert expected is not None and imu.t[stops[expected]] < 60.0
-    stream = footnav.make_pipeline("threshold", "ekf", "independent", estimator_params={"smoother": "step"}).online(feet=1)
-    warned_at = None
-    start = 0
-    for i, stop in enumerate(stops):
-        with warnings.catch_warnings(record=True) as caught:
-            warnings.simplefilter("always")
-            stream.push(left=(imu.t[start:stop], imu.acc[start:stop], gyr[start:stop]))
-        start = stop
-        if any(issubclass(w.category, DataQualityWarning) and "deg/s" in str(w.message) for w in caught):
-            warned_at = i
-            break
-    assert warned_at == expected
+    assert _push_until_unit_warning(imu, gyr, stops) == expected
 
 
 def test_the_window_check_is_tried_at_most_once_per_second_of_data():
@@ -87,14 +76,19 @@ def test_the_window_check_is_tried_at_most_once_per_second_of_data():
         if first_tried != first_moved:
             break
     assert first_moved is not None and first_tried is not None and first_tried > first_moved
+    assert _push_until_unit_warning(imu, gyr, stops) == first_tried
+
+
+def _push_until_unit_warning(imu, gyr, stops) -> int | None:
+    """The index of the push (chunks ending at ``stops``) at which a one-foot stream first warns
+    that the angular rate looks like deg/s, or None."""
     stream = footnav.make_pipeline("threshold", "ekf", "independent", estimator_params={"smoother": "step"}).online(feet=1)
-    warned_at, start = None, 0
+    start = 0
     for i, stop in enumerate(stops):
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
             stream.push(left=(imu.t[start:stop], imu.acc[start:stop], gyr[start:stop]))
         start = stop
         if any(issubclass(w.category, DataQualityWarning) and "deg/s" in str(w.message) for w in caught):
-            warned_at = i
-            break
-    assert warned_at == first_tried
+            return i
+    return None

@@ -45,7 +45,7 @@ __all__ = [
     "StepableEstimatorContract", "contract_walk",
 ]
 
-_WALK: dict[int, Recording] = {}
+_WALK: dict[tuple[int, bool], Recording] = {}
 
 #: Smallest fraction of detected stance samples that lie in the simulator's true stance (built-ins:
 #: 1.00; the example plugin's gyro-norm detector 0.95; a detector that marks everything: ~0.55).
@@ -65,13 +65,17 @@ MAX_FUSION_ERROR_M = 0.5
 MIN_SIGNED_SEPARATION_M = -0.05
 
 
-def contract_walk(seed: int = 0) -> Recording:
-    """A short simulated straight walk (both feet, 100 Hz), cached per seed."""
-    if seed not in _WALK:
+def contract_walk(seed: int = 0, *, magnetometer: bool = False) -> Recording:
+    """A short simulated straight walk (both feet, 100 Hz), cached per seed; with
+    ``magnetometer``, 20 m long and with the simulator's magnetometer (enough stances for a
+    magnetometer aid's gates)."""
+    key = (seed, magnetometer)
+    if key not in _WALK:
         from footnav.data.simulate import simulate
 
-        _WALK[seed] = simulate("straight", seed=seed, rate_hz=100.0, distance_m=10.0)
-    return _WALK[seed]
+        extra = {"distance_m": 20.0, "magnetometer": True} if magnetometer else {"distance_m": 10.0}
+        _WALK[key] = simulate("straight", seed=seed, rate_hz=100.0, **extra)
+    return _WALK[key]
 
 
 class ComponentContract:
@@ -306,11 +310,13 @@ class OnlineEstimatorContract(EstimatorContract):
                 pushed = np.concatenate(parts)
                 np.testing.assert_allclose(pushed, ref, atol=self.online_atol_m, rtol=0, err_msg=foot)
 
+
 class HeadingAidContract(ComponentContract):
     """Contract for :class:`~footnav.component.HeadingAid` subclasses: ``correct`` returns a
     :class:`~footnav.types.FusionResult` aligned with the fusion's, deterministic, and on the
-    contract walk (ekf, true stances, ``independent`` fusion) each corrected foot still ends near
-    its truth: an aid may turn the path, but not a straight walk away from its true heading."""
+    contract walk (ekf, true stances, ``independent`` fusion; with a magnetometer for an aid that
+    needs one) each corrected foot still ends near its truth: an aid may turn the path, but not a
+    straight walk away from its true heading."""
 
     def test_is_a_heading_aid(self):
         assert issubclass(self.component, HeadingAid)
@@ -320,7 +326,7 @@ class HeadingAidContract(ComponentContract):
         from footnav.estimators.ekf import EkfEstimator
         from footnav.fusion.independent import IndependentFusion
 
-        rec = contract_walk()
+        rec = contract_walk(magnetometer=self.component.needs_magnetometer)
         stances = StanceResult(rec.truth_left.stance), StanceResult(rec.truth_right.stance)
         return rec, IndependentFusion().fuse(EkfEstimator(), rec.left, stances[0], rec.right, stances[1])
 

@@ -160,8 +160,10 @@ def _stance_attitudes(traj: FootTrajectory, acc: NDArray[np.float64], steps: NDA
     turns the field's vertical part into the horizontal and reads as a heading error of up to
     tan(dip) dr, changing with the walking direction (1.4 deg of roll: +-2.4 deg at dip 60); the
     accelerometer's tilt at rest is off by only its bias over g."""
-    out = []
+    out = [np.zeros((0, 4))]
     for a, b in steps:
+        if b <= a:
+            continue
         f = acc[a:b].mean(axis=0)
         roll, pitch = np.arctan2(f[1], f[2]), np.arctan2(-f[0], np.hypot(f[1], f[2]))
         yaw = quat.yaw(traj.quaternion[a:b])
@@ -199,7 +201,7 @@ def magnetic_heading_correction(
     magnitude_tol
         A sample passes when its field strength is within this fraction of the walk's median.
     dip_tol_deg
-        ... and its dip within this of the walk's median dip, deg.
+        A sample passes when its dip is also within this of the walk's median dip, deg.
     window_s
         Running median of the stances' heading errors over this window, s.
     min_stances, min_fraction

@@ -9,9 +9,9 @@ The public API::
 
 from __future__ import annotations
 
-import importlib
 from typing import TYPE_CHECKING
 
+from footnav._lazy import lazy_exports
 from footnav.component import FootEstimator, Fusion, HeadingAid, StanceDetector
 from footnav.errors import (
     CompositionError,
@@ -69,17 +69,7 @@ _LAZY = {
 }
 
 
-def __getattr__(name: str):
-    module = _LAZY.get(name)
-    if module is None:
-        raise AttributeError(f"module 'footnav' has no attribute {name!r}")
-    value = getattr(importlib.import_module(module), name)
-    globals()[name] = value  # later look-ups skip this function
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(_LAZY))
+__getattr__, __dir__ = lazy_exports(__name__, _LAZY)
 
 
 def simulate(scenario: str = "straight", *, seed: int = 0, rate_hz: float = 100.0, **options) -> Recording:

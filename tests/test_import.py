@@ -136,3 +136,25 @@ def test_a_kernel_is_made_with_the_kernels_in_its_closure():
 
 def test_a_kernel_passed_to_a_kernel():
     assert _apply(_square, 3.0) == 9.0
+
+
+#: The component families that export their classes (loaded on first look-up).
+FAMILIES = {"detector": "footnav.detectors", "estimator": "footnav.estimators", "fusion": "footnav.fusion",
+            "heading_aid": "footnav.heading_aids"}
+
+
+def test_a_family_package_exports_every_builtin_of_its_kind():
+    from footnav.plugins.builtin import BUILTINS
+
+    for kind, entries in BUILTINS.items():
+        family = importlib.import_module(FAMILIES[kind])
+        for _, ref in entries:
+            module, cls = ref.split(":")
+            assert cls in family.__all__, (kind, cls)
+            assert getattr(family, cls) is getattr(importlib.import_module(module), cls), (kind, cls)
+
+
+def test_importing_a_family_loads_none_of_its_components():
+    loaded = _loaded_after("import footnav.detectors, footnav.estimators, footnav.fusion")
+    assert _offenders(loaded, ["footnav.detectors.hmm", "footnav.detectors.adaptive", "footnav.estimators.ekf",
+                               "footnav.fusion.particle", "sklearn", "hmmlearn"]) == []

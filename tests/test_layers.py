@@ -13,7 +13,7 @@ PACKAGE = Path(__file__).resolve().parents[1] / "footnav"
 
 #: Rank of each top-level part of the package: a module may import its own rank or lower.
 LAYERS = {
-    "_version": 0, "_numba": 0, "errors": 0, "warning_log": 0, "types": 0,
+    "_version": 0, "_numba": 0, "_lazy": 0, "errors": 0, "warning_log": 0, "types": 0,
     "component": 1, "online_contract": 1, "nav": 1,
     "detectors": 2, "estimators": 2, "fusion": 2, "heading_aids": 2,
     "pipeline": 3, "plugins": 3,

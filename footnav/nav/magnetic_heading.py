@@ -32,6 +32,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from footnav.nav import quaternion as quat
+from footnav.nav.initial_alignment import align_at_rest
 from footnav.types import FootTrajectory, ImuData
 
 __all__ = ["MagneticCorrection", "hard_iron_offset", "magnetic_heading_correction"]
@@ -154,7 +155,9 @@ def _samples_of(traj: FootTrajectory, imu: ImuData) -> NDArray[np.int64]:
     return np.where(np.abs(imu.t[k - 1] - traj.t) <= np.abs(imu.t[k] - traj.t), k - 1, k)
 
 
-def _stance_attitudes(traj: FootTrajectory, acc: NDArray[np.float64], steps: NDArray[np.int64]) -> NDArray[np.float64]:
+def _stance_attitudes(
+    traj: FootTrajectory, acc: NDArray[np.float64], gyr: NDArray[np.float64], steps: NDArray[np.int64]
+) -> NDArray[np.float64]:
     """Each stance sample's attitude (sensor -> nav): roll and pitch from the stance's mean
     specific force (gravity alone at rest), yaw the filter's. A roll error dr of the filter
     turns the field's vertical part into the horizontal and reads as a heading error of up to
@@ -164,10 +167,8 @@ def _stance_attitudes(traj: FootTrajectory, acc: NDArray[np.float64], steps: NDA
     for a, b in steps:
         if b <= a:
             continue
-        f = acc[a:b].mean(axis=0)
-        roll, pitch = np.arctan2(f[1], f[2]), np.arctan2(-f[0], np.hypot(f[1], f[2]))
-        yaw = quat.yaw(traj.quaternion[a:b])
-        out.append(quat.from_euler(np.full(b - a, roll), np.full(b - a, pitch), yaw))
+        level = align_at_rest(acc, gyr, a, b).quaternion  # roll and pitch, yaw zero
+        out.append(quat.multiply(quat.from_yaw(quat.yaw(traj.quaternion[a:b])), level))
     return np.concatenate(out)
 
 
@@ -222,7 +223,7 @@ def magnetic_heading_correction(
     offset, note = hard_iron_offset(raw, up, dip_tol_deg=dip_tol_deg, min_spread=min_spread) if hard_iron else (None, "not asked for")
     mag = raw if offset is None else raw - offset
     idx = np.concatenate([np.arange(a, b) for a, b in steps])
-    m_nav = np.einsum("nij,nj->ni", quat.as_matrix(_stance_attitudes(traj, imu.acc[sample], steps)), mag[idx])
+    m_nav = np.einsum("nij,nj->ni", quat.as_matrix(_stance_attitudes(traj, imu.acc[sample], imu.gyr[sample], steps)), mag[idx])
     strength = np.linalg.norm(m_nav, axis=1)
     horizontal = np.hypot(m_nav[:, 0], m_nav[:, 1])
     dip = np.degrees(np.arctan2(-m_nav[:, 2], horizontal))

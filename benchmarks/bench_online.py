@@ -117,16 +117,20 @@ def main() -> None:
 
     replay(pipe, loop.left.slice(0, 2000), loop.right.slice(0, 2000), chunk)  # compile and warm up
     coupled = args.fusion != "independent"
+    # the reference replayed in turn in this process: independent feet for a coupled fusion (of the
+    # same pipeline), the bench pipeline for the default one
+    compared = coupled or args.pipeline == "default"
     base = None
-    if coupled:
-        base = footnav.make_pipeline() if args.pipeline == "default" else footnav.make_pipeline(
-            "threshold", "ekf", "independent", estimator_params={"smoother": "step"})
-    if coupled:
+    if coupled and args.pipeline == "default":
+        base = footnav.make_pipeline()
+    elif compared:
+        base = footnav.make_pipeline("threshold", "ekf", "independent", estimator_params={"smoother": "step"})
+    if compared:
         replay(base, loop.left.slice(0, 2000), loop.right.slice(0, 2000), chunk)
     runs, base_runs = [], []
     for _ in range(max(1, args.repeat)):  # the fusion and independent in turn, in this process
         runs.append(replay(pipe, left, right, chunk))
-        if coupled:
+        if compared:
             base_runs.append(replay(base, left, right, chunk)[0])
     spent = float(np.median([r[0] for r in runs]))
     cpu = float(np.median([r[4] for r in runs]))
@@ -135,10 +139,10 @@ def main() -> None:
     print(f"throughput: {left.duration_s / spent:,.0f}x real time{each} ({spent:.2f} s for {left.duration_s / 60:.1f} min, "
           f"{spent / (2 * left.n_samples) * 1e6:.2f} us per sample, {spent / pushes * 1e6:.0f} us per push of both feet); CPU time: {left.duration_s / cpu:,.0f}x "
           f"({cpu / pushes * 1e6:.0f} us per push)")
-    if coupled:
+    if compared:
         ratios = [r[0] / b for r, b in zip(runs, base_runs)]
-        print(f"  against independent in this process, replayed in turn: {float(np.median(ratios)):.2f}x its time "
-              f"(rounds: {', '.join(f'{x:.2f}x' for x in ratios)}; independent {left.duration_s / float(np.median(base_runs)):,.0f}x real time)")
+        print(f"  against {base!r} in this process, replayed in turn: {float(np.median(ratios)):.2f}x its time "
+              f"(rounds: {', '.join(f'{x:.2f}x' for x in ratios)}; it ran {left.duration_s / float(np.median(base_runs)):,.0f}x real time)")
 
     if args.view:
         view_ratio(pipe, left, right, chunk, max(1, args.repeat))

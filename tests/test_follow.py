@@ -3,9 +3,11 @@
 from __future__ import annotations
 
 import os
+import queue
 import signal
 import subprocess
 import sys
+import threading
 import time
 import warnings
 from pathlib import Path
@@ -15,21 +17,13 @@ import pytest
 
 import footnav
 
-#: Appends the rows of SOURCE to TARGET in bursts of 40 rows every 0.15 s (0.4 s of walk: 2.7x real
-#: time), flushing each burst, as a logger writes a sensor's samples.
-WRITER = """
-import sys, time
-source, target = sys.argv[1], sys.argv[2]
-burst = int(sys.argv[3]) if len(sys.argv) > 3 else 40
-lines = open(source).read().splitlines(keepends=True)
-with open(target, "w") as out:
-    out.writelines(lines[:2])  # units line and header
-    out.flush()
-    for a in range(2, len(lines), burst):
-        out.writelines(lines[a : a + burst])
-        out.flush()
-        time.sleep(0.15)
-"""
+#: The logger of the tests: bursts of 40 rows every 0.15 s (0.4 s of walk: 2.7x real time), each
+#: flushed, optionally holding at a time until the test has seen what it waits for.
+WRITER = Path(__file__).with_name("live_writer.py")
+
+
+def _writer(source: Path, target: Path, *args: str) -> subprocess.Popen:
+    return subprocess.Popen([sys.executable, str(WRITER), str(source), str(target), *args])
 
 
 def _footnav(*args: str, **kwargs) -> subprocess.Popen:
@@ -50,25 +44,26 @@ def _step_lines(text: str) -> list[list[str]]:
 
 
 def test_follow_prints_steps_as_they_happen_and_writes_the_result_folder(walk_csv, tmp_path):
-    left, right = tmp_path / "left.csv", tmp_path / "right.csv"
-    # follow starts first and waits for the files to appear; the writers start once it is up
+    left, right, go = tmp_path / "left.csv", tmp_path / "right.csv", tmp_path / "go"
+    # follow starts first and waits for the files to appear; the writers start once it is up, and
+    # hold at 15 s of walk until follow has printed a step (adaptive's steps are final from ~13 s)
     follow = _footnav("follow", "--left", str(left), "--right", str(right), "--idle-s", "3", "--out", str(tmp_path / "out"))
     lines = [follow.stdout.readline()]
     assert "stride_m" in lines[0]
-    writers = [subprocess.Popen([sys.executable, "-c", WRITER, str(walk_csv / f"{foot}.csv"), str(path)])
+    writers = [_writer(walk_csv / f"{foot}.csv", path, "--hold-after-s", "15", "--go", str(go))
                for foot, path in (("left", left), ("right", right))]
-    first_step_at = None
+    writing = None
     for line in iter(follow.stdout.readline, ""):
         lines.append(line)
-        if first_step_at is None and _step_lines(line):
-            first_step_at = time.monotonic()
-            writing = any(w.poll() is None for w in writers)
+        if writing is None and _step_lines(line):
+            writing = all(w.poll() is None for w in writers)  # held: the walk is not all written yet
+            go.touch()
     rc = follow.wait(timeout=60)
     for w in writers:
         w.wait(timeout=10)
     assert rc == 0, follow.stderr.read()
     text = "".join(lines)
-    assert first_step_at is not None and writing, "a step is printed while the file is still being written"
+    assert writing, "a step is printed while the file is still being written"
     steps = _step_lines(text)
     # the result folder is footnav run's, and equal to the offline run of the default pipeline
     run = subprocess.run([sys.executable, "-m", "footnav.cli", "run", "--left", str(walk_csv / "left.csv"), "--right",
@@ -86,7 +81,7 @@ def test_follow_prints_steps_as_they_happen_and_writes_the_result_folder(walk_cs
 
 def test_ctrl_c_saves_everything_so_far(walk_csv, tmp_path):
     left = tmp_path / "left.csv"
-    writer = subprocess.Popen([sys.executable, "-c", WRITER, str(walk_csv / "left.csv"), str(left)])
+    writer = _writer(walk_csv / "left.csv", left)
     follow = _footnav("follow", "--left", str(left), "--idle-s", "60", "--out", str(tmp_path / "out"))
     for line in iter(follow.stdout.readline, ""):
         if len(_step_lines(line)) and float(line.split()[0]) > 3.0:
@@ -135,23 +130,70 @@ def test_offline_only_pipeline_is_refused(walk_csv, tmp_path):
     assert "cannot run online" in done.stderr
 
 
+def _lines_of(proc: subprocess.Popen) -> queue.Queue:
+    """Each line ``proc`` prints, as it prints it (None at its end), read by a thread of its own."""
+    lines: queue.Queue = queue.Queue()
+
+    def read() -> None:
+        for line in iter(proc.stdout.readline, ""):
+            lines.put(line)
+        lines.put(None)
+
+    threading.Thread(target=read, daemon=True).start()
+    return lines
+
+
+def _next_step(lines: queue.Queue, after_s: float = -1.0) -> list[str]:
+    """The next step line printed for a time past ``after_s``; fails if follow ends first (the
+    timeout is a guard against a hang, not a speed claim)."""
+    while (line := lines.get(timeout=120)) is not None:
+        for step in _step_lines(line):
+            if float(step[0]) > after_s:
+                return step
+    raise AssertionError("follow ended before the step it was waited for")
+
+
+def _drawn_after(figure: Path, before: int | None) -> int:
+    """The figure's mtime once it differs from ``before`` (follow draws right after it prints a
+    step: an event the test waits for, with a guard against a hang)."""
+    for _ in range(6000):
+        if figure.is_file() and (mtime := figure.stat().st_mtime_ns) != before:
+            return mtime
+        time.sleep(0.02)
+    raise AssertionError(f"{figure.name} was not (re)drawn after a step was printed")
+
+
 def test_live_plot_is_redrawn_while_the_walk_goes_on(walk_csv, tmp_path):
+    """The walk comes on standard input in three parts; follow's figure is drawn once the first
+    part gives steps and redrawn once the second gives more, each before the next part is sent."""
     from footnav.data.output import is_footnav_figure
 
-    left, figure = tmp_path / "left.csv", tmp_path / "steps.png"
-    follow = _footnav("follow", "--left", str(left), "--idle-s", "3", "--plot", str(figure), "--plot-every-s", "0.1",
-                      "--out", str(tmp_path / "out"))
-    # slower than the other tests (1.3x real time): the first drawing imports matplotlib
-    writer = subprocess.Popen([sys.executable, "-c", WRITER, str(walk_csv / "left.csv"), str(left), "20"])
-    seen_while_writing = []
-    for line in iter(follow.stdout.readline, ""):
-        if _step_lines(line) and writer.poll() is None:
-            seen_while_writing.append(figure.is_file() and figure.stat().st_mtime_ns)
-    assert follow.wait(timeout=60) == 0, follow.stderr.read()
-    writer.wait(timeout=10)
-    # the figure exists before the walk ends and changes as steps close
-    drawn = [m for m in seen_while_writing if m]
-    assert len(set(drawn)) >= 2, seen_while_writing
+    figure = tmp_path / "steps.png"
+    follow = subprocess.Popen([sys.executable, "-m", "footnav.cli", "follow", "--left", "-", "--plot", str(figure),
+                               "--plot-every-s", "1e-6", "--out", str(tmp_path / "out")],
+                              stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    lines = _lines_of(follow)
+    rows = (walk_csv / "left.csv").read_text().splitlines(keepends=True)
+    t = np.array([float(r.split(",", 1)[0]) for r in rows[2:]])
+    # adaptive's steps are final from ~13 s (10 s start-up, 2.75 s latency); the walk lasts 20.6 s
+    cut = 2 + np.searchsorted(t, [15.0, 18.5])
+    try:
+        follow.stdin.write("".join(rows[: cut[0]]))
+        follow.stdin.flush()
+        first = _next_step(lines)
+        drawn = [_drawn_after(figure, None)]
+        follow.stdin.write("".join(rows[cut[0] : cut[1]]))
+        follow.stdin.flush()
+        _next_step(lines, after_s=float(first[0]))
+        drawn.append(_drawn_after(figure, drawn[0]))
+        follow.stdin.write("".join(rows[cut[1] :]))
+        follow.stdin.close()
+        assert follow.wait(timeout=120) == 0, follow.stderr.read()
+    finally:
+        if follow.poll() is None:
+            follow.kill()
+            follow.wait(timeout=10)
+    assert figure.stat().st_mtime_ns != drawn[1]  # and once more at the end, with every step
     assert is_footnav_figure(figure)
     assert not list(tmp_path.glob(".steps.png.*"))  # no staged file left beside it
 

@@ -211,7 +211,7 @@ def test_the_live_view_takes_steps_and_ends_with_the_stream():
     from footnav.report.live import LiveView
 
     view = LiveView("test", every_s=0.05, window=False)
-    assert view.wait_ready()
+    assert view.wait_ready(120.0)  # a guard, as close() below
     steps = [SimpleNamespace(t=0.5 * i, foot=("left", "right")[i % 2], position=(0.4 * i, 0.1 * (i % 2), 0.0)) for i in range(20)]
     view.add(steps[:10])
     view.flush(force=True)

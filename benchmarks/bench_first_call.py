@@ -65,11 +65,21 @@ print(json.dumps({"total": total, "cpu": cpu, "rows": rows}))
 """
 
 
+#: The source tree this script belongs to (its footnav is "this tree").
+HERE = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
 def _env(cache_dir: str, tree: str | None) -> dict[str, str]:
+    """The child's environment: its own cache, ``tree`` (default this one) first on the path."""
     env = {**os.environ, "NUMBA_CACHE_DIR": cache_dir}
-    if tree is not None:
-        env["PYTHONPATH"] = os.pathsep.join([tree, *filter(None, [os.environ.get("PYTHONPATH")])])
+    env["PYTHONPATH"] = os.pathsep.join([tree or HERE, *filter(None, [os.environ.get("PYTHONPATH")])])
     return env
+
+
+def _child(code: str) -> list[str]:
+    """The child's command line, run with the tree as its working folder: ``-c`` puts that
+    folder first on the path, so a child started in another tree would import that one's footnav."""
+    return [sys.executable, "-W", "ignore", "-c", code]
 
 
 def _timed(code: str, cache_dir: str, tree: str | None = None) -> tuple[float, float]:
@@ -77,7 +87,7 @@ def _timed(code: str, cache_dir: str, tree: str | None = None) -> tuple[float, f
     clock, and its CPU time (user and system; less moved by other jobs on a shared machine)."""
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     t0 = time.perf_counter()
-    subprocess.run([sys.executable, "-W", "ignore", "-c", code], env=_env(cache_dir, tree), check=True, capture_output=True)
+    subprocess.run(_child(code), env=_env(cache_dir, tree), cwd=tree or HERE, check=True, capture_output=True)
     wall = time.perf_counter() - t0
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     return wall, (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
@@ -86,7 +96,7 @@ def _timed(code: str, cache_dir: str, tree: str | None = None) -> tuple[float, f
 def _compilations(code: str, tree: str | None = None) -> dict:
     """numba's compilations while a fresh process with an empty cache runs ``code``."""
     with tempfile.TemporaryDirectory() as cache:
-        out = subprocess.run([sys.executable, "-W", "ignore", "-c", _RECORD, code], env=_env(cache, tree), check=True,
+        out = subprocess.run([*_child(_RECORD), code], env=_env(cache, tree), cwd=tree or HERE, check=True,
                              capture_output=True, text=True)
     return json.loads(out.stdout.strip().splitlines()[-1])
 

@@ -17,6 +17,7 @@ from numpy.typing import NDArray
 
 from footnav._numba import njit
 from footnav.types import GRAVITY_MPS2
+from footnav.types._arrays import _readonly  # the kernels' inputs read-only always: one compiled signature each
 from footnav.types._derived import cumulative, row_norms, shared
 
 __all__ = [
@@ -113,13 +114,13 @@ def _centred_rms(c: NDArray[np.float64], win: int) -> NDArray[np.float64]:
 def centred_gyr_rms(gyr: NDArray[np.float64], win: int) -> NDArray[np.float64]:
     """``centred(gyr_rms(gyr, win), win, N)``: the ARE statistic of the window centred on each
     sample, rad/s, (N,)."""
-    return _centred_rms(_gyr_sq_cumulative(gyr), win)
+    return _centred_rms(_readonly(_gyr_sq_cumulative(gyr)), win)
 
 
 def centred_acc_magnitude_rms(acc: NDArray[np.float64], win: int) -> NDArray[np.float64]:
     """``centred(acc_magnitude_rms(acc, win), win, N)``: the MAG statistic of the window centred
     on each sample, m/s^2, (N,)."""
-    return _centred_rms(_acc_dev_sq_cumulative(acc), win)
+    return _centred_rms(_readonly(_acc_dev_sq_cumulative(acc)), win)
 
 
 def acc_moving_std(acc: NDArray[np.float64], win: int) -> tuple[NDArray[np.float64], NDArray[np.float64]]:

@@ -24,6 +24,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from footnav._numba import njit
+from footnav.types._arrays import _readonly
 
 __all__ = ["cumulative", "row_norms", "shared", "sharing"]
 
@@ -99,7 +100,8 @@ def row_norms(x: NDArray[np.float64]) -> NDArray[np.float64]:
 
     Equals ``np.linalg.norm(x, axis=1)`` bit for bit.
     """
-    return shared("row_norms", (x,), (), lambda: _row_norms(np.ascontiguousarray(x, dtype=np.float64)))
+    # read-only always (a kept input is): one compiled signature, not one per writability
+    return shared("row_norms", (x,), (), lambda: _row_norms(_readonly(np.asarray(x, dtype=np.float64))))
 
 
 def cumulative(x: NDArray[np.float64]) -> NDArray[np.float64]:

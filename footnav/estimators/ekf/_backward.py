@@ -75,7 +75,7 @@ def _chain_steps(ev_foot, ev_k, ev_kind, used, n, n_feet, d, out_p, sm_p, offset
 
 
 @njit(cache=True, error_model="numpy")
-def smooth_back(fill, chain, cov, mu, d, n, n_feet, q_diag, rec, out, sm, ws):
+def smooth_back(fill, chain, cov, mu, d, n, n_feet, q_diag, rec, out_q, out_v, out_p, sm, kt, dq, q_tmp, offset, seen):
     """Bryson-Frazier backward pass over the recorded events ``fill[0] - 1`` down to 0 (and
     their ``fill[1]`` update rows) of the event log ``rec``
     (:class:`~footnav.estimators.ekf._records.Record`, read by its named fields and kinds).
@@ -92,13 +92,17 @@ def smooth_back(fill, chain, cov, mu, d, n, n_feet, q_diag, rec, out, sm, ws):
     foot's positions are chained to where its previous step's smoothing left it (position is
     an integral: the step's smoothed displacement is added to its smoothed start). On return,
     ``mu`` and ``d`` are those before the first event.
+
+    ``out_q``, ``out_v``, ``out_p``: the filtered outputs (the arrays of
+    :class:`~footnav.estimators.ekf._records.Outputs`); ``kt``,
+    ``dq``, ``q_tmp``, ``offset``, ``seen``: those of :class:`~footnav.estimators.ekf._records.Work`. Those arrays,
+    not the tuples: each array passed costs compilation (the unboxing wrapper numba makes for
+    every kernel, and the copies of its fields), and this pass reads few of theirs.
     """
     # the arrays unpacked once, out of the loops: a tuple's field read in a loop costs numba a
     # reference count each time (measured: the loop 2x slower)
     ev_foot, ev_k, ev_fdt, ev_dt, ev_c, ev_kind, ev_width, ev_base, ev_gain, ev_sy, ev_y = rec
-    out_q, out_v, out_p = out.q, out.v, out.p
     sm_q, sm_v, sm_p = sm.q, sm.v, sm.p
-    kt, dq, q_tmp = ws.kt, ws.dq, ws.q_tmp
     big = len(mu)
     used, row = fill[0], fill[1]
     for i in range(big):
@@ -164,4 +168,4 @@ def smooth_back(fill, chain, cov, mu, d, n, n_feet, q_diag, rec, out, sm, ws):
         _finv_apply(d, o, n, x, y, z, ev_c, e, dt)
         _ft_apply(mu, o, n, x, y, z, ev_c, e, dt)
     if chain:
-        _chain_steps(ev_foot, ev_k, ev_kind, used, n, n_feet, d, out_p, sm_p, ws.offset, ws.seen)
+        _chain_steps(ev_foot, ev_k, ev_kind, used, n, n_feet, d, out_p, sm_p, offset, seen)

@@ -260,7 +260,8 @@ def _replay_log(replay, event, state, n, ws, record, rec, fill):
 def _cut(bufs, step, cov, model, n_feet, out, ws):
     """The backward pass over what is recorded (a step, a full buffer or a segment); the
     record starts again."""
-    smooth_back(bufs.fill, step, cov, bufs.mu, bufs.d, model.n, n_feet, model.q_diag, bufs.rec, out, bufs.sm, ws)
+    smooth_back(bufs.fill, step, cov, bufs.mu, bufs.d, model.n, n_feet, model.q_diag, bufs.rec, out.q, out.v, out.p, bufs.sm,
+                ws.kt, ws.dq, ws.q_tmp, ws.offset, ws.seen)
     bufs.fill[0] = 0
     bufs.fill[1] = 0
 

@@ -32,7 +32,7 @@ from footnav.estimators.ekf._records import (
     UpdateLog, Work, empty_log, empty_record, work,
 )
 from footnav.nav.kalman import DENSE_BAD_INPUT, DENSE_NOT_PD, update_dense
-from footnav.nav.quaternion import as_matrix_nb
+from footnav.nav.quaternion import as_matrix
 
 __all__ = ["MAX_SEGMENT_EVENTS", "InsFilter"]
 
@@ -148,10 +148,8 @@ class InsFilter:
         self._ba = np.zeros((nf, 3))
         self._bg = np.array(bg0, dtype=float).reshape(nf, 3).copy()
         self._f_n = np.zeros((nf, 3))
-        for f in range(nf):
-            c = np.zeros((3, 3))
-            as_matrix_nb(self._q[f], c)
-            self._f_n[f] = c @ (self._acc[self._k[f]] - self._ba[f])
+        for f in range(nf):  # numpy's as_matrix, not the kernel: no compilation for one matrix per foot
+            self._f_n[f] = as_matrix(self._q[f]) @ (self._acc[self._k[f]] - self._ba[f])
         big = nf * n_states
         self._cov = np.diag(np.broadcast_to(np.asarray(cov0_diag, float), (nf, n_states)).ravel())
         # the state's arrays, named; never rebound, only written in place

@@ -237,8 +237,7 @@ def _dtw_cost_kernel(a, b, band, squared, limit_mean):  # pragma: no cover - com
             left_len = blen + 1
             cur[k + 1] = left
             cur_len[k + 1] = left_len
-            if left < row_min:
-                row_min = left
+            row_min = min(row_min, left)
             diag, diag_len = up, up_len
         if row_min / most_pairs > limit_mean:
             return inf, 0

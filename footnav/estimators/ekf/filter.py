@@ -43,10 +43,6 @@ def _watch(times: NDArray[np.float64], bound_m: float = 0.0, var_m2: float = 0.0
     return Watch(times, float(bound_m), float(var_m2), bool(symmetric), np.array([start], dtype=np.int64), np.zeros(1, dtype=np.int64))
 
 
-#: Most compiled entry points a filter keeps for :meth:`InsFilter._run_forward` (a few modes and
-#: buffers; more only when buffers are replaced).
-_FAST_ENTRIES = 8
-
 #: Largest number of samples between two checkpoints (and in a step-wise smoother's buffer):
 #: bounds the smoother's buffers when a foot stands still for minutes.
 MAX_SEGMENT_EVENTS = 4096
@@ -325,32 +321,18 @@ class InsFilter:
         return out
 
     def _run_forward(self, args: tuple):
-        """``run(*args)`` for a call on the filter's own state, through the compiled entry point
-        itself once its types are known: numba's dispatcher types the loop's some 60 arrays
-        at every call (about 26 us of a 38 us call; a fusion stops the loop at every step).
-
-        The types are those of the long-lived objects the call passes (the filter's samples,
-        state, outputs, scratch, the smoother's buffers, the update log: tuples and arrays whose
-        element types cannot change), keyed by their identity, and of what is made anew for
-        each call (the span, the watch, the replay) from them and from Python scalars. The
-        entry points are held by the filter, with the objects they were keyed by (so no id is
-        reused), at most ``_FAST_ENTRIES`` of them."""
+        """``run(*args)`` through its compiled entry point once the types are known (numba types
+        ~60 arrays a call): keyed by the identity of the long-lived tuples and arrays (held)."""
         samples, span, state, model, out, mode, bufs, ws, watch, replay = args
-        key = (
-            id(samples), id(span.stop_at), id(span.k), id(state), id(model), id(out), mode, *map(id, bufs), id(ws),
-            None if watch is None else (watch.times.ndim, watch.times.flags.writeable, watch.times.flags.aligned),
-            None if replay is None else id(replay.log),
-        )
-        entry = self._fast.get(key)
-        if entry is not None:
-            return entry[0](*args)
-        result = run(*args)
-        dispatcher = run.dispatcher() if hasattr(run, "dispatcher") else run
+        held = (samples, span.stop_at, span.k, state, model, out, *bufs, ws, None if replay is None else replay.log)
+        key = (*map(id, held), mode, None if watch is None else (watch.times.ndim, watch.times.flags.writeable, watch.times.flags.aligned))
+        if key in self._fast:
+            return self._fast[key][0](*args)
+        result, dispatcher = run(*args), run.dispatcher() if hasattr(run, "dispatcher") else run
         compiled = dispatcher.overloads.get(tuple(dispatcher.typeof_pyval(a) for a in args))
         if compiled is not None:
-            if len(self._fast) >= _FAST_ENTRIES:
+            if len(self._fast) >= 8:  # a few modes and buffers; more only when buffers are replaced
                 self._fast.clear()
-            held = (samples, span.stop_at, span.k, state, model, out, *bufs, ws, None if replay is None else replay.log)
             self._fast[key] = (compiled.entry_point, held)
         return result
 

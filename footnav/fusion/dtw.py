@@ -231,6 +231,12 @@ class DtwFusion(Fusion):
                 events.append((0.5 * (t_off + t_on), foot))
         events.sort()
         big = filt.covariance.shape[0]
+        hs = []  # H = [I -I] on the horizontal positions, by moving foot
+        for moving in (LEFT, RIGHT):
+            h = np.zeros((2, big))
+            h[:, filt.block(moving, "pos").start : filt.block(moving, "pos").start + 2] = np.eye(2)
+            h[:, filt.block(1 - moving, "pos").start : filt.block(1 - moving, "pos").start + 2] = -np.eye(2)
+            hs.append(h)
         applied = skipped = 0
         for t, moving in events:
             other = 1 - moving
@@ -239,9 +245,7 @@ class DtwFusion(Fusion):
                 skipped += 1  # the other foot is not standing: no anchor (running, turning on the spot)
                 continue
             filt.run_until(t)
-            h = np.zeros((2, big))
-            h[:, filt.block(moving, "pos").start : filt.block(moving, "pos").start + 2] = np.eye(2)
-            h[:, filt.block(other, "pos").start : filt.block(other, "pos").start + 2] = -np.eye(2)
+            h = hs[moving]
             offset = np.zeros(2)
             if self.lateral_offset_m:
                 # across the standing foot's heading, towards the moving foot's side

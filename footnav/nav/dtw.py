@@ -170,6 +170,84 @@ def _dtw_kernel(a, b, band, squared, want_path):  # pragma: no cover - compiled
 
 
 @njit(cache=True, error_model="numpy")
+def _dtw_cost_kernel(a, b, band, squared, limit_mean):  # pragma: no cover - compiled
+    """:func:`_dtw_kernel` without the path: (total cost, matched pairs), the very same numbers
+    (same sums, same ties), or (inf, 0) once the mean distance is certain to exceed ``limit_mean``.
+
+    Cells are kept by their diagonal ``k = j - i + band`` at ``k + 1`` of a row padded with inf,
+    so the three predecessors are ``prev[k + 1]`` (diagonal), ``prev[k + 2]`` (i-1, j) and
+    ``cur[k]`` (i, j-1) without a range test per cell; a cell outside the band or the matrix
+    holds inf, which never wins the minimum (as the skipped predecessors of the other kernel).
+
+    Every path passes each row, costs are non-negative and rounding is monotone, so the final
+    total is at least the smallest cost of any row and the mean at least that over the most
+    pairs a path has (N + M - 1): once that exceeds ``limit_mean`` (inf: never) the mean cannot
+    be at or below it.
+    """
+    n, m, d = a.shape[0], b.shape[0], a.shape[1]
+    w = 2 * band + 1
+    inf = np.inf
+    prev = np.full(w + 2, inf)
+    cur = np.full(w + 2, inf)
+    prev_len = np.zeros(w + 2, np.int64)
+    cur_len = np.zeros(w + 2, np.int64)
+    cost = np.empty(w)
+    # D(0, 0) = c(a_0, b_0) as c + min(0, inf, inf): a zero "diagonal predecessor" of length 0
+    prev[band + 1] = 0.0
+    most_pairs = float(n + m - 1)
+    for i in range(n):
+        kmin = max(0, band - i)  # j = i - band + k >= 0
+        kmax = min(w - 1, m - 1 - i + band)  # j <= m - 1
+        for k in range(kmin + 1):  # (kmin itself is written below)
+            cur[k] = inf
+        for k in range(kmax + 2, w + 2):
+            cur[k] = inf
+        # the row's point costs first: independent of each other, unlike the recursion (the
+        # compiler vectorises them); the plane spelled out, the same sum in the same order
+        j0 = i - band
+        if d == 2:
+            ax, ay = a[i, 0], a[i, 1]
+            for k in range(kmin, kmax + 1):
+                dx, dy = ax - b[j0 + k, 0], ay - b[j0 + k, 1]
+                cost[k] = 0.0 + dx * dx + dy * dy
+        else:
+            for k in range(kmin, kmax + 1):
+                c = 0.0
+                for q in range(d):
+                    diff = a[i, q] - b[j0 + k, q]
+                    c += diff * diff
+                cost[k] = c
+        if not squared:
+            for k in range(kmin, kmax + 1):
+                cost[k] = np.sqrt(cost[k])
+        row_min = inf
+        left, left_len = inf, 0  # D(i, j-1): outside the row at its start
+        diag, diag_len = prev[kmin + 1], prev_len[kmin + 1]
+        for k in range(kmin, kmax + 1):
+            up, up_len = prev[k + 2], prev_len[k + 2]
+            # min(D(i-1, j-1), D(i-1, j), D(i, j-1)), ties to the first
+            best, blen = inf, 0
+            if diag < best:
+                best, blen = diag, diag_len
+            if up < best:
+                best, blen = up, up_len
+            if left < best:
+                best, blen = left, left_len
+            left = cost[k] + best
+            left_len = blen + 1
+            cur[k + 1] = left
+            cur_len[k + 1] = left_len
+            row_min = min(row_min, left)
+            diag, diag_len = up, up_len
+        if row_min / most_pairs > limit_mean:
+            return inf, 0
+        prev, cur = cur, prev
+        prev_len, cur_len = cur_len, prev_len
+    kend = (m - 1) - (n - 1) + band + 1
+    return prev[kend], prev_len[kend]
+
+
+@njit(cache=True, error_model="numpy")
 def _dtw_backtrack(steps, n, m, band, n_pairs):  # pragma: no cover - compiled
     """Warping path (n_pairs, 2) from (N-1, M-1) back to (0, 0) along the back-pointers."""
     path = np.empty((n_pairs, 2), np.int64)
@@ -301,7 +379,10 @@ def dtw_align(
         )
     n, m = len(pa), len(pb)
     band_i = _band(band, n, m)
-    total, n_pairs, steps = _dtw_kernel(pa, pb, np.int64(band_i), cost == "sqeuclidean", bool(return_path))
+    if return_path:
+        total, n_pairs, steps = _dtw_kernel(pa, pb, np.int64(band_i), cost == "sqeuclidean", True)
+    else:
+        total, n_pairs = _dtw_cost_kernel(pa, pb, np.int64(band_i), cost == "sqeuclidean", np.inf)
     total, n_pairs = float(total), int(n_pairs)
     per = total / n_pairs if normalize == "mean" else total
     distance = float(np.sqrt(per)) if cost == "sqeuclidean" else float(per)

@@ -17,7 +17,7 @@ from typing import Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from footnav.nav.dtw import _band, _choice, _readonly, _trajectory, dtw_align
+from footnav.nav.dtw import _band, _choice, _dtw_cost_kernel, _readonly, _trajectory, dtw_align
 from footnav.nav.quaternion import wrap_angle
 from footnav.errors import InvalidParameterError
 
@@ -150,7 +150,16 @@ def heading_mismatch(
         return dtw_align(a_rel, _rotate_xy(b_rel, angle), band=band).distance_m
 
     angles = np.linspace(-np.pi, np.pi, int(grid), endpoint=False)
-    costs = np.array([cost(x) for x in angles])
+    # The coarse grid needs only its smallest value exactly: an angle whose DTW is certain to
+    # exceed the best so far stops early (left inf), which leaves argmin and min as they are.
+    # The angles nearest 0 first: tracks already turned alike (e.g. each to its first step) find
+    # the best early, and the others stop within their first rows.
+    band_i = np.int64(_band(band, len(a_rel), len(b_rel)))
+    costs = np.full(len(angles), np.inf)
+    for i in np.argsort(np.abs(angles), kind="stable"):
+        total, pairs = _dtw_cost_kernel(a_rel, _rotate_xy(b_rel, float(angles[i])), band_i, False, float(costs.min()))
+        if pairs:
+            costs[i] = float(total) / int(pairs)
     best = float(angles[int(np.argmin(costs))])
     step = 2.0 * np.pi / grid
     from scipy.optimize import minimize_scalar  # here: scipy.optimize is slow to import

@@ -200,6 +200,27 @@ def test_long_banded_input():
     assert r.distance_m < 0.2
 
 
+@pytest.mark.parametrize("seed", range(4))
+def test_distance_kernel_is_the_path_kernel_to_the_bit(seed):
+    # dtw_align without the path runs its own kernel (no back-pointers, predecessors padded
+    # with inf, a row that may stop early): the same totals and pair counts, ties included
+    # (integer coordinates tie often), in 1-3 dimensions, any band
+    from footnav.nav.dtw import _dtw_cost_kernel, _dtw_kernel
+
+    rng = np.random.default_rng(seed)
+    for _ in range(300):
+        n, m, d = int(rng.integers(1, 30)), int(rng.integers(1, 30)), int(rng.integers(1, 4))
+        a, b = (rng.integers(0, 3, (k, d)).astype(float) if seed % 2 else rng.normal(size=(k, d)) for k in (n, m))
+        band = np.int64(rng.integers(abs(n - m), max(n, m) + 3))
+        for squared in (False, True):
+            total, pairs, _ = _dtw_kernel(a, b, band, squared, False)
+            assert _dtw_cost_kernel(a, b, band, squared, np.inf) == (total, pairs)
+            # stopping early only where the mean is certainly above the limit
+            stopped = _dtw_cost_kernel(a, b, band, squared, 0.999 * total / pairs)
+            assert stopped == (total, pairs) or stopped == (np.inf, 0)
+            assert _dtw_cost_kernel(a, b, band, squared, total / pairs) == (total, pairs)
+
+
 # ---------------------------------------------------------------------------------------------
 # DTW: errors
 # ---------------------------------------------------------------------------------------------
@@ -293,6 +314,28 @@ def test_heading_recovers_a_rotation_of_the_other_foot(rect, angle, translation)
     assert h.distance_m < 0.3  # feet 0.2 m apart plus the stride phase
     if translation == "none":  # the search can only improve on the true rotation
         assert h.distance_m <= dtw_align(a[:, :2], b[:, :2], band=20).distance_m + 1e-9
+
+
+def test_heading_coarse_grid_is_exhaustive(rect):
+    # the coarse angles stop early once certainly worse than the best so far: the angle and the
+    # distance found equal a search that evaluates every coarse angle in full
+    from scipy.optimize import minimize_scalar
+
+    from footnav.nav import dtw_heading
+
+    a, b = rect.truth_left.position[::10, :2], rotate_about_start(rect.truth_right.position[::10], 2.0)[:, :2]
+    pivot, shift = b[0], a[0] - b[0]
+    a_rel, b_rel = np.ascontiguousarray(a - pivot - shift), b - pivot
+
+    def cost(x):
+        return dtw_align(a_rel, dtw_heading._rotate_xy(b_rel, x), band=20).distance_m
+
+    angles = np.linspace(-np.pi, np.pi, 36, endpoint=False)
+    costs = np.array([cost(x) for x in angles])
+    best = float(angles[int(np.argmin(costs))])
+    res = minimize_scalar(cost, bounds=(best - np.pi / 18, best + np.pi / 18), method="bounded", options={"xatol": 1e-4})
+    h = heading_mismatch(a, b, band=20, translation="start")
+    assert (h.angle_rad, h.distance_m) == (float(res.x), float(res.fun))
 
 
 def test_heading_errors():

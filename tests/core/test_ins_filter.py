@@ -426,3 +426,31 @@ def test_a_filter_resumed_from_a_checkpoint_continues_the_run_exactly():
     for x, y in zip(rest.outputs(0), whole.outputs(0)):
         np.testing.assert_array_equal(x[1:], y[s + 1 :])
     np.testing.assert_array_equal(rest.state().cov, whole.state().cov)
+
+
+@pytest.mark.parametrize("smoother", ["whole", "step", "none"])
+def test_the_loops_entry_point_runs_exactly_as_its_dispatcher(smoother, monkeypatch):
+    # InsFilter._run_forward calls the loop's compiled entry point once the call's types are
+    # known (keyed by the identity of the filter's own tuples and arrays): a joint run with a
+    # caller's update every 2 s and the range watch in the loop gives the very numbers of the
+    # same run through numba's dispatcher at every call
+    rec = footnav.simulate("straight", seed=10, distance_m=15.0, standstill_s=1.0)
+    stances = [StanceResult(rec.truth_left.stance), StanceResult(rec.truth_right.stance)]
+    est = EkfEstimator(smoother=smoother, heading="sensor")
+
+    def walk():
+        filt = est.start([rec.left, rec.right], stances)
+        for t in np.arange(2.0, rec.left.t[-1] - 2.0, 2.0):
+            filt.run_until(t)
+            filt.update_position(0, filt.position(0) + [0.01, -0.01, 0.0], std_m=0.05, axes=2)
+        filt.run_range_constrained(np.arange(rec.left.t[-1] - 2.0, rec.left.t[-1], 0.05), 0.3, 0.01)
+        left, right = est.finish(filt, stances)
+        return filt, [getattr(traj, x) for traj in (left, right) for x in ("position", "velocity", "quaternion", "position_std")]
+
+    fast_filt, fast = walk()
+    assert fast_filt._fast  # the entry points were used
+    monkeypatch.setattr(ekf_filter.InsFilter, "_run_forward", lambda self, args: ekf_filter.run(*args))
+    slow_filt, slow = walk()
+    assert not slow_filt._fast
+    for a, b in zip(fast, slow):
+        np.testing.assert_array_equal(a, b)

@@ -174,6 +174,7 @@ class InsFilter:
         self._no_bufs = Buffers(empty_record(big), self._no_sm, np.zeros(2, dtype=np.int64), self._no_vec, self._no_vec)
         self._model = Model(n_states, self._q_diag, float(noise.zupt_std_mps**2), float(noise.zaru_std_radps**2))
         self._work = work(big, nf)
+        self._fast: dict = {}  # compiled entry points of the loop by argument identity (_run_forward)
         self._dense: dict[int, tuple] = {}  # update's scratch by rows
         self.step_smoother = None
         self.segment_records = None
@@ -311,10 +312,27 @@ class InsFilter:
                 replay = None
             else:
                 watch = _watch(np.zeros(0))
-        out = run(self._in, span, state, self._model, self._out, mode, bufs, self._scratch(bufs.rec), watch, replay)
+        args = (self._in, span, state, self._model, self._out, mode, bufs, self._scratch(bufs.rec), watch, replay)
+        out = self._run_forward(args) if state is self._state else run(*args)
         if forward and replay is not None:
             self._n_log = int(replay.next[0])
         return out
+
+    def _run_forward(self, args: tuple):
+        """``run(*args)`` through its compiled entry point once the types are known (numba types
+        ~60 arrays a call): keyed by the identity of the long-lived tuples and arrays (held)."""
+        samples, span, state, model, out, mode, bufs, ws, watch, replay = args
+        held = (samples, span.stop_at, span.k, state, model, out, *bufs, ws, None if replay is None else replay.log)
+        key = (*map(id, held), mode, None if watch is None else (watch.times.ndim, watch.times.flags.writeable, watch.times.flags.aligned))
+        if key in self._fast:
+            return self._fast[key][0](*args)
+        result, dispatcher = run(*args), run.dispatcher() if hasattr(run, "dispatcher") else run
+        compiled = dispatcher.overloads.get(tuple(dispatcher.typeof_pyval(a) for a in args))
+        if compiled is not None:
+            if len(self._fast) >= 8:  # a few modes and buffers; more only when buffers are replaced
+                self._fast.clear()
+            self._fast[key] = (compiled.entry_point, held)
+        return result
 
     @property
     def record_columns(self) -> int:

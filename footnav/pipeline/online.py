@@ -563,6 +563,11 @@ def check_online(pipeline: Any, feet: int) -> float:
             f"estimator {est.name!r} with zupt_start_delay_s or zupt_end_advance_s is offline only for now: "
             "the stance's edges are cut on the whole mask before the run"
         )
+    if getattr(est, "clip_excess_mps2", 0.0):
+        raise CompositionError(
+            f"estimator {est.name!r} with clip_excess_mps2 > 0 is offline only for now: the clipped samples "
+            "are found on the whole recording before the run"
+        )
     return float(latency)
 
 

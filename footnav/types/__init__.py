@@ -50,6 +50,7 @@ from footnav.types.imu_checks import (  # noqa: F401  (the check thresholds: imp
     REST_GYR_RADPS,
     REST_MIN_S,
     REST_WINDOW_S,
+    clipped_acc,
     detect_clipping,
 )
 from footnav.types.recording import FootTruth, Recording
@@ -70,6 +71,7 @@ __all__ = [
     "Path",
     "Recording",
     "StanceResult",
+    "clipped_acc",
     "detect_clipping",
     "stance_intervals",
 ]

@@ -60,6 +60,7 @@ __all__ = [
     "check_time_base",
     "check_time_order",
     "data_label",
+    "clipped_acc",
     "detect_clipping",
     "find_gaps",
     "gap_message",
@@ -248,6 +249,35 @@ def _full_scale_of(value: float, scales: tuple[float, ...], unit_si: float) -> f
     return None
 
 
+def _plateau(x: NDArray[np.float64], floor: float, scales: tuple[float, ...], unit_si: float) -> tuple[NDArray[np.bool_], float | None]:
+    """The plateau rule of :func:`detect_clipping` on one sensor's (N, 3) samples: the samples
+    held at an axis' extreme, and the common full scale the first plateau sits at (or None)."""
+    hit = np.zeros(x.shape, dtype=bool)
+    found = None
+    for k in range(x.shape[1]):
+        col = x[:, k]
+        for extreme in (col.max(), col.min()):
+            fs = _full_scale_of(extreme, scales, unit_si)
+            if abs(extreme) >= floor or fs is not None:
+                same = col == extreme
+                if same.sum() >= CLIP_MIN_REPEATS:
+                    hit[:, k] |= same
+                    if fs is not None and found is None:
+                        found = fs
+    return hit, found
+
+
+def clipped_acc(
+    acc: NDArray[np.float64], *, acc_full_scale_mps2: float | None = None, fraction: float = CLIP_FRACTION_OF_FULL_SCALE
+) -> NDArray[np.bool_]:
+    """The accelerometer's clipped samples, per axis (N, 3): :func:`detect_clipping`'s two rules,
+    the full-scale one at ``fraction`` of ``acc_full_scale_mps2``."""
+    hit, _ = _plateau(acc, CLIP_MIN_ACC_MPS2, ACC_FULL_SCALES_G, GRAVITY_MPS2)
+    if acc_full_scale_mps2 is not None:
+        hit |= np.abs(acc) >= fraction * acc_full_scale_mps2
+    return hit
+
+
 def detect_clipping(
     acc: NDArray[np.float64], gyr: NDArray[np.float64], *, acc_full_scale_mps2: float | None = None
 ) -> dict[str, Any] | None:
@@ -272,25 +302,14 @@ def detect_clipping(
         None when nothing is clipped.
     """
     found: dict[str, float] = {}
-
-    def plateau(x: NDArray[np.float64], floor: float, scales: tuple[float, ...], unit_si: float, key: str) -> NDArray[np.bool_]:
-        hit = np.zeros(x.shape, dtype=bool)
-        for k in range(x.shape[1]):
-            col = x[:, k]
-            for extreme in (col.max(), col.min()):
-                fs = _full_scale_of(extreme, scales, unit_si)
-                if abs(extreme) >= floor or fs is not None:
-                    same = col == extreme
-                    if same.sum() >= CLIP_MIN_REPEATS:
-                        hit[:, k] |= same
-                        if fs is not None:
-                            found.setdefault(key, fs)
-        return hit
-
-    acc_hit = plateau(acc, CLIP_MIN_ACC_MPS2, ACC_FULL_SCALES_G, GRAVITY_MPS2, "acc")
+    acc_hit, fs_acc = _plateau(acc, CLIP_MIN_ACC_MPS2, ACC_FULL_SCALES_G, GRAVITY_MPS2)
+    if fs_acc is not None:
+        found["acc"] = fs_acc
     if acc_full_scale_mps2 is not None:
         acc_hit |= np.abs(acc) >= CLIP_FRACTION_OF_FULL_SCALE * acc_full_scale_mps2
-    gyr_hit = plateau(gyr, CLIP_MIN_GYR_RADPS, GYR_FULL_SCALES_DPS, np.pi / 180.0, "gyr")
+    gyr_hit, fs_gyr = _plateau(gyr, CLIP_MIN_GYR_RADPS, GYR_FULL_SCALES_DPS, np.pi / 180.0)
+    if fs_gyr is not None:
+        found["gyr"] = fs_gyr
     acc_rows = acc_hit.any(axis=1)
     gyr_rows = gyr_hit.any(axis=1)
     if not acc_rows.any() and not gyr_rows.any():

@@ -7,6 +7,7 @@ from reference_ins import nominal_step  # tests/reference_ins.py
 
 import footnav
 from footnav import StanceResult
+from footnav.types import FULL_SCALE_RATIO, GRAVITY_MPS2, ImuData
 from footnav.nav import quaternion as quat
 from footnav.estimators.ekf import EkfEstimator
 from footnav.estimators.ekf import filter as ekf_filter
@@ -50,9 +51,11 @@ def test_structured_predict_equals_dense_predict(n, n_feet, foot):
     assert np.array_equal(fast, fast.T)  # the lower triangle is the upper one, exactly
 
 
-def _reference_forward(est, imu, stance):
+def _reference_forward(est, imu, stance, clip_var=None):
     """Closed-loop error-state filter written densely in numpy: per sample k > k0 (P_pred, P_filt,
-    F, dx) in ``hist[k - k0 - 1]``, the nominal state after the update in ``out[k]``."""
+    F, dx) in ``hist[k - k0 - 1]``, the nominal state after the update in ``out[k]``.
+    ``clip_var`` (N, 3): extra velocity variance of sample k's transition along each body axis,
+    C_k diag(clip_var[k]) C_k' in nav with the predicted attitude C_k."""
     filt = est.start([imu], [stance])
     n = filt.n_states
     noise = filt.noise
@@ -71,6 +74,9 @@ def _reference_forward(est, imu, stance):
         f = _dense_f(n, f_prev, c, dt)
         q, v, p, f_prev = nominal_step(imu, k, q, v, p, f_prev, ba, bg)
         p_pred = f @ cov @ f.T + np.diag(q_diag * dt)
+        if clip_var is not None and np.any(clip_var[k] > 0):
+            ck = quat.as_matrix(q)
+            p_pred[3:6, 3:6] += ck @ np.diag(clip_var[k]) @ ck.T
         dx = np.zeros(n)
         cov = p_pred
         if stance.mask[k]:
@@ -89,10 +95,10 @@ def _reference_forward(est, imu, stance):
     return out, hist, k0, filt.checkpoints[0].state.cov
 
 
-def _reference_rts(est, imu, stance):
+def _reference_rts(est, imu, stance, clip_var=None):
     """Closed-loop error-state filter and RTS smoother written densely in numpy (Simon 2006
     eq. 9.94 on the error state): the independent reference for the compiled Bryson-Frazier pass."""
-    out, hist, k0, cov0 = _reference_forward(est, imu, stance)
+    out, hist, k0, cov0 = _reference_forward(est, imu, stance, clip_var)
     # backward: delta_k = C_k (delta_{k+1} + dx_{k+1}), C_k = P_k F_{k+1}' P_pred_{k+1}^-1
     delta = np.zeros(len(hist[0][3]))
     sm_p = np.empty((imu.n_samples, 3))
@@ -150,6 +156,33 @@ def test_smoother_matches_dense_rts_reference(bias_states, segment_events, monke
     _, _, sm_pos = smooth(filt, "whole")
     np.testing.assert_allclose(sm_pos, ref_smoothed, atol=1e-7)
     assert np.abs(sm_pos - pos).max() > 1e-4  # the smoother did change something
+
+
+@pytest.mark.filterwarnings("ignore::footnav.DataQualityWarning")  # the clipping found
+@pytest.mark.parametrize("bias_states", [False, True])
+def test_clipped_samples_process_noise_matches_dense_reference(bias_states):
+    # an accelerometer clipped at 2.5 g (the simulated walk peaks at 3.1 g forward, 4.8 g up):
+    # each clipped sample's transition gets (clip_excess dt)^2 along its clipped body axes,
+    # rotated into nav with the predicted attitude; forward and smoothed against the dense filter
+    rec = footnav.simulate("straight", seed=4, distance_m=6.0, standstill_s=1.0)
+    fs = 2.5 * GRAVITY_MPS2
+    imu = ImuData.from_arrays(rec.left.t, np.clip(rec.left.acc, -fs, fs), rec.left.gyr, acc_full_scale_mps2=fs)
+    stance = StanceResult(rec.truth_left.stance)
+    est = EkfEstimator(bias_states=bias_states, smoother="whole", heading="sensor", clip_excess_mps2=10 * GRAVITY_MPS2)
+    hit = np.abs(imu.acc) >= FULL_SCALE_RATIO[0] * fs
+    clip_var = hit * ((10 * GRAVITY_MPS2 * np.diff(imu.t, prepend=imu.t[0])) ** 2)[:, None]
+    assert hit.any(axis=1).sum() >= 10 and hit[:, 0].any() and hit[:, 2].any()  # two axes, at different samples
+    ref_filtered, ref_smoothed = _reference_rts(est, imu, stance, clip_var)
+    filt = est.start([imu], [stance])
+    assert filt.meta[0]["clipped_samples"] == hit.any(axis=1).sum()
+    filt.run_until()
+    _, _, pos, _ = filt.outputs(0)
+    np.testing.assert_allclose(pos, ref_filtered, atol=1e-9)
+    _, _, sm_pos = smooth(filt, "whole")
+    np.testing.assert_allclose(sm_pos, ref_smoothed, atol=1e-7)
+    # and it is not the unclipped model's answer (the variance is used)
+    plain_filtered, plain_smoothed = _reference_rts(est, imu, stance)
+    assert np.abs(plain_smoothed - ref_smoothed).max() > 1e-3
 
 
 @pytest.mark.parametrize("bias_states", [False, True])

@@ -75,7 +75,8 @@ def _chain_steps(ev_foot, ev_k, ev_kind, used, n, n_feet, d, out_p, sm_p, offset
 
 
 @njit(cache=True, error_model="numpy")
-def smooth_back(fill, chain, cov, mu, d, n, n_feet, q_diag, rec, out_q, out_v, out_p, sm, kt, dq, q_tmp, offset, seen):
+def smooth_back(fill, chain, cov, mu, d, n, n_feet, q_diag, clip_row, clip_q, rec, out_q, out_v, out_p, sm, kt, dq, q_tmp,
+                offset, seen):
     """Bryson-Frazier backward pass over the recorded events ``fill[0] - 1`` down to 0 (and
     their ``fill[1]`` update rows) of the event log ``rec``
     (:class:`~footnav.estimators.ekf._records.Record`, read by its named fields and kinds).
@@ -164,6 +165,13 @@ def smooth_back(fill, chain, cov, mu, d, n, n_feet, q_diag, rec, out_q, out_v, o
         dt = ev_dt[e]
         for i in range(n):
             d[o + i] -= q_diag[i] * dt * mu[o + i]
+        j = clip_row[k]
+        if j >= 0:  # a clipped sample's Q in nav (written by the forward loop)
+            m0, m1, m2 = mu[o + 3], mu[o + 4], mu[o + 5]
+            q = clip_q[j]
+            d[o + 3] -= q[0] * m0 + q[1] * m1 + q[2] * m2
+            d[o + 4] -= q[1] * m0 + q[3] * m1 + q[4] * m2
+            d[o + 5] -= q[2] * m0 + q[4] * m1 + q[5] * m2
         x, y, z = ev_fdt[e, 0], ev_fdt[e, 1], ev_fdt[e, 2]
         _finv_apply(d, o, n, x, y, z, ev_c, e, dt)
         _ft_apply(mu, o, n, x, y, z, ev_c, e, dt)

@@ -87,12 +87,20 @@ class Span(NamedTuple):
 
 class Model(NamedTuple):
     """The filter's model: ``n`` states per foot, ``q_diag`` Q / dt of one foot, the update
-    variances ``r_zupt`` and ``r_zaru`` (0: no ZARU)."""
+    variances ``r_zupt`` and ``r_zaru`` (0: no ZARU); and the samples whose accelerometer is at
+    its range, where the specific force beyond it is unknown: ``clip_row`` per sample of the
+    concatenated samples (-1: none) a row of ``clip_var``, the extra velocity variance of its
+    transition along each body axis (m^2/s^2), and of ``clip_q``, that variance in nav
+    (C diag(clip_var) C', upper triangle 00 01 02 11 12 22), which the forward loop writes and
+    the backward pass reads."""
 
     n: int
     q_diag: NDArray[np.float64]
     r_zupt: float
     r_zaru: float
+    clip_row: NDArray[np.int64]
+    clip_var: NDArray[np.float64]
+    clip_q: NDArray[np.float64]
 
 
 class Buffers(NamedTuple):
@@ -260,8 +268,8 @@ def _replay_log(replay, event, state, n, ws, record, rec, fill):
 def _cut(bufs, step, cov, model, n_feet, out, ws):
     """The backward pass over what is recorded (a step, a full buffer or a segment); the
     record starts again."""
-    smooth_back(bufs.fill, step, cov, bufs.mu, bufs.d, model.n, n_feet, model.q_diag, bufs.rec, out.q, out.v, out.p, bufs.sm,
-                ws.kt, ws.dq, ws.q_tmp, ws.offset, ws.seen)
+    smooth_back(bufs.fill, step, cov, bufs.mu, bufs.d, model.n, n_feet, model.q_diag, model.clip_row, model.clip_q, bufs.rec,
+                out.q, out.v, out.p, bufs.sm, ws.kt, ws.dq, ws.q_tmp, ws.offset, ws.seen)
     bufs.fill[0] = 0
     bufs.fill[1] = 0
 
@@ -326,7 +334,7 @@ def run(samples, span, state, model, out, mode, bufs, ws, watch, replay):
     q, v, p, ba, bg, f_n, cov = state
     out_q, out_v, out_p, out_pcov = out
     k, stop_at, t_stop = span.k, span.stop_at, span.t_stop
-    n, q_diag, r_zupt, r_zaru = model
+    n, q_diag, r_zupt, r_zaru, clip_row, clip_var, clip_q = model
     ev_foot, ev_k, ev_fdt, ev_dt, ev_c, ev_kind, ev_width, ev_base, ev_gain, ev_sy, ev_y = bufs.rec
     fill = bufs.fill
     c, c_next, dq, q_tmp, f_prev = ws.c, ws.c_next, ws.dq, ws.q_tmp, ws.f_prev
@@ -387,6 +395,18 @@ def run(samples, span, state, model, out, mode, bufs, ws, watch, replay):
         f_prev[0], f_prev[1], f_prev[2] = f_n[f, 0], f_n[f, 1], f_n[f, 2]
         strapdown_step(q, v, p, f_n, f, a_prev, w_prev, a_cur, w_cur, dt, dq, q_tmp, c_next)
         predict_cov(cov, o, n, f_prev, c, dt, q_diag)
+        j = clip_row[kn]
+        if j >= 0:  # a clipped sample's unknown specific force along its axes (Model)
+            u = 0
+            for i in range(3):
+                for m in range(i, 3):
+                    qv = (c_next[i, 0] * c_next[m, 0] * clip_var[j, 0] + c_next[i, 1] * c_next[m, 1] * clip_var[j, 1]
+                          + c_next[i, 2] * c_next[m, 2] * clip_var[j, 2])
+                    clip_q[j, u] = qv
+                    u += 1
+                    cov[o + VEL + i, o + VEL + m] += qv
+                    if m != i:
+                        cov[o + VEL + m, o + VEL + i] += qv
         nu = 0
         if stance[kn]:
             # ZUPT: z = v^ - 0 = dv + noise

@@ -76,6 +76,11 @@ class InsFilter:
     capacity
         Per foot: samples the filter has room for, at least those given; the rest come with
         :meth:`extend`. Default: the given samples.
+    clip_var
+        Per foot, None or (N, 3): extra velocity variance of each sample's transition along each
+        body axis, m^2/s^2 (the samples whose accelerometer is at its range; ``EkfEstimator``'s
+        ``clip_excess_mps2``), turned into nav with the predicted attitude. Samples given by
+        :meth:`extend` get none.
 
     Attributes
     ----------
@@ -113,6 +118,7 @@ class InsFilter:
         n_states: int,
         *,
         capacity: Sequence[int] | None = None,
+        clip_var: Sequence[NDArray[np.float64] | None] | None = None,
     ) -> None:
         self.n_feet = len(t)
         self.n_states = n_states
@@ -136,6 +142,16 @@ class InsFilter:
                 dst[a : a + lengths[f]] = src[f]
                 dst[a + lengths[f] : b] = 0  # room for extend: never read before it is written
         self._in = Samples(self._t, self._acc, self._gyr, self._stance)
+        # the samples whose accelerometer is at its range (Model.clip_row): their extra
+        # velocity variance per body axis, m^2/s^2
+        self._clip_row = np.full(total, -1, dtype=np.int64)
+        rows = []
+        for f, x in enumerate(clip_var or ()):
+            if x is not None:
+                hit = np.flatnonzero(np.any(np.asarray(x) > 0.0, axis=1))
+                self._clip_row[self._offsets[f] + hit] = len(rows) + np.arange(len(hit))
+                rows.extend(np.asarray(x, dtype=np.float64)[hit])
+        rows_var = np.array(rows, dtype=np.float64).reshape(-1, 3)
         self._out = Outputs(self._out_q, self._out_v, self._out_p, self._out_pcov)
         #: each foot's last sample given so far (an index of the concatenated samples)
         self._stop_at = self._offsets[:-1] + np.asarray(lengths, dtype=np.int64) - 1
@@ -172,7 +188,7 @@ class InsFilter:
         self._no_sm = Smoothed(np.zeros((0, 4)), np.zeros((0, 3)), np.zeros((0, 3)))
         self._no_vec = np.zeros(big)
         self._no_bufs = Buffers(empty_record(big), self._no_sm, np.zeros(2, dtype=np.int64), self._no_vec, self._no_vec)
-        self._model = Model(n_states, self._q_diag, float(noise.zupt_std_mps**2), float(noise.zaru_std_radps**2))
+        self._model = Model(n_states, self._q_diag, float(noise.zupt_std_mps**2), float(noise.zaru_std_radps**2), self._clip_row, rows_var, np.zeros((len(rows_var), 6)))
         self._work = work(big, nf)
         self._fast: dict = {}  # compiled entry points of the loop by argument identity (_run_forward)
         self._dense: dict[int, tuple] = {}  # update's scratch by rows
@@ -275,6 +291,7 @@ class InsFilter:
         self._acc[a : a + m] = acc
         self._gyr[a : a + m] = gyr
         self._stance[a : a + m] = stance
+        self._clip_row[a : a + m] = -1  # (online: no clipped samples' variance yet)
         self._stop_at[foot] += m
 
     def resume(self, state: FilterState, index: Sequence[int]) -> None:

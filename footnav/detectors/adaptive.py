@@ -28,7 +28,7 @@ learned model:
    While the foot pivots, its sensor moves by about its distance from the pivot point times the
    angle turned (~0.1 m for a quarter turn): the zero-velocity update there costs about what
    free integration would.
-5. :func:`footnav.detectors.threshold.stance_result` drops stances shorter than ``min_stance_s``,
+5. The cleaning of :func:`footnav.detectors.threshold.stance_result` drops stances shorter than ``min_stance_s``,
    bridges swings shorter than ``min_swing_s`` and marks ``foot_flat`` / ``heel_off``.
 
 Online (:mod:`footnav.pipeline.online`, ``latency_s`` = ``online_lookahead_s`` +
@@ -37,7 +37,10 @@ decisions it makes final. Its decisions are the offline ones except where the wi
 what the whole walk shows: a gait cycle longer than the look-ahead (taken with the base bounds,
 as a recording's last cycle), and the typical stride (``stride_fraction``), which is that of the
 window's ~8 strides rather than the whole walk's. On the shared recordings 109 of 121 feet get
-the offline mask; docs/online.md gives the others.
+the offline mask; docs/online.md gives the others. A stream runs the windows through
+:class:`AdaptiveWindows` (:meth:`AdaptiveDetector.online_windows`): the same rule
+(:func:`_decide`, compiled, which ``detect`` runs too) on per-sample quantities kept as the
+samples arrive, the parameters checked once.
 
 The result's ``score`` is ``s / scale`` (a sample is still when it is below 1), ``meta`` holds
 the swing peaks, the typical stride, each cycle's scale and the pivots' start times.
@@ -49,6 +52,7 @@ from typing import Any
 
 import numpy as np
 
+from footnav._numba import njit
 from footnav.component import (
     MAX_ACC_MPS2,
     MAX_DURATION_S,
@@ -58,12 +62,19 @@ from footnav.component import (
     require_non_negative,
     require_positive,
 )
-from footnav.nav.gait_cycles import SWING_ACC_MPS2, swing_peaks
+from footnav.detectors.threshold import _clean_runs
+from footnav.nav.gait_cycles import MAX_STRIDE_S, SWING_ACC_MPS2, select_swing_peaks, swing_peaks
+from footnav.nav.windows import (
+    acc_dev_sq,
+    acc_dev_sq_cumulative,
+    centred_rms,
+    cumulative_sum,
+    gyr_sq,
+    gyr_sq_cumulative,
+    window_samples,
+)
 from footnav.types import GRAVITY_MPS2, ImuData, StanceResult, stance_intervals
-from footnav.nav.windows import centred_acc_magnitude_rms, centred_gyr_rms, window_samples
-from footnav.detectors.threshold import clean_stance_mask, stance_result
-from footnav.types._derived import row_norms, sharing
-from footnav._numba import njit
+from footnav.types._derived import sharing
 
 __all__ = ["AdaptiveDetector"]
 
@@ -221,9 +232,12 @@ class AdaptiveDetector(StanceDetector):
     def _detect(self, imu: ImuData) -> StanceResult:
         n, rate = imu.n_samples, imu.rate_hz
         win = window_samples(self.window_s, rate, n)
-        stat = np.maximum(
-            centred_gyr_rms(imu.gyr, win) / self.gyr_threshold_radps,
-            centred_acc_magnitude_rms(imu.acc, win) / self.acc_tolerance_mps2,
+        stat = _statistic(
+            gyr_sq_cumulative(imu.gyr),
+            acc_dev_sq_cumulative(imu.acc),
+            win,
+            self.gyr_threshold_radps,
+            self.acc_tolerance_mps2,
         )
         peaks = swing_peaks(
             imu.gyr,
@@ -234,19 +248,7 @@ class AdaptiveDetector(StanceDetector):
             min_stride_s=self.min_stride_s,
             stride_fraction=self.stride_fraction,
         )
-        idx, height = peaks.index, peaks.height_radps
-        scale = np.ones(n)
-        cycle_scale = np.ones(max(len(idx) - 1, 0))
-        if len(idx) >= 2:
-            stillest = np.minimum.reduceat(stat, idx)[:-1]  # of each cycle idx[k] .. idx[k+1] - 1
-            ceiling = self.swing_fraction * np.minimum(height[:-1], height[1:]) / self.gyr_threshold_radps
-            raised = np.maximum(self.stance_factor * stillest, 1.0)
-            # a cycle whose foot stands still under the base bounds keeps them
-            raised[_longest_run_per_cycle(stat < 1.0, idx) >= self.base_stance_s * rate] = 1.0
-            cycle_scale = np.maximum(np.minimum(raised, ceiling), self.min_scale)
-            scale[idx[0] : idx[-1]] = np.repeat(cycle_scale, np.diff(idx))
-        mask = stat < scale
-        pivots = self._bridge_pivots(imu, clean_stance_mask(mask, rate, self.min_stance_s, self.min_swing_s))
+        mask, scale, cycle_scale, pivots = self._decide(stat, peaks.index, peaks.height_radps, imu.acc, imu.gyr, rate)
         meta: dict[str, Any] = {
             "detector": self.describe(),
             "window_samples": win,
@@ -256,54 +258,279 @@ class AdaptiveDetector(StanceDetector):
             "cycle_scale": cycle_scale,
             "pivots_s": imu.t[pivots[:, 0]] if len(pivots) else np.empty(0),
         }
-        for a, b in pivots:
-            mask[a:b] = True
-        return stance_result(mask, rate, self.min_stance_s, self.min_swing_s, stat / scale, meta)
+        return StanceResult(mask=mask, events=_events(mask), score=stat / scale, meta=meta)
 
-    def _bridge_pivots(self, imu: ImuData, mask: np.ndarray) -> np.ndarray:
-        """(start, stop) of the gaps between two stances where the foot pivots on the ground.
-
-        In a turn on the spot the foot stays down and turns about the vertical, at up to 5-10
-        rad/s: a swing by its angular rate, a stance by everything else. Such a gap turns about
-        gravity (the direction of the specific force in the preceding stance, body frame) for at
-        least ``pivot_yaw_share`` of its squared angular rate, where a swing turns mostly in
-        pitch (< 0.2 on the IPOL and pyshoe recordings), and its ``|f| - g`` stays small (RMS
-        below ``pivot_acc_mps2``; a swing's is 5-20 m/s^2).
-        """
-        runs = stance_intervals(mask)
-        if self.pivot_yaw_share >= 1.0 or len(runs) < 2:
-            return np.empty((0, 2), dtype=np.int64)
-        a1, b0 = runs[:-1, 1], runs[1:, 0]
-        # the preceding stance's mean specific force: "up" in the body frame
-        c = _prefix_sums_at(imu.acc, runs[:, :2].ravel())
-        up = c[1::2][:-1] - c[0::2][:-1]
-        up /= np.maximum(np.linalg.norm(up, axis=1, keepdims=True), 1e-12)
-        # every gap at once: its samples in order, each with its gap's "up", summed per gap
-        length = b0 - a1
-        in_gap = np.flatnonzero(~mask[a1[0] : b0[-1]]) + a1[0]
-        first = np.concatenate([[0], np.cumsum(length)[:-1]])
-        w = imu.gyr[in_gap]
-        total = np.add.reduceat(np.einsum("ij,ij->i", w, w), first)
-        yaw = np.add.reduceat(np.einsum("ij,ij->i", w, np.repeat(up, length, axis=0)) ** 2, first)
-        acc_dev2 = np.add.reduceat((row_norms(imu.acc)[in_gap] - GRAVITY_MPS2) ** 2, first) / length
-        pivot = (
-            ((b0 - a1) <= self.max_pivot_s * imu.rate_hz)
-            & (total > 0)
-            & (yaw >= self.pivot_yaw_share * total)
-            & (acc_dev2 < self.pivot_acc_mps2**2)
+    def _decide(
+        self, stat: np.ndarray, peaks: np.ndarray, height: np.ndarray, acc: np.ndarray, gyr: np.ndarray, rate: float
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """Steps 3-5 (the rule, offline and online): the cleaned mask (N,), each sample's scale
+        (N,), each cycle's scale (K-1,) and the pivots' (start, stop), from the statistic and the
+        swing peaks (sample index, height rad/s)."""
+        return _decide(
+            stat,
+            np.asarray(peaks, dtype=np.int64),
+            height,
+            acc,
+            gyr,
+            self.gyr_threshold_radps,
+            self.stance_factor,
+            self.swing_fraction,
+            self.min_scale,
+            self.base_stance_s * rate,
+            round(self.min_stance_s * rate),
+            round(self.min_swing_s * rate),
+            self.pivot_yaw_share,
+            self.pivot_acc_mps2**2,
+            self.max_pivot_s * rate,
         )
-        return np.stack([a1[pivot], b0[pivot]], axis=1).astype(np.int64)
+
+    def online_windows(self) -> AdaptiveWindows | None:
+        """The detector for a stream's windows (:mod:`footnav.pipeline.online_foot`), its
+        parameters checked once (when the stream starts): per-sample quantities as the samples
+        arrive, one window's mask. None for a subclass with its own ``detect``."""
+        if type(self).detect is not AdaptiveDetector.detect or type(self)._detect is not AdaptiveDetector._detect:
+            return None
+        self.validate_params()
+        return AdaptiveWindows(self)
 
 
-def _longest_run_per_cycle(still: np.ndarray, idx: np.ndarray) -> np.ndarray:
-    """Longest run of ``still`` (samples) inside each cycle ``idx[k] .. idx[k+1] - 1``, (K-1,)."""
-    runs = stance_intervals(still[idx[0] : idx[-1]]) + idx[0]
+class AdaptiveWindows:
+    """:class:`AdaptiveDetector` on a stream's detection windows, the mask of :meth:`detect`
+    without its per-window costs.
+
+    A stream (:mod:`footnav.pipeline.online_foot`) keeps each sample's ``|w|^2`` and
+    ``(|f| - g)^2`` (:meth:`features`, once per sample as it arrives) and asks for the mask of
+    each window of them (:meth:`mask`): the rule is the detector's own (:meth:`AdaptiveDetector._decide`)
+    on the statistic and swing peaks of the window. Those are taken from the window's own
+    cumulative sums, as :meth:`AdaptiveDetector.detect` on the window takes them: a sum kept from
+    the stream's start would change their last bits (and, over hours, lose ~1e-7 of a stance's
+    statistic), hence possibly a decision; it costs one pass over the window's ~1000 samples.
+    """
+
+    #: Per-sample quantities :meth:`features` gives.
+    n_features = 2
+
+    def __init__(self, detector: AdaptiveDetector) -> None:
+        self.detector = detector
+
+    @staticmethod
+    def features(acc: np.ndarray, gyr: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """``|w|^2`` and ``(|f| - g)^2`` of each sample, (M,) each: what the windows sum."""
+        return gyr_sq(gyr), acc_dev_sq(acc)
+
+    def mask(
+        self, acc: np.ndarray, gyr: np.ndarray, gyr_sq_w: np.ndarray, acc_dev_sq_w: np.ndarray, rate: float
+    ) -> np.ndarray:
+        """The stance mask of :meth:`AdaptiveDetector.detect` on the window of these samples,
+        (N,) bool, at sampling rate ``rate`` (Hz); the last two arrays are :meth:`features`'."""
+        d, n = self.detector, len(acc)
+        stat, energy = _window_statistics(
+            gyr_sq_w,
+            acc_dev_sq_w,
+            window_samples(d.window_s, rate, n),
+            window_samples(d.swing_window_s, rate, n),
+            d.gyr_threshold_radps,
+            d.acc_tolerance_mps2,
+        )
+        idx, _ = select_swing_peaks(
+            energy, rate, d.min_swing_peak_radps, d.swing_prominence, d.min_stride_s, d.stride_fraction, MAX_STRIDE_S
+        )
+        return d._decide(stat, idx, energy[idx], acc, gyr, rate)[0]
+
+
+@njit(cache=True)
+def _statistic(gyr_sq_c, acc_dev_sq_c, win, gyr_threshold, acc_tolerance):
+    """``s`` of every sample (N,) from the cumulative sums of ``|w|^2`` and ``(|f| - g)^2`` (N + 1,)."""
+    return np.maximum(centred_rms(gyr_sq_c, win) / gyr_threshold, centred_rms(acc_dev_sq_c, win) / acc_tolerance)
+
+
+@njit(cache=True)
+def _window_statistics(gyr_sq_w, acc_dev_sq_w, win, swing_win, gyr_threshold, acc_tolerance):
+    # a window's statistic and swing energy from its own cumulative sums, in one call
+    c = cumulative_sum(gyr_sq_w)
+    return _statistic(c, cumulative_sum(acc_dev_sq_w), win, gyr_threshold, acc_tolerance), centred_rms(c, swing_win)
+
+
+def _events(mask: np.ndarray) -> dict[str, np.ndarray]:
+    runs = stance_intervals(mask)
+    return {"foot_flat": runs[:, 0], "heel_off": runs[:, 1] - 1}
+
+
+@njit(cache=True)
+def _decide(stat, peaks, height, acc, gyr, gyr_threshold, stance_factor, swing_fraction, min_scale,
+            base_stance, min_stance, min_swing, pivot_yaw_share, pivot_acc_sq, max_pivot):  # fmt: skip
+    # AdaptiveDetector._decide, in one compiled call: online it runs on every window, where the
+    # three dozen numpy calls it took cost far more than the work (durations in samples here)
+    n = len(stat)
+    scale = np.ones(n)
+    k_cycles = max(len(peaks) - 1, 0)
+    cycle_scale = np.ones(k_cycles)
+    if len(peaks) >= 2:
+        longest = _longest_run_per_cycle(stat, peaks)
+        for k in range(k_cycles):
+            a, b = peaks[k], peaks[k + 1]
+            stillest = stat[a]
+            for i in range(a + 1, b):
+                stillest = min(stillest, stat[i])
+            ceiling = swing_fraction * min(height[k], height[k + 1]) / gyr_threshold
+            raised = max(stance_factor * stillest, 1.0)
+            if longest[k] >= base_stance:  # the foot stands still under the base bounds: they stay
+                raised = 1.0
+            cycle_scale[k] = max(min(raised, ceiling), min_scale)
+            for i in range(a, b):
+                scale[i] = cycle_scale[k]
+    mask = stat < scale
+    clean = mask.copy()
+    _clean_runs(clean, min_stance, min_swing)
+    pivots = _pivots(clean, acc, gyr, pivot_yaw_share, pivot_acc_sq, max_pivot)
+    for j in range(len(pivots)):
+        for i in range(pivots[j, 0], pivots[j, 1]):
+            mask[i] = True
+    _clean_runs(mask, min_stance, min_swing)  # stance_result's cleaning
+    return mask, scale, cycle_scale, pivots
+
+
+@njit(cache=True)
+def _runs(mask, a, b):
+    """(start, stop) of the runs of True in ``mask[a:b]``, global indices, (R, 2)."""
+    out = np.empty(((b - a + 1) // 2 + 1, 2), dtype=np.int64)
+    r = 0
+    i = a
+    while i < b:
+        if mask[i]:
+            j = i
+            while j < b and mask[j]:
+                j += 1
+            out[r, 0] = i
+            out[r, 1] = j
+            r += 1
+            i = j
+        else:
+            i += 1
+    return out[:r]
+
+
+@njit(cache=True)
+def _longest_run_per_cycle(stat, idx):
+    """Longest run of ``stat < 1`` (samples) in each cycle ``idx[k] .. idx[k+1] - 1``, (K-1,).
+
+    The runs are those of ``stat[idx[0]:idx[-1]] < 1``: a run crossing a swing peak counts,
+    cut there, for the cycle it starts in."""
+    still = stat < 1.0
+    runs = _runs(still, idx[0], idx[-1])
     longest = np.zeros(len(idx) - 1, dtype=np.int64)
-    if len(runs):
-        # a run crossing a swing peak is cut there: only the part inside each cycle counts
-        k = np.searchsorted(idx, runs[:, 0], side="right") - 1
-        np.maximum.at(longest, k, np.minimum(runs[:, 1], idx[k + 1]) - runs[:, 0])
+    k = 0
+    for r in range(len(runs)):
+        while idx[k + 1] <= runs[r, 0]:
+            k += 1
+        longest[k] = max(longest[k], min(runs[r, 1], idx[k + 1]) - runs[r, 0])
     return longest
+
+
+@njit(cache=True)
+def _block_sum(x, a, n):
+    # numpy's pairwise summation of up to 128 values (numpy/_core/src/umath/loops_utils.h.src):
+    # one by one under 8, else 8 running sums of every 8th value, added in pairs, then the rest
+    if n < 8:
+        s = -0.0
+        for i in range(a, a + n):
+            s += x[i]
+        return s
+    r = x[a : a + 8].copy()
+    i = 8
+    while i < n - n % 8:
+        for j in range(8):
+            r[j] += x[a + i + j]
+        i += 8
+    s = ((r[0] + r[1]) + (r[2] + r[3])) + ((r[4] + r[5]) + (r[6] + r[7]))
+    while i < n:
+        s += x[a + i]
+        i += 1
+    return s
+
+
+@njit(cache=True)
+def _pairwise_sum(x, a, n):
+    """``np.add.reduce(x[a : a + n])`` to the bit: numpy's pairwise summation, whose halves
+    (above 128 values, split at a multiple of 8) are walked here with a stack, not by recursion
+    (numba's cache does not keep a recursive function)."""
+    if n <= 128:
+        return _block_sum(x, a, n)
+    sa, sn, st, sv = np.empty(64, np.int64), np.empty(64, np.int64), np.zeros(64, np.int64), np.empty(64)
+    sa[0], sn[0], top = a, n, 1
+    while True:
+        f = top - 1
+        if sn[f] > 128:  # descend into the first half
+            half = sn[f] // 2
+            half -= half % 8
+            st[f] = 1
+            sa[top], sn[top], st[top] = sa[f], half, 0
+            top += 1
+            continue
+        val = _block_sum(x, sa[f], sn[f])
+        top -= 1
+        while top > 0:  # hand the sum up: a first half's waits for its second half
+            p = top - 1
+            if st[p] == 1:
+                half = sn[p] // 2
+                half -= half % 8
+                sv[p], st[p] = val, 2
+                sa[top], sn[top], st[top] = sa[p] + half, sn[p] - half, 0
+                top += 1
+                break
+            val = sv[p] + val
+            top -= 1
+        if top == 0:
+            return val
+
+
+@njit(cache=True)
+def _pivots(mask, acc, gyr, pivot_yaw_share, pivot_acc_sq, max_pivot):
+    """(start, stop) of the gaps between two stances where the foot pivots on the ground.
+
+    In a turn on the spot the foot stays down and turns about the vertical, at up to 5-10
+    rad/s: a swing by its angular rate, a stance by everything else. Such a gap turns about
+    gravity (the direction of the specific force in the preceding stance, body frame) for at
+    least ``pivot_yaw_share`` of its squared angular rate, where a swing turns mostly in
+    pitch (< 0.2 on the IPOL and pyshoe recordings), and its ``|f| - g`` stays small (RMS
+    below ``pivot_acc_mps2``; a swing's is 5-20 m/s^2). Each gap's sums are np.add.reduce's
+    of its samples' terms (the first term, then the pairwise sum of the others), and each
+    term numpy's (``np.einsum("ij,ij->i")`` sums the products of a row as (x + z) + y).
+    """
+    runs = _runs(mask, 0, len(mask))
+    n_gaps = len(runs) - 1
+    if pivot_yaw_share >= 1.0 or n_gaps < 1:
+        return np.empty((0, 2), dtype=np.int64)
+    c = _prefix_sums_at(acc, runs.ravel())  # the cumulative sum at each run's start and stop
+    out = np.empty((n_gaps, 2), dtype=np.int64)
+    m = 0
+    longest = 0
+    for g in range(n_gaps):
+        longest = max(longest, runs[g + 1, 0] - runs[g, 1])
+    total_t, yaw_t, dev_t = np.empty(longest), np.empty(longest), np.empty(longest)
+    for g in range(n_gaps):
+        a1, b0 = runs[g, 1], runs[g + 1, 0]
+        length = b0 - a1
+        # the preceding stance's mean specific force: "up" in the body frame
+        u0, u1, u2 = c[2 * g + 1, 0] - c[2 * g, 0], c[2 * g + 1, 1] - c[2 * g, 1], c[2 * g + 1, 2] - c[2 * g, 2]
+        norm = max(np.sqrt((u0 * u0 + u1 * u1) + u2 * u2), 1e-12)
+        u0, u1, u2 = u0 / norm, u1 / norm, u2 / norm
+        for i in range(length):
+            w0, w1, w2 = gyr[a1 + i, 0], gyr[a1 + i, 1], gyr[a1 + i, 2]
+            total_t[i] = (w0 * w0 + w2 * w2) + w1 * w1
+            y = (w0 * u0 + w2 * u2) + w1 * u1
+            yaw_t[i] = y * y
+            f0, f1, f2 = acc[a1 + i, 0], acc[a1 + i, 1], acc[a1 + i, 2]
+            dev = np.sqrt((f0 * f0 + f1 * f1) + f2 * f2) - GRAVITY_MPS2
+            dev_t[i] = dev * dev
+        total = total_t[0] + _pairwise_sum(total_t, 1, length - 1)
+        yaw = yaw_t[0] + _pairwise_sum(yaw_t, 1, length - 1)
+        acc_dev2 = (dev_t[0] + _pairwise_sum(dev_t, 1, length - 1)) / length
+        if length <= max_pivot and total > 0 and yaw >= pivot_yaw_share * total and acc_dev2 < pivot_acc_sq:
+            out[m, 0] = a1
+            out[m, 1] = b0
+            m += 1
+    return out[:m]
 
 
 @njit(cache=True)

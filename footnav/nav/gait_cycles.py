@@ -21,16 +21,20 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from footnav.nav.peaks import peak_candidates
+from footnav._numba import njit
+from footnav.nav.peaks import _select_by_distance, peak_candidates
 from footnav.nav.windows import centred_gyr_rms, window_samples
 from footnav.types._derived import shared
 
-__all__ = ["SWING_ACC_MPS2", "SwingPeaks", "swing_peaks"]
+__all__ = ["MAX_STRIDE_S", "SWING_ACC_MPS2", "SwingPeaks", "select_swing_peaks", "swing_peaks"]
 
 #: A swinging foot accelerates: the RMS of ``|f| - g`` over its swing window exceeds this (m/s^2;
 #: 5-20 m/s^2 in the walking and running swings of the shared recordings). A foot that turns fast
 #: but stays below it pivots on the ground (turns on the spot, U-turn shuffles: 0.6-2 m/s^2).
 SWING_ACC_MPS2 = 2.0
+
+#: Peak intervals longer than this are pauses, not strides, when the typical stride is taken (s).
+MAX_STRIDE_S = 2.5
 
 
 @dataclass(frozen=True, eq=False)
@@ -68,7 +72,7 @@ def swing_peaks(
     rel_prominence: float = 0.4,
     min_stride_s: float = 0.3,
     stride_fraction: float = 0.6,
-    max_stride_s: float = 2.5,
+    max_stride_s: float = MAX_STRIDE_S,
 ) -> SwingPeaks:
     """Swing peaks of the windowed RMS angular rate: one per stride of this foot.
 
@@ -116,16 +120,68 @@ def _swing_peaks(
     n = len(gyr)
     win = window_samples(window_s, rate_hz, n)
     energy = centred_gyr_rms(gyr, win)
+    idx, stride_s = select_swing_peaks(
+        energy, rate_hz, min_peak_radps, rel_prominence, min_stride_s, stride_fraction, max_stride_s
+    )
+    return SwingPeaks(idx, energy[idx], energy, win, stride_s)
+
+
+def select_swing_peaks(
+    energy: NDArray[np.float64],
+    rate_hz: float,
+    min_peak_radps: float,
+    rel_prominence: float,
+    min_stride_s: float,
+    stride_fraction: float,
+    max_stride_s: float,
+) -> tuple[NDArray[np.int64], float]:
+    """The swing peaks of the windowed RMS angular rate ``energy`` (rad/s, (N,)) and the typical
+    stride (s): :func:`swing_peaks` after its window, for a caller that has the energy (the
+    adaptive detector online, :mod:`footnav.detectors.adaptive`). Arguments as :func:`swing_peaks`'s."""
     # scipy.signal.find_peaks(energy, height=min_peak_radps, prominence=0.0, distance=...) kept
     # when the prominence is at least rel_prominence x the height, for both passes at the cost of
     # one (footnav.nav.peaks)
-    candidates = peak_candidates(energy, min_peak_radps)
-    idx = candidates.select(max(1, int(min_stride_s * rate_hz)), rel_prominence)
+    c = peak_candidates(energy, min_peak_radps)
+    return _select_swings(
+        c.index,
+        c.height,
+        c.prominence,
+        c.order,
+        float(rate_hz),
+        float(min_stride_s),
+        float(stride_fraction),
+        float(max_stride_s),
+        float(rel_prominence),
+    )
+
+
+@njit(cache=True)
+def _select_swings(
+    index: NDArray[np.int64],
+    height: NDArray[np.float64],
+    prominence: NDArray[np.float64],
+    order: NDArray[np.int64],
+    rate_hz: float,
+    min_stride_s: float,
+    stride_fraction: float,
+    max_stride_s: float,
+    rel_prominence: float,
+) -> tuple[NDArray[np.int64], float]:
+    # both passes of PeakCandidates.select and the median stride in one compiled call: online it
+    # runs on every detection window, where a dozen numpy calls cost more than the work
+    prominent = prominence >= rel_prominence * height
+    idx = index[_select_by_distance(index, order, max(1, int(min_stride_s * rate_hz))) & prominent]
     intervals = np.diff(idx)
-    intervals = intervals[intervals < max_stride_s * rate_hz]
-    stride_s = float(np.median(intervals)) / rate_hz if len(intervals) else float("nan")
-    if stride_fraction > 0 and len(intervals) >= 3:
+    intervals = np.sort(intervals[intervals < max_stride_s * rate_hz])
+    m = len(intervals)
+    stride_s = np.nan
+    if m:
+        # np.median's: the middle interval, or the mean of the two middle ones
+        half = m // 2
+        median = float(intervals[half]) if m % 2 else (float(intervals[half - 1]) + float(intervals[half])) / 2.0
+        stride_s = median / rate_hz
+    if stride_fraction > 0 and m >= 3:
         # the typical stride separates the halves of one swing that the first pass took as two
         distance = max(int(min_stride_s * rate_hz), int(stride_fraction * stride_s * rate_hz))
-        idx = candidates.select(max(1, distance), rel_prominence)
-    return SwingPeaks(idx, energy[idx], energy, win, stride_s)
+        idx = index[_select_by_distance(index, order, max(1, distance)) & prominent]
+    return idx, stride_s

@@ -159,9 +159,19 @@ def peak_candidates(x: NDArray[np.float64], height: float) -> PeakCandidates:
     -------
     PeakCandidates
     """
-    x = np.ascontiguousarray(x, dtype=np.float64)
+    peaks, heights, prominence = _candidates(np.ascontiguousarray(x, dtype=np.float64), float(height))
+    # numpy's argsort, not numba's: equal heights must come in numpy's order
+    return PeakCandidates(peaks, heights, prominence, np.argsort(heights))
+
+
+@njit(cache=True)
+def _candidates(
+    x: NDArray[np.float64], height: float
+) -> tuple[NDArray[np.int64], NDArray[np.float64], NDArray[np.float64]]:
+    # the local maxima at least ``height`` high, their heights and prominences in one call (a
+    # stream's detector asks for them on every window)
     peaks = _local_maxima(x)
     peaks = peaks[x[peaks] >= height]
     heights = x[peaks]
     left, right = _base_minima(x, peaks)
-    return PeakCandidates(peaks, heights, heights - np.maximum(left, right), np.argsort(heights))
+    return peaks, heights, heights - np.maximum(left, right)

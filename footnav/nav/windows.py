@@ -21,12 +21,18 @@ from footnav.types._arrays import _readonly  # the kernels' inputs read-only alw
 from footnav.types._derived import cumulative, row_norms, shared
 
 __all__ = [
+    "acc_dev_sq",
+    "acc_dev_sq_cumulative",
     "acc_magnitude_rms",
     "acc_moving_std",
     "centred",
     "centred_acc_magnitude_rms",
     "centred_gyr_rms",
+    "centred_rms",
+    "cumulative_sum",
     "gyr_rms",
+    "gyr_sq",
+    "gyr_sq_cumulative",
     "window_samples",
     "window_sums",
 ]
@@ -71,26 +77,36 @@ def _rms(sum_of_squares: NDArray[np.float64], win: int) -> NDArray[np.float64]:
     return np.sqrt(np.maximum(sum_of_squares, 0.0) / win)
 
 
-def _gyr_sq_cumulative(gyr: NDArray[np.float64]) -> NDArray[np.float64]:
+def gyr_sq(gyr: NDArray[np.float64]) -> NDArray[np.float64]:
+    """``||w_l||^2`` of each sample, (rad/s)^2, (N,)."""
+    return np.einsum("ij,ij->i", gyr, gyr)
+
+
+def acc_dev_sq(acc: NDArray[np.float64]) -> NDArray[np.float64]:
+    """``(||f_l|| - g)^2`` of each sample, (m/s^2)^2, (N,)."""
+    return (row_norms(acc) - GRAVITY_MPS2) ** 2
+
+
+def gyr_sq_cumulative(gyr: NDArray[np.float64]) -> NDArray[np.float64]:
     """Cumulative sum of ``||w_l||^2`` (N + 1,): every window length's sums are its differences,
     so the detector's window and the swing peaks' share one (within a pipeline run, too)."""
-    return shared("gyr_sq_cumulative", (gyr,), (), lambda: cumulative(np.einsum("ij,ij->i", gyr, gyr)))
+    return shared("gyr_sq_cumulative", (gyr,), (), lambda: cumulative(gyr_sq(gyr)))
 
 
-def _acc_dev_sq_cumulative(acc: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Cumulative sum of ``(||f_l|| - g)^2`` (N + 1,), shared like :func:`_gyr_sq_cumulative`."""
-    return shared("acc_dev_sq_cumulative", (acc,), (), lambda: cumulative((row_norms(acc) - GRAVITY_MPS2) ** 2))
+def acc_dev_sq_cumulative(acc: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Cumulative sum of ``(||f_l|| - g)^2`` (N + 1,), shared like :func:`gyr_sq_cumulative`."""
+    return shared("acc_dev_sq_cumulative", (acc,), (), lambda: cumulative(acc_dev_sq(acc)))
 
 
 def gyr_rms(gyr: NDArray[np.float64], win: int) -> NDArray[np.float64]:
     """ARE statistic: ``sqrt((1/W) sum ||w_l||^2)`` of every window, rad/s, (N-W+1,)."""
-    c = _gyr_sq_cumulative(gyr)
+    c = gyr_sq_cumulative(gyr)
     return _rms(c[win:] - c[:-win], win)
 
 
 def acc_magnitude_rms(acc: NDArray[np.float64], win: int) -> NDArray[np.float64]:
     """MAG statistic: ``sqrt((1/W) sum (||f_l|| - g)^2)`` of every window, m/s^2, (N-W+1,)."""
-    c = _acc_dev_sq_cumulative(acc)
+    c = acc_dev_sq_cumulative(acc)
     return _rms(c[win:] - c[:-win], win)
 
 
@@ -111,16 +127,35 @@ def _centred_rms(c: NDArray[np.float64], win: int) -> NDArray[np.float64]:
     return out
 
 
+#: ``centred_rms(c, win)``: the RMS of the ``win``-sample window centred on each sample (the
+#: first / last full window at the ends) from the cumulative sum ``c`` (N + 1,) of the squares,
+#: (N,); compiled, so compiled code calls it too.
+centred_rms = _centred_rms
+
+
+@njit(cache=True)
+def cumulative_sum(x: NDArray[np.float64]) -> NDArray[np.float64]:
+    """:func:`footnav.types._derived.cumulative` of a (N,) array, compiled (for code that is):
+    the same running sum, so the same bits."""
+    c = np.empty(len(x) + 1)
+    c[0] = 0.0
+    s = 0.0
+    for i in range(len(x)):
+        s = x[i] if i == 0 else s + x[i]
+        c[i + 1] = s
+    return c
+
+
 def centred_gyr_rms(gyr: NDArray[np.float64], win: int) -> NDArray[np.float64]:
     """``centred(gyr_rms(gyr, win), win, N)``: the ARE statistic of the window centred on each
     sample, rad/s, (N,)."""
-    return _centred_rms(_readonly(_gyr_sq_cumulative(gyr)), win)
+    return _centred_rms(_readonly(gyr_sq_cumulative(gyr)), win)
 
 
 def centred_acc_magnitude_rms(acc: NDArray[np.float64], win: int) -> NDArray[np.float64]:
     """``centred(acc_magnitude_rms(acc, win), win, N)``: the MAG statistic of the window centred
     on each sample, m/s^2, (N,)."""
-    return _centred_rms(_readonly(_acc_dev_sq_cumulative(acc)), win)
+    return _centred_rms(_readonly(acc_dev_sq_cumulative(acc)), win)
 
 
 def acc_moving_std(acc: NDArray[np.float64], win: int) -> tuple[NDArray[np.float64], NDArray[np.float64]]:

@@ -115,6 +115,12 @@ class FootStream:
         self.checks = ChunkChecks(foot, meta.get("source"), meta.get("units_in"))
         # input not yet dropped: t, acc, gyr and the final stance decision
         self.input = _Grow([((), np.float64), ((3,), np.float64), ((3,), np.float64), ((), np.bool_)])
+        #: the detector's own form for windows (``online_windows``, e.g. adaptive's), parameters
+        #: checked once, with the per-sample quantities it sums, kept beside the input; else each
+        #: window is an ImuData for its ``detect``
+        make = getattr(stream.pipeline.detector, "online_windows", None)
+        self.windows = make() if make is not None else None
+        self.features = _Grow([((), np.float64)] * self.windows.n_features) if self.windows is not None else None
         #: every sample pushed (``keep=True``): the whole recording's checks at the end, as offline
         self.raw = _Grow([((), np.float64), ((3,), np.float64), ((3,), np.float64)]) if stream.keep else None
         self.n_final = 0  # samples whose stance decision is final
@@ -178,6 +184,8 @@ class FootStream:
         if self.input.end == 0:
             self.first_t = float(t[0])
         self.input.append(t, acc, gyr, False)  # the stance decision, once final
+        if self.features is not None:
+            self.features.append(*self.windows.features(acc, gyr))
         if self.raw is not None:
             self.raw.append(t, acc, gyr)
         self._detect(final=False)
@@ -226,10 +234,14 @@ class FootStream:
         # at that rate (a windowed detector counts samples; the time stamps give it the rate)
         if len(self._grid) != len(t):  # the window's length changes rarely: its grid is kept
             self._grid = np.arange(len(t)) / self.rate_hz
-        t = t[0] + self._grid
-        with recording(quiet=True):  # a window's gaps were warned about with the recording
-            stance = self.stream.pipeline.detector.detect(self._window_imu(t, acc.copy(), gyr.copy()))
-        new = np.asarray(stance.mask, dtype=bool)[self.n_final - a : frontier - a]
+        if self.windows is not None and self._imu is not None:
+            # the detector's windows from the kept per-sample quantities, at the first window's rate
+            window = self.windows.mask(acc, gyr, *self.features.rows(a, end), self._imu.rate_hz)
+        else:
+            t = t[0] + self._grid
+            with recording(quiet=True):  # a window's gaps were warned about with the recording
+                window = self.stream.pipeline.detector.detect(self._window_imu(t, acc.copy(), gyr.copy())).mask
+        new = np.asarray(window, dtype=bool)[self.n_final - a : frontier - a]
         mask[self.n_final - a : frontier - a] = new
         self._track_runs(new)
         self.n_final = frontier
@@ -270,6 +282,8 @@ class FootStream:
         self._run(final)
         self._harvest(final)
         self.input.drop_before(min(self.n_final - self.margin, self.n_fed, self.hold))
+        if self.features is not None:
+            self.features.drop_before(self.input.start)
 
     def _run(self, final: bool) -> None:
         """Filter the fed samples: all at the end; else up to the one before the newest final

@@ -175,3 +175,45 @@ def test_the_pivot_test_reads_the_stance_before_the_gap():
     assert about_level.n_stances == 1 and len(about_level.meta["pivots_s"]) == 1
     about_tilted = AdaptiveDetector().detect(_turn_between_tilted_rests([0.0, np.sin(tilt), np.cos(tilt)], 50.0))
     assert about_tilted.n_stances == 2 and len(about_tilted.meta["pivots_s"]) == 0
+
+
+def _windows_of(imu, size, step):
+    for a in range(0, imu.n_samples - size, step):
+        yield a, a + size
+
+
+@pytest.mark.parametrize("pivot_yaw_share", [0.9, 0.3])
+def test_online_windows_give_detect_s_mask(pivot_yaw_share):
+    """The stream's form of the detector (kept per-sample quantities, one window's mask) is
+    ``detect`` on that window's ImuData, bit for bit, on windows starting anywhere (the
+    cumulative sums are the window's own): the online decisions are the offline rule's."""
+    rec = footnav.simulate("rectangle", width_m=12.0, height_m=6.0, seed=5, rate_hz=100.0)
+    det = AdaptiveDetector(pivot_yaw_share=pivot_yaw_share)
+    windows = det.online_windows()
+    for imu in (rec.left, rec.right):
+        features = windows.features(imu.acc, imu.gyr)
+        pieces = [windows.features(imu.acc[a : a + 7], imu.gyr[a : a + 7]) for a in range(0, imu.n_samples, 7)]
+        for f, chunked in zip(features, zip(*pieces)):  # per sample: the same whatever the chunks
+            np.testing.assert_array_equal(np.concatenate(chunked), f)
+        checked = 0
+        for a, b in _windows_of(imu, 1041, 313):
+            want = det.detect(imu.slice(a, b))
+            got = windows.mask(imu.acc[a:b], imu.gyr[a:b], *(f[a:b] for f in features), imu.slice(a, b).rate_hz)
+            np.testing.assert_array_equal(got, want.mask)
+            checked += want.n_stances
+        assert checked > 50
+
+
+def test_the_compiled_sums_are_numpy_s():
+    """The pivot test sums as numpy does (its pairwise summation, einsum's order in a row), so
+    the compiled rule decides as the vectorised one it replaced; a numpy that sums otherwise
+    fails here, not silently."""
+    from footnav.detectors.adaptive import _pairwise_sum
+
+    rng = np.random.default_rng(4)
+    x = rng.lognormal(size=40000)
+    for n in [*range(1, 300), 1000, 1023, 1025, 8193, 39999]:
+        assert np.add.reduceat(x[:n], [0])[0] == x[0] + _pairwise_sum(x, 1, n - 1), n
+    w, u = rng.normal(size=(1000, 3)), rng.normal(size=(1000, 3))
+    p = w * u
+    np.testing.assert_array_equal(np.einsum("ij,ij->i", w, u), (p[:, 0] + p[:, 2]) + p[:, 1])

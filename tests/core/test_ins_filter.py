@@ -463,8 +463,9 @@ def test_a_filter_resumed_from_a_checkpoint_continues_the_run_exactly():
 
 @pytest.mark.parametrize("smoother", ["whole", "step", "none"])
 def test_the_loops_entry_point_runs_exactly_as_its_dispatcher(smoother, monkeypatch):
-    # InsFilter._run_forward calls the loop's compiled entry point once the call's types are
-    # known (keyed by the identity of the filter's own tuples and arrays): a joint run with a
+    # InsFilter calls the loop's compiled entry point (footnav._numba.EntryPoints) once the call's
+    # types are known (keyed by the identity of the filter's own tuples and arrays and the types
+    # of the rest): a joint run with a
     # caller's update every 2 s and the range watch in the loop gives the very numbers of the
     # same run through numba's dispatcher at every call
     rec = footnav.simulate("straight", seed=10, distance_m=15.0, standstill_s=1.0)
@@ -481,9 +482,9 @@ def test_the_loops_entry_point_runs_exactly_as_its_dispatcher(smoother, monkeypa
         return filt, [getattr(traj, x) for traj in (left, right) for x in ("position", "velocity", "quaternion", "position_std")]
 
     fast_filt, fast = walk()
-    assert fast_filt._fast  # the entry points were used
-    monkeypatch.setattr(ekf_filter.InsFilter, "_run_forward", lambda self, args: ekf_filter.run(*args))
+    assert len(fast_filt._fast)  # the entry points were used
+    monkeypatch.setattr(ekf_filter.EntryPoints, "__call__", lambda self, args, held, fresh: ekf_filter.run(*args))
     slow_filt, slow = walk()
-    assert not slow_filt._fast
+    assert not len(slow_filt._fast)
     for a, b in zip(fast, slow):
         np.testing.assert_array_equal(a, b)

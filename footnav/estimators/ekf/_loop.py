@@ -38,7 +38,7 @@ from footnav.nav.quaternion import as_matrix_nb
 
 __all__ = [
     "APART", "DONE", "FULL", "MODE_BACK", "MODE_CLOSE", "MODE_FILTER", "MODE_RECORD", "MODE_STEP", "MODE_WHOLE", "NOT_PD",
-    "STEP_END", "ZARU_GATE", "Buffers", "Mode", "Model", "Replay", "Span", "Stop", "Watch", "run",
+    "STEP_END", "ZARU_GATE", "Buffers", "Mode", "Model", "Replay", "Span", "Stop", "Watch", "clip_rows", "run",
 ]
 
 #: Chi-square gate of the zero-angular-rate update: 3 degrees of freedom, 99.9 %.
@@ -101,6 +101,20 @@ class Model(NamedTuple):
     clip_row: NDArray[np.int64]
     clip_var: NDArray[np.float64]
     clip_q: NDArray[np.float64]
+
+
+def clip_rows(total: int, offsets: NDArray[np.int64], clip_var) -> tuple[NDArray[np.int64], NDArray[np.float64]]:
+    """:attr:`Model.clip_row` over ``total`` concatenated samples and :attr:`Model.clip_var`, from
+    each foot's None or (N, 3) extra velocity variance per body axis (foot f's samples from
+    ``offsets[f]``); a sample with none gets row -1."""
+    row = np.full(total, -1, dtype=np.int64)
+    rows = []
+    for f, x in enumerate(clip_var or ()):
+        if x is not None:
+            hit = np.flatnonzero(np.any(np.asarray(x) > 0.0, axis=1))
+            row[offsets[f] + hit] = len(rows) + np.arange(len(hit))
+            rows.extend(np.asarray(x, dtype=np.float64)[hit])
+    return row, np.array(rows, dtype=np.float64).reshape(-1, 3)
 
 
 class Buffers(NamedTuple):

@@ -20,12 +20,13 @@ from collections.abc import Sequence
 import numpy as np
 from numpy.typing import NDArray
 
+from footnav._numba import EntryPoints
 from footnav.errors import InvalidInputError
 from footnav.estimators.ekf._buffers import staggered
 from footnav.estimators.ekf._kernels import feedback_all
 from footnav.estimators.ekf._loop import (
     APART, DONE, FULL, MODE_BACK, MODE_CLOSE, MODE_FILTER, MODE_RECORD, MODE_STEP, NOT_PD, STEP_END, Buffers, Model, Replay, Span,
-    Watch, run,
+    Watch, clip_rows, run,
 )
 from footnav.estimators.ekf._records import (
     ACC_BIAS, ATT, GYR_BIAS, POS, VEL, CallerUpdate, Checkpoint, FilterNoise, FilterState, Outputs, Record, Samples, Smoothed,
@@ -144,14 +145,7 @@ class InsFilter:
         self._in = Samples(self._t, self._acc, self._gyr, self._stance)
         # the samples whose accelerometer is at its range (Model.clip_row): their extra
         # velocity variance per body axis, m^2/s^2
-        self._clip_row = np.full(total, -1, dtype=np.int64)
-        rows = []
-        for f, x in enumerate(clip_var or ()):
-            if x is not None:
-                hit = np.flatnonzero(np.any(np.asarray(x) > 0.0, axis=1))
-                self._clip_row[self._offsets[f] + hit] = len(rows) + np.arange(len(hit))
-                rows.extend(np.asarray(x, dtype=np.float64)[hit])
-        rows_var = np.array(rows, dtype=np.float64).reshape(-1, 3)
+        self._clip_row, rows_var = clip_rows(total, self._offsets, clip_var)
         self._out = Outputs(self._out_q, self._out_v, self._out_p, self._out_pcov)
         #: each foot's last sample given so far (an index of the concatenated samples)
         self._stop_at = self._offsets[:-1] + np.asarray(lengths, dtype=np.int64) - 1
@@ -190,7 +184,7 @@ class InsFilter:
         self._no_bufs = Buffers(empty_record(big), self._no_sm, np.zeros(2, dtype=np.int64), self._no_vec, self._no_vec)
         self._model = Model(n_states, self._q_diag, float(noise.zupt_std_mps**2), float(noise.zaru_std_radps**2), self._clip_row, rows_var, np.zeros((len(rows_var), 6)))
         self._work = work(big, nf)
-        self._fast: dict = {}  # compiled entry points of the loop by argument identity (_run_forward)
+        self._fast = EntryPoints(run)
         self._dense: dict[int, tuple] = {}  # update's scratch by rows
         self.step_smoother = None
         self.segment_records = None
@@ -329,27 +323,15 @@ class InsFilter:
                 replay = None
             else:
                 watch = _watch(np.zeros(0))
-        args = (self._in, span, state, self._model, self._out, mode, bufs, self._scratch(bufs.rec), watch, replay)
-        out = self._run_forward(args) if state is self._state else run(*args)
+        ws = self._scratch(bufs.rec)
+        args = (self._in, span, state, self._model, self._out, mode, bufs, ws, watch, replay)
+        if state is self._state:  # the filter's own arrays: the loop's entry point, typed once
+            out = self._fast(args, held=(self._in, state, self._model, self._out, *bufs, ws), fresh=(span, mode, watch, replay))
+        else:
+            out = run(*args)
         if forward and replay is not None:
             self._n_log = int(replay.next[0])
         return out
-
-    def _run_forward(self, args: tuple):
-        """``run(*args)`` through its compiled entry point once the types are known (numba types
-        ~60 arrays a call): keyed by the identity of the long-lived tuples and arrays (held)."""
-        samples, span, state, model, out, mode, bufs, ws, watch, replay = args
-        held = (samples, span.stop_at, span.k, state, model, out, *bufs, ws, None if replay is None else replay.log)
-        key = (*map(id, held), mode, None if watch is None else (watch.times.ndim, watch.times.flags.writeable, watch.times.flags.aligned))
-        if key in self._fast:
-            return self._fast[key][0](*args)
-        result, dispatcher = run(*args), run.dispatcher() if hasattr(run, "dispatcher") else run
-        compiled = dispatcher.overloads.get(tuple(dispatcher.typeof_pyval(a) for a in args))
-        if compiled is not None:
-            if len(self._fast) >= 8:  # a few modes and buffers; more only when buffers are replaced
-                self._fast.clear()
-            self._fast[key] = (compiled.entry_point, held)
-        return result
 
     @property
     def record_columns(self) -> int:

@@ -62,7 +62,7 @@ from footnav.component import (
     require_non_negative,
     require_positive,
 )
-from footnav.detectors.threshold import _clean_runs
+from footnav.detectors.threshold import _clean_runs, window_events
 from footnav.nav.gait_cycles import MAX_STRIDE_S, SWING_ACC_MPS2, select_swing_peaks, swing_peaks
 from footnav.nav.windows import (
     acc_dev_sq,
@@ -73,7 +73,7 @@ from footnav.nav.windows import (
     gyr_sq_cumulative,
     window_samples,
 )
-from footnav.types import GRAVITY_MPS2, ImuData, StanceResult, stance_intervals
+from footnav.types import GRAVITY_MPS2, ImuData, StanceResult
 from footnav.types._derived import sharing
 
 __all__ = ["AdaptiveDetector"]
@@ -258,7 +258,7 @@ class AdaptiveDetector(StanceDetector):
             "cycle_scale": cycle_scale,
             "pivots_s": imu.t[pivots[:, 0]] if len(pivots) else np.empty(0),
         }
-        return StanceResult(mask=mask, events=_events(mask), score=stat / scale, meta=meta)
+        return StanceResult(mask=mask, events=window_events(mask), score=stat / scale, meta=meta)
 
     def _decide(
         self, stat: np.ndarray, peaks: np.ndarray, height: np.ndarray, acc: np.ndarray, gyr: np.ndarray, rate: float
@@ -349,11 +349,6 @@ def _window_statistics(gyr_sq_w, acc_dev_sq_w, win, swing_win, gyr_threshold, ac
     # a window's statistic and swing energy from its own cumulative sums, in one call
     c = cumulative_sum(gyr_sq_w)
     return _statistic(c, cumulative_sum(acc_dev_sq_w), win, gyr_threshold, acc_tolerance), centred_rms(c, swing_win)
-
-
-def _events(mask: np.ndarray) -> dict[str, np.ndarray]:
-    runs = stance_intervals(mask)
-    return {"foot_flat": runs[:, 0], "heel_off": runs[:, 1] - 1}
 
 
 @njit(cache=True)

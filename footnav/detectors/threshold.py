@@ -174,13 +174,14 @@ def stance_result(
        starts moving, not which part of it touches the ground.
     """
     mask = clean_stance_mask(mask, rate_hz, min_stance_s, min_swing_s)
+    return StanceResult(mask=mask, events=window_events(mask), score=score, meta=dict(meta))
+
+
+def window_events(mask: NDArray[np.bool_]) -> dict[str, NDArray[np.int64]]:
+    """A window-based detector's gait events of a cleaned stance mask: each run's first sample
+    ``foot_flat``, its last ``heel_off`` (step 3 of :func:`stance_result`)."""
     runs = stance_intervals(mask)
-    return StanceResult(
-        mask=mask,
-        events={"foot_flat": runs[:, 0], "heel_off": runs[:, 1] - 1},
-        score=score,
-        meta=dict(meta),
-    )
+    return {"foot_flat": runs[:, 0], "heel_off": runs[:, 1] - 1}
 
 
 

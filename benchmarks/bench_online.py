@@ -20,7 +20,8 @@ foot, both feet in each push. Reported:
 ``--pipeline default`` replays ``make_pipeline()``'s components instead (the adaptive detector, the
 whole-walk smoother's step-wise output live and its rerun at close, the floors).
 
-``--fusion range`` (or ``step-vector``, with the pendulum step length, or ``particle``) runs both
+``--fusion range`` (or ``step-vector``, with the pendulum step length as in the figures so far, or
+``particle``) runs both
 feet in the coupled fusion's joint filter instead (:mod:`footnav.pipeline.online_joint`; the
 per-foot streams run beside it), and the same pipeline with ``independent`` in turn, round by
 round in the same process, for the ratio of their times.

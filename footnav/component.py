@@ -431,6 +431,21 @@ class Fusion(Component):
     #: A coupled fusion whose work at a time needs no later sample offers :meth:`session`
     #: (online mode, :mod:`footnav.pipeline.online`); None: offline only.
     session = None
+    #: Online, the session gives what ``fuse`` gives on the same samples; False when it learns
+    #: as it goes what ``fuse`` takes from the whole walk (``close`` then reruns offline).
+    online_exact: bool = True
+    #: Online, the session is given each foot's own forward solution at its stance starts
+    #: (``session.feet_alone``), as ``fuse`` reads each foot's single-foot run.
+    reads_feet_alone: bool = False
+    #: The fusion calibrates each foot's recording before fusing it (:meth:`foot_calibration`;
+    #: its meta's ``"calibration"`` holds each foot's record).
+    calibrates_feet: bool = False
+
+    def foot_calibration(self, imu: ImuData, stance: StanceResult, foot: str) -> Any:
+        """The calibration (:class:`~footnav.nav.calibration.StandstillCalibration`, its
+        accelerometer scale applied) the fusion gives a foot's recording before fusing it, from
+        the foot's samples up to the end of its first stance and their ``stance``; None for none.
+        Online mode applies it to the foot's samples from its filter's start on."""
 
 
 @runtime_checkable

@@ -7,6 +7,13 @@ default does not have (added) and those it has that the live mask lacks (removed
 distance between the live step-wise smoothed samples and the offline step-wise smoothed run's,
 whether ``close()`` equals the offline run, and the latency of the steps after the start-up
 (s from a step's end until it is final).
+
+``--step-vector``: the step-vector fusion with its defaults (the fitted leg length) online
+instead, on the two-foot recordings (glrt detector, whose live stances are the offline ones,
+step-wise smoothing): the leg length when the first update was applied and at the end against
+the offline whole-walk fit, the updates that waited for the fit, the largest distance between
+a live and an offline footprint, and whether ``close()`` equals the offline run (the figures of
+docs/online.md, "Both feet in one filter").
 """
 
 from __future__ import annotations
@@ -67,6 +74,47 @@ def _live_stances(pipe, rec, size):
     return {k: np.concatenate(v) for k, v in masks.items()}
 
 
+def compare_step_vector(rec, size=50):
+    """(leg m at the first update, at the end, offline; first update s; updates waiting; largest
+    live-offline footprint distance m; close equal) of step-vector's defaults online."""
+    pipe = footnav.make_pipeline("glrt", "ekf", "step-vector", estimator_params={"smoother": "step"})
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        off = pipe.run(rec.left, rec.right)
+        _, steps, result, _ = _replay(pipe, rec.left, rec.right, size, max_wait_s=1e9, rate_hz=rec.left.rate_hz)
+    live = result.meta["online"]["fusion"]
+    fit = live["leg_length_fit"]
+    legs = fit["per_update"]["leg_length_m"]
+    dist = 0.0
+    for foot in ("left", "right"):
+        mine = np.array([s.position for s in steps if s.foot == foot]).reshape(-1, 3)
+        ref = getattr(off, foot).footprints
+        n = min(len(mine), len(ref))
+        dist = max(dist, float(np.linalg.norm(mine[:n] - ref[:n], axis=1).max()) if n else 0.0)
+    same = all(float(np.abs(getattr(result, f).position - getattr(off, f).position).max()) <= 1e-9 for f in ("left", "right"))
+    return (legs[0] if legs else None, legs[-1] if legs else None, off.meta["fusion"]["leg_length_m"],
+            fit["first_update_s"], fit["updates_waiting"], dist, same)
+
+
+def main_step_vector(names):
+    from footnav.data.datasets import dataset_names, load_dataset
+
+    print(f"{'recording':28s} leg_first  leg_last  leg_offline  first_update_s  waiting  max_footprint_dist_m  close=offline")
+    for name in names or dataset_names():
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            rec = load_dataset(name, os.environ.get("FOOTNAV_DATA"))
+        if rec.right is None:
+            continue
+        try:
+            first, last, offline, t0, waiting, dist, same = compare_step_vector(rec)
+        except footnav.FootnavError as exc:
+            print(f"{name:28s} {type(exc).__name__}: {exc}", flush=True)
+            continue
+        f = (lambda x: "-" if x is None else f"{x:.3f}")
+        print(f"{name:28s} {f(first):>9s}  {f(last):>8s}  {offline:11.3f}  {f(t0):>14s}  {waiting:7d}  {dist:20.3g}  {same!s}", flush=True)
+
+
 def main(names):
     from footnav.data.datasets import dataset_names, load_dataset
 
@@ -81,4 +129,7 @@ def main(names):
 
 
 if __name__ == "__main__":
-    main(sys.argv[1:])
+    if "--step-vector" in sys.argv:
+        main_step_vector([a for a in sys.argv[1:] if a != "--step-vector"])
+    else:
+        main(sys.argv[1:])

@@ -56,12 +56,13 @@ References
 from __future__ import annotations
 
 import math
+from collections import deque
 from typing import Any, ClassVar
 
 import numpy as np
 
 from footnav.nav import quaternion as quat
-from footnav.nav.calibration import calibrate_at_rest
+from footnav.nav.calibration import StandstillCalibration, calibrate_at_rest
 from footnav.component import (
     MAX_DURATION_S,
     MAX_LENGTH_M,
@@ -96,6 +97,11 @@ LEG_LENGTH_PER_HEIGHT = 0.530
 #: sensors still for about 8 s).
 MIN_STANDSTILL_S = 1.0
 
+#: Online, ``step_length="fitted"`` applies no step update before this many straight steps have
+#: been fitted (three strides of each foot); then the median of the latest ``LEG_FIT_WINDOW``.
+LEG_FIT_MIN_STEPS = 6
+LEG_FIT_WINDOW = 500
+
 STEP_LENGTHS = ("pendulum", "fitted")
 RELATIVE_FRAMES = ("attitude", "heading")
 CALIBRATIONS = ("none", "standstill")
@@ -120,6 +126,17 @@ def leg_length_from_height(body_height_m: float) -> float:
     0.901
     """
     return LEG_LENGTH_PER_HEIGHT * float(body_height_m)
+
+
+def leg_ratio(xy0: np.ndarray, xy1: np.ndarray, yaw0: float, yaw1: float, swing: float, turn_rad: float) -> float | None:
+    """One straight step's pendulum length, m: half the front foot's stride from ``xy0`` to
+    ``xy1`` (m, its stance starts in its own solution) over the rear foot's ``swing`` (eq. 6 with
+    l = 1); None when the stride is under 0.2 m, turns more than ``turn_rad`` (its yaws ``yaw0``,
+    ``yaw1``, rad) or the rear foot hardly swung."""
+    stride = float(np.linalg.norm(np.asarray(xy1)[:2] - np.asarray(xy0)[:2]))
+    if stride < 0.2 or abs(quat.wrap_angle(yaw1 - yaw0)) > turn_rad or not swing > 1e-3:
+        return None
+    return 0.5 * stride / swing
 
 
 def pendulum_step_length(q1: np.ndarray, q2: np.ndarray, leg_length_m: float) -> float:
@@ -324,46 +341,62 @@ class StepVectorFusion(Fusion):
         return out
 
     def _fit_leg_length(self, view: FeetView, singles) -> float:
-        """Median of (half the front foot's stride) / (2 sin(theta/2)) over the straight steps,
-        theta measured exactly as :meth:`fuse` does (module docstring)."""
-        ratios = []
-        turn = np.radians(self.turn_threshold_deg)
-        landings = self._landings(view)
-        supports = self._supports(view, np.array([1 - front for _, front, _, _ in landings]), np.array([t for t, _, _, _ in landings]))
-        for (t, front, hs_front, j), support in zip(landings, supports):
-            rear = 1 - front
-            if support is None:
-                continue
-            runs_f, traj_f = view.runs(front), singles[front]
-            a0, a1 = runs_f[j - 1, 0], runs_f[j, 0]
-            stride = np.linalg.norm(traj_f.position[a1, :2] - traj_f.position[a0, :2])
-            if stride < 0.2 or abs(quat.wrap_angle(quat.yaw_of(traj_f.quaternion[a1]) - quat.yaw_of(traj_f.quaternion[a0]))) > turn:
-                continue
-            q_r = singles[rear].quaternion
-            s1 = pendulum_step_length(q_r[support[0]], q_r[support[1]], 1.0)
-            if s1 > 1e-3:
-                ratios.append(0.5 * stride / s1)
+        """Median of :meth:`step_ratios` over the whole walk (module docstring)."""
+        ratios = [r for _, r in self.step_ratios(view, singles)]
         if not ratios:
             raise CompositionError(
                 f"fusion {self.name!r}: no straight steps to fit the leg length to; give leg_length_m"
             )
         return float(np.median(ratios))
 
+    def step_ratios(self, view: FeetView, singles) -> list[tuple[float, float]]:
+        """(start of the stance the landing opened, s; :func:`leg_ratio`, m) of every straight
+        step, theta measured exactly as :meth:`fuse` does, on each foot's single-foot solution
+        ``singles`` (FootTrajectory per foot, the view's indexing)."""
+        out: list[tuple[float, float]] = []
+        turn = np.radians(self.turn_threshold_deg)
+        landings = self._landings(view)
+        supports = self._supports(view, np.array([1 - front for _, front, _, _ in landings]), np.array([t for t, _, _, _ in landings]))
+        for (t, front, hs_front, j), support in zip(landings, supports):
+            if support is None:
+                continue
+            runs_f, traj_f = view.runs(front), singles[front]
+            a0, a1 = runs_f[j - 1, 0], runs_f[j, 0]
+            q_f, q_r = traj_f.quaternion, singles[1 - front].quaternion
+            ratio = leg_ratio(traj_f.position[a0], traj_f.position[a1], quat.yaw_of(q_f[a0]), quat.yaw_of(q_f[a1]),
+                              pendulum_step_length(q_r[support[0]], q_r[support[1]], 1.0), turn)
+            if ratio is not None:
+                out.append((float(view.times[front][a1]), ratio))
+        return out
+
     # -- the fusion -----------------------------------------------------------------------------
-    def _calibrated(self, imu: ImuData, stance: StanceResult, foot: str) -> tuple[ImuData, dict | None]:
-        """``imu`` calibrated on its first stance (Zhao et al. (2019), Sec. II-A), and the record;
-        ``imu`` unchanged with a warning when that stance is shorter than ``MIN_STANDSTILL_S`` or
-        not still."""
+    @property
+    def online_exact(self) -> bool:  # type: ignore[override]
+        # online, the fitted leg length is that of the strides so far, not the whole walk's
+        return self.step_length == "pendulum"
+
+    @property
+    def reads_feet_alone(self) -> bool:  # type: ignore[override]
+        return self.step_length == "fitted"
+
+    @property
+    def calibrates_feet(self) -> bool:  # type: ignore[override]
+        return self.calibration != "none"
+
+    def foot_calibration(self, imu: ImuData, stance: StanceResult, foot: str) -> StandstillCalibration | None:
+        """With ``calibration="standstill"``, the accelerometer scale from the foot's first stance
+        (Zhao et al. (2019), Sec. II-A; its gyro bias is not applied: that is the estimator's own,
+        ekf's ``gyro_bias="initial-standstill"``, and subtracting it here too was measured to
+        hurt); None with a warning when that stance is shorter than ``MIN_STANDSTILL_S`` or not
+        still, and None with ``calibration="none"``."""
+        if self.calibration == "none":
+            return None
         runs = stance.intervals if len(stance.mask) == len(imu.t) else np.zeros((0, 2), dtype=np.int64)
         if len(runs) and imu.t[runs[0, 1] - 1] - imu.t[runs[0, 0]] >= MIN_STANDSTILL_S:
             try:
-                cal = calibrate_at_rest(imu, int(runs[0, 0]), int(runs[0, 1]))
+                return calibrate_at_rest(imu, int(runs[0, 0]), int(runs[0, 1]))
             except InvalidInputError as exc:
                 reason = str(exc)
-            else:
-                # the scale only: the gyro bias of Sec. II-A is the estimator's own (ekf's
-                # gyro_bias="initial-standstill"); subtracting it here too was measured to hurt
-                return cal.apply(imu, gyro_bias=False), cal.as_meta(gyro_bias=False)
         else:
             reason = f"its first stance is shorter than {MIN_STANDSTILL_S:g} s"
         warn(
@@ -371,7 +404,14 @@ class StepVectorFusion(Fusion):
             DataQualityWarning,
             stacklevel=4,
         )
-        return imu, None
+        return None
+
+    def _calibrated(self, imu: ImuData, stance: StanceResult, foot: str) -> tuple[ImuData, dict | None]:
+        """``imu`` with :meth:`foot_calibration` applied, and its record (None: unchanged)."""
+        cal = self.foot_calibration(imu, stance, foot)
+        if cal is None:
+            return imu, None
+        return cal.apply(imu, gyro_bias=False), cal.as_meta(gyro_bias=False)
 
     def fuse(self, estimator, left, stance_left, right=None, stance_right=None) -> FusionResult:
         """Both feet in one filter with a relative-position update at every straight step.
@@ -410,22 +450,14 @@ class StepVectorFusion(Fusion):
         """The step updates on a joint filter that grows as samples arrive (online mode;
         :class:`footnav.component.FusionSession`), from the feet's common start ``start_s`` (s).
 
-        Raises
-        ------
-        CompositionError
-            With ``step_length="fitted"`` (the leg length is fitted to each foot's whole walk) or
-            ``calibration="standstill"`` (each whole recording is calibrated before fusing): offline
-            only.
+        With ``step_length="fitted"`` the leg length is fitted as the walk goes
+        (:class:`LegLengthFit`: no update before ``LEG_FIT_MIN_STEPS`` straight steps), on each
+        foot's own solution given by ``session.feet_alone``; with ``calibration="standstill"``
+        the stream calibrates each foot from its first stance (:meth:`foot_calibration`).
         """
         self.validate_params()
-        for name, online in (("step_length", "pendulum"), ("calibration", "none")):
-            if getattr(self, name) != online:
-                why = ("the leg length is fitted to each foot's whole walk" if name == "step_length"
-                       else "each whole recording is calibrated before fusing")
-                raise CompositionError(
-                    f"fusion {self.name!r} with {name}={getattr(self, name)!r} is offline only: {why}; "
-                    f"{name}={online!r} runs online (step_length='pendulum' is Zhao et al. (2019), eq. 6, as published)"
-                )
+        if self.step_length == "fitted":
+            return StepVectorSession(self, None)
         return StepVectorSession(self, float(self.leg_length_m))
 
     def _fuse_span(self, estimator, left, stance_left, right, stance_right) -> FusionResult:
@@ -455,14 +487,17 @@ class StepVectorSession:
     fusion
         The step-vector fusion (its parameters).
     leg_length_m
-        The pendulum length l, m (eq. 6).
+        The pendulum length l, m (eq. 6); None: fitted as the walk goes (:class:`LegLengthFit`,
+        online ``step_length="fitted"``).
     closing_s
         No update after this time, s (the estimator's closed loop takes over there).
     """
 
-    def __init__(self, fusion: StepVectorFusion, leg_length_m: float, closing_s: float = math.inf) -> None:
+    def __init__(self, fusion: StepVectorFusion, leg_length_m: float | None, closing_s: float = math.inf) -> None:
         self.fusion = fusion
-        self.leg_length_m = float(leg_length_m)
+        self.leg_length_m = None if leg_length_m is None else float(leg_length_m)
+        #: the leg length fitted on the steps so far (None: ``leg_length_m`` is given)
+        self.fit = LegLengthFit(math.radians(fusion.turn_threshold_deg)) if leg_length_m is None else None
         self.step_width_m = float(fusion.step_width_m)
         #: the rear foot's attitude at its own heel strike, before its latest stance
         self.history_s = float(fusion.heel_strike_before_stance_s) + 0.1
@@ -474,6 +509,12 @@ class StepVectorSession:
         self._turn = np.radians(fusion.turn_threshold_deg)
         self.applied = self.suspended = self.skipped = 0
         self.lengths: list[float] = []
+
+    def feet_alone(self, foot: int, starts: list[tuple[float, np.ndarray, np.ndarray]]) -> None:
+        """Foot ``foot``'s own forward solution (``(time s, position m, quaternion)``, in its own
+        frame) at its newest stance starts: what the fitted leg length reads (online mode)."""
+        if self.fit is not None:
+            self.fit.add_starts(foot, starts)
 
     def known_until(self, view: FeetView, final_s: float) -> float:
         """Up to (not at) the earliest heel strike a landing not yet known could have: a landing is
@@ -501,8 +542,10 @@ class StepVectorSession:
         for foot, new in enumerate(landings):
             times = view.times[foot]
             starts = np.searchsorted(times, np.asarray(new, dtype=float).ravel())
-            for hs in fusion._heel_strikes(view, foot, starts):
+            for hs, start in zip(fusion._heel_strikes(view, foot, starts), starts):
                 self._events.add(times[hs], foot)
+                if self.fit is not None:
+                    self.fit.stance_of[(foot, float(times[hs]))] = float(times[start])
         due = self._events.due(until_s, stop_s is not None)
         supports = fusion._supports(view, np.array([1 - front for _, front in due]), np.array([t for t, _ in due]))
         for (t, front), support in zip(due, supports):
@@ -520,14 +563,24 @@ class StepVectorSession:
             return
         hs_rear, k_q2 = support
         q_out = filt.outputs(rear)[0]
+        leg = self.leg_length_m
+        if self.fit is not None:
+            self.fit.landing(front, t, pendulum_step_length(q_out[hs_rear], q_out[k_q2], 1.0))
+            leg = self.fit.leg_at(t)
         yaw_r = quat.yaw_of(q_out[hs_rear]) - self._yaw0[rear]
         prev = self._last_stance_yaw.get(rear)
         self._last_stance_yaw[rear] = yaw_r  # heading of the rear foot's footprint
         if prev is not None and abs(quat.wrap_angle(yaw_r - prev)) > self._turn:
             self.suspended += 1  # Sec. V-C: no update while curving or turning
             return
-        s = pendulum_step_length(q_out[hs_rear], q_out[k_q2], self.leg_length_m)  # S = 2 l sin(theta/2)  (eq. 5-6)
+        if leg is None:
+            if self.fit is not None:
+                self.fit.waiting += 1  # too few steps fitted yet
+            return
+        s = pendulum_step_length(q_out[hs_rear], q_out[k_q2], leg)  # S = 2 l sin(theta/2)  (eq. 5-6)
         self.lengths.append(s)
+        if self.fit is not None:
+            self.fit.used.append((t, leg))
         side = 1.0 if front == LEFT else -1.0
         if fusion.relative_frame == "attitude":
             rot = quat.as_matrix(q_out[k_q2])  # C_b^n of the rear foot at the update (Sec. IV-B)
@@ -548,13 +601,88 @@ class StepVectorSession:
     def finish(self) -> dict:
         """The fusion's meta, after the last :meth:`advance`."""
         fusion = self.fusion
-        return {
+        meta = {
             "fusion": fusion.describe(),
             "step_length": fusion.step_length,
             "relative_frame": fusion.relative_frame,
-            "leg_length_m": self.leg_length_m,
+            "leg_length_m": self.leg_length_m if self.fit is None else self.fit.latest(),
             "updates": self.applied,
             "suspended_turning": self.suspended,
             "skipped_rear_foot_moving": self.skipped,
             "step_length_m": {"median": float(np.median(self.lengths)) if self.lengths else None, "n": len(self.lengths)},
+        }
+        if self.fit is not None:
+            meta["leg_length_fit"] = self.fit.as_meta()
+        return meta
+
+
+class LegLengthFit:
+    """The pendulum length of ``step_length="fitted"`` fitted on the steps seen so far (online).
+
+    Offline, ``l`` is the median over the whole walk of :func:`leg_ratio` (half the front foot's
+    stride in its own single-foot solution over the rear foot's swing of eq. 6 with l = 1).
+    Online the same ratio is taken at each landing: the swing from the joint filter's attitude
+    of the rear foot (before its step update; until the first one the joint filter is the two
+    single-foot filters), the stride from the front foot's own forward solution at its stance
+    starts (``add_starts``), known once the stance that the landing opens has begun. The length
+    used at a time is the median of the ratios of the steps whose stance began by then, the latest
+    ``LEG_FIT_WINDOW``; None before ``LEG_FIT_MIN_STEPS`` of them.
+
+    Parameters
+    ----------
+    turn_rad
+        A step whose front foot turns more than this between its stances is not fitted, rad.
+    """
+
+    def __init__(self, turn_rad: float) -> None:
+        self.turn_rad = float(turn_rad)
+        #: (foot, its heel strike s) -> the start of the stance it opened, s
+        self.stance_of: dict[tuple[int, float], float] = {}
+        self._starts: list[deque] = [deque(maxlen=16), deque(maxlen=16)]  # (t, xy, yaw) per foot
+        self._swings: list[tuple[float, int, float]] = []  # (front's stance start s, front, swing)
+        self.ratios: deque[float] = deque(maxlen=LEG_FIT_WINDOW)
+        self.n_fitted = 0
+        self.waiting = 0  # updates not applied: too few steps fitted
+        #: (time s, leg length m) of every update applied
+        self.used: list[tuple[float, float]] = []
+
+    def add_starts(self, foot: int, starts: list[tuple[float, np.ndarray, np.ndarray]]) -> None:
+        """The foot's own solution at its newest stance starts: (time s, position m, quaternion)."""
+        self._starts[foot].extend((float(t), np.array(p[:2], dtype=float), quat.yaw_of(q)) for t, p, q in starts)
+
+    def landing(self, front: int, t: float, swing: float) -> None:
+        """A landing of ``front`` at its heel strike ``t`` (s), the rear foot's ``swing``."""
+        start = self.stance_of.pop((front, float(t)), None)
+        if start is not None:
+            self._swings.append((start, front, float(swing)))
+
+    def leg_at(self, t: float) -> float | None:
+        """The leg length at time ``t`` (s), m: from the steps whose stance began at or before ``t``."""
+        waiting = []
+        for start, front, swing in self._swings:
+            if start > t:
+                waiting.append((start, front, swing))
+                continue
+            known = [s for s in self._starts[front] if s[0] <= start]
+            if len(known) >= 2 and known[-1][0] == start:
+                (_, xy0, yaw0), (_, xy1, yaw1) = known[-2], known[-1]
+                ratio = leg_ratio(xy0, xy1, yaw0, yaw1, swing, self.turn_rad)
+                if ratio is not None:
+                    self.ratios.append(ratio)
+                    self.n_fitted += 1
+        self._swings = waiting
+        return self.latest()
+
+    def latest(self) -> float | None:
+        """The leg length now, m (None: fewer than ``LEG_FIT_MIN_STEPS`` steps fitted)."""
+        return float(np.median(self.ratios)) if self.n_fitted >= LEG_FIT_MIN_STEPS else None
+
+    def as_meta(self) -> dict[str, Any]:
+        return {
+            "min_steps": LEG_FIT_MIN_STEPS,
+            "window": LEG_FIT_WINDOW,
+            "steps_fitted": self.n_fitted,
+            "updates_waiting": self.waiting,
+            "first_update_s": self.used[0][0] if self.used else None,
+            "per_update": {"t_s": [t for t, _ in self.used], "leg_length_m": [leg for _, leg in self.used]},
         }

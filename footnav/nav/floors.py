@@ -28,6 +28,7 @@ and :func:`hold_floors` is the same holder fed a whole trajectory: both give the
 
 from __future__ import annotations
 
+from collections import OrderedDict
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -165,10 +166,14 @@ class FloorHolder:
     ----------
     level_rise_max_m
         A stride rising or falling less than this is level, m.
+    keep_strides
+        Keep every stride's rise for :meth:`floors` (memory grows with the walk); False keeps
+        the running totals only (an endless stream that keeps no past).
     """
 
-    def __init__(self, level_rise_max_m: float = LEVEL_RISE_MAX_M) -> None:
+    def __init__(self, level_rise_max_m: float = LEVEL_RISE_MAX_M, *, keep_strides: bool = True) -> None:
         self.level_rise_max_m = float(level_rise_max_m)
+        self.keep_strides = bool(keep_strides)
         self._rows: list[list[NDArray]] = []  # waiting samples: chunks of (t, p, v, q, stance)
         self._prev_h: float | None = None  # height of the last closed stance (as estimated)
         self._prev_end_t = 0.0  # time of its last sample, s
@@ -176,8 +181,9 @@ class FloorHolder:
         self._before = 0.0  # correction held at the last closed stance, m
         self.rises: list[float] = []
         self.walked_m = 0.0
-        #: stance end time (s) -> the correction its samples got (m): for footprints made elsewhere
-        self.held_at: dict[float, float] = {}
+        #: stance end time (s) -> the correction its samples got (m), in time order, until
+        #: :meth:`held_at` has been asked for it or a later one
+        self._held_at: OrderedDict[float, float] = OrderedDict()
 
     def push(self, t, position, velocity, quaternion, stance, *, closed: bool = False) -> tuple[NDArray, ...]:
         """Add samples; return the corrected ``(t, position, velocity, quaternion, stance)`` of
@@ -197,8 +203,24 @@ class FloorHolder:
             out = tuple(np.concatenate([a, b]) for a, b in zip(out, (t, p, v, q, s)))
         return out
 
+    def held_at(self, t: float) -> float | None:
+        """The correction (m) the samples of the stance that ended at ``t`` (s) got, for a
+        footprint made elsewhere; None when no stance ended there or it was asked before. The
+        stances before it are forgotten: ask in time order."""
+        while self._held_at:
+            first, shift = self._held_at.popitem(last=False)
+            if first >= t:
+                if first > t:  # not this one's: keep it for a later footprint
+                    self._held_at[first] = shift
+                    self._held_at.move_to_end(first, last=False)
+                    return None
+                return shift
+        return None
+
     def floors(self) -> Floors:
-        """The strides so far: rises, classes, floors and totals."""
+        """The strides so far: rises, classes, floors and totals (``keep_strides`` only)."""
+        if not self.keep_strides:
+            raise RuntimeError("FloorHolder(keep_strides=False) keeps no strides to summarise")
         rise = np.asarray(self.rises, dtype=float)
         stair = np.abs(rise) >= self.level_rise_max_m
         level, flights = floor_changes(rise, stair)
@@ -272,10 +294,11 @@ class FloorHolder:
         p[sw, 2] += before[k] + c[k] * (t[sw] - prev_end[k]) / span[k]
         v[sw, 2] += (c / span)[k]
         p[idx, 2] += np.repeat(held, n)
-        self.rises.extend(rise[counted].tolist())
+        if self.keep_strides:
+            self.rises.extend(rise[counted].tolist())
         steps_m = np.linalg.norm(xy - prev_xy, axis=1)[counted]
         self.walked_m = float(np.cumsum(np.concatenate(([self.walked_m], steps_m)))[-1])
-        self.held_at.update(zip(end_t.tolist(), held.tolist()))
+        self._held_at.update(zip(end_t.tolist(), held.tolist()))
         self._before = float(held[-1])
         self._prev_h, self._prev_end_t, self._prev_xy = float(h[-1]), float(end_t[-1]), xy[-1].copy()
 

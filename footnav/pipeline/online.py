@@ -48,11 +48,12 @@ Memory: the input buffer, the detection buffer and the filter segment are bounde
 final sample for ``close``'s result, as the offline run would.
 
 Fusions: ``independent`` runs on the per-foot filters. A coupled fusion that offers a session
-(:class:`footnav.component.FusionSession`: ``range``, ``step-vector`` with the pendulum step
-length, ``particle`` in footnav's mode) runs on one joint filter fed by both feet as far as both
-have arrived (:mod:`footnav.pipeline.online_joint`), with the offline run's common-span rules;
-the others (DTW averages the whole walk; step-vector's fitted leg length needs the whole walk;
-the particle fusion's paper mode runs its own filters) are refused with a message.
+(:class:`footnav.component.FusionSession`: ``range``, ``step-vector``, ``particle`` in footnav's
+mode) runs on one joint filter fed by both feet as far as both have arrived
+(:mod:`footnav.pipeline.online_joint`), with the offline run's common-span rules (step-vector's
+fitted leg length is fitted on the steps so far: ``close`` reruns offline); the others (DTW
+averages the whole walk; the particle fusion's paper mode runs its own filters) are refused with
+a message.
 """
 
 from __future__ import annotations
@@ -185,9 +186,11 @@ class OnlineStream:
         self.latency_s = check_online(pipeline, feet)
         #: ``close`` reruns the offline pipeline on the whole input (``keep=True``) rather than
         #: assembling the stream's final samples: the whole-walk smoother needs the whole walk,
-        #: and a detector whose online decisions may differ from its offline ones (its
-        #: ``online_exact`` False: adaptive's typical stride) would give other stances
-        self.rerun = getattr(pipeline.estimator, "smoother", None) == "whole" or not getattr(pipeline.detector, "online_exact", True)
+        #: and a detector or fusion whose online decisions may differ from its offline ones (its
+        #: ``online_exact`` False: adaptive's typical stride, step-vector's fitted leg length)
+        #: would give other stances or steps
+        self.rerun = (getattr(pipeline.estimator, "smoother", None) == "whole" or not getattr(pipeline.detector, "online_exact", True)
+                      or not getattr(pipeline.fusion, "online_exact", True))
         self.n_feet = feet
         self.max_wait_s = float(max_wait_s)
         self.keep = bool(keep)
@@ -202,7 +205,7 @@ class OnlineStream:
         est = pipeline.estimator
         #: each foot's live height hold (the estimator's ``vertical="floors"``), as offline
         bound = getattr(est, "level_rise_max_m", LEVEL_RISE_MAX_M)
-        self._floors = [FloorHolder(bound) for _ in self.feet] if getattr(est, "vertical", "free") == "floors" else None
+        self._floors = [FloorHolder(bound, keep_strides=keep) for _ in self.feet] if getattr(est, "vertical", "free") == "floors" else None
         self._closed = False
         #: the exception that ended the stream inside a push (a component's failure), if any
         self.failure: BaseException | None = None
@@ -514,6 +517,8 @@ class OnlineStream:
                                                 "smoothed step-wise)" if getattr(self.pipeline.estimator, "smoother", None) == "whole" else ""),
             # (step end, when it became final) of each foot's latest steps, s after the step's end
             "step_latency_s": {f.foot: [round((b - a) / f.rate_hz, 6) for a, b in f.step_final_at] if f.rate_hz else [] for f in self.feet},
+            # a coupled fusion's own record of what it applied live (step-vector's fitted leg length per update)
+            "fusion": self.joint.session.finish() if self.joint is not None and self.joint.session is not None else None,
         }
 
 
@@ -584,7 +589,7 @@ def _hold(holder: FloorHolder, update: FootUpdate, source: Any, final: bool) -> 
 
 def _held_step(holder: FloorHolder, step: ClosedStep) -> ClosedStep:
     """The step's footprint at the height its stance was held at."""
-    shift = holder.held_at.get(float(step.t))
+    shift = holder.held_at(float(step.t))
     if shift is None:
         return step
     pos = np.array(step.position, dtype=float)

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import math
 from collections import deque
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 from numpy.typing import NDArray
@@ -156,6 +156,17 @@ class FootStream:
         self._imu: ImuData | None = None  # the first detection window (see _window_imu)
         self._pos_block: slice | None = None  # the filter's position block (one filter layout per stream)
         self._rot: tuple[float, NDArray] | None = None  # (psi, the 3 x 3 turn by -psi about z)
+        #: the fusion's calibration of this foot (its ``foot_calibration``), found at the
+        #: filter's start: the accelerometer scale the filters' samples get (detection reads
+        #: the samples as given, as offline) and its record
+        self.acc_scale: float | None = None
+        self.calibration: dict | None = None
+        #: record the forward solution at each stance start in ``alone_starts`` (a coupled
+        #: fusion that reads each foot alone: ``Fusion.reads_feet_alone``)
+        self.record_starts = False
+        self.alone_starts: list[tuple[float, NDArray, NDArray]] = []
+        self._starts_done = 0  # global index: stance starts before it are recorded
+        self._last_stance = False
 
     def closed_until(self) -> float:
         """Every step of this foot that ends before this time (s) has been returned or is held
@@ -277,9 +288,11 @@ class FootStream:
             return
         if self.n_final - self.seg0 > self.filt.capacity(0):
             self._restart()
-        self.filt.extend(*self.input.rows(self.n_fed, self.n_final))
+        self.filt.extend(*self.calibrated(self.input.rows(self.n_fed, self.n_final)))
         self.n_fed = self.n_final
         self._run(final)
+        if self.record_starts:
+            self._record_starts()
         self._harvest(final)
         self.input.drop_before(min(self.n_final - self.margin, self.n_fed, self.hold))
         if self.features is not None:
@@ -295,17 +308,48 @@ class FootStream:
         elif last - 1 > filt.index(0):
             filt.run_until(float(filt.samples(0).t[last - 1]))
 
+    def calibrated(self, rows: list[NDArray]) -> list[NDArray]:
+        """Input rows ``(t, acc, gyr, stance)`` as the filters take them: with the fusion's
+        accelerometer scale (:attr:`acc_scale`), as its offline ``fuse`` scales the recording."""
+        if self.acc_scale is None:
+            return rows
+        return [rows[0], rows[1] * self.acc_scale, *rows[2:]]
+
+    def _record_starts(self) -> None:
+        """The forward solution at the stance starts the filter has passed since the last call
+        (the first sample it filtered counts as one when in stance)."""
+        filt = self.filt
+        lo, k_now = self._starts_done - self.seg0, filt.index(0)
+        if k_now < lo:
+            return
+        fed = filt.samples(0)
+        stance = fed.stance[lo : k_now + 1]
+        before = np.concatenate(([self._last_stance], stance[:-1]))
+        ks = np.flatnonzero(stance & ~before) + lo
+        if len(ks):
+            # the forward estimate per sample: a coupled fusion's filter has it (JointFilter.outputs)
+            q, _, p = cast(Any, filt).outputs(0)[:3]
+            self.alone_starts.extend((float(fed.t[k]), p[k].copy(), q[k].copy()) for k in ks)
+        self._last_stance = bool(stance[-1])
+        self._starts_done = self.seg0 + k_now + 1
+
     def _start(self, final: bool) -> bool:
-        """Align the filter once the first stance is final (``estimator.start``), in a segment."""
+        """Align the filter once the first stance is final (``estimator.start``), in a segment;
+        the fusion's calibration of the foot first (:meth:`footnav.component.Fusion.foot_calibration`)."""
         est = self.stream.pipeline.estimator
         t, acc, gyr, mask = (x.copy() for x in self.input.rows(0, self.n_final))
         if not self.first_stance_closed and not final:
             return False
+        cal = self.stream.pipeline.fusion.foot_calibration(ImuData(t=t, acc=acc, gyr=gyr, meta=self.input_meta()), StanceResult(mask=mask), self.foot)
+        if cal is not None:
+            self.acc_scale, self.calibration = float(cal.acc_scale), cal.as_meta(gyro_bias=False)
+            acc = acc * self.acc_scale
         # with no stance at all this raises the estimator's own error, as offline
         # the foot's source names what the estimator warns; the gaps it crosses are said at close
         # (bridged_gaps), when all of them are known, as the offline estimate says them once
         first = est.start([ImuData(t=t, acc=acc, gyr=gyr, meta=self.input_meta())], [StanceResult(mask=mask)])
         self.start_index = first.start_index(0)
+        self._starts_done = self.start_index
         self.seg0 = 0
         # the aligned state (f^n too, from the first stance's sample): its first checkpoint
         self.filt = first.rebase([0], [max(SEGMENT_SAMPLES, 2 * self.n_final)], at=0, step_smoother=self._smooths)

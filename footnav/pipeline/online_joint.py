@@ -121,6 +121,7 @@ class JointStream:
         for f in feet:
             f.hold = 0  # every sample, until the joint filter has taken it
             f.steps.collect = False  # the steps are the fused feet's (JointFoot.steps)
+            f.record_starts = bool(self.fusion.reads_feet_alone)
         self.start_s: float | None = None
         self.session: Any = None
         self.filt: OnlineFilter | None = None
@@ -160,7 +161,7 @@ class JointStream:
     def _cut(self, jf: JointFoot, stop: int) -> tuple[ImuData, StanceResult]:
         """The foot's final samples from the common start to ``stop`` (global), as the offline
         run slices them."""
-        t, acc, gyr, mask = (x.copy() for x in jf.alone.input.rows(jf.i0, stop))
+        t, acc, gyr, mask = (x.copy() for x in jf.alone.calibrated(jf.alone.input.rows(jf.i0, stop)))
         return ImuData(t=t, acc=acc, gyr=gyr, meta=jf.alone.input_meta()), StanceResult(mask=mask)
 
     def _cap(self, final: bool) -> float:
@@ -250,7 +251,7 @@ class JointStream:
         for f, (jf, stop) in enumerate(zip(self.feet, stops)):
             if stop <= jf.n_fed:
                 continue
-            rows = jf.alone.input.rows(jf.n_fed, stop)
+            rows = jf.alone.calibrated(jf.alone.input.rows(jf.n_fed, stop))
             self.filt.extend(*rows, foot=f)
             self._landings(f, rows[3], rows[0], jf.n_fed)
             jf.n_fed = stop
@@ -267,10 +268,16 @@ class JointStream:
             p.clear()
 
         view = self._view()
+        if self.fusion.reads_feet_alone:
+            for f, jf in enumerate(self.feet):
+                self.session.feet_alone(f, jf.alone.alone_starts)
+                jf.alone.alone_starts = []
         if final:
             self.session.advance(filt, self.span_end, landings, view, stop_s=self.span_end)
             filt.run_until()
             self.result_meta = self.session.finish()
+            if self.fusion.calibrates_feet:  # as the offline fuse records it
+                self.result_meta["calibration"] = {jf.foot: jf.alone.calibration for jf in self.feet}
             return
         ends = []
         for f, jf in enumerate(self.feet):

@@ -132,7 +132,28 @@ def test_a_stance_is_not_released_before_it_is_known_to_have_ended():
     assert len(out[0]) == walk.steps[0, 1]  # the first stance (closed by the swing after it)
     out = holder.push(walk.t[a1 + 5 : b1], walk.position[a1 + 5 : b1], walk.velocity[a1 + 5 : b1], walk.quaternion[a1 + 5 : b1], s[a1 + 5 : b1], closed=True)
     assert len(out[0]) == b1 - walk.steps[0, 1]  # the swing and the second stance, now held
-    assert np.allclose(out[1][-1, 2], 0.0, atol=1e-12) and holder.held_at[float(walk.t[b1 - 1])] == pytest.approx(-0.02)
+    assert np.allclose(out[1][-1, 2], 0.0, atol=1e-12)
+    assert holder.held_at(float(walk.t[walk.steps[0, 1] - 1]) - 0.5) is None  # no stance ended there
+    assert holder.held_at(float(walk.t[b1 - 1])) == pytest.approx(-0.02)
+    assert holder.held_at(float(walk.t[b1 - 1])) is None  # asked once: forgotten, as the first stance was
+
+
+def test_an_endless_stream_keeps_no_stride_records():
+    # the online stream with keep=False: the same samples held, nothing that grows with the walk
+    walk = _walk([0.02, -0.01, 0.015, 0.3, 0.01])
+    s = np.zeros(len(walk.t), bool)
+    for a, b in walk.steps:
+        s[a:b] = True
+    kept, bounded = FloorHolder(), FloorHolder(keep_strides=False)
+    rows = [h.push(walk.t, walk.position, walk.velocity, walk.quaternion, s, closed=True) for h in (kept, bounded)]
+    for a, b in zip(*rows):
+        assert np.array_equal(a, b)
+    assert len(kept.rises) == 5 and bounded.rises == [] and bounded.walked_m == kept.walked_m
+    ends = walk.t[walk.steps[:, 1] - 1]
+    assert [bounded.held_at(float(t)) for t in ends] == [kept.held_at(float(t)) for t in ends]
+    assert not bounded._held_at  # each asked once: none left
+    with pytest.raises(RuntimeError, match="keep_strides=False"):
+        bounded.floors()
 
 
 def test_fewer_than_two_stances_change_nothing():

@@ -163,8 +163,6 @@ def test_what_cannot_run_online_is_refused(walk):
     with pytest.raises(CompositionError, match="needs both feet"):
         _pipe().online(feet=1)
     for fusion, params, what in (
-        ("step-vector", {}, "step_length='fitted' is offline only"),
-        ("step-vector", {"step_length": "pendulum", "calibration": "standstill"}, "calibration='standstill' is offline only"),
         ("particle", {"mode": "paper"}, "mode='paper' is offline only"),
     ):
         pipe = footnav.make_pipeline("threshold", "ekf", fusion, estimator_params=STEP, fusion_params=params)
@@ -176,6 +174,65 @@ def test_what_cannot_run_online_is_refused(walk):
         stream.push(left=walk.left.slice(0, 200), right=walk.right.slice(2900, 3106))
         with pytest.raises(InvalidInputError, match="share no time span"):
             stream.close()
+
+
+@pytest.mark.parametrize("size_left, size_right", [(7, 13), (1000, 1000)])
+def test_step_vector_calibrated_at_the_first_standstill_online_is_the_offline_fusion(walk, size_left, size_right):
+    """calibration="standstill" online: each foot's accelerometer scale from its first stance,
+    applied to what its filters take (detection reads the samples as given, as offline): the
+    offline fusion, its calibration records and all, assembled from the stream (no rerun)."""
+    pipe = footnav.make_pipeline("threshold", "ekf", "step-vector", estimator_params=STEP,
+                                 fusion_params={"step_length": "pendulum", "calibration": "standstill"})
+    scaled = [footnav.ImuData(t=imu.t, acc=imu.acc * k, gyr=imu.gyr) for imu, k in ((walk.left, 1.02), (walk.right, 0.99))]
+    off = _offline(pipe, *scaled)
+    cal = off.meta["fusion"]["calibration"]
+    assert cal["left"]["acc_scale"] == pytest.approx(1 / 1.02, rel=2e-3) and cal["right"]["acc_scale"] == pytest.approx(1 / 0.99, rel=2e-3)
+    got, _, result, stream = _replay(pipe, *scaled, size_left, size_right)
+    assert not stream.rerun  # the stream's own samples: exact
+    _check_fusion(off, result, got)
+    assert result.meta["fusion"]["calibration"] == cal
+
+
+def test_step_vector_fits_the_leg_length_online_on_the_steps_so_far(walk):
+    """step_length="fitted" (its default) online: no update before LEG_FIT_MIN_STEPS straight
+    steps; then the median of the ratios of the steps whose stance began by the update, on each
+    foot's own solution. The first fitted value is the offline single-foot runs' median of the
+    same steps (until the first update the joint filter is the two single-foot filters); the
+    live steps are the same in any chunks; close() is the offline run."""
+    from footnav.fusion.joint import FeetView, start_joint
+    from footnav.fusion.step_vector import LEG_FIT_MIN_STEPS
+
+    pipe = footnav.make_pipeline("threshold", "ekf", "step-vector", estimator_params=STEP)
+    off = _offline(pipe, walk.left, walk.right)
+    runs = {}
+    for sizes in ((1, 1), (7, 13), (1000, 1000)):
+        _, steps, result, stream = _replay(pipe, walk.left, walk.right, *sizes)
+        assert stream.rerun  # the fit so far is not the whole walk's: close() reruns offline
+        _check_equal(off, {f: getattr(off, f).position for f in ("left", "right")}, result)
+        runs[sizes] = (steps, result.meta["online"]["fusion"])
+    live = runs[(7, 13)][1]
+    for steps, meta in runs.values():  # the same live steps and fit, however chunked
+        assert meta == live
+        np.testing.assert_array_equal([s.position for s in steps], [s.position for s in runs[(7, 13)][0]])
+
+    fit = live["leg_length_fit"]
+    per = fit["per_update"]
+    assert fit["steps_fitted"] >= LEG_FIT_MIN_STEPS and fit["updates_waiting"] > 0
+    assert len(per["t_s"]) == live["updates"] == off.meta["fusion"]["updates"] - fit["updates_waiting"]
+    # the reference: the offline fusion's own ratios on its single-foot runs
+    fusion = pipe.fusion
+    stances = (off.stance_left, off.stance_right)
+    _, singles = start_joint(pipe.estimator, walk.left, stances[0], walk.right, stances[1], fusion.step_width_m, return_singles=True)
+    ratios = fusion.step_ratios(FeetView.of((walk.left, walk.right), stances), singles)
+    first = [r for t, r in ratios if t <= per["t_s"][0]]
+    assert len(first) >= LEG_FIT_MIN_STEPS
+    assert per["leg_length_m"][0] == pytest.approx(float(np.median(first)), rel=1e-9)
+    assert per["leg_length_m"][-1] == pytest.approx(off.meta["fusion"]["leg_length_m"], rel=0.01)
+    # live footprints: a few fewer updates at the start than offline, centimetres apart
+    for foot in ("left", "right"):
+        mine = np.array([s.position for s in runs[(7, 13)][0] if s.foot == foot])
+        ref = getattr(off, foot).footprints
+        assert len(mine) == len(ref) and 0 < np.abs(mine - ref).max() < 0.05
 
 
 def test_a_plugin_coupled_fusion_without_needs_two_feet_is_refused_on_one_foot():

@@ -14,6 +14,12 @@ step-wise smoothing): the leg length when the first update was applied and at th
 the offline whole-walk fit, the updates that waited for the fit, the largest distance between
 a live and an offline footprint, and whether ``close()`` equals the offline run (the figures of
 docs/online.md, "Both feet in one filter").
+
+``--dual-gait``: the dual-gait detector online (both feet decided together,
+:mod:`footnav.pipeline.online_pair`; EKF with step-wise smoothing, independent feet) on the
+two-foot recordings: per foot the live stances the offline detector does not have and those it
+lacks, the largest distance between the live samples and the offline run's, whether ``close()``
+equals the offline run, and the steps' latency (the figures of docs/online.md, "Dual-gait online").
 """
 
 from __future__ import annotations
@@ -96,6 +102,42 @@ def compare_step_vector(rec, size=50):
             fit["first_update_s"], fit["updates_waiting"], dist, same)
 
 
+def compare_dual_gait(rec, size=50):
+    """Per foot: (added, removed, max live-offline distance m, close equal, latencies s)."""
+    pipe = footnav.make_pipeline("dual-gait", "ekf", "independent", estimator_params={"smoother": "step"})
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        off = pipe.run(rec.left, rec.right)
+        got, _, result, stream = _replay(pipe, rec.left, rec.right, size, max_wait_s=1e9, rate_hz=rec.left.rate_hz)
+    rows = {}
+    for f in stream.feet:
+        ref, live = getattr(off, f.foot), f.trajectory()[1].mask
+        offm = getattr(off, f"stance_{f.foot}").mask[-len(live):]
+        so = {tuple(r) for r in stance_intervals(offm).tolist()}
+        sn = {tuple(r) for r in stance_intervals(live).tolist()}
+        n = min(len(got[f.foot]), len(ref.position))
+        dist = float(np.linalg.norm(got[f.foot][-n:] - ref.position[-n:], axis=1).max())
+        same = float(np.abs(getattr(result, f.foot).position - ref.position).max()) <= 1e-9
+        lat = [(b - a) / f.rate_hz for a, b in f.step_final_at]
+        rows[f.foot] = (len(sn - so), len(so - sn), dist, same, lat)
+    return rows
+
+
+def main_dual_gait(names):
+    from footnav.data.datasets import dataset_names, load_dataset
+
+    print(f"{'recording':28s} foot  added removed  max_dist_m  close=offline  latency_s(median,max)")
+    for name in names or dataset_names():
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            rec = load_dataset(name, os.environ.get("FOOTNAV_DATA"))
+        if rec.right is None:
+            continue
+        for foot, (added, removed, dist, same, lat) in compare_dual_gait(rec).items():
+            la = f"{np.median(lat):.2f}, {max(lat):.2f}" if lat else "-"
+            print(f"{name:28s} {foot:5s} {added:5d} {removed:7d}  {dist:10.3g}  {same!s:13s}  {la}", flush=True)
+
+
 def main_step_vector(names):
     from footnav.data.datasets import dataset_names, load_dataset
 
@@ -131,5 +173,7 @@ def main(names):
 if __name__ == "__main__":
     if "--step-vector" in sys.argv:
         main_step_vector([a for a in sys.argv[1:] if a != "--step-vector"])
+    elif "--dual-gait" in sys.argv:
+        main_dual_gait([a for a in sys.argv[1:] if a != "--dual-gait"])
     else:
         main(sys.argv[1:])

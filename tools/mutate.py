@@ -117,6 +117,7 @@ DG = "footnav/detectors/dual_gait.py"
 HMM_FEATURES, HMM_REORDER = "footnav/detectors/hmm/features.py", "footnav/detectors/hmm/reorder.py"
 MW, EKFP = "footnav/estimators/madgwick.py", _EKF + "estimator.py"
 RC, SV, FD = "footnav/fusion/range_constraint.py", "footnav/fusion/step_vector.py", "footnav/fusion/dtw.py"
+PEN = "footnav/fusion/pendulum.py"
 PF, PE, JN = "footnav/fusion/particle.py", "footnav/fusion/particle_ekf.py", "footnav/fusion/joint.py"
 PFC = "footnav/fusion/particle_cloud.py"
 OCH = "footnav/pipeline/online_checks.py"
@@ -344,10 +345,10 @@ MUTANTS: list[Mutant] = [
       "swapped arguments"),
     M("range-landing-index", RC, ("imu.t[stance.intervals[1:, 0]]", "imu.t[stance.intervals[1:, 0] - 1]"), FUSION, "off-by-one"),
     M("step-vector-width-side", SV, ("side = 1.0 if front == LEFT else -1.0", "side = -1.0 if front == LEFT else 1.0"), FUSION, "sign"),
-    M("step-vector-theta-half", SV, ("theta = 2.0 * math.acos(", "theta = math.acos("), FUSION, "constant"),
-    M("step-vector-pendulum-factor", SV, ("return 2.0 * leg_length_m * math.sin(0.5 * theta)", "return leg_length_m * math.sin(0.5 * theta)"),
+    M("step-vector-theta-half", PEN, ("theta = 2.0 * math.acos(", "theta = math.acos("), FUSION, "constant"),
+    M("step-vector-pendulum-factor", PEN, ("return 2.0 * leg_length_m * math.sin(0.5 * theta)", "return leg_length_m * math.sin(0.5 * theta)"),
       FUSION, "constant"),
-    M("step-vector-fit-half", SV, ("ratios.append(0.5 * stride / s1)", "ratios.append(stride / s1)"), FUSION, "constant"),
+    M("step-vector-fit-half", PEN, ("return 0.5 * stride / swing", "return stride / swing"), FUSION, "constant"),
     M("step-vector-innovation-sign", SV, ("y = (filt.position(front) - filt.position(rear)) - dp_n", "y = (filt.position(rear) - filt.position(front)) - dp_n"),
       FUSION, "sign"),
     M("step-vector-rot-transposed", SV, ("rot = np.array([[c, -sn, 0.0], [sn, c, 0.0]", "rot = np.array([[c, sn, 0.0], [-sn, c, 0.0]"), FUSION, "transpose"),

@@ -144,8 +144,10 @@ def support_intervals(
     hs = np.asarray(heel_strike, dtype=np.int64)
     if len(hs) == 0:
         return np.empty((0, 2), dtype=np.int64)
-    j = np.searchsorted(t_contra_heel_strike, t[hs], side="right")  # first contralateral HS after
-    t_stop = np.where(j < len(t_contra_heel_strike), t_contra_heel_strike[np.minimum(j, len(t_contra_heel_strike) - 1)], np.inf)
+    contra = np.asarray(t_contra_heel_strike, dtype=float)
+    j = np.searchsorted(contra, t[hs], side="right")  # first contralateral HS after
+    # (none at all: every interval runs to the foot's own next heel strike)
+    t_stop = np.where(j < len(contra), contra[np.minimum(j, len(contra) - 1)], np.inf) if len(contra) else np.full(len(hs), np.inf)
     stop = np.searchsorted(t, t_stop, side="left")  # first own sample at or after it (n if none)
     stop = np.minimum(stop, np.append(hs[1:], n))
     return np.column_stack([hs, stop]).astype(np.int64)
@@ -214,9 +216,15 @@ class DualGaitDetector(StanceDetector):
     """
 
     name = "dual-gait"
-    #: No bounded latency online: it detects both feet together from their whole recordings.
-    latency_s = None
     needs_two_feet: ClassVar[bool] = True
+    #: Online (:mod:`footnav.pipeline.online_pair`): both feet decided together in blocks of
+    #: this length, s, each on a window of both feet reaching ``latency_s`` - ``online_block_s``
+    #: past it.
+    online_block_s: ClassVar[float] = 0.25
+    #: Online decisions are those of a window of a few seconds: a stance the window cannot see
+    #: the start of (one foot flat longer than the window's margin, the other moving) may differ
+    #: from the whole recording's, so ``close()`` reruns offline.
+    online_exact: ClassVar[bool] = False
 
     def __init__(
         self,
@@ -258,6 +266,20 @@ class DualGaitDetector(StanceDetector):
             "zupt_rule",
             " or ".join(repr(r) for r in ZUPT_RULES),
         )
+
+    @property
+    def latency_s(self) -> float:
+        """How long after a sample its decision is final online, s: a flat zone is known
+        ``window_s / 2 + min_flat_s + min_swing_s`` after a sample (the ``threshold`` test, its
+        short runs dropped and gaps bridged); a heel strike ``hs_search_s`` after its peak plus
+        that (the flat zone it opens), a standing flat zone ``standing_s`` plus that; then two
+        ``hs_min_interval_s``: a peak is a heel strike only if no higher peak within that
+        distance survives find_peaks' rule, which a still higher one after that can undo (a
+        longer chain of ever higher peaks is possible in principle: ``online_exact`` False);
+        then the block (``online_block_s``)."""
+        flat = self.window_s / 2 + self.min_flat_s + self.min_swing_s
+        reach = max(self.hs_search_s, self.standing_s) + flat + 2 * self.hs_min_interval_s
+        return float(reach + self.online_block_s)
 
     # -- action -------------------------------------------------------------------------------
     def detect(self, imu: ImuData) -> StanceResult:
@@ -306,15 +328,7 @@ class DualGaitDetector(StanceDetector):
                 field="t",
             )
         imus = {"left": left, "right": right}
-        flats = {foot: self._flat_zone(imu) for foot, imu in imus.items()}
-        hs = {foot: self._heel_strikes(imus[foot], flats[foot]) for foot in _FEET}
-        support = {
-            foot: support_intervals(imus[foot].t, hs[foot], imus[other].t[hs[other]])
-            for foot, other in zip(_FEET, _FEET[::-1])
-        }
-        masks, standing = {}, {}
-        for foot, other in zip(_FEET, _FEET[::-1]):
-            masks[foot], standing[foot] = self._zupt_mask(imus[foot], flats[foot].mask, support[foot], imus[other], flats[other].mask)
+        flats, hs, support, masks, standing = self._rule(imus)
         toe_off = {foot: self._toe_offs(imus[foot], masks[foot], hs[foot]) for foot in _FEET}
         swings = {foot: self._swing_mask(imus[foot].n_samples, hs[foot], toe_off[foot], masks[foot]) for foot in _FEET}
         out = []
@@ -348,6 +362,31 @@ class DualGaitDetector(StanceDetector):
                 )
             )
         return out[0], out[1]
+
+    def window_masks(self, left: ImuData | None, right: ImuData | None) -> dict[str, NDArray[np.bool_]]:
+        """The ZUPT masks of :meth:`detect_pair` alone, for windows of a live stream
+        (:mod:`footnav.pipeline.online_pair`); a foot given as None has no samples in the window
+        (as offline, where one foot's recording starts later or ends earlier): the other's
+        stances are then its own heel strikes' support intervals."""
+        return self._rule({"left": left, "right": right})[3]
+
+    def _rule(self, imus: dict[str, ImuData | None]) -> tuple[dict, dict, dict, dict, dict]:
+        """Steps 1-5 on the feet present in ``imus``: flat zones, heel strikes, support
+        intervals, ZUPT masks and standing intervals, per foot."""
+        present = [foot for foot in _FEET if imus[foot] is not None]
+        flats = {foot: self._flat_zone(imus[foot]) for foot in present}
+        hs = {foot: self._heel_strikes(imus[foot], flats[foot]) for foot in present}
+        none = np.empty(0)
+        support, masks, standing = {}, {}, {}
+        for foot, other in zip(_FEET, _FEET[::-1]):
+            if foot not in present:
+                continue
+            imu, there = imus[foot], other in present
+            support[foot] = support_intervals(imu.t, hs[foot], imus[other].t[hs[other]] if there else none)
+            masks[foot], standing[foot] = self._zupt_mask(
+                imu, flats[foot].mask, support[foot], imus[other] if there else None, flats[other].mask if there else None
+            )
+        return flats, hs, support, masks, standing
 
     # -- steps ----------------------------------------------------------------------------------
     def _flat_zone(self, imu: ImuData) -> StanceResult:
@@ -383,15 +422,16 @@ class DualGaitDetector(StanceDetector):
         imu: ImuData,
         flat: NDArray[np.bool_],
         support: NDArray[np.int64],
-        other: ImuData,
-        other_flat: NDArray[np.bool_],
+        other: ImuData | None,
+        other_flat: NDArray[np.bool_] | None,
     ) -> tuple[NDArray[np.bool_], NDArray[np.int64]]:
-        """Steps 4-5: flat zone inside the support intervals, standing flat zones whole."""
+        """Steps 4-5: flat zone inside the support intervals, standing flat zones whole (none
+        where the other foot has no samples: ``other`` None)."""
         n = imu.n_samples
         rate = imu.rate_hz
         in_support = _interval_mask(support[:, 0], support[:, 1], n)
         runs = stance_intervals(flat)
-        both_flat = flat & _at_times(other_flat, other.t, imu.t)
+        both_flat = flat & _at_times(other_flat, other.t, imu.t) if other is not None else np.zeros(n, dtype=bool)
         is_standing = _run_sums(both_flat, runs) >= self.standing_s * rate
         standing = runs[is_standing]
         if self.zupt_rule == "clip":

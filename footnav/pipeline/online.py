@@ -65,32 +65,27 @@ from typing import Any
 
 import numpy as np
 
-from footnav.errors import CompositionError, DataQualityWarning, InvalidInputError, InvalidParameterError
+from footnav.errors import DataQualityWarning, InvalidInputError, InvalidParameterError
 from footnav.fusion.independent import midpoint_path
 from footnav.nav.clock_sync import ClockMap
 from footnav.nav.floors import LEVEL_RISE_MAX_M, FloorHolder
 from footnav.nav.initial_alignment import bridged_gaps_message
-from footnav.online_contract import online_gaps
+from footnav.pipeline.online_composition import (
+    COUPLED_ONLINE_FUSIONS,
+    OFFLINE_ONLY_FUSIONS,
+    ONLINE_FUSIONS,
+    check_online,
+)
 from footnav.pipeline.online_foot import FootStream
 from footnav.pipeline.online_io import ClosedStep, FootUpdate, ForwardEstimate, as_chunk, empty_update
 from footnav.pipeline.online_joint import JointStream
+from footnav.pipeline.online_pair import PairDetection
 from footnav.pipeline.result import PipelineResult
 from footnav.types import FusionResult
 from footnav.warning_log import recording, warn
 
 __all__ = ["COUPLED_ONLINE_FUSIONS", "OFFLINE_ONLY_FUSIONS", "ONLINE_FUSIONS", "ClosedStep", "FootUpdate", "ForwardEstimate", "OnlineStream", "OnlineUpdate"]
 
-
-#: Fusions of each foot alone: they run online on per-foot filters.
-ONLINE_FUSIONS = ("independent",)
-#: Built-in coupled fusions that run online, on a joint filter fed by both feet (their
-#: ``session``, :class:`footnav.component.FusionSession`; a plugin's fusion runs online the same
-#: way when it offers one).
-COUPLED_ONLINE_FUSIONS = ("range", "step-vector", "particle")
-#: Why the other built-in fusions are offline only.
-OFFLINE_ONLY_FUSIONS = {
-    "dtw": "it averages the feet's whole walks (dynamic time warping needs both sequences complete)",
-}
 
 _FEET = ("left", "right")
 
@@ -199,6 +194,8 @@ class OnlineStream:
         if unknown:
             raise InvalidParameterError(f"online: input_meta names {sorted(unknown)}; expected {list(_FEET[:feet])}")
         self.feet = [FootStream(self, foot, offsets.get(foot, 0.0), inputs.get(foot)) for foot in _FEET[:feet]]
+        #: both feet's stance decided together (a detector that needs both feet: dual-gait)
+        self.pair = PairDetection(self, self.feet) if getattr(pipeline.detector, "needs_two_feet", False) else None
         #: both feet in the coupled fusion's joint filter (None for 'independent')
         self.joint = JointStream(self, self.feet) if pipeline.fusion.name not in ONLINE_FUSIONS else None
         self._held: list[ClosedStep] = []
@@ -252,6 +249,8 @@ class OnlineStream:
                 for foot, (t, acc, gyr), pending in checked:
                     foot.checks.accept(pending)
                     self._feed(foot, t, acc, gyr)
+                if self.pair is not None:
+                    self.pair.advance()
                 if self.joint is not None:
                     self.joint.advance()
             except BaseException as exc:
@@ -347,9 +346,15 @@ class OnlineStream:
                     for f in self.feet:
                         try:
                             self._feed(f, *f.checks.finish())  # the samples held back for their neighbours
-                            f.finish()
+                            if self.pair is None:
+                                f.finish()
                         except Exception as exc:  # kept with the other foot's partial result
                             failures[f.foot] = exc
+                    if self.pair is not None and not failures:
+                        try:
+                            self.pair.finish()  # both feet decided together, then each filtered
+                        except Exception as exc:
+                            failures["both feet"] = exc
                     if self.joint is not None and not failures:
                         try:
                             self.joint.finish()
@@ -520,60 +525,6 @@ class OnlineStream:
             # a coupled fusion's own record of what it applied live (step-vector's fitted leg length per update)
             "fusion": self.joint.session.finish() if self.joint is not None and self.joint.session is not None else None,
         }
-
-
-def check_online(pipeline: Any, feet: int) -> float:
-    """The detector's latency (s) when the pipeline can run online; else InvalidParameterError or
-    CompositionError saying which component cannot and why."""
-    det, est, fus = pipeline.detector, pipeline.estimator, pipeline.fusion
-    latency = det.latency_s
-    if latency is None:
-        raise CompositionError(
-            f"detector {det.name!r} cannot run online: its decision on a sample depends on samples without "
-            f"bound (it declares latency_s = None); use a windowed detector such as 'adaptive', 'threshold' or 'glrt'"
-        )
-    if fus.needs_two_feet and feet < 2:
-        raise CompositionError(f"fusion {fus.name!r} needs both feet (feet=2)")
-    aid = getattr(pipeline, "heading_aid", None)
-    if aid is not None and not aid.online:
-        raise CompositionError(
-            f"heading aid {aid.name!r} is offline only: it learns from the whole walk; online, use heading_aid=None"
-        )
-    if fus.name not in ONLINE_FUSIONS and not callable(getattr(fus, "session", None)):
-        why = OFFLINE_ONLY_FUSIONS.get(fus.name, "it offers no session (footnav.component.FusionSession) to run as samples arrive")
-        online = [*ONLINE_FUSIONS, *COUPLED_ONLINE_FUSIONS]
-        raise CompositionError(
-            f"fusion {fus.name!r} is offline only: {why}; online mode runs {', '.join(repr(n) for n in online)}"
-        )
-    if fus.name not in ONLINE_FUSIONS:
-        if feet < 2:
-            raise CompositionError(f"fusion {fus.name!r} fuses both feet in one filter online: it needs feet=2")
-        fus.session(est, 0.0)  # refuses parameters that need the whole walk (CompositionError)
-    gaps = online_gaps(est)
-    if gaps:
-        raise CompositionError(
-            f"estimator {est.name!r} has no step-able filter a stream can run (footnav.online_contract.OnlineEstimator: "
-            f"start(imus, stances) and the rest); it lacks {', '.join(gaps)}; online mode needs one, such as 'ekf'"
-        )
-    est.validate_params()
-    if getattr(est, "smoother", None) not in ("whole", "step", "none"):
-        raise CompositionError(
-            f"estimator {est.name!r} with smoother={getattr(est, 'smoother', None)!r} cannot run online: expected "
-            "'whole' (step-wise live, the whole walk at close), 'step' or 'none'"
-        )
-    if getattr(est, "closed_loop", False):
-        raise CompositionError(f"estimator {est.name!r} with closed_loop=True is offline only: it needs the walk's end")
-    if getattr(est, "zupt_start_delay_s", 0.0) or getattr(est, "zupt_end_advance_s", 0.0):
-        raise CompositionError(
-            f"estimator {est.name!r} with zupt_start_delay_s or zupt_end_advance_s is offline only for now: "
-            "the stance's edges are cut on the whole mask before the run"
-        )
-    if getattr(est, "clip_excess_mps2", 0.0):
-        raise CompositionError(
-            f"estimator {est.name!r} with clip_excess_mps2 > 0 is offline only for now: the clipped samples "
-            "are found on the whole recording before the run"
-        )
-    return float(latency)
 
 
 def _hold(holder: FloorHolder, update: FootUpdate, source: Any, final: bool) -> FootUpdate:

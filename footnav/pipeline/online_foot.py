@@ -164,6 +164,9 @@ class FootStream:
         #: record the forward solution at each stance start in ``alone_starts`` (a coupled
         #: fusion that reads each foot alone: ``Fusion.reads_feet_alone``)
         self.record_starts = False
+        #: the stance decisions come from both feet together (:mod:`.online_pair`, a detector
+        #: that needs both feet): this foot only keeps its samples and filters what is decided
+        self.paired = False
         self.alone_starts: list[tuple[float, NDArray, NDArray]] = []
         self._starts_done = 0  # global index: stance starts before it are recorded
         self._last_stance = False
@@ -200,7 +203,8 @@ class FootStream:
         if self.raw is not None:
             self.raw.append(t, acc, gyr)
         self._detect(final=False)
-        self._filter(final=False)
+        if not self.paired:  # else the pair's detection filters once it has decided
+            self._filter(final=False)
 
     def _detect(self, final: bool) -> None:
         inp = self.input
@@ -224,6 +228,8 @@ class FootStream:
             self.startup = round(float(getattr(det, "online_startup_s", 0.0)) * self.rate_hz)
             self.lag = math.ceil((self.stream.latency_s - block_s) * self.rate_hz) + 2
             self.margin = 3 * self.lag + 8
+        if self.paired:
+            return
         if self.block and not final:
             # in blocks on windows of fixed sample indices (the detector's online_block_s)
             while max(self.n_final + self.block + self.lag, self.startup) <= n_in:
@@ -239,7 +245,7 @@ class FootStream:
         final, and take the decisions up to ``frontier`` as final."""
         inp = self.input
         a = max(self.n_final - self.margin, inp.start)
-        t, acc, gyr, mask = inp.rows(a, end)
+        t, acc, gyr, _ = inp.rows(a, end)
         # the detector's rate is the median interval's: the stream's rate, not each window's own
         # (jittered sampling gives windows of other lengths), so it sees the samples on a grid
         # at that rate (a windowed detector counts samples; the time stamps give it the rate)
@@ -252,10 +258,14 @@ class FootStream:
             t = t[0] + self._grid
             with recording(quiet=True):  # a window's gaps were warned about with the recording
                 window = self.stream.pipeline.detector.detect(self._window_imu(t, acc.copy(), gyr.copy())).mask
-        new = np.asarray(window, dtype=bool)[self.n_final - a : frontier - a]
-        mask[self.n_final - a : frontier - a] = new
+        self.decide(np.asarray(window, dtype=bool)[self.n_final - a : frontier - a])
+
+    def decide(self, new: NDArray[np.bool_]) -> None:
+        """Make the stance decisions ``new`` of the next samples (from the first not yet final) final."""
+        a = self.n_final
+        self.input.rows(a, a + len(new))[3][:] = new
         self._track_runs(new)
-        self.n_final = frontier
+        self.n_final = a + len(new)
 
     def _window_imu(self, t: NDArray, acc: NDArray, gyr: NDArray) -> ImuData:
         """The detection window as an ImuData (the arrays are the caller's fresh copies).
@@ -462,13 +472,17 @@ class FootStream:
         return ForwardEstimate(filt.time(0), pos, vel, q, cov)
 
     # -- the end ------------------------------------------------------------------------------------
-    def finish(self) -> None:
+    def finish(self, decide: Any = None) -> None:
+        """The end: every sample decided (``decide()``, called after this foot's own checks and
+        detection set-up: the pair's detection, :mod:`.online_pair`) and filtered."""
         if self.finished:
             return
         self.finished = True
         if self.input.end == 0:
             raise InvalidInputError(f"no samples of the {self.foot} foot were pushed", field=self.foot)
         self._detect(final=True)
+        if decide is not None:
+            decide()
         self._filter(final=True)
 
     def input_meta(self) -> dict[str, Any]:

@@ -204,8 +204,11 @@ def test_declared_latencies():
     assert glrt_any.latency_s == pytest.approx(glrt_any.window_s + glrt_any.min_stance_s + glrt_any.min_swing_s)
     adaptive = footnav.make_detector("adaptive")
     assert adaptive.latency_s == pytest.approx(adaptive.online_lookahead_s + adaptive.online_block_s)
-    for name in ("hmm", "dual-gait"):
-        assert footnav.make_detector(name).latency_s is None
+    assert footnav.make_detector("hmm").latency_s is None
+    # dual-gait: the flat zone's 0.27 s, the standing rule's 0.5 s, two find_peaks distances, the block
+    dual = footnav.make_detector("dual-gait", standing_s=0.2)  # then the heel strike's search decides
+    assert footnav.make_detector("dual-gait").latency_s == pytest.approx(0.27 + 0.5 + 2 * 0.4 + 0.25)
+    assert dual.latency_s == pytest.approx(0.27 + 0.3 + 2 * 0.4 + 0.25)
 
 
 @pytest.mark.parametrize(

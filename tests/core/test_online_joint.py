@@ -200,7 +200,7 @@ def test_step_vector_fits_the_leg_length_online_on_the_steps_so_far(walk):
     same steps (until the first update the joint filter is the two single-foot filters); the
     live steps are the same in any chunks; close() is the offline run."""
     from footnav.fusion.joint import FeetView, start_joint
-    from footnav.fusion.step_vector import LEG_FIT_MIN_STEPS
+    from footnav.fusion.pendulum import LEG_FIT_MIN_STEPS
 
     pipe = footnav.make_pipeline("threshold", "ekf", "step-vector", estimator_params=STEP)
     off = _offline(pipe, walk.left, walk.right)

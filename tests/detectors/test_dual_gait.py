@@ -63,6 +63,26 @@ def test_all_standstill_gives_one_stance_and_no_heel_strike():
     assert left.mask.all() and len(left.events["heel_strike"]) == 0
 
 
+def test_a_foot_that_never_lands_leaves_the_other_its_own_heel_strikes(walk):
+    """The right sensor lies still all along (no heel strike at all): the left foot's support
+    intervals run from each of its heel strikes to its next (there is no contralateral one), and
+    the window form (online) with the right foot absent gives the same left mask."""
+    n = walk.right.n_samples
+    still = footnav.ImuData(walk.right.t, np.tile([0.0, 0.0, footnav.GRAVITY_MPS2], (n, 1)), np.zeros((n, 3)))
+    det = DualGaitDetector()
+    left, right = det.detect_pair(walk.left, still)
+    hs = left.events["heel_strike"]
+    assert len(hs) > 10 and len(right.events["heel_strike"]) == 0 and right.mask.all()
+    np.testing.assert_array_equal(left.meta["support_intervals"], np.column_stack([hs, np.append(hs[1:], walk.left.n_samples)]))
+    # both feet flat at the start and end: standing, kept; in between the flat zones after each heel strike
+    alone = det.window_masks(walk.left, None)
+    assert set(alone) == {"left"}
+    standing = np.zeros(walk.left.n_samples, bool)
+    for a, b in left.meta["standing_intervals"]:
+        standing[a:b] = True
+    np.testing.assert_array_equal(alone["left"] | standing, left.mask)
+
+
 def test_gaitmap_strides_and_heel_strike_timing(shared_data):
     from footnav.data.datasets import load_dataset
 

@@ -39,6 +39,8 @@ import types
 from collections.abc import Callable
 from typing import Any
 
+import numpy as np
+
 __all__ = ["LazyKernel", "fallback_cache_dir", "njit"]
 
 log = logging.getLogger(__name__)
@@ -199,8 +201,9 @@ class EntryPoints:
     38 us a call against 12 us for the entry point). A caller that calls a kernel many times with
     the same long-lived arguments names them ``held`` (objects it owns and never changes the type
     of: arrays, tuples of arrays); they are keyed by identity and kept here, so their ids cannot
-    be reused. Every other argument (``fresh``) is keyed by numba's type of it, so a call whose
-    types differ goes through the dispatcher, and compiles, as usual.
+    be reused. Every other argument (``fresh``) is keyed by its type as numba would see it
+    (:func:`type_key`), so a call whose types differ goes through the dispatcher, and compiles,
+    as usual.
     """
 
     def __init__(self, kernel: Any, size: int = 8) -> None:
@@ -215,7 +218,7 @@ class EntryPoints:
         """``kernel(*args)``; ``held`` and ``fresh`` together are everything ``args`` holds."""
         kernel = self._kernel
         dispatcher = kernel.dispatcher() if isinstance(kernel, LazyKernel) else kernel
-        key = (*map(id, held), *(dispatcher.typeof_pyval(a) for a in fresh))
+        key = (*map(id, held), *(type_key(a, dispatcher) for a in fresh))
         hit = self._calls.get(key)
         if hit is not None:
             return hit[0](*args)
@@ -226,6 +229,29 @@ class EntryPoints:
                 self._calls.clear()
             self._calls[key] = (compiled.entry_point, held)
         return result
+
+
+_MAX_INT64 = 2**63
+
+
+def type_key(x: Any, dispatcher: Any) -> Any:
+    """What tells apart the numba types of ``x``, without numba's typing for the common kinds:
+    an ndarray by its dtype, dimensions, layout, writeable and aligned flags (numba's Array type);
+    a tuple (a namedtuple too) by its class and items; None, bool, float and numpy scalars by their
+    type; an int by whether int64 holds it. Anything else: ``dispatcher.typeof_pyval`` (numba's
+    typeof of a tuple of arrays took 30 us, as long as the EKF's compiled loop on a chunk).
+    """
+    kind = type(x)
+    if kind is np.ndarray:
+        flags = x.flags
+        return (kind, x.dtype.str, x.ndim, flags.c_contiguous, flags.f_contiguous, flags.writeable, flags.aligned)
+    if isinstance(x, tuple):
+        return (kind, *(type_key(item, dispatcher) for item in x))
+    if x is None or kind is bool or kind is float or isinstance(x, np.generic):
+        return kind
+    if kind is int:
+        return (kind, -_MAX_INT64 <= x < _MAX_INT64)
+    return dispatcher.typeof_pyval(x)
 
 
 def _names(code: types.CodeType) -> set[str]:

@@ -38,6 +38,12 @@ import footnav
 from footnav.types import stance_intervals
 
 
+def _differences(live, offline):
+    """(stances of ``live`` that ``offline`` lacks, stances of ``offline`` that ``live`` lacks)."""
+    on, off = ({tuple(r) for r in stance_intervals(m).tolist()} for m in (live, offline))
+    return len(on - off), len(off - on)
+
+
 def compare(rec, size=50):
     """Per foot: (added, removed, max live-offline distance m, close equal, latencies s after
     the start-up); the live stream and the offline runs of the default pipeline."""
@@ -52,13 +58,12 @@ def compare(rec, size=50):
     for f in stream.feet:
         ref = getattr(step, f.foot)
         on, offm = live_stance[f.foot], getattr(off, f"stance_{f.foot}").mask[-len(live_stance[f.foot]):]
-        so = {tuple(r) for r in stance_intervals(offm).tolist()}
-        sn = {tuple(r) for r in stance_intervals(on).tolist()}
+        added, removed = _differences(on, offm)
         dist = float(np.linalg.norm(got[f.foot] - ref.position, axis=1).max())
         same = float(np.abs(getattr(result, f.foot).position - getattr(off, f.foot).position).max()) <= 1e-9
         startup = f.startup + f.lag
         lat = [(b - a) / f.rate_hz for a, b in f.step_final_at if a >= startup]
-        rows[f.foot] = (len(sn - so), len(so - sn), dist, same, lat)
+        rows[f.foot] = (added, removed, dist, same, lat)
     return rows
 
 
@@ -113,41 +118,40 @@ def compare_dual_gait(rec, size=50):
     for f in stream.feet:
         ref, live = getattr(off, f.foot), f.trajectory()[1].mask
         offm = getattr(off, f"stance_{f.foot}").mask[-len(live):]
-        so = {tuple(r) for r in stance_intervals(offm).tolist()}
-        sn = {tuple(r) for r in stance_intervals(live).tolist()}
+        added, removed = _differences(live, offm)
         n = min(len(got[f.foot]), len(ref.position))
         dist = float(np.linalg.norm(got[f.foot][-n:] - ref.position[-n:], axis=1).max())
         same = float(np.abs(getattr(result, f.foot).position - ref.position).max()) <= 1e-9
         lat = [(b - a) / f.rate_hz for a, b in f.step_final_at]
-        rows[f.foot] = (len(sn - so), len(so - sn), dist, same, lat)
+        rows[f.foot] = (added, removed, dist, same, lat)
     return rows
 
 
-def main_dual_gait(names):
+def _recordings(names, two_feet=False):
+    """(name, recording) of ``names`` (every dataset when empty), loaded quietly; with
+    ``two_feet`` only those with both feet."""
     from footnav.data.datasets import dataset_names, load_dataset
 
-    print(f"{'recording':28s} foot  added removed  max_dist_m  close=offline  latency_s(median,max)")
-    for name in names or dataset_names():
+    root = os.environ.get("FOOTNAV_DATA")
+    for name in names or dataset_names(root):
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            rec = load_dataset(name, os.environ.get("FOOTNAV_DATA"))
-        if rec.right is None:
-            continue
-        for foot, (added, removed, dist, same, lat) in compare_dual_gait(rec).items():
+            rec = load_dataset(name, root)
+        if not (two_feet and rec.right is None):
+            yield name, rec
+
+
+def _print_stances(names, compare_one, two_feet=False):
+    print(f"{'recording':28s} foot  added removed  max_dist_m  close=offline  latency_s(median,max)")
+    for name, rec in _recordings(names, two_feet):
+        for foot, (added, removed, dist, same, lat) in compare_one(rec).items():
             la = f"{np.median(lat):.2f}, {max(lat):.2f}" if lat else "-"
             print(f"{name:28s} {foot:5s} {added:5d} {removed:7d}  {dist:10.3g}  {same!s:13s}  {la}", flush=True)
 
 
 def main_step_vector(names):
-    from footnav.data.datasets import dataset_names, load_dataset
-
     print(f"{'recording':28s} leg_first  leg_last  leg_offline  first_update_s  waiting  max_footprint_dist_m  close=offline")
-    for name in names or dataset_names():
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            rec = load_dataset(name, os.environ.get("FOOTNAV_DATA"))
-        if rec.right is None:
-            continue
+    for name, rec in _recordings(names, two_feet=True):
         try:
             first, last, offline, t0, waiting, dist, same = compare_step_vector(rec)
         except footnav.FootnavError as exc:
@@ -157,23 +161,10 @@ def main_step_vector(names):
         print(f"{name:28s} {f(first):>9s}  {f(last):>8s}  {offline:11.3f}  {f(t0):>14s}  {waiting:7d}  {dist:20.3g}  {same!s}", flush=True)
 
 
-def main(names):
-    from footnav.data.datasets import dataset_names, load_dataset
-
-    print(f"{'recording':28s} foot  added removed  max_dist_m  close=offline  latency_s(median,max)")
-    for name in names or dataset_names():
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            rec = load_dataset(name, os.environ.get("FOOTNAV_DATA"))
-        for foot, (added, removed, dist, same, lat) in compare(rec).items():
-            la = f"{np.median(lat):.2f}, {max(lat):.2f}" if lat else "-"
-            print(f"{name:28s} {foot:5s} {added:5d} {removed:7d}  {dist:10.3g}  {same!s:13s}  {la}", flush=True)
-
-
 if __name__ == "__main__":
+    names = [a for a in sys.argv[1:] if not a.startswith("--")]
     if "--step-vector" in sys.argv:
-        main_step_vector([a for a in sys.argv[1:] if a != "--step-vector"])
-    elif "--dual-gait" in sys.argv:
-        main_dual_gait([a for a in sys.argv[1:] if a != "--dual-gait"])
+        main_step_vector(names)
     else:
-        main(sys.argv[1:])
+        dual = "--dual-gait" in sys.argv
+        _print_stances(names, compare_dual_gait if dual else compare, two_feet=dual)

@@ -6,7 +6,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from footnav._numba import EntryPoints, njit
+from collections import namedtuple
+
+from footnav._numba import EntryPoints, njit, type_key
 
 
 @njit(cache=False)
@@ -43,3 +45,25 @@ def test_an_array_no_longer_held_is_never_confused_with_a_new_one_at_its_address
         x = np.ones(n, dtype=np.float32) if n % 2 else np.ones(n)  # float32 / float64 alternately
         assert calls((x, 1.0), held=(x,), fresh=(1.0,)) == float(n)
     assert len(calls) <= 2
+
+
+def test_the_fresh_arguments_key_tells_apart_what_numba_types_apart():
+    """type_key stands in for numba's typeof on the fresh arguments: values numba types
+    differently get different keys, values it types alike the same key."""
+    dispatcher = getattr(_scaled_sum, "dispatcher", lambda: _scaled_sum)()
+    pair = namedtuple("pair", "a b")
+    x = np.zeros((3, 4))
+    readonly = x.copy()
+    readonly.flags.writeable = False
+    values = [
+        x, x.T, x[:, ::2], x.astype(np.float32), readonly, np.zeros(3), 1.0, 1, 2**63, True, None,
+        np.float32(1.0), (x, 1.0), pair(x, 1.0), (x.T, 1.0), pair(x, None),
+    ]
+    for i, a in enumerate(values):
+        for b in values[i + 1 :]:
+            same_numba = dispatcher.typeof_pyval(a) == dispatcher.typeof_pyval(b) if not (a is None or b is None) else a is b
+            if not same_numba:
+                assert type_key(a, dispatcher) != type_key(b, dispatcher), (a, b)
+    for a, b in [(x, np.ones((3, 4))), (2.0, 3.5), (1, -7), (pair(x, 1.0), pair(np.ones((5, 2)), 2.0))]:
+        assert dispatcher.typeof_pyval(a) == dispatcher.typeof_pyval(b)
+        assert type_key(a, dispatcher) == type_key(b, dispatcher)

@@ -100,6 +100,8 @@ def dataset_names(root: FilePath | None = None) -> list[str]:
             root = data_dir()
         except DataNotFoundError:
             root = None
+    else:
+        root = FilePath(root)  # a str names the folder too
     names = list(_fixed())
     if root is not None and (root / "pyshoe_vicon").is_dir():
         names += [f"pyshoe_{p.stem}" for p in sorted((root / "pyshoe_vicon").glob("*.mat"))]

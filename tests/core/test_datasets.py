@@ -21,6 +21,7 @@ def test_every_dataset_loads_with_its_name(shared_data):
     names = dataset_names(shared_data)
     assert {"azure_fgo", "gaitmap", "xio_short", "xio_long", "openshoe"} <= set(names)
     assert sum(n.startswith("pyshoe_") for n in names) == 14
+    assert dataset_names(str(shared_data)) == names  # the folder as a str (was a TypeError)
     rec = load_dataset("xio_short", shared_data)
     assert rec.name == "xio_short" and rec.truth_left.closed_loop
 

@@ -3,7 +3,7 @@
 Run:  python benchmarks/bench_simulate.py [--minutes 60] [--repeat 3]
 
 Prints the machine and the warm best-of-``repeat`` wall time of ``footnav.simulate("straight",
-...)`` for a walk of ``--minutes`` at 100 Hz (the timing tests/core/test_simulate.py used to assert:
+...)`` for a walk of ``--minutes`` at 100 Hz (the timing tests/data/test_simulate.py used to assert:
 under 8 s for an hour).
 """
 

@@ -1,4 +1,4 @@
-"""Replaying a recording through an online stream, for the online tests (tests/core/test_online*.py)."""
+"""Replaying a recording through an online stream, for the online tests (tests/pipeline/test_online*.py)."""
 
 from __future__ import annotations
 

@@ -15,6 +15,10 @@ the offline whole-walk fit, the updates that waited for the fit, the largest dis
 a live and an offline footprint, and whether ``close()`` equals the offline run (the figures of
 docs/online.md, "Both feet in one filter").
 
+``--close N``: the default pipeline online in chunks of N samples (1: sample by sample) on the
+two-foot recordings, the largest distance between ``close()`` and the offline run (issue 35's
+acceptance: chunks of 1, 7 and 1,000).
+
 ``--dual-gait``: the dual-gait detector online (both feet decided together,
 :mod:`footnav.pipeline.online_pair`; EKF with step-wise smoothing, independent feet) on the
 two-foot recordings: per foot the live stances the offline detector does not have and those it
@@ -149,6 +153,19 @@ def _print_stances(names, compare_one, two_feet=False):
             print(f"{name:28s} {foot:5s} {added:5d} {removed:7d}  {dist:10.3g}  {same!s:13s}  {la}", flush=True)
 
 
+def main_close(names, size):
+    worst = 0.0
+    for name, rec in _recordings(names, two_feet=True):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            off = footnav.make_pipeline().run(rec.left, rec.right)
+            _, _, result, _ = _replay(footnav.make_pipeline(), rec.left, rec.right, size, max_wait_s=1e9, rate_hz=rec.left.rate_hz)
+        d = max(float(np.abs(getattr(result, f).position - getattr(off, f).position).max()) for f in ("left", "right"))
+        worst = max(worst, d)
+        print(f"{name:28s} close() - offline {d:.3g} m", flush=True)
+    print(f"largest: {worst:.3g} m")
+
+
 def main_step_vector(names):
     print(f"{'recording':28s} leg_first  leg_last  leg_offline  first_update_s  waiting  max_footprint_dist_m  close=offline")
     for name, rec in _recordings(names, two_feet=True):
@@ -162,8 +179,12 @@ def main_step_vector(names):
 
 
 if __name__ == "__main__":
-    names = [a for a in sys.argv[1:] if not a.startswith("--")]
-    if "--step-vector" in sys.argv:
+    args = sys.argv[1:]
+    size = int(args.pop(args.index("--close") + 1)) if "--close" in args else None
+    names = [a for a in args if not a.startswith("--")]
+    if size is not None:
+        main_close(names, size)
+    elif "--step-vector" in sys.argv:
         main_step_vector(names)
     else:
         dual = "--dual-gait" in sys.argv

@@ -2,7 +2,7 @@
 
 footnav's filters use the structured kernels of :mod:`footnav.nav.kalman` and
 :mod:`footnav.estimators.ekf._kernels`; the tests check those against these general, dense forms
-(any F, H, R), which are themselves checked against filterpy (tests/core/test_kalman.py). They
+(any F, H, R), which are themselves checked against filterpy (tests/nav/test_kalman.py). They
 work in place on caller-owned arrays (scratch from :func:`workspace`). Notation as in Simon,
 *Optimal State Estimation* (2006), ch. 5 and 9.3:
 

@@ -6,7 +6,7 @@ Usage::
     python tools/mutate.py --list          # the mutants, one line each
     python tools/mutate.py --check         # every snippet is found exactly where it should be
     python tools/mutate.py --only ins-zupt-sign range-mirror -j 1
-    python tools/mutate.py --overlay tests/core/test_new.py   # add an uncommitted file to each copy
+    python tools/mutate.py --overlay tests/pipeline/test_new.py   # add an uncommitted file to each copy
     python tools/mutate.py --group issue37 # the third round's mutants (issue 37)
 
 Each mutant is a small edit of one file (an exact snippet and its replacement; a few mutants
@@ -46,38 +46,38 @@ ROOT = Path(__file__).resolve().parents[1]
 # -- test subsets, per module ---------------------------------------------------------------------
 
 QUAT = [
-    "tests/core/test_quaternion.py",
-    "tests/core/test_mutants_core.py",
-    "tests/core/test_ins_filter.py",
+    "tests/nav/test_quaternion.py",
+    "tests/nav/test_mutants_nav.py",
+    "tests/estimators/test_ins_filter.py",
     "tests/estimators/test_ekf.py",
 ]
 FILTER = [
-    "tests/core/test_ins_filter.py",
-    "tests/core/test_mutants_core.py",
-    "tests/core/test_mutants_filter.py",
+    "tests/estimators/test_ins_filter.py",
+    "tests/nav/test_mutants_nav.py",
+    "tests/estimators/test_mutants_filter.py",
     "tests/estimators",
-    "tests/core/test_constants.py",
+    "tests/types/test_constants.py",
 ]
 SMOOTH = FILTER + ["tests/fusion/test_fusion_geometry.py"]
-ALIGN = ["tests/core/test_initial_alignment.py", "tests/estimators/test_ekf.py", "tests/core/test_mutants_core.py"]
-WINDOWS = ["tests/detectors", "tests/core/test_stance_check.py", "tests/core/test_mutants_core.py"]
-GAIT = ["tests/core/test_stance_check.py", "tests/detectors/test_adaptive.py", "tests/core/test_mutants_core.py"]
-STRIDES = ["tests/core/test_strides.py", "tests/core/test_mutants_core.py"]
-HEADING_DRIFT = ["tests/estimators", "tests/core/test_mutants_core.py"]
+ALIGN = ["tests/nav/test_initial_alignment.py", "tests/estimators/test_ekf.py", "tests/nav/test_mutants_nav.py"]
+WINDOWS = ["tests/detectors", "tests/nav/test_stance_check_warning.py", "tests/nav/test_mutants_nav.py"]
+GAIT = ["tests/nav/test_stance_check_warning.py", "tests/detectors/test_adaptive.py", "tests/nav/test_mutants_nav.py"]
+STRIDES = ["tests/nav/test_strides_parameters.py", "tests/nav/test_mutants_nav.py"]
+HEADING_DRIFT = ["tests/estimators", "tests/nav/test_mutants_nav.py"]
 METRICS = [
-    "tests/core/test_metrics.py",
-    "tests/core/test_paper_metrics.py",
-    "tests/core/test_evaluation.py",
-    "tests/core/test_mutants_core.py",
+    "tests/analysis/test_metrics_cases.py",
+    "tests/analysis/test_paper_metrics.py",
+    "tests/analysis/test_evaluation.py",
+    "tests/nav/test_mutants_nav.py",
 ]
-DTW = ["tests/core/test_dtw_core.py", "tests/fusion/test_dtw.py", "tests/core/test_mutants_core.py"]
-DETECT = ["tests/detectors", "tests/core/test_mutants_core.py"]
+DTW = ["tests/nav/test_dtw.py", "tests/fusion/test_dtw.py", "tests/nav/test_mutants_nav.py"]
+DETECT = ["tests/detectors", "tests/nav/test_mutants_nav.py"]
 MADGWICK = [
     "tests/estimators/test_madgwick.py",
     "tests/estimators/test_madgwick_reference.py",
     "tests/estimators/test_mutants_estimators.py",
     "tests/estimators/test_vertical.py",
-    "tests/core/test_constants.py",
+    "tests/types/test_constants.py",
 ]
 FUSION = ["tests/fusion"]
 
@@ -121,10 +121,10 @@ PEN = "footnav/fusion/pendulum.py"
 PF, PE, JN = "footnav/fusion/particle.py", "footnav/fusion/particle_ekf.py", "footnav/fusion/joint.py"
 PFC = "footnav/fusion/particle_cloud.py"
 OCH = "footnav/pipeline/online_checks.py"
-ONLINE_CHECKS = ["tests/pipeline/test_online_checks.py", "tests/core/test_online_clipping.py", "tests/faults/test_time_units.py"]
+ONLINE_CHECKS = ["tests/pipeline/test_online_checks.py", "tests/pipeline/test_online_clipping.py", "tests/faults/test_time_units.py"]
 RES, PYS = "footnav/data/results.py", "footnav/data/io/pyshoe.py"
-DATA_RES = ["tests/data/test_results.py", "tests/core/test_strides.py"]
-DATA_PYS = ["tests/data/io/test_pyshoe.py", "tests/core/io/test_io_pyshoe.py"]
+DATA_RES = ["tests/data/test_results.py", "tests/nav/test_strides_parameters.py"]
+DATA_PYS = ["tests/data/io/test_pyshoe.py", "tests/data/io/test_io_pyshoe.py"]
 TC = "footnav/analysis/truth_checks.py"
 TRUTH = ["tests/analysis/test_truth_checks.py", "tests/faults/test_truth_checks.py"]
 METRICS_NEW = ["tests/analysis/test_metrics.py"] + METRICS
@@ -134,8 +134,8 @@ FL, DD, IC = "footnav/nav/floors.py", "footnav/nav/dominant_directions.py", "foo
 HT = "footnav/nav/heading.py"  # turn_by: the heading aids' turn
 ONLINE_FWD = ["tests/pipeline/test_online_foot.py", "tests/pipeline/test_online_joint.py"]
 NAV_HD = ["tests/nav/test_heading_drift.py", "tests/estimators/test_consistency.py"]
-NAV_FL = ["tests/nav/test_floors.py", "tests/core/test_floors.py"]
-NAV_DD = ["tests/nav/test_dominant_directions.py", "tests/core/test_dominant_directions.py", "tests/heading_aids/test_magnetometer.py"]
+NAV_FL = ["tests/nav/test_floors.py", "tests/nav/test_floors_holder.py"]
+NAV_DD = ["tests/nav/test_dominant_directions.py", "tests/heading_aids/test_dominant_directions.py", "tests/heading_aids/test_magnetometer.py"]
 TYPES_IC = ["tests/types/test_imu_checks.py", "tests/faults/test_time_units.py"]
 OUT, MARK = "footnav/data/output.py", "footnav/data/result_marker.py"
 DATA_OUT = ["tests/data/test_output.py", "tests/data/test_result_marker.py", "tests/faults/test_user_files.py"]
@@ -149,7 +149,7 @@ JOINT = ["tests/fusion/test_joint.py", "tests/fusion/test_spans.py", "tests/fusi
 FR, CAL = "footnav/nav/final_rest.py", "footnav/nav/calibration.py"
 NAV_FR = ["tests/nav/test_final_rest.py", "tests/estimators/test_ekf.py"]
 NAV_CAL = ["tests/nav/test_calibration.py", "tests/fusion/test_step_vector_paper.py"]
-NAV_SC = ["tests/nav/test_stance_check.py", "tests/core/test_stance_check.py"]
+NAV_SC = ["tests/nav/test_stance_check.py", "tests/nav/test_stance_check_warning.py"]
 ADAPT = ["tests/detectors/test_adaptive.py", "tests/detectors/test_mutants_adaptive.py"]
 
 MUTANTS: list[Mutant] = [
@@ -223,7 +223,7 @@ MUTANTS: list[Mutant] = [
     M("smooth-initial-position-sign", SM, ("out.p[a : k + 1] - d[6:9]", "out.p[a : k + 1] + d[6:9]"), SMOOTH, "sign"),
     M("smooth-initial-velocity-dropped", SM, ("sm_v[a : k + 1] = out.v[a : k + 1] - d[3:6]", "sm_v[a : k + 1] = out.v[a : k + 1]"),
       SMOOTH, "missing term"),
-    M("smooth-caller-updates-order", SM, ("for h, gain, sy, _ in reversed(cps[b].updates[", "for h, gain, sy, _ in (cps[b].updates["), SMOOTH + ["tests/fusion", "tests/core/test_mutants_smoother_order.py"], "order"),
+    M("smooth-caller-updates-order", SM, ("for h, gain, sy, _ in reversed(cps[b].updates[", "for h, gain, sy, _ in (cps[b].updates["), SMOOTH + ["tests/fusion", "tests/estimators/test_mutants_smoother_order.py"], "order"),
     M("smooth-step-h-sign", SM, ("record.gain[row + 1, :, :m] = h.T", "record.gain[row + 1, :, :m] = -h.T"),
       SMOOTH + ["tests/fusion"], "sign"),
     M("smooth-initial-q-swapped", SM, ("quat.multiply(dq, out.q[a : k + 1])", "quat.multiply(out.q[a : k + 1], dq)"),
@@ -546,7 +546,7 @@ EQUIVALENT: dict[str, str] = {
     "smooth-initial-position-sign": "P0 has zero position rows in every footnav start (the start position defines the "
     "frame), so d = P0 mu has d[6:9] = 0 and its sign cannot matter",
     "smooth-keep-threshold": "which segments the whole-walk smoother keeps in memory is a memory policy: kept and "
-    "replayed segments smooth exactly alike (tests/core/test_ins_filter.py)",
+    "replayed segments smooth exactly alike (tests/estimators/test_ins_filter.py)",
     "dual-gait-opening-flat": "a flat zone at sample 0 has no swing peak at or before it (find_peaks never reports "
     "the first sample), so j = -1 and it is dropped either way",
     "dual-gait-first-peak": "in practice: the pitch rate has a toe-off and a mid-swing peak, so the first landing's "

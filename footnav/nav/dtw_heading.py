@@ -125,7 +125,7 @@ def heading_mismatch(
     heading mismatch (turning one loop slightly brings it nearer the other on some sides). On
     the simulated 20 m x 10 m rectangle (feet 0.2 m apart, 10 Hz, band 20) the error was
     0.009-0.012 rad with ``translation="none"`` and 0.014-0.015 rad with ``"start"``
-    (``tests/core/test_dtw_core.py``); for one trajectory and a rotated copy of it, below 1e-3 rad.
+    (``tests/nav/test_dtw.py``); for one trajectory and a rotated copy of it, below 1e-3 rad.
 
     Examples
     --------

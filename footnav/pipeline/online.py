@@ -34,8 +34,8 @@ How it stays equal to the offline run, per foot (:mod:`footnav.pipeline.online_f
 Latency: a step (from one stance's end to the next stance's end) is final once that stance's end
 is detected, i.e. when the sample after it is final: ``latency_s`` plus 3 samples after the
 stance's last sample arrives, after a detector's start-up (measured by
-``benchmarks/bench_online.py``, ``tests/core/test_online.py`` and, for the default pipeline,
-``tests/core/test_online_default.py``; ``stats()["step_latency_s"]`` gives each step's).
+``benchmarks/bench_online.py``, ``tests/pipeline/test_online.py`` and, for the default pipeline,
+``tests/pipeline/test_online_default.py``; ``stats()["step_latency_s"]`` gives each step's).
 
 Close: the whole result is made from the stream's final samples, or, with the whole-walk
 smoother or a detector that is not ``online_exact`` (the default pipeline), by the offline run of

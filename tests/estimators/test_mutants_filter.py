@@ -1,7 +1,7 @@
 """Filter and smoother tests that kill mutants of ``tools/mutate.py`` the rest of the suite let through.
 
 References are independent of the compiled code: the dense numpy filter of
-tests/core/test_ins_filter.py (``_reference_forward``), the RTS recursion written out here, and
+tests/estimators/test_ins_filter.py (``_reference_forward``), the RTS recursion written out here, and
 the identity "sequential Kalman updates with block-diagonal R equal one stacked update".
 """
 

@@ -10,7 +10,7 @@ import pytest
 
 from footnav.types import GRAVITY_MPS2
 
-#: /work/shared/data seen from /work/main/tests/core/io/conftest.py; FOOTNAV_DATA overrides it.
+#: /work/shared/data seen from /work/main/tests/data/io/conftest.py; FOOTNAV_DATA overrides it.
 DEFAULT_SHARED_DATA = Path(__file__).resolve().parents[3].parent / "shared" / "data"
 
 

@@ -67,3 +67,15 @@ def test_the_holders_totals_on_both_signs():
     assert list(fl.stair) == [False, True, True, True, True]
     assert fl.climb_m == pytest.approx(0.69) and fl.descent_m == pytest.approx(0.68)
     assert fl.removed_m == pytest.approx(0.01)
+
+
+def test_stance_heights_are_each_stances_median_all_at_once_or_one_at_a_time():
+    # one lexsort over every stance: numpy's median of each, bit for bit (a stream gives one at a time)
+    rng = np.random.default_rng(5)
+    z = rng.normal(size=2000)
+    bounds = np.sort(rng.choice(np.arange(1, 2000), size=40, replace=False))
+    steps = bounds.reshape(-1, 2)  # 20 stances of 1 to ~200 samples, even and odd counts
+    together = stance_heights(z, steps)
+    alone = np.concatenate([stance_heights(z, steps[i : i + 1]) for i in range(len(steps))])
+    np.testing.assert_array_equal(together, alone)
+    np.testing.assert_array_equal(together, [np.median(z[a:b]) for a, b in steps])

@@ -60,12 +60,12 @@ FILTER = [
 ]
 SMOOTH = FILTER + ["tests/fusion/test_fusion_geometry.py"]
 ALIGN = ["tests/nav/test_initial_alignment.py", "tests/estimators/test_ekf.py", "tests/nav/test_mutants_nav.py"]
-WINDOWS = ["tests/detectors", "tests/nav/test_stance_check_warning.py", "tests/nav/test_mutants_nav.py"]
-GAIT = ["tests/nav/test_stance_check_warning.py", "tests/detectors/test_adaptive.py", "tests/nav/test_mutants_nav.py"]
-STRIDES = ["tests/nav/test_strides_parameters.py", "tests/nav/test_mutants_nav.py"]
+WINDOWS = ["tests/detectors", "tests/nav/test_stance_check.py", "tests/nav/test_mutants_nav.py"]
+GAIT = ["tests/nav/test_stance_check.py", "tests/detectors/test_adaptive.py", "tests/nav/test_mutants_nav.py"]
+STRIDES = ["tests/nav/test_strides.py", "tests/nav/test_mutants_nav.py"]
 HEADING_DRIFT = ["tests/estimators", "tests/nav/test_mutants_nav.py"]
 METRICS = [
-    "tests/analysis/test_metrics_cases.py",
+    "tests/analysis/test_metrics.py",
     "tests/analysis/test_paper_metrics.py",
     "tests/analysis/test_evaluation.py",
     "tests/nav/test_mutants_nav.py",
@@ -123,7 +123,7 @@ PFC = "footnav/fusion/particle_cloud.py"
 OCH = "footnav/pipeline/online_checks.py"
 ONLINE_CHECKS = ["tests/pipeline/test_online_checks.py", "tests/pipeline/test_online_clipping.py", "tests/faults/test_time_units.py"]
 RES, PYS = "footnav/data/results.py", "footnav/data/io/pyshoe.py"
-DATA_RES = ["tests/data/test_results.py", "tests/nav/test_strides_parameters.py"]
+DATA_RES = ["tests/data/test_results.py", "tests/nav/test_strides.py"]
 DATA_PYS = ["tests/data/io/test_pyshoe.py", "tests/data/io/test_io_pyshoe.py"]
 TC = "footnav/analysis/truth_checks.py"
 TRUTH = ["tests/analysis/test_truth_checks.py", "tests/faults/test_truth_checks.py"]
@@ -134,7 +134,7 @@ FL, DD, IC = "footnav/nav/floors.py", "footnav/nav/dominant_directions.py", "foo
 HT = "footnav/nav/heading.py"  # turn_by: the heading aids' turn
 ONLINE_FWD = ["tests/pipeline/test_online_foot.py", "tests/pipeline/test_online_joint.py"]
 NAV_HD = ["tests/nav/test_heading_drift.py", "tests/estimators/test_consistency.py"]
-NAV_FL = ["tests/nav/test_floors.py", "tests/nav/test_floors_holder.py"]
+NAV_FL = ["tests/nav/test_floors.py"]
 NAV_DD = ["tests/nav/test_dominant_directions.py", "tests/heading_aids/test_dominant_directions.py", "tests/heading_aids/test_magnetometer.py"]
 TYPES_IC = ["tests/types/test_imu_checks.py", "tests/faults/test_time_units.py"]
 OUT, MARK = "footnav/data/output.py", "footnav/data/result_marker.py"
@@ -149,7 +149,7 @@ JOINT = ["tests/fusion/test_joint.py", "tests/fusion/test_spans.py", "tests/fusi
 FR, CAL = "footnav/nav/final_rest.py", "footnav/nav/calibration.py"
 NAV_FR = ["tests/nav/test_final_rest.py", "tests/estimators/test_ekf.py"]
 NAV_CAL = ["tests/nav/test_calibration.py", "tests/fusion/test_step_vector_paper.py"]
-NAV_SC = ["tests/nav/test_stance_check.py", "tests/nav/test_stance_check_warning.py"]
+NAV_SC = ["tests/nav/test_stance_check.py"]
 ADAPT = ["tests/detectors/test_adaptive.py", "tests/detectors/test_mutants_adaptive.py"]
 
 MUTANTS: list[Mutant] = [

@@ -1,13 +1,25 @@
 """footnav.nav.floors on hand-made strides: the stance height (a median of an even count), floors
 counted down as well as up, a landing of exactly LANDING_STRIDES, a flight turning back, and the
-holder's totals on both signs. Expected values worked out from the module's rules."""
+holder's totals on both signs. Expected values worked out from the module's rules.
+
+footnav.nav.floors on hand-built walks: level strides held, stairs kept, floors counted.
+"""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
-from footnav.nav.floors import LANDING_STRIDES, LEVEL_RISE_MAX_M, FloorHolder, floor_changes, stance_heights
+from footnav.nav.floors import (
+    FLOOR_MIN_RISE_M,
+    LANDING_STRIDES,
+    LEVEL_RISE_MAX_M,
+    FloorHolder,
+    floor_changes,
+    hold_floors,
+    stance_heights,
+)
+from footnav.types import FootTrajectory
 
 
 def test_stance_height_is_the_median_of_its_samples():
@@ -79,3 +91,155 @@ def test_stance_heights_are_each_stances_median_all_at_once_or_one_at_a_time():
     alone = np.concatenate([stance_heights(z, steps[i : i + 1]) for i in range(len(steps))])
     np.testing.assert_array_equal(together, alone)
     np.testing.assert_array_equal(together, [np.median(z[a:b]) for a, b in steps])
+
+
+RATE_HZ = 100.0
+
+
+def _walk(rises, stance_n=40, swing_n=60):
+    """A foot whose stances are flat and whose swings climb linearly in time by ``rises`` (m),
+    moving forward at 1 m/s: its FootTrajectory."""
+    n_strides = len(rises)
+    n = stance_n * (n_strides + 1) + swing_n * n_strides
+    t = np.arange(n) / RATE_HZ
+    z, vz = np.zeros(n), np.zeros(n)
+    steps, k, h = [], 0, 0.0
+    for i in range(n_strides + 1):
+        steps.append((k, k + stance_n))
+        z[k : k + stance_n] = h
+        k += stance_n
+        if i < n_strides:
+            # from the last stance sample to the first of the next: linear in time
+            z[k : k + swing_n] = h + rises[i] * np.arange(1, swing_n + 1) / (swing_n + 1)
+            vz[k : k + swing_n] = rises[i] / ((swing_n + 1) / RATE_HZ)  # its slope, m/s
+            h, k = h + rises[i], k + swing_n
+    pos = np.zeros((n, 3))
+    pos[:, 0] = t
+    pos[:, 2] = z
+    vel = np.zeros((n, 3))
+    vel[:, 0] = 1.0
+    vel[:, 2] = vz
+    q = np.tile([1.0, 0.0, 0.0, 0.0], (n, 1))
+    return FootTrajectory(t=t, position=pos, velocity=vel, quaternion=q, position_std=np.zeros((n, 3)), steps=np.array(steps))
+
+
+def _vertical(traj):
+    return traj.meta["vertical"]
+
+
+def test_level_strides_are_held_at_the_first_stance_height_and_the_drift_reported():
+    rises = [0.02, 0.03, -0.01, 0.025]
+    walk = _walk(rises)
+    held = hold_floors(walk)
+    v = _vertical(held)
+    assert v["level_strides"] == 4 and v["stair_strides"] == 0
+    assert v["removed_m"] == pytest.approx(sum(rises))
+    assert v["removed_m_per_100m"] == pytest.approx(100 * sum(rises) / (held.footprints[-1, 0] - held.footprints[0, 0]))
+    assert v["climb_m"] == 0.0 and v["descent_m"] == 0.0 and v["floors_changed"] == 0
+    # a swing's climb is linear in time from the last stance sample to the next stance's first,
+    # as the correction is: the whole walk is flat, sample by sample, and so is its velocity
+    assert np.allclose(held.position[:, 2], 0.0, atol=1e-12)
+    assert np.allclose(held.velocity[:, 2], 0.0, atol=1e-9)
+    assert np.array_equal(held.position[:, :2], walk.position[:, :2])  # the plane untouched
+    assert np.allclose(walk.position[-1, 2], sum(rises))  # a new trajectory: the input as it was
+
+
+def test_stair_strides_keep_their_rise_and_a_storey_changes_the_level():
+    rises = [0.02] + [0.34] * 8 + [0.02, 0.01] + [-0.34] * 8 + [0.02]
+    walk = _walk(rises)
+    held = hold_floors(walk)
+    h = stance_heights(held.position[:, 2], held.steps)
+    assert np.allclose(np.diff(h), np.where(np.abs(rises) >= LEVEL_RISE_MAX_M, rises, 0.0), atol=1e-12)
+    v = _vertical(held)
+    assert v["stair_strides"] == 16
+    assert v["climb_m"] == pytest.approx(8 * 0.34) and v["descent_m"] == pytest.approx(8 * 0.34)
+    assert v["removed_m"] == pytest.approx(0.07)  # 0.02 + 0.02 + 0.01 + 0.02
+    assert [f["floors"] for f in v["flights"]] == [1, -1] and v["floors_up"] == 1 and v["floors_down"] == 1
+    assert h[-1] == pytest.approx(0.0, abs=1e-12) and walk.position[-1, 2] == pytest.approx(0.07)
+
+
+def test_a_landing_joins_two_half_flights_and_half_a_storey_is_no_floor():
+    half = [0.3] * 4  # 1.2 m each, below FLOOR_MIN_RISE_M
+    assert 4 * 0.3 < FLOOR_MIN_RISE_M <= 8 * 0.3
+    rises = np.array(half + [0.0, 0.01] + half)
+    level, flights = floor_changes(rises, np.abs(rises) >= LEVEL_RISE_MAX_M)
+    assert len(flights) == 1 and flights[0]["floors"] == 1 and flights[0]["rise_m"] == pytest.approx(2.4)
+    assert level.tolist() == [0] * 10 + [1]
+    level, flights = floor_changes(rises[:4], np.ones(4, bool))
+    assert flights[0]["floors"] == 0 and level[-1] == 0
+    # a long corridor between them makes two flights, neither a floor
+    rises = np.array(half + [0.0] * 6 + half)
+    level, flights = floor_changes(rises, np.abs(rises) >= LEVEL_RISE_MAX_M)
+    assert [f["floors"] for f in flights] == [0, 0]
+    # three storeys in one flight
+    level, flights = floor_changes(np.full(27, -0.34), np.ones(27, bool))
+    assert flights[0]["floors"] == -3 and level[-1] == -3
+
+
+@pytest.mark.parametrize("chunk", [1, 7, 100, 350, 777, 10_000])
+def test_the_holder_fed_in_chunks_gives_the_whole_walk_s_numbers(chunk):
+    rng = np.random.default_rng(0)
+    rises = list(rng.normal(0.0, 0.04, 12)) + [0.3, 0.3, 0.3]
+    walk = _walk(rises)
+    whole = hold_floors(walk)
+    holder = FloorHolder()
+    s = np.zeros(len(walk.t), bool)
+    for a, b in walk.steps:
+        s[a:b] = True
+    got, n = [], len(walk.t)
+    for i in range(0, n, chunk):
+        j = min(n, i + chunk)
+        closed = j < n and s[j - 1] and not s[j]  # what the stream knows: the stance has ended
+        got.append(holder.push(walk.t[i:j], walk.position[i:j], walk.velocity[i:j], walk.quaternion[i:j], s[i:j], closed=closed))
+    got.append(holder.flush())
+    t, p, v, q, stance = (np.concatenate(x) for x in zip(*got))
+    assert np.array_equal(t, walk.t) and np.array_equal(stance, s) and np.array_equal(q, walk.quaternion)
+    assert np.array_equal(p, whole.position) and np.array_equal(v, whole.velocity)
+    meta = {"model": "floors", **holder.floors().to_meta()}
+    assert meta == _vertical(whole)
+
+
+def test_a_stance_is_not_released_before_it_is_known_to_have_ended():
+    walk = _walk([0.02, 0.02])
+    s = np.zeros(len(walk.t), bool)
+    for a, b in walk.steps:
+        s[a:b] = True
+    holder = FloorHolder()
+    a1, b1 = walk.steps[1]
+    # up to the middle of the second stance: the first stance is closed by the swing after it,
+    # the swing waits for the second stance's height
+    out = holder.push(walk.t[: a1 + 5], walk.position[: a1 + 5], walk.velocity[: a1 + 5], walk.quaternion[: a1 + 5], s[: a1 + 5])
+    assert len(out[0]) == walk.steps[0, 1]  # the first stance (closed by the swing after it)
+    out = holder.push(walk.t[a1 + 5 : b1], walk.position[a1 + 5 : b1], walk.velocity[a1 + 5 : b1], walk.quaternion[a1 + 5 : b1], s[a1 + 5 : b1], closed=True)
+    assert len(out[0]) == b1 - walk.steps[0, 1]  # the swing and the second stance, now held
+    assert np.allclose(out[1][-1, 2], 0.0, atol=1e-12)
+    assert holder.held_at(float(walk.t[walk.steps[0, 1] - 1]) - 0.5) is None  # no stance ended there
+    assert holder.held_at(float(walk.t[b1 - 1])) == pytest.approx(-0.02)
+    assert holder.held_at(float(walk.t[b1 - 1])) is None  # asked once: forgotten, as the first stance was
+
+
+def test_an_endless_stream_keeps_no_stride_records():
+    # the online stream with keep=False: the same samples held, nothing that grows with the walk
+    walk = _walk([0.02, -0.01, 0.015, 0.3, 0.01])
+    s = np.zeros(len(walk.t), bool)
+    for a, b in walk.steps:
+        s[a:b] = True
+    kept, bounded = FloorHolder(), FloorHolder(keep_strides=False)
+    rows = [h.push(walk.t, walk.position, walk.velocity, walk.quaternion, s, closed=True) for h in (kept, bounded)]
+    for a, b in zip(*rows):
+        assert np.array_equal(a, b)
+    assert len(kept.rises) == 5 and bounded.rises == [] and bounded.walked_m == kept.walked_m
+    ends = walk.t[walk.steps[:, 1] - 1]
+    assert [bounded.held_at(float(t)) for t in ends] == [kept.held_at(float(t)) for t in ends]
+    assert not bounded._held_at  # each asked once: none left
+    with pytest.raises(RuntimeError, match="keep_strides=False"):
+        bounded.floors()
+
+
+def test_fewer_than_two_stances_change_nothing():
+    walk = _walk([0.03])
+    one = FootTrajectory(t=walk.t, position=walk.position, velocity=walk.velocity, quaternion=walk.quaternion,
+                         position_std=walk.position_std, steps=walk.steps[:1])
+    held = hold_floors(one)
+    assert np.array_equal(held.position, walk.position)
+    assert _vertical(held)["level_strides"] == 0 and _vertical(held)["floors_changed"] == 0

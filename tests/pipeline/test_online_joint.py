@@ -1,5 +1,10 @@
 """Online coupled fusion (footnav.pipeline.online_joint): both feet in one joint filter as samples
-arrive give the offline fusion's result, common span and all."""
+arrive give the offline fusion's result, common span and all.
+
+footnav.pipeline.online_joint: the live forward estimate of a coupled fusion (the joint
+filter's state and position covariance per foot) against the offline joint filter at the same
+sample (``smoother="none"``, nothing added to ``position_std`` after the filter).
+"""
 
 from __future__ import annotations
 
@@ -7,11 +12,11 @@ import warnings
 
 import numpy as np
 import pytest
+from online_replay import STEP, _check_equal, _replay, shared_recordings  # tests/online_replay.py
 
 import footnav
 from footnav.errors import CompositionError, InvalidInputError
 from footnav.pipeline import online_joint
-from online_replay import STEP, _check_equal, _replay, shared_recordings  # tests/online_replay.py
 
 #: The coupled fusions that run online, with parameters under which they act often on the
 #: simulated walk: range with a bound it crosses (about 250 updates), step-vector as published
@@ -245,3 +250,30 @@ def test_a_plugin_coupled_fusion_without_needs_two_feet_is_refused_on_one_foot()
     pipe = footnav.make_pipeline("threshold", footnav.make_estimator("ekf", smoother="step"), OneFootRange())
     with pytest.raises(CompositionError, match="needs feet=2"):
         pipe.online(feet=1)
+
+
+EST = {"smoother": "none", "vertical": "free", "heading_drift_in_std": False}
+
+
+@pytest.fixture(scope="module")
+def small_walk():
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return footnav.simulate("rectangle", seed=3, width_m=8, height_m=4)
+
+
+@pytest.mark.parametrize("fusion, params", [("range", {"max_separation_m": 0.6}), ("step-vector", {"step_length": "pendulum"})])
+def test_joint_forward_covariance_is_the_offline_filters_at_the_same_sample(small_walk, fusion, params):
+    # mutant: online-joint-forward-cov-block
+    pipe = footnav.make_pipeline("threshold", "ekf", fusion, estimator_params=EST, fusion_params=params)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        off = pipe.run(small_walk.left, small_walk.right)
+        stream = pipe.online(feet=2)
+        update = stream.push(left=small_walk.left.slice(0, 1500), right=small_walk.right.slice(0, 1500))
+    for foot, imu in (("left", small_walk.left), ("right", small_walk.right)):
+        fwd, traj = getattr(update, foot).forward, getattr(off, foot)
+        k = int(np.searchsorted(imu.t, fwd.t))
+        assert imu.t[k] == fwd.t and k > 1000
+        np.testing.assert_allclose(fwd.position, traj.position[k], atol=1e-8)
+        np.testing.assert_allclose(np.sqrt(np.diag(fwd.position_cov)), traj.position_std[k], rtol=1e-7, atol=1e-12)

@@ -25,10 +25,8 @@ def _strides(stances, n):
     for a, b in stances:
         mask[a:b] = True
     pos = np.zeros((n, 3))
-    pos[:, 0] = np.cumsum(~mask) * 0.1
-    traj = FootTrajectory(t=t, position=pos, velocity=np.zeros((n, 3)), quaternion=quat.from_yaw(np.zeros(n)),
-                          position_std=np.zeros((n, 3)), steps=np.empty((0, 2)))
-    return stride_parameters(traj, mask)
+    pos[:, 0] = np.cumsum(~mask) * 0.1  # 1 m/s while the foot swings
+    return stride_parameters(_trajectory(t, pos, quat.from_yaw(np.zeros(n))), mask)
 
 
 def test_a_stride_long_in_duration_alone_is_a_standstill_one():
@@ -185,14 +183,7 @@ def test_strides_is_a_dataframe_and_to_dataframe_has_every_sample(straight):
 def test_first_last_and_standstill_strides_are_marked():
     # 10 Hz, stances of 0.5 s every 1.2 s, the third one 3 s long (a pause), and long rests at both ends
     stances = [(0, 30), (42, 47), (59, 64), (76, 106), (118, 123), (135, 140), (152, 157), (169, 199)]
-    n = 199
-    t = np.arange(n) * 0.1
-    mask = np.zeros(n, bool)
-    for a, b in stances:
-        mask[a:b] = True
-    pos = np.zeros((n, 3))
-    pos[:, 0] = np.cumsum(~mask) * 0.1
-    s = stride_parameters(_trajectory(t, pos, quat.from_yaw(np.zeros(n))), mask)
+    s = _strides(stances, 199)
     assert len(s) == len(stances) - 1
     assert list(np.flatnonzero(s["first"])) == [0] and list(np.flatnonzero(s["last"])) == [len(s) - 1]
     # the strides touching the 3 s rests at both ends and the pause in the middle (stance 3)

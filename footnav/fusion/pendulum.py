@@ -118,6 +118,7 @@ class LegLengthFit:
         self._swings: list[tuple[float, int, float]] = []  # (front's stance start s, front, swing)
         self.ratios: deque[float] = deque(maxlen=LEG_FIT_WINDOW)
         self.n_fitted = 0
+        self._leg: float | None = None  # the median of ``ratios`` once enough, kept until one is added
         self.waiting = 0  # updates not applied: too few steps fitted
         #: (time s, leg length m) of every update applied
         self.used: list[tuple[float, float]] = []
@@ -146,12 +147,14 @@ class LegLengthFit:
                 if ratio is not None:
                     self.ratios.append(ratio)
                     self.n_fitted += 1
+                    if self.n_fitted >= LEG_FIT_MIN_STEPS:
+                        self._leg = float(np.median(self.ratios))
         self._swings = waiting
         return self.latest()
 
     def latest(self) -> float | None:
         """The leg length now, m (None: fewer than ``LEG_FIT_MIN_STEPS`` steps fitted)."""
-        return float(np.median(self.ratios)) if self.n_fitted >= LEG_FIT_MIN_STEPS else None
+        return self._leg
 
     def as_meta(self) -> dict[str, Any]:
         return {

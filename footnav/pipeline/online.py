@@ -351,8 +351,8 @@ class OnlineStream:
                         except Exception as exc:  # kept with the other foot's partial result
                             failures[f.foot] = exc
                     if self.pair is not None and not failures:
-                        try:
-                            self.pair.finish()  # both feet decided together, then each filtered
+                        try:  # both feet decided together, then each filtered; a foot's own failure is its own
+                            failures.update(self.pair.finish())
                         except Exception as exc:
                             failures["both feet"] = exc
                     if self.joint is not None and not failures:

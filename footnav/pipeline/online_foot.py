@@ -472,17 +472,19 @@ class FootStream:
         return ForwardEstimate(filt.time(0), pos, vel, q, cov)
 
     # -- the end ------------------------------------------------------------------------------------
-    def finish(self, decide: Any = None) -> None:
-        """The end: every sample decided (``decide()``, called after this foot's own checks and
-        detection set-up: the pair's detection, :mod:`.online_pair`) and filtered."""
-        if self.finished:
-            return
-        self.finished = True
+    def end_input(self) -> None:
+        """No more samples: the foot's own end checks and the last detection (a paired foot's
+        detection set-up only: the pair decides, :mod:`.online_pair`)."""
         if self.input.end == 0:
             raise InvalidInputError(f"no samples of the {self.foot} foot were pushed", field=self.foot)
         self._detect(final=True)
-        if decide is not None:
-            decide()
+
+    def finish(self) -> None:
+        """The end: every sample decided (:meth:`end_input`) and filtered."""
+        if self.finished:
+            return
+        self.finished = True
+        self.end_input()
         self._filter(final=True)
 
     def input_meta(self) -> dict[str, Any]:

@@ -74,16 +74,28 @@ class PairDetection:
         for f in self.feet:
             f._filter(final=False)
 
-    def finish(self) -> None:
-        """The end: every sample decided on one window per foot, once both feet have passed
-        their own end checks; each foot filtered to its end."""
-        left, right = self.feet
-        left.finish(decide=lambda: right.finish(decide=self._decide_rest))
-
-    def _decide_rest(self) -> None:
-        if self.t0 is None:
-            self.t0 = min(f.first_t for f in self.feet)
-        self._decide([f.input.end for f in self.feet], [math.inf, math.inf])
+    def finish(self) -> dict[str, BaseException]:
+        """The end: every sample of the feet that passed their end checks decided on one window
+        per foot (a foot that failed them is absent from it, as offline where one foot has no
+        samples), then each foot finished. Returns the failure of each foot that could not end
+        (its own error, as a foot alone gives it); the others end whole."""
+        ready = []
+        for f in self.feet:
+            try:
+                f.end_input()
+            except Exception:  # raised again by its finish below, and returned
+                continue
+            ready.append(f)
+        if ready:
+            self.t0 = min(f.first_t for f in ready) if self.t0 is None else self.t0
+            self._decide([f.input.end if f in ready else f.n_final for f in self.feet], [math.inf, math.inf])
+        failures: dict[str, BaseException] = {}
+        for f in self.feet:
+            try:
+                f.finish()
+            except Exception as exc:
+                failures[f.foot] = exc
+        return failures
 
     def _count_before(self, f: FootStream, t: float) -> int:
         """Global index of the foot's first sample at or after ``t`` (s)."""

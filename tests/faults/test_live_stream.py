@@ -263,6 +263,58 @@ def test_close_without_the_right_foot_raises_with_the_left_foots_whole_walk(walk
     assert np.array_equal(again.value.partial.left.position, alone.left.position)
 
 
+def _dual_gait():
+    return footnav.make_pipeline("dual-gait", "ekf", "independent", estimator_params={"smoother": "step"})
+
+
+def test_dual_gait_without_the_right_foot_raises_with_the_left_foots_whole_walk(walk):
+    """Both feet are decided together (footnav.pipeline.online_pair): with one silent, the other's
+    samples are decided with it absent, as offline where one foot's recording is missing there,
+    and the left foot's whole walk is the partial result."""
+    from footnav.detectors.dual_gait import DualGaitDetector
+
+    t, acc, gyr = _arrays(walk.left)
+    stream = _dual_gait().online(feet=2)
+    for chunk in _chunks(t, acc, gyr):
+        stream.push(left=chunk)
+    with pytest.raises(InvalidInputError, match="no samples of the right foot") as err:
+        stream.close()
+    partial = err.value.partial
+    assert partial is not None and partial.right is None and partial.meta["complete"] is False
+    assert "no samples of the right foot" in partial.meta["ended_by"]
+    assert np.array_equal(partial.left.t, t)
+    alone = DualGaitDetector().window_masks(walk.left, None)["left"]
+    assert alone.any() and np.array_equal(partial.stance_left.mask, alone)
+
+
+def test_dual_gait_failing_in_a_push_ends_the_stream_with_what_was_final(walk):
+    pipeline = _dual_gait()
+    original, calls = pipeline.detector.window_masks, {"n": 0}
+
+    def window_masks(left, right):
+        calls["n"] += 1
+        if calls["n"] > 20:
+            raise RuntimeError("detector exploded")
+        return original(left, right)
+
+    pipeline.detector.window_masks = window_masks
+    stream = pipeline.online(feet=2)
+    L, R = _chunks(*_arrays(walk.left), 100), _chunks(*_arrays(walk.right), 100)
+    final = []
+    with pytest.raises(RuntimeError, match="detector exploded"):
+        for left, right in zip(L, R):
+            final.append(stream.push(left=left, right=right).left.position)
+    final = np.concatenate(final)
+    assert len(final) > 100, "the test needs steps that became final before the failure"
+    with pytest.raises(InvalidInputError, match="RuntimeError: detector exploded"):
+        stream.push(left=L[-1], right=R[-1])
+    with pytest.raises(RuntimeError, match="detector exploded") as err:
+        stream.close()
+    partial = err.value.partial
+    assert partial.meta["complete"] is False and "detector exploded" in partial.meta["ended_by"]
+    assert np.array_equal(partial.left.position[: len(final)], final)
+
+
 def _failing_detector(pipeline, after_calls):
     """The pipeline's detector, raising RuntimeError from its ``after_calls``+1-th detect on."""
     original = pipeline.detector.detect

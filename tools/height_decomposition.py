@@ -22,9 +22,12 @@ mismatch would cause uncorrected, 0.5 (|f| - g) T_swing^2.
 
 Variants (each one change against the default ``make_pipeline()``):
 
-``base``      the default filter (9 states, whole-walk RTS smoother) with its own height
+``base``      the default filter (9 states, whole-walk RTS smoother, the update on each stance's
+              settled part) with its own height
               (``vertical="free"``, as every variant but ``floors``: the subject of the decomposition);
 ``floors``    the default pipeline: level strides held level (``vertical="floors"``);
+``detected``  the update over the whole detected stance (``zupt_edges="detected"``, the default
+              before 2026-12-02: docs/height.md, section 8);
 ``fwd``       ``smoother="none"``: the forward filter alone;
 ``gcal``      acc scaled by g / |f_rest| of the first standstill (= gravity set to the sensor's
               own at-rest reading, up to a common scale);
@@ -64,6 +67,7 @@ STILL_GYR_RADPS = 0.05  # the estimator's own still_gyr_max_radps default
 VARIANTS: dict[str, dict] = {
     "base": {},
     "floors": {"est": {"vertical": "floors"}},
+    "detected": {"est": {"zupt_edges": "detected"}},
     "fwd": {"est": {"smoother": "none"}},
     "gcal": {"gcal": True},
     "acc2": {"est": {"acc_noise_mps2_sqrthz": 2.0}},

@@ -296,10 +296,13 @@ class FootStream:
     def _filter(self, final: bool) -> None:
         if self.filt is None and not self._start(final):
             return
-        if self.n_final - self.seg0 > self.filt.capacity(0):
+        stop = self.whole_stances_until(self.n_fed, self.n_final, final)
+        if stop - self.seg0 > self.filt.capacity(0):
             self._restart()
-        self.filt.extend(*self.calibrated(self.input.rows(self.n_fed, self.n_final)))
-        self.n_fed = self.n_final
+        if stop > self.n_fed:
+            rows, zupt = self.filter_rows(self.n_fed, stop, first_whole=False)
+            self.filt.extend(*rows, **zupt)
+            self.n_fed = stop
         self._run(final)
         if self.record_starts:
             self._record_starts()
@@ -317,6 +320,35 @@ class FootStream:
             filt.run_until()
         elif last - 1 > filt.index(0):
             filt.run_until(float(filt.samples(0).t[last - 1]))
+
+    def whole_stances_until(self, start: int, stop: int, final: bool) -> int:
+        """Where the filter may stop taking final samples (global indices ``start`` to ``stop``)
+        without splitting a stance: ``stop``, or the start of the stance it would cut (never
+        before ``start``), when the estimator's zero-velocity update needs each stance whole
+        (``trims_stances``: the update's edges are found on the whole stance). A stance is whole
+        once the decision after it is swing, or the stream has ended."""
+        if stop <= start or not getattr(self.stream.pipeline.estimator, "trims_stances", False):
+            return stop
+        if final:  # the stream (or the feet's common span) ends at stop: its last stance is whole there
+            return stop
+        stance = self.input.rows(start, min(stop + 1, self.n_final))[3]
+        last = stop - start - 1
+        if not stance[last] or (last + 1 < len(stance) and not stance[last + 1]):
+            return stop
+        runs = stance_intervals(stance[: last + 1])
+        return start + int(runs[-1, 0])
+
+    def filter_rows(self, a: int, b: int, *, first_whole: bool) -> tuple[list[NDArray], dict[str, NDArray]]:
+        """The filter's input rows ``(t, acc, gyr, stance)`` of global samples ``a`` to ``b``
+        (:meth:`calibrated`) and, where the estimator's update is not the whole stance, its
+        ``zupt`` rows (:meth:`footnav.estimators.ekf.EkfEstimator.zupt_rows`; the stances in
+        them whole, :meth:`whole_stances_until`), as keyword arguments of ``extend``."""
+        rows = self.calibrated(self.input.rows(a, b))
+        est = self.stream.pipeline.estimator
+        if not getattr(est, "trims_stances", False):
+            return rows, {}
+        zupt = est.zupt_rows(rows[0], rows[1], rows[3], first_whole=first_whole)
+        return rows, ({} if zupt is None else {"zupt": zupt})
 
     def calibrated(self, rows: list[NDArray]) -> list[NDArray]:
         """Input rows ``(t, acc, gyr, stance)`` as the filters take them: with the fusion's
@@ -347,9 +379,10 @@ class FootStream:
         """Align the filter once the first stance is final (``estimator.start``), in a segment;
         the fusion's calibration of the foot first (:meth:`footnav.component.Fusion.foot_calibration`)."""
         est = self.stream.pipeline.estimator
-        t, acc, gyr, mask = (x.copy() for x in self.input.rows(0, self.n_final))
         if not self.first_stance_closed and not final:
             return False
+        stop = self.whole_stances_until(0, self.n_final, final)
+        t, acc, gyr, mask = (x.copy() for x in self.input.rows(0, stop))
         cal = self.stream.pipeline.fusion.foot_calibration(ImuData(t=t, acc=acc, gyr=gyr, meta=self.input_meta()), StanceResult(mask=mask), self.foot)
         if cal is not None:
             self.acc_scale, self.calibration = float(cal.acc_scale), cal.as_meta(gyro_bias=False)
@@ -363,7 +396,7 @@ class FootStream:
         self.seg0 = 0
         # the aligned state (f^n too, from the first stance's sample): its first checkpoint
         self.filt = first.rebase([0], [max(SEGMENT_SAMPLES, 2 * self.n_final)], at=0, step_smoother=self._smooths)
-        self.n_fed = self.n_final
+        self.n_fed = stop
         self.filt.meta = first.meta
         self.meta = dict(first.meta[0])
         self.n_checkpoints = 1

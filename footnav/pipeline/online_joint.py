@@ -173,16 +173,19 @@ class JointStream:
             self.span_end = common_bounds(*[self._span_of(jf) for jf in self.feet], fusion=self.fusion.name)[1]
         return self.span_end
 
-    def _stop(self, jf: JointFoot, cap: float) -> int:
-        """The global index after the foot's last final sample at or before ``cap`` (s)."""
+    def _stop(self, jf: JointFoot, cap: float, final: bool) -> int:
+        """The global index after the foot's last final sample at or before ``cap`` (s), not
+        within a stance where the estimator needs each stance whole
+        (:meth:`footnav.pipeline.online_foot.FootStream.whole_stances_until`)."""
         t = jf.alone.input.rows(jf.n_fed, jf.alone.n_final)[0]
-        return jf.n_fed + int(np.searchsorted(t, cap, side="right"))
+        stop = jf.n_fed + int(np.searchsorted(t, cap, side="right"))
+        return jf.alone.whole_stances_until(jf.n_fed, stop, final)
 
     def _first_step_yaw(self, jf: JointFoot, final: bool) -> None:
         """:func:`footnav.fusion.joint.first_step_yaw` as samples arrive: looked for on the samples
         up to a closed stance, when the closed stances have doubled since the last look (the
         forward filter is causal: the heading is the whole run's)."""
-        n = self._stop(jf, self._cap(final))
+        n = self._stop(jf, self._cap(final), final)
         if final:
             with recording(quiet=True):
                 jf.yaw = float(self.forward.estimate(*self._cut(jf, n)).meta.get("heading_rotation_rad", 0.0))
@@ -205,7 +208,7 @@ class JointStream:
         if any(jf.yaw is None for jf in self.feet):
             return False
         cap = self._cap(final)
-        cuts = [self._cut(jf, self._stop(jf, cap)) for jf in self.feet]
+        cuts = [self._cut(jf, self._stop(jf, cap, final)) for jf in self.feet]
         self.session = self.fusion.session(self.estimator, self.start_s)
         first = start_filter(self.estimator, [c[0] for c in cuts], [c[1] for c in cuts], [jf.yaw for jf in self.feet], self.session.step_width_m)
         if not isinstance(first, OnlineFilter):
@@ -245,14 +248,14 @@ class JointStream:
         """Give the joint filter each foot's final samples up to the newest time both feet have
         reached (all of the common span at the end)."""
         cap = self._cap(final)
-        stops = [self._stop(jf, cap) for jf in self.feet]
+        stops = [self._stop(jf, cap, final) for jf in self.feet]
         if any(stop - jf.seg0 > self.filt.capacity(f) for f, (jf, stop) in enumerate(zip(self.feet, stops))):
             self._restart(stops)
         for f, (jf, stop) in enumerate(zip(self.feet, stops)):
             if stop <= jf.n_fed:
                 continue
-            rows = jf.alone.calibrated(jf.alone.input.rows(jf.n_fed, stop))
-            self.filt.extend(*rows, foot=f)
+            rows, zupt = jf.alone.filter_rows(jf.n_fed, stop, first_whole=False)
+            self.filt.extend(*rows, foot=f, **zupt)
             self._landings(f, rows[3], rows[0], jf.n_fed)
             jf.n_fed = stop
 

@@ -127,14 +127,16 @@ def test_an_early_stance_start_makes_a_level_walk_climb_and_the_zupt_start_delay
     # docs/height.md: a zero-velocity update applied while the foot still descends is taken for a
     # velocity error grown over the whole swing, and the footprint is raised by about v T / 2. On
     # the simulator's exact truth a stance mask 40 ms early (the foot comes down at 0.2-0.5 m/s
-    # there) climbs 4.1 m on a 50 m level walk (measured); delaying the ZUPT by as much gives
-    # back the true mask's result exactly (-0.02 m, the sampling limit above)
+    # there) climbs 4.1 m on a 50 m level walk with the update on the whole stance (measured);
+    # delaying the ZUPT by as much gives back the true mask's result exactly (-0.02 m, the
+    # sampling limit above)
     rec = footnav.simulate("straight", seed=0, rate_hz=200.0, distance_m=50.0, noise=False)
     truth = rec.truth_left
     early = StanceResult(_early_stance(truth.stance, 8))
-    exact = _z_end_error(EkfEstimator().estimate(rec.left, StanceResult(truth.stance)), truth.position)
-    climbed = _z_end_error(EkfEstimator().estimate(rec.left, early), truth.position)
-    delayed_traj = EkfEstimator(zupt_start_delay_s=0.04).estimate(rec.left, early)
+    whole = EkfEstimator(zupt_edges="detected")
+    exact = _z_end_error(whole.estimate(rec.left, StanceResult(truth.stance)), truth.position)
+    climbed = _z_end_error(whole.estimate(rec.left, early), truth.position)
+    delayed_traj = EkfEstimator(zupt_edges="detected", zupt_start_delay_s=0.04).estimate(rec.left, early)
     delayed = _z_end_error(delayed_traj, truth.position)
     assert abs(exact) < 0.05
     assert climbed > 2.0
@@ -143,14 +145,28 @@ def test_an_early_stance_start_makes_a_level_walk_climb_and_the_zupt_start_delay
     assert np.array_equal(delayed_traj.steps, early.intervals)
 
 
+def test_the_settled_edges_find_the_feet_rest_in_an_early_stance():
+    # the default update (zupt_edges="settled") finds where the foot has come to rest from its own
+    # accelerometer: the same 40 ms early mask ends +0.045 m (noise-free; the true mask -0.02 m)
+    # and -0.035 m with the simulator's noise (true mask -0.10 m), not +4 m (measured)
+    for noise, bound in ((False, 0.1), (True, 0.15)):
+        rec = footnav.simulate("straight", seed=0, rate_hz=200.0, distance_m=50.0, noise=noise)
+        truth = rec.truth_left
+        early = StanceResult(_early_stance(truth.stance, 8))
+        exact = _z_end_error(EkfEstimator(zupt_edges="detected").estimate(rec.left, StanceResult(truth.stance)), truth.position)
+        settled_traj = EkfEstimator().estimate(rec.left, early)
+        assert abs(_z_end_error(settled_traj, truth.position) - exact) < bound
+        assert np.array_equal(settled_traj.steps, early.intervals)
+
+
 def test_zupt_edges_keep_the_middle_of_short_stances():
     # a 40 ms stance at 200 Hz (8 samples) loses at most a quarter of itself at each edge
     mask = np.zeros(200, dtype=bool)
     mask[0:40] = True
     mask[100:108] = True
-    est = EkfEstimator(zupt_start_delay_s=0.1, zupt_end_advance_s=0.1)
-    imu = ImuData(t=np.arange(200) / 200.0, acc=np.tile([0.0, 0.0, GRAVITY_MPS2], (200, 1)), gyr=np.zeros((200, 3)))
-    zupt = est._zupt_mask(imu, StanceResult(mask))
+    est = EkfEstimator(zupt_edges="detected", zupt_start_delay_s=0.1, zupt_end_advance_s=0.1)
+    t, acc = np.arange(200) / 200.0, np.tile([0.0, 0.0, GRAVITY_MPS2], (200, 1))
+    zupt = est.zupt_rows(t, acc, mask, first_whole=True)
     assert zupt[0:40].all()  # the first stance aligns the filter: whole
     assert np.flatnonzero(zupt[100:108]).tolist() == [2, 3, 4, 5]
     assert not zupt[40:100].any() and not zupt[108:].any()

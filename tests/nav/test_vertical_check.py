@@ -156,5 +156,5 @@ def test_shared_free_filter_warns_on_the_x_io_loop_and_the_default_does_not(shar
         free = footnav.make_pipeline(estimator_params={"vertical": "free"}).run(rec.left)
     assert not held.meta["vertical_check"]["left"]["suspicious"]
     assert free.meta["vertical_check"]["left"]["suspicious"]
-    assert free.meta["vertical_check"]["left"]["rate_m_per_100m"] == pytest.approx(1.84, abs=0.05)
-    assert held.left.meta["vertical"]["removed_m"] == pytest.approx(0.416, abs=0.01)
+    assert free.meta["vertical_check"]["left"]["rate_m_per_100m"] == pytest.approx(1.30, abs=0.05)
+    assert held.left.meta["vertical"]["removed_m"] == pytest.approx(0.294, abs=0.01)

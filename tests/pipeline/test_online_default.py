@@ -16,9 +16,9 @@ from footnav.types import stance_intervals
 #: stances are the offline ones, two where some differ (docs/online.md, "The default pipeline online").
 ONE_BY_ONE = ("gaitmap", "ipol_1-1", "ipol_2-4")
 #: The largest distance between a live step-wise smoothed sample and the offline step-wise
-#: smoothed run's on the shared walking recordings (ipol_1-1's left foot: 0.093 m, one stance
+#: smoothed run's on the shared walking recordings (ipol_2-4's right foot: 0.120 m, one stance
 #: with other edges), m: docs/online.md.
-LIVE_DIFFERENCE_M = 0.1
+LIVE_DIFFERENCE_M = 0.125
 #: The pyshoe running trials.
 RUNNING = ("pyshoe_2017-11-27-11-11-53", "pyshoe_2017-11-27-11-13-41", "pyshoe_2017-11-27-11-18-11", "pyshoe_2017-11-27-11-24-07")
 

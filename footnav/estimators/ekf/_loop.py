@@ -344,7 +344,7 @@ def run(samples, span, state, model, out, mode, bufs, ws, watch, replay):
     """
     # every array unpacked once, out of the loop: a tuple's field read per sample costs numba a
     # reference count each time (measured: the loop 2x slower)
-    t, acc, gyr, stance = samples
+    t, acc, gyr, stance, zupt = samples
     q, v, p, ba, bg, f_n, cov = state
     out_q, out_v, out_p, out_pcov = out
     k, stop_at, t_stop = span.k, span.stop_at, span.t_stop
@@ -422,7 +422,7 @@ def run(samples, span, state, model, out, mode, bufs, ws, watch, replay):
                     if m != i:
                         cov[o + VEL + m, o + VEL + i] += qv
         nu = 0
-        if stance[kn]:
+        if zupt[kn]:
             # ZUPT: z = v^ - 0 = dv + noise
             y[0], y[1], y[2] = v[f, 0], v[f, 1], v[f, 2]
             if update3(cov, dx, o + VEL, y[0], y[1], y[2], r_zupt, np.inf, gain, sy, hp):

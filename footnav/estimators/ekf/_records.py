@@ -170,13 +170,16 @@ class Checkpoint:
 
 
 class Samples(NamedTuple):
-    """Input samples: time (s), specific force (m/s^2), angular rate (rad/s), stance mask; rows of
+    """Input samples: time (s), specific force (m/s^2), angular rate (rad/s), stance mask (the
+    detector's: a stance's end is a step) and the samples that get a zero-velocity update (the
+    stance, or its settled part: :meth:`footnav.estimators.ekf.EkfEstimator.zupt_rows`); rows of
     one foot, or of all feet concatenated (the loop's view)."""
 
     t: NDArray[np.float64]
     acc: NDArray[np.float64]
     gyr: NDArray[np.float64]
     stance: NDArray[np.bool_]
+    zupt: NDArray[np.bool_]
 
 
 class Outputs(NamedTuple):

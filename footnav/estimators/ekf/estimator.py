@@ -40,7 +40,8 @@ from footnav.nav.floors import LEVEL_RISE_MAX_M
 from footnav.nav.heading import turn_to_first_step
 from footnav.nav.heading_drift import TURN_ON_BIAS_STD_RADPS, heading_drift_cov, standstill_rate_std
 from footnav.nav.initial_alignment import align_first_stance
-from footnav.types import FULL_SCALE_RATIO, FootTrajectory, ImuData, StanceResult, clipped_acc
+from footnav.nav.stance_edges import settled_mask
+from footnav.types import FULL_SCALE_RATIO, FootTrajectory, ImuData, StanceResult, clipped_acc, stance_intervals
 
 __all__ = ["EkfEstimator", "GYRO_BIAS_STD_FLOOR_RADPS"]
 
@@ -129,16 +130,25 @@ class EkfEstimator(FootEstimator):
         rad/s^2/sqrt(Hz): the consumer MEMS grade of the simulator's default sensor.
     zupt_start_delay_s, zupt_end_advance_s : float
         The zero-velocity update begins this long after each detected stance's start and ends
-        this long before its end, s (0: the whole stance, the default). Not the first stance,
+        this long before its end, s (0: none, the default; with ``zupt_edges="settled"`` the
+        later start and the earlier end of the two; offline only). Not the first stance,
         which aligns the filter. A detector declares stance while the foot still settles (on the
         shared recordings the VICON foot still descends at 0.02-0.05 m/s at the detected start of a
         walking stance) and keeps it while the heel already rises; the filter takes that real
         motion for an error grown over the whole swing and moves the footprint by about
         v T_swing / 2: the height drift of flat walks (docs/height.md). The stance's outputs
         (``steps``) are the detector's still.
+    zupt_edges : {"settled", "detected"}
+        "settled" (the default): each stance's update (not the first stance's) starts where the
+        foot's vertical velocity relative to mid-stance, integrated from its accelerometer's
+        magnitude, has fallen within ``zupt_std_mps``, and ends where it leaves it again
+        (:func:`footnav.nav.stance_edges.settled_mask`): the update asserts no more than the
+        data allow, so a landing's last motion is not taken for an error grown over the swing
+        (docs/height.md, section 8). "detected": the whole detected stance. Online, a stance's
+        samples reach the filter once it has ended.
     zupt_edge_max_fraction : float
         Neither edge takes more than this fraction of a stance (short running stances keep their
-        middle), in (0, 0.5).
+        middle), in (0, 0.5].
     vertical : {"floors", "free"}
         "floors": a stride whose stance-to-stance rise is under ``level_rise_max_m`` is held
         level, a larger rise (stairs) is kept, and the floors changed are counted
@@ -195,6 +205,7 @@ class EkfEstimator(FootEstimator):
         zupt_start_delay_s: float = 0.0,
         zupt_end_advance_s: float = 0.0,
         zupt_edge_max_fraction: float = 0.25,
+        zupt_edges: Literal["detected", "settled"] = "settled",
         vertical: Literal["floors", "free"] = "floors",
         level_rise_max_m: float = LEVEL_RISE_MAX_M,
         clip_excess_mps2: float = 0.0,
@@ -222,6 +233,7 @@ class EkfEstimator(FootEstimator):
         self.zupt_start_delay_s = zupt_start_delay_s
         self.zupt_end_advance_s = zupt_end_advance_s
         self.zupt_edge_max_fraction = zupt_edge_max_fraction
+        self.zupt_edges = zupt_edges
         self.vertical = vertical
         self.level_rise_max_m = level_rise_max_m
         self.clip_excess_mps2 = clip_excess_mps2
@@ -246,7 +258,8 @@ class EkfEstimator(FootEstimator):
         # a cap, not an allocation; 1 TB keeps the MB -> bytes conversion far from overflow
         require_non_negative(self, "smoother_cache_mb", high=1e6)
         require_non_negative(self, "zupt_start_delay_s", "zupt_end_advance_s", high=MAX_DURATION_S)
-        require(0.0 < self.zupt_edge_max_fraction < 0.5, self, "zupt_edge_max_fraction", "in (0, 0.5)")
+        require(0.0 < self.zupt_edge_max_fraction <= 0.5, self, "zupt_edge_max_fraction", "in (0, 0.5]")
+        require(self.zupt_edges in ("detected", "settled"), self, "zupt_edges", "'detected' or 'settled'")
         require_positive(self, "level_rise_max_m", high=MAX_LENGTH_M)
         require_non_negative(self, "clip_excess_mps2", high=MAX_ACC_MPS2)
         require(self.vertical in ("floors", "free"), self, "vertical", "'floors' or 'free'")
@@ -326,8 +339,9 @@ class EkfEstimator(FootEstimator):
         )
         filt = OnlineInsFilter(
             [imu.t for imu in imus], [imu.acc for imu in imus], [imu.gyr for imu in imus],
-            [self._zupt_mask(imu, st) for imu, st in zip(imus, stances)], starts, q0, p0, bg0,
+            [np.asarray(st.mask, dtype=bool) for st in stances], starts, q0, p0, bg0,
             np.array(cov0), noise, self.n_states, clip_var=[self._clip_var(imu, m) for imu, m in zip(imus, metas)],
+            zupt=[self._zupt(imu, st) for imu, st in zip(imus, stances)],
         )
         filt.meta = metas
         if self.smoother == "step":
@@ -360,20 +374,47 @@ class EkfEstimator(FootEstimator):
             return TURN_ON_BIAS_STD_RADPS
         return max(GYRO_BIAS_STD_FLOOR_RADPS, float(meta["gyro_bias_sem_radps"]))
 
-    def _zupt_mask(self, imu: ImuData, stance: StanceResult) -> NDArray[np.bool_]:
-        """The samples that get a zero-velocity update: the stance mask without each stance's
-        edges (``zupt_start_delay_s``, ``zupt_end_advance_s``; the first stance whole)."""
+    def _zupt(self, imu: ImuData, stance: StanceResult) -> NDArray[np.bool_]:
         mask = np.asarray(stance.mask, dtype=bool)
-        if not (self.zupt_start_delay_s or self.zupt_end_advance_s) or len(imu.t) < 2:
-            return mask
-        mask = mask.copy()
-        rate = 1.0 / float(np.median(np.diff(imu.t)))
-        n0, n1 = round(self.zupt_start_delay_s * rate), round(self.zupt_end_advance_s * rate)
-        for a, b in stance.intervals[1:]:
-            cap = int(self.zupt_edge_max_fraction * (b - a))
-            mask[a : a + min(n0, cap)] = False
-            mask[b - min(n1, cap) : b] = False
-        return mask
+        rows = self.zupt_rows(imu.t, imu.acc, mask, first_whole=True)
+        return mask if rows is None else rows
+
+    @property
+    def trims_stances(self) -> bool:
+        """The zero-velocity update is not the whole stance: :meth:`zupt_rows` needs each stance
+        whole (a stream gives its filter a stance's samples once it has ended)."""
+        return self.zupt_edges == "settled" or bool(self.zupt_start_delay_s or self.zupt_end_advance_s)
+
+    def zupt_rows(
+        self, t: NDArray[np.float64], acc: NDArray[np.float64], stance: NDArray[np.bool_], *, first_whole: bool
+    ) -> NDArray[np.bool_] | None:
+        """The samples that get a zero-velocity update, of consecutive samples whose stances are
+        all whole (each ends within them, or the recording ends): each stance without its edges
+        (``zupt_edges``, ``zupt_start_delay_s``, ``zupt_end_advance_s``), the first one whole
+        when ``first_whole`` (it aligns the filter); None when the update is the whole stance.
+        The same rows give the same mask in any chunks of whole stances (a stream's, or the
+        whole recording)."""
+        if not self.trims_stances:
+            return None
+        mask = np.asarray(stance, dtype=bool)
+        runs = stance_intervals(mask)
+        trim = runs[1:] if first_whole else runs
+        if len(trim) == 0 or len(t) < 2:
+            return mask.copy()
+        if self.zupt_edges == "settled":
+            out = settled_mask(t, acc, trim, float(self.zupt_std_mps), float(self.zupt_edge_max_fraction))
+            if first_whole and len(runs):
+                out[runs[0, 0] : runs[0, 1]] = True
+        else:
+            out = mask.copy()
+        if self.zupt_start_delay_s or self.zupt_end_advance_s:
+            rate = 1.0 / float(np.median(np.diff(t)))
+            n0, n1 = round(self.zupt_start_delay_s * rate), round(self.zupt_end_advance_s * rate)
+            for a, b in trim:
+                cap = int(self.zupt_edge_max_fraction * (b - a))
+                out[a : a + min(n0, cap)] = False
+                out[b - min(n1, cap) : b] = False
+        return out
 
     def _align(self, imu: ImuData, stance: StanceResult):
         """First stance phase -> (start index, Alignment, meta), checks and warnings included."""

@@ -63,7 +63,8 @@ class InsFilter:
     Parameters
     ----------
     t, acc, gyr, stance
-        Per foot: time (s), specific force (m/s^2), angular rate (rad/s), stance mask.
+        Per foot: time (s), specific force (m/s^2), angular rate (rad/s), stance mask (a
+        stance's end is a step).
     start
         Per foot: the sample holding the initial state (the end of its alignment).
     q0, p0, bg0
@@ -82,6 +83,9 @@ class InsFilter:
         body axis, m^2/s^2 (the samples whose accelerometer is at its range; ``EkfEstimator``'s
         ``clip_excess_mps2``), turned into nav with the predicted attitude. Samples given by
         :meth:`extend` get none.
+    zupt
+        Per foot: the samples that get a zero-velocity update (default: the stance), e.g. each
+        stance's settled part (:meth:`footnav.estimators.ekf.EkfEstimator.zupt_rows`).
 
     Attributes
     ----------
@@ -120,6 +124,7 @@ class InsFilter:
         *,
         capacity: Sequence[int] | None = None,
         clip_var: Sequence[NDArray[np.float64] | None] | None = None,
+        zupt: Sequence[NDArray[np.bool_]] | None = None,
     ) -> None:
         self.n_feet = len(t)
         self.n_states = n_states
@@ -133,16 +138,17 @@ class InsFilter:
         # smoother 0.42 -> 0.50 us/sample (10-min walk)
         total = int(self._offsets[-1])
         f8 = np.float64
-        self._t, self._acc, self._gyr, self._stance, self._out_q, self._out_v, self._out_p, self._out_pcov = staggered(
-            [((total,), f8), ((total, 3), f8), ((total, 3), f8), ((total,), np.bool_),
+        self._t, self._acc, self._gyr, self._stance, self._zupt, self._out_q, self._out_v, self._out_p, self._out_pcov = staggered(
+            [((total,), f8), ((total, 3), f8), ((total, 3), f8), ((total,), np.bool_), ((total,), np.bool_),
              ((total, 4), f8), ((total, 3), f8), ((total, 3), f8), ((total, 4), f8)]
         )
-        for dst, src in ((self._t, t), (self._acc, acc), (self._gyr, gyr), (self._stance, stance)):
+        zupt = stance if zupt is None else zupt
+        for dst, src in ((self._t, t), (self._acc, acc), (self._gyr, gyr), (self._stance, stance), (self._zupt, zupt)):
             for f in range(self.n_feet):
                 a, b = self._offsets[f], self._offsets[f + 1]
                 dst[a : a + lengths[f]] = src[f]
                 dst[a + lengths[f] : b] = 0  # room for extend: never read before it is written
-        self._in = Samples(self._t, self._acc, self._gyr, self._stance)
+        self._in = Samples(self._t, self._acc, self._gyr, self._stance, self._zupt)
         # the samples whose accelerometer is at its range (Model.clip_row): their extra
         # velocity variance per body axis, m^2/s^2
         self._clip_row, rows_var = clip_rows(total, self._offsets, clip_var)
@@ -246,7 +252,7 @@ class InsFilter:
     def samples(self, foot: int) -> Samples:
         """The foot's samples given so far (views: not to be written)."""
         sl = slice(self._offsets[foot], self._stop_at[foot] + 1)
-        return Samples(self._t[sl], self._acc[sl], self._gyr[sl], self._stance[sl])
+        return Samples(self._t[sl], self._acc[sl], self._gyr[sl], self._stance[sl], self._zupt[sl])
 
     def capacity(self, foot: int) -> int:
         """Samples the foot's arrays have room for (those given and those :meth:`extend` may add)."""
@@ -254,15 +260,11 @@ class InsFilter:
 
     # -- growing and restarting ----------------------------------------------------------------
     def extend(
-        self,
-        t: NDArray[np.float64],
-        acc: NDArray[np.float64],
-        gyr: NDArray[np.float64],
-        stance: NDArray[np.bool_],
-        *,
-        foot: int = 0,
+        self, t: NDArray[np.float64], acc: NDArray[np.float64], gyr: NDArray[np.float64], stance: NDArray[np.bool_],
+        *, foot: int = 0, zupt: NDArray[np.bool_] | None = None,
     ) -> None:
-        """Give the filter the foot's next samples, after those it has (a stream's new samples).
+        """Give the filter the foot's next samples, after those it has (a stream's new samples);
+        ``zupt``: those that get a zero-velocity update (default: the stance).
 
         They go into the room reserved with ``capacity``; :meth:`run_until` processes them. A
         sample ends a step when the next one is out of stance, so the last sample given is
@@ -285,6 +287,7 @@ class InsFilter:
         self._acc[a : a + m] = acc
         self._gyr[a : a + m] = gyr
         self._stance[a : a + m] = stance
+        self._zupt[a : a + m] = stance if zupt is None else zupt
         self._clip_row[a : a + m] = -1  # (online: no clipped samples' variance yet)
         self._stop_at[foot] += m
 

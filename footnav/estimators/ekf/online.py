@@ -102,7 +102,7 @@ class OnlineInsFilter(InsFilter):
         new = OnlineInsFilter(
             [x[0] for x in samples], [x[1] for x in samples], [x[2] for x in samples], [x[3] for x in samples], list(base),
             [self.quaternion(f) for f in feet], [self.position(f) for f in feet], [self.biases(f)[1] for f in feet],
-            np.diag(self.covariance)[:n], self.noise, n, capacity=[int(c) for c in capacity],
+            np.diag(self.covariance)[:n], self.noise, n, capacity=[int(c) for c in capacity], zupt=[x[4] for x in samples],
         )
         new.step_stops = True
         if step_smoother:

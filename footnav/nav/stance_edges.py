@@ -15,7 +15,9 @@ sensor's own reading of gravity there, whatever its scale). The update starts af
 sample before m that moves faster and ends before the first one after m that does, each edge
 at most ``max_fraction`` of the stance. |f| - g is the vertical acceleration to first order
 (the foot is near level in stance; a horizontal a_h adds a_h^2 / 2g), so these are the
-vertical edges, the ones that move height.
+vertical edges, the ones that move height. Each stance's figures are its own samples' (summed
+outward from m in a compiled loop), so chunks of whole stances give the same bits as the whole
+recording.
 """
 
 from __future__ import annotations
@@ -23,7 +25,43 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
+from footnav._numba import njit  # numba.njit that survives a read-only install
+
 __all__ = ["settled_mask"]
+
+
+@njit(cache=True, error_model="numpy")
+def _settled(t, acc, a, b, v_max, max_fraction, mask):  # pragma: no cover - compiled
+    for i in range(len(a)):
+        lo, hi = a[i], b[i]
+        n = hi - lo
+        if n <= 0:
+            continue
+        f = np.empty(n)
+        for k in range(n):
+            x, y, z = acc[lo + k, 0], acc[lo + k, 1], acc[lo + k, 2]
+            f[k] = np.sqrt(x * x + y * y + z * z)
+        g = np.median(f[n // 4 : (3 * n) // 4 + 1])
+        m = n // 2
+        cap = int(np.floor(max_fraction * n))
+        start = 0  # the sample after the last one before m moving faster than v_max
+        s = 0.0
+        for j in range(m, 0, -1):  # v(j - 1) = -sum_{i=j}^{m} (f_i - g) dt_i
+            s += (f[j] - g) * (t[lo + j] - t[lo + j - 1])
+            if abs(s) >= v_max:
+                start = j
+                break
+        stop = n  # the first one after m moving faster
+        s = 0.0
+        for j in range(m + 1, n):  # v(j) = sum_{i=m+1}^{j} (f_i - g) dt_i
+            s += (f[j] - g) * (t[lo + j] - t[lo + j - 1])
+            if abs(s) >= v_max:
+                stop = j
+                break
+        start = min(start, cap)
+        stop = max(stop, n - cap)
+        for k in range(start, stop):
+            mask[lo + k] = True
 
 
 def settled_mask(
@@ -52,48 +90,12 @@ def settled_mask(
     numpy.ndarray
         (N,) bool: True where the zero-velocity update applies.
     """
-    n = len(t)
-    mask = np.zeros(n, dtype=bool)
+    mask = np.zeros(len(t), dtype=bool)
     iv = np.asarray(intervals, dtype=np.int64).reshape(-1, 2)
-    iv = iv[iv[:, 1] > iv[:, 0]]
-    if n == 0 or len(iv) == 0:
+    if len(t) == 0 or len(iv) == 0:
         return mask
-    a, b = iv[:, 0], iv[:, 1]
-    length = b - a
-    dt = np.diff(t, prepend=t[0])
-    fmag = np.sqrt(np.einsum("ij,ij->i", acc, acc))
-    # cumulative sums with a leading zero: S[k] = sum_{j<k}
-    cf = np.concatenate(([0.0], np.cumsum(fmag * dt)))
-    ct = np.concatenate(([0.0], np.cumsum(dt)))
-    q1, q3 = a + length // 4, a + (3 * length) // 4 + 1
-    # the stance's median |f| over its middle half (a mean takes in the motion of the edges)
-    g = _segment_medians(fmag, q1, q3)
-    m = a + length // 2
-    # per stance sample: its stance, v relative to m (cf, ct at k + 1 and m + 1: sums through k, m)
-    first = np.cumsum(length) - length  # each stance's first entry in the stacked samples
-    s = np.repeat(np.arange(len(iv)), length)
-    k = np.repeat(a - first, length) + np.arange(int(length.sum()))
-    v = (cf[k + 1] - cf[m[s] + 1]) - g[s] * (ct[k + 1] - ct[m[s] + 1])
-    fast = np.abs(v) >= v_max_mps
-    cap = np.floor(max_fraction * length).astype(np.int64)
-    # the last fast sample before m and the first after it, per stance (-1 / n: none)
-    before = np.where(fast & (k < m[s]), k, -1)
-    after = np.where(fast & (k > m[s]), k, n)
-    start = np.maximum.reduceat(before, first) + 1
-    stop = np.minimum.reduceat(after, first)
-    start = np.clip(np.maximum(start, a), a, a + cap)
-    stop = np.clip(np.minimum(stop, b), b - cap, b)
-    keep = (k >= start[s]) & (k < stop[s])
-    mask[k[keep]] = True
+    _settled(
+        np.ascontiguousarray(t, dtype=np.float64), np.ascontiguousarray(acc, dtype=np.float64),
+        np.ascontiguousarray(iv[:, 0]), np.ascontiguousarray(iv[:, 1]), float(v_max_mps), float(max_fraction), mask,
+    )
     return mask
-
-
-def _segment_medians(x: NDArray[np.float64], lo: NDArray[np.int64], hi: NDArray[np.int64]) -> NDArray[np.float64]:
-    """np.median of each ``x[lo[i]:hi[i]]`` (non-empty, disjoint), in one sort."""
-    n = hi - lo
-    first = np.cumsum(n) - n
-    seg = np.repeat(np.arange(len(n)), n)
-    idx = np.repeat(lo - first, n) + np.arange(int(n.sum()))
-    order = np.lexsort((x[idx], seg))  # by segment, then value: exact values, as np.median sorts them
-    v = x[idx][order]
-    return 0.5 * (v[first + (n - 1) // 2] + v[first + n // 2])

@@ -97,10 +97,3 @@ def test_the_estimators_rows_keep_the_first_stance_whole(edges):
     later = est.zupt_rows(t, acc, stance, first_whole=False)  # as a stream's later chunk: trimmed
     assert not later[:15].any() and later[15:60].all()  # at 16 by its speed, 15 by the cap (a quarter)
 
-
-def test_segment_medians_are_numpys():
-    from footnav.nav.stance_edges import _segment_medians
-
-    x = np.random.default_rng(1).normal(size=1000)
-    lo, hi = np.array([0, 10, 11, 500]), np.array([5, 11, 60, 1000])
-    np.testing.assert_array_equal(_segment_medians(x, lo, hi), [np.median(x[a:b]) for a, b in zip(lo, hi)])

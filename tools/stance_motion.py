@@ -1,7 +1,8 @@
 """How still a detected stance is: the figures of docs/height.md, section 8.
 
 Per shared recording and foot (default: x-io, azure_fgo, gaitmap, the pyshoe trials), each in
-its own part (``--parts``, default all):
+its own part (``--parts``, default all; the motion-capture foot's vertical speed at the detected
+stance starts is ``tools/height_decomposition.py``'s):
 
 ``profile`` the median |w| (rad/s) and ||f| - g_stance| (m/s^2) over each tenth of the detected
             stances (not the first): the foot turns and accelerates through its stance;
@@ -14,8 +15,6 @@ its own part (``--parts``, default all):
             the swing (from the forward filter's state there) and the accelerometer's gravity
             direction over the middle half of the next stance, along and across the stride
             (mrad), and that tilt times the stride length (mm);
-``onset``   the motion-capture foot's vertical and total speed (smoothed over 50 ms) at the
-            detected stance starts and 50 / 100 / 200 ms after (pyshoe, azure_fgo);
 ``edges``   how much of each stance the default update keeps (``zupt_edges="settled"``).
 
 Usage::
@@ -29,14 +28,14 @@ import argparse
 import warnings
 
 import numpy as np
-from scipy.ndimage import uniform_filter1d
+from scipy.ndimage import uniform_filter1d  # the gyro smoothed for alpha
 
 import footnav
 from footnav.data.datasets import dataset_names, load_dataset
 from footnav.nav import quaternion as quat
 from footnav.nav.mechanization import strapdown
 
-PARTS = ("profile", "lever", "tilt", "onset", "edges")
+PARTS = ("profile", "lever", "tilt", "edges")
 
 
 def _skew(w: np.ndarray) -> np.ndarray:
@@ -152,15 +151,6 @@ def main(argv=None) -> None:
                     print(f"{tag} tilt: along {np.median(r[:, 0]) * 1e3:+.1f} mrad (IQR {np.percentile(r[:, 0], 25) * 1e3:+.1f}.."
                           f"{np.percentile(r[:, 0], 75) * 1e3:+.1f}), across {np.median(r[:, 1]) * 1e3:+.1f} mrad; "
                           f"x stride {np.median(r[:, 0] * r[:, 2]) * 1e3:+.1f} mm ({len(r)} strides)")
-            truth = getattr(rec, f"truth_{side}", None)
-            if "onset" in parts and truth is not None and truth.position is not None and len(truth.t) == len(imu.t):
-                pos = uniform_filter1d(truth.position, max(1, int(0.05 * imu.rate_hz)), axis=0)
-                vel = np.gradient(pos, truth.t, axis=0)
-                cells = []
-                for lag in (0.0, 0.05, 0.1, 0.2):
-                    k = np.minimum(iv[1:, 0] + int(lag * imu.rate_hz), len(vel) - 1)
-                    cells.append(f"+{lag:.2f} s v_z {np.nanmedian(vel[k, 2]):+.3f} |v| {np.nanmedian(np.linalg.norm(vel[k], axis=1)):.3f}")
-                print(f"{tag} onset (m/s, medians): " + "; ".join(cells))
             if "edges" in parts:
                 est = footnav.make_pipeline().estimator
                 z = est.zupt_rows(imu.t, imu.acc, np.asarray(stance.mask, bool), first_whole=True)

@@ -335,8 +335,8 @@ class FootStream:
         last = stop - start - 1
         if not stance[last] or (last + 1 < len(stance) and not stance[last + 1]):
             return stop
-        runs = stance_intervals(stance[: last + 1])
-        return start + int(runs[-1, 0])
+        swing = np.flatnonzero(~stance[: last + 1])  # the run cut: after the last swing sample
+        return start + (int(swing[-1]) + 1 if len(swing) else 0)
 
     def filter_rows(self, a: int, b: int, *, first_whole: bool) -> tuple[list[NDArray], dict[str, NDArray]]:
         """The filter's input rows ``(t, acc, gyr, stance)`` of global samples ``a`` to ``b``

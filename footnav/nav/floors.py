@@ -21,6 +21,15 @@ is below the bound is flattened (a 5 % slope at 1.5 m strides: 0.075 m).
 strides between them up to :data:`LANDING_STRIDES`, a landing), and a flight whose net rise is
 at least :data:`FLOOR_MIN_RISE_M` changes the level by ``max(1, round(rise / STOREY_M))``.
 
+A stride is a stair one only when the strapdown agrees: its own height change over the swing
+(:func:`swing_rises`: the forward filter's height just before the stance's first zero-velocity
+update, less its height at the previous stance's last one: the integration alone, before the
+update shares its velocity residual with position) rises or falls by at least the same bound, in
+the same direction. Where the filter lifts a level stride by a false residual at the landing (the
+foot still moving when the update starts) the strapdown did not rise and the stride is held; a
+real stair rises in both (docs/height.md, section 9). Without the swing's rise (another
+estimator, a coupled fusion) the filter's rise decides alone.
+
 The correction of a stride needs only that stride's two stances, so :class:`FloorHolder` makes it
 as the samples come, stance by stance (a live stream's samples, :mod:`footnav.pipeline.online`),
 and :func:`hold_floors` is the same holder fed a whole trajectory: both give the same numbers.
@@ -47,6 +56,8 @@ __all__ = [
     "hold_floors",
     "hold_result_floors",
     "stance_heights",
+    "stance_swing_rises",
+    "swing_rises",
 ]
 
 #: A stride rising or falling less than this (m) is level (see the module's docstring).
@@ -69,7 +80,8 @@ class Floors:
     rise_m
         (K-1,) rise of each stride, stance to stance, as estimated before any correction.
     stair
-        (K-1,) True where the stride is a stair stride (``|rise_m| >= level_rise_max_m``).
+        (K-1,) True where the stride is a stair stride (``|rise_m| >= level_rise_max_m``, and
+        the swing's own rise agrees where it is known).
     level
         (K,) floor index of each stance: 0 at the start, +1 per floor up, -1 per floor down.
     climb_m, descent_m
@@ -80,6 +92,9 @@ class Floors:
         Horizontal distance from the first stance to the last, summed over strides, m.
     level_rise_max_m
         The bound that classified the strides, m.
+    swing_held
+        Strides that rose by the bound but were held level because the swing's own rise did not
+        (:func:`swing_rises`).
     flights
         One dict per flight: first and last stride, ``rise_m``, ``floors`` (signed).
     """
@@ -92,6 +107,7 @@ class Floors:
     removed_m: float
     walked_m: float
     level_rise_max_m: float
+    swing_held: int = 0
     flights: list[dict] = field(default_factory=list)
 
     def to_meta(self) -> dict:
@@ -101,6 +117,7 @@ class Floors:
             "level_rise_max_m": float(self.level_rise_max_m),
             "level_strides": int(np.sum(~self.stair)),
             "stair_strides": int(np.sum(self.stair)),
+            "swing_held_strides": int(self.swing_held),
             "removed_m": round(float(self.removed_m), 4),
             "removed_m_per_100m": round(100.0 * float(self.removed_m) / walked_m, 3) if walked_m > 0 else 0.0,
             "climb_m": round(float(self.climb_m), 4),
@@ -123,6 +140,60 @@ def stance_heights(z: NDArray[np.float64], steps: NDArray[np.int64]) -> NDArray[
     zs = zs[np.lexsort((zs, np.repeat(np.arange(len(n)), n)))]
     first = np.concatenate(([0], np.cumsum(n)[:-1]))
     return 0.5 * (zs[first + (n - 1) // 2] + zs[first + n // 2])
+
+
+def swing_rises(
+    z_forward: NDArray[np.float64], zupt: NDArray[np.bool_], before: tuple[float, bool, float] = (np.nan, False, np.nan)
+) -> tuple[NDArray[np.float64], tuple[float, bool, float]]:
+    """The strapdown's own rise over each swing, at the first sample of each zero-velocity run.
+
+    Parameters
+    ----------
+    z_forward
+        (N,) the forward filter's height per sample (after that sample's updates), m.
+    zupt
+        (N,) the samples that got a zero-velocity update.
+    before
+        What the samples before these left: the height at the last update sample, whether the
+        sample before these had an update, and its height (:func:`swing_rises` 's second output);
+        by default nothing before.
+
+    Returns
+    -------
+    rise, carry
+        (N,) NaN but at the first update sample of each run after the first: the height just
+        before it (the swing's integration, no update yet) minus the height at the previous run's
+        last update sample, m; and ``before`` for the samples that follow. The same numbers in
+        any chunks.
+    """
+    z = np.asarray(z_forward, dtype=float)
+    zupt = np.asarray(zupt, dtype=bool)
+    out = np.full(len(z), np.nan)
+    if len(z) == 0:
+        return out, before
+    z_last, prev_zupt, prev_z = before
+    starts = np.flatnonzero(zupt & ~np.concatenate(([prev_zupt], zupt[:-1])))
+    rows = np.flatnonzero(zupt)
+    # the last update sample before each run: the row before it in ``rows``, or the carry
+    j = np.searchsorted(rows, starts)
+    last = np.where(j > 0, z[rows[np.maximum(j - 1, 0)]], z_last)
+    just_before = np.where(starts > 0, z[np.maximum(starts - 1, 0)], prev_z)
+    out[starts] = just_before - last
+    carry = (float(z[rows[-1]]) if len(rows) else float(z_last), bool(zupt[-1]), float(z[-1]))
+    return out, carry
+
+
+def stance_swing_rises(rise: NDArray[np.float64], steps: NDArray[np.int64]) -> NDArray[np.float64]:
+    """(K,) each stance's swing rise: the first finite value of ``rise`` (N,: :func:`swing_rises`)
+    within each stance interval of ``steps`` (K, 2, none empty), NaN where none."""
+    steps = np.asarray(steps, dtype=np.int64).reshape(-1, 2)
+    n = steps[:, 1] - steps[:, 0]
+    if len(n) == 0:
+        return np.zeros(0)
+    vals = np.asarray(rise, dtype=float)[_ranges(steps[:, 0], n)]
+    pos = np.where(np.isfinite(vals), np.arange(len(vals)), len(vals))
+    at = np.minimum.reduceat(pos, np.concatenate(([0], np.cumsum(n)[:-1])))
+    return np.where(at < len(vals), vals[np.minimum(at, len(vals) - 1)], np.nan)
 
 
 def floor_changes(rise_m: NDArray[np.float64], stair: NDArray[np.bool_]) -> tuple[NDArray[np.int64], list[dict]]:
@@ -157,7 +228,8 @@ class FloorHolder:
     """Hold level strides level, stance by stance, on samples given in time order.
 
     :meth:`push` takes a foot's next samples (time s, nav-frame position m and velocity m/s,
-    quaternion, stance flags) and returns those it could correct: every sample up to the end of
+    quaternion, stance flags, and where known the swing's own rise, :func:`swing_rises`) and
+    returns those it could correct: every sample up to the end of
     the last stance known to have ended (the next sample is a swing one, or ``closed``). The
     others wait for their stride's next stance. :meth:`flush` ends the walk and returns the
     rest. Only heights and vertical velocities change.
@@ -174,30 +246,35 @@ class FloorHolder:
     def __init__(self, level_rise_max_m: float = LEVEL_RISE_MAX_M, *, keep_strides: bool = True) -> None:
         self.level_rise_max_m = float(level_rise_max_m)
         self.keep_strides = bool(keep_strides)
-        self._rows: list[list[NDArray]] = []  # waiting samples: chunks of (t, p, v, q, stance)
+        self._rows: list[list[NDArray]] = []  # waiting samples: chunks of (t, p, v, q, stance, swing rise)
         self._prev_h: float | None = None  # height of the last closed stance (as estimated)
         self._prev_end_t = 0.0  # time of its last sample, s
         self._prev_xy: NDArray[np.float64] | None = None  # its footprint in the plane, m
         self._before = 0.0  # correction held at the last closed stance, m
         self.rises: list[float] = []
+        self.stairs: list[bool] = []
+        self.swing_held = 0
         self.walked_m = 0.0
         #: stance end time (s) -> the correction its samples got (m), in time order, until
         #: :meth:`held_at` has been asked for it or a later one
         self._held_at: OrderedDict[float, float] = OrderedDict()
 
-    def push(self, t, position, velocity, quaternion, stance, *, closed: bool = False) -> tuple[NDArray, ...]:
+    def push(self, t, position, velocity, quaternion, stance, *, closed: bool = False, swing_rise=None) -> tuple[NDArray, ...]:
         """Add samples; return the corrected ``(t, position, velocity, quaternion, stance)`` of
-        those now final (copies). ``closed``: the stance at the end of these samples has ended."""
+        those now final (copies). ``closed``: the stance at the end of these samples has ended.
+        ``swing_rise``: (N,) the swing's own rise at the first update sample of each stance,
+        NaN elsewhere (:func:`swing_rises`); None: not known (the filter's rise decides alone)."""
         if len(t):
+            sw = np.full(len(t), np.nan) if swing_rise is None else np.array(swing_rise, float)
             self._rows.append([np.array(t, float), np.array(position, float), np.array(velocity, float),
-                               np.array(quaternion, float), np.asarray(stance, bool).copy()])
+                               np.array(quaternion, float), np.asarray(stance, bool).copy(), sw])
         return self._release(closed)
 
     def flush(self) -> tuple[NDArray, ...]:
         """The walk ended: close its last stance and return every waiting sample."""
         out = self._release(True)
         if self._rows:  # a swing after the last stance keeps the last stance's correction
-            t, p, v, q, s = self._joined()
+            t, p, v, q, s, _ = self._joined()
             p[:, 2] += self._before
             self._rows = []
             out = tuple(np.concatenate([a, b]) for a, b in zip(out, (t, p, v, q, s)))
@@ -222,7 +299,7 @@ class FloorHolder:
         if not self.keep_strides:
             raise RuntimeError("FloorHolder(keep_strides=False) keeps no strides to summarise")
         rise = np.asarray(self.rises, dtype=float)
-        stair = np.abs(rise) >= self.level_rise_max_m
+        stair = np.asarray(self.stairs, dtype=bool)
         level, flights = floor_changes(rise, stair)
         return Floors(
             rise_m=rise,
@@ -233,6 +310,7 @@ class FloorHolder:
             removed_m=float(np.sum(np.where(stair, 0.0, rise))),
             walked_m=self.walked_m,
             level_rise_max_m=self.level_rise_max_m,
+            swing_held=self.swing_held,
             flights=flights,
         )
 
@@ -245,19 +323,19 @@ class FloorHolder:
         empty = (np.empty(0), np.empty((0, 3)), np.empty((0, 3)), np.empty((0, 4)), np.empty(0, bool))
         if not self._rows:
             return empty
-        t, p, v, q, s = self._joined()
+        t, p, v, q, s, sw = rows = self._joined()
         runs = stance_intervals(s)
         if len(runs) and runs[-1, 1] == len(s) and not closed:  # the last stance may go on
             runs = runs[:-1]
         if len(runs) == 0:
             return empty
-        self._close_stances(t, p, v, runs)
+        self._close_stances(t, p, v, sw, runs)
         done = int(runs[-1, 1])
         out = tuple(x[:done] for x in (t, p, v, q, s))
-        self._rows = [[x[done:] for x in (t, p, v, q, s)]] if done < len(t) else []
+        self._rows = [[x[done:] for x in rows]] if done < len(t) else []
         return out
 
-    def _close_stances(self, t, p, v, runs: NDArray[np.int64]) -> None:
+    def _close_stances(self, t, p, v, sw, runs: NDArray[np.int64]) -> None:
         """Correct the stances ``runs`` (K, 2) and the swing before each, in place: the whole
         of ``t[:runs[-1, 1]]``. Vectorised over the stances (a loop of numpy calls per stance
         cost 28 us each: a third of the filter's time)."""
@@ -279,7 +357,12 @@ class FloorHolder:
             prev_end = np.concatenate(([self._prev_end_t], end_t[:-1]))
             counted = np.ones(len(runs), bool)
         rise = h - prev_h
-        c = np.where(counted & (np.abs(rise) < self.level_rise_max_m), -rise, 0.0)
+        swing = stance_swing_rises(sw, runs)
+        bound = self.level_rise_max_m
+        agree = (np.abs(swing) >= bound) & (np.sign(swing) == np.sign(rise))
+        held_by_swing = (np.abs(rise) >= bound) & np.isfinite(swing) & ~agree
+        level = counted & ((np.abs(rise) < bound) | held_by_swing)
+        c = np.where(level, -rise, 0.0)
         # at each stance; summed from the last one held, in order, so that samples given in any
         # chunks give the same bits as the whole walk
         held = np.cumsum(np.concatenate(([self._before], c)))[1:]
@@ -296,6 +379,8 @@ class FloorHolder:
         p[idx, 2] += np.repeat(held, n)
         if self.keep_strides:
             self.rises.extend(rise[counted].tolist())
+            self.stairs.extend((~level[counted]).tolist())
+        self.swing_held += int(np.sum(held_by_swing & counted))
         steps_m = np.linalg.norm(xy - prev_xy, axis=1)[counted]
         self.walked_m = float(np.cumsum(np.concatenate(([self.walked_m], steps_m)))[-1])
         self._held_at.update(zip(end_t.tolist(), held.tolist()))
@@ -319,7 +404,8 @@ def hold_floors(traj: FootTrajectory, *, level_rise_max_m: float = LEVEL_RISE_MA
     Parameters
     ----------
     traj
-        A foot's trajectory (nav frame, z up) with its stance intervals ``steps``.
+        A foot's trajectory (nav frame, z up) with its stance intervals ``steps`` (and where
+        known the swing's own rise before each, ``swing_rise_m``).
     level_rise_max_m
         A stride rising or falling less than this is level, m.
     """
@@ -327,8 +413,12 @@ def hold_floors(traj: FootTrajectory, *, level_rise_max_m: float = LEVEL_RISE_MA
     mask = np.zeros(n, dtype=bool)
     for a, b in np.asarray(traj.steps, dtype=np.int64).reshape(-1, 2):
         mask[a:b] = True
+    swing = None
+    if traj.swing_rise_m is not None and len(traj.steps):
+        swing = np.full(n, np.nan)
+        swing[traj.steps[:, 0]] = traj.swing_rise_m
     holder = FloorHolder(level_rise_max_m)
-    first = holder.push(traj.t, traj.position, traj.velocity, traj.quaternion, mask)
+    first = holder.push(traj.t, traj.position, traj.velocity, traj.quaternion, mask, swing_rise=swing)
     _, pos, vel, _, _ = (np.concatenate([a, b]) for a, b in zip(first, holder.flush()))
     meta = {**traj.meta, "vertical": {"model": "floors", **holder.floors().to_meta()}}
     return replace(traj, position=pos, velocity=vel, meta=meta)

@@ -531,7 +531,7 @@ def _hold(holder: FloorHolder, update: FootUpdate, source: Any, final: bool) -> 
     """A foot's final samples with level strides held level (:class:`FloorHolder`): those whose
     stride's next stance has ended; the rest wait for it (or for the end)."""
     closed = bool(len(update.t)) and any(s.t == update.t[-1] for s in source.steps.pending)
-    rows = holder.push(update.t, update.position, update.velocity, update.quaternion, update.stance, closed=closed)
+    rows = holder.push(update.t, update.position, update.velocity, update.quaternion, update.stance, closed=closed, swing_rise=update.swing_rise)
     if final:
         rows = tuple(np.concatenate([a, b]) for a, b in zip(rows, holder.flush()))
     t, p, v, q, stance = rows

@@ -22,6 +22,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from footnav.errors import InvalidInputError
+from footnav.nav.floors import stance_swing_rises, swing_rises
 from footnav.nav.heading import rotate_about_z
 from footnav.nav.initial_alignment import bridged_gaps
 from footnav.online_contract import OnlineFilter
@@ -140,8 +141,10 @@ class FootStream:
         self.n_checkpoints = 1  # the segment's checkpoints already read
         self.start_index = 0  # where the filter started (the first stance), global
         self.meta: dict = {}
-        # final (smoothed) outputs: t, q, v, p, position covariance (xx, xy, yy, zz), stance
-        self.out = _Grow([((), np.float64), ((4,), np.float64), ((3,), np.float64), ((3,), np.float64), ((4,), np.float64), ((), np.bool_)])
+        # final (smoothed) outputs: t, q, v, p, position covariance (xx, xy, yy, zz), stance, and
+        # the swing's own rise at each stance's first update (footnav.nav.floors.swing_rises)
+        self.out = _Grow([((), np.float64), ((4,), np.float64), ((3,), np.float64), ((3,), np.float64), ((4,), np.float64), ((), np.bool_), ((), np.float64)])
+        self._swing_carry: tuple[float, bool, float] = (math.nan, False, math.nan)
         self.n_out = 0
         self.emitted = 0
         self.t_final = -math.inf
@@ -460,7 +463,9 @@ class FootStream:
         q, v, p, pcov = filt.final_outputs(0)
         fed = filt.samples(0)
         t, stance = fed.t[a:b], fed.stance[a:b]
-        self.out.append(t, q[a:b], v[a:b], p[a:b], pcov[a:b], stance)
+        zupt = getattr(fed, "zupt", fed.stance)  # an estimator of the online contract without its own update rows
+        swing, self._swing_carry = swing_rises(filt.outputs(0)[2][a:b, 2], zupt[a:b], self._swing_carry)
+        self.out.append(t, q[a:b], v[a:b], p[a:b], pcov[a:b], stance, swing)
         next_stance = False if final else bool(fed.stance[b]) if b < self.n_fed - self.seg0 else True
         self.steps.add(t, p[a:b], stance, next_stance)
         self.n_out = self.seg0 + b
@@ -473,7 +478,7 @@ class FootStream:
         forward = self.forward()
         if self.psi is None or self.emitted >= self.n_out:
             return empty_update(forward)
-        t, q, v, p, pcov, stance = self.out.rows(self.emitted, self.n_out)
+        t, q, v, p, pcov, stance, swing = self.out.rows(self.emitted, self.n_out)
         t, q, v, p = t.copy(), q.copy(), v.copy(), p.copy()
         if self.psi:
             # the covariance is turned too (rotate_about_z turns all four), into a scratch copy:
@@ -482,7 +487,7 @@ class FootStream:
         self.emitted = self.n_out
         if not self.stream.keep:
             self.out.drop_before(self.n_out)
-        return FootUpdate(t, p, v, q, forward, stance.copy())
+        return FootUpdate(t, p, v, q, forward, stance.copy(), swing.copy())
 
     def forward(self) -> ForwardEstimate | None:
         """The forward filter's state at its newest sample, in the output frame."""
@@ -541,7 +546,7 @@ class FootStream:
     def trajectory(self) -> tuple[FootTrajectory, StanceResult]:
         """The foot's whole result, made as :meth:`EkfEstimator.trajectory` makes it offline."""
         est = self.stream.pipeline.estimator
-        t, q, v, p, pcov, mask = (np.array(x) for x in self.out.rows(0, self.n_out))
+        t, q, v, p, pcov, mask, swing = (np.array(x) for x in self.out.rows(0, self.n_out))
         runs = stance_intervals(mask)
         stance = StanceResult(
             mask=mask,
@@ -550,7 +555,7 @@ class FootStream:
         )
         traj = est.package(
             t, q, v, p, pcov, self.start_index, self.meta, runs, smoothed=est.smoother != "none",
-            heading=est.heading == "first-step", biases=est.final_biases(self.filt, 0),
+            heading=est.heading == "first-step", biases=est.final_biases(self.filt, 0), swing_rise=stance_swing_rises(swing, runs),
         )
         traj.meta["online"] = True
         return traj, stance

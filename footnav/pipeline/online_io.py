@@ -60,7 +60,8 @@ class ClosedStep:
 class FootUpdate:
     """One foot's samples that became final in a push (smoothed per step, nav frame), and the
     forward estimate at its newest sample (None before the filter is aligned); ``stance`` is
-    each sample's stance decision."""
+    each sample's stance decision, ``swing_rise`` the swing's own rise at each stance's first
+    update sample, NaN elsewhere (:func:`footnav.nav.floors.swing_rises`; None: not known)."""
 
     t: NDArray[np.float64]
     position: NDArray[np.float64]
@@ -68,6 +69,7 @@ class FootUpdate:
     quaternion: NDArray[np.float64]
     forward: ForwardEstimate | None
     stance: NDArray[np.bool_] | None = None
+    swing_rise: NDArray[np.float64] | None = None
 
     @property
     def n_samples(self) -> int:

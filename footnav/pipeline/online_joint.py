@@ -406,7 +406,7 @@ class JointStream:
         stream turns them, then continued rigidly so that its sample ``anchor`` meets the
         ``fused`` (position, quaternion) there."""
         lo, hi = min(a, anchor), max(b, anchor + 1)
-        t, q, v, p, pcov, stance = (x.copy() for x in jf.alone.out.rows(lo, hi))
+        t, q, v, p, pcov, stance, _ = (x.copy() for x in jf.alone.out.rows(lo, hi))
         if jf.alone.psi:
             rotate_about_z(-jf.alone.psi, p, v, q, pcov)
         i = anchor - lo

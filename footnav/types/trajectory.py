@@ -35,6 +35,10 @@ class FootTrajectory:
         (K, 2) start/stop sample indices of each stance phase used (the footprints).
     meta
         Estimator name, parameters, diagnostics.
+    swing_rise_m
+        (K,) the strapdown's own height change over the swing before each stance, m (the forward
+        filter's, before that stance's first zero-velocity update: :func:`footnav.nav.floors.swing_rises`);
+        NaN where unknown (the first stance); None when the estimator gives none.
     """
 
     t: NDArray[np.float64]
@@ -45,6 +49,7 @@ class FootTrajectory:
     steps: NDArray[np.int64]
     meta: Mapping[str, Any] = field(default_factory=dict)
     frame: str = "nav"
+    swing_rise_m: NDArray[np.float64] | None = None
 
     def __post_init__(self) -> None:
         n = len(self.t)
@@ -56,6 +61,11 @@ class FootTrajectory:
         object.__setattr__(self, "t", _readonly(np.asarray(self.t, dtype=np.float64)))
         steps = np.asarray(self.steps, dtype=np.int64).reshape(-1, 2)
         object.__setattr__(self, "steps", _readonly(steps))
+        if self.swing_rise_m is not None:
+            rise = np.asarray(self.swing_rise_m, dtype=np.float64)
+            if rise.shape != (len(steps),):
+                raise InvalidInputError(f"expected shape ({len(steps)},) (one per step), got {rise.shape}", field="swing_rise_m")
+            object.__setattr__(self, "swing_rise_m", _readonly(rise))
         object.__setattr__(self, "meta", dict(self.meta))
 
     @property

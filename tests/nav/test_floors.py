@@ -18,7 +18,11 @@ from footnav.nav.floors import (
     floor_changes,
     hold_floors,
     stance_heights,
+    stance_swing_rises,
+    swing_rises,
 )
+from dataclasses import replace
+
 from footnav.types import FootTrajectory
 
 
@@ -243,3 +247,85 @@ def test_fewer_than_two_stances_change_nothing():
     held = hold_floors(one)
     assert np.array_equal(held.position, walk.position)
     assert _vertical(held)["level_strides"] == 0 and _vertical(held)["floors_changed"] == 0
+
+
+# -- the swing's own rise ---------------------------------------------------------------------
+
+
+def test_the_swing_rise_is_the_height_before_the_update_less_the_last_update_s():
+    # updates at 0-1, 4-5 and 8; heights by hand: 1.0 at sample 1 (the last update), 1.5 at
+    # sample 3 (just before the next run), 1.3 at 5, 1.2 at 7
+    z = np.array([0.0, 1.0, 1.2, 1.5, 1.4, 1.3, 1.1, 1.2, 0.9])
+    zupt = np.array([1, 1, 0, 0, 1, 1, 0, 0, 1], bool)
+    rise, carry = swing_rises(z, zupt)
+    assert np.flatnonzero(np.isfinite(rise)).tolist() == [4, 8]  # the first run has nothing before it
+    np.testing.assert_allclose(rise[[4, 8]], [1.5 - 1.0, 1.2 - 1.3], atol=1e-15)
+    assert carry == (0.9, True, 0.9)
+    # the stances' values: the first finite one within each
+    np.testing.assert_allclose(stance_swing_rises(rise, np.array([[0, 2], [3, 6], [8, 9]])), [np.nan, 0.5, -0.1], atol=1e-15)
+
+
+@pytest.mark.parametrize("chunk", [1, 2, 3, 5])
+def test_the_swing_rise_in_chunks_is_the_whole_s(chunk):
+    rng = np.random.default_rng(3)
+    z = rng.normal(size=40)
+    zupt = rng.random(40) < 0.5
+    whole, _ = swing_rises(z, zupt)
+    carry, got = (np.nan, False, np.nan), []
+    for i in range(0, 40, chunk):
+        part, carry = swing_rises(z[i : i + chunk], zupt[i : i + chunk], carry)
+        got.append(part)
+    np.testing.assert_array_equal(np.concatenate(got), whole)
+
+
+def _with_swing(walk, swing):
+    """``walk`` whose stances 1.. report ``swing`` (m) as the strapdown's rise before them."""
+    return replace(walk, swing_rise_m=np.concatenate(([np.nan], swing)))
+
+
+def test_a_stride_the_strapdown_did_not_climb_is_held_level():
+    # the filter rises 0.15 m on strides 1 and 2; the strapdown rose on stride 1 only, stride 2
+    # it did not (a false residual at the landing), stride 3 rose the other way: held
+    rises = [0.02, 0.15, 0.15, 0.15, 0.30]
+    swing = [0.0, 0.12, 0.01, -0.2, 0.09]
+    held = hold_floors(_with_swing(_walk(rises), swing))
+    h = stance_heights(held.position[:, 2], held.steps)
+    np.testing.assert_allclose(np.diff(h), [0.0, 0.15, 0.0, 0.0, 0.30], atol=1e-12)
+    v = _vertical(held)
+    assert v["stair_strides"] == 2 and v["swing_held_strides"] == 2 and v["level_strides"] == 3
+    assert v["removed_m"] == pytest.approx(0.32) and v["climb_m"] == pytest.approx(0.45)
+    # unknown (NaN) the filter's rise decides alone, as with no swing rise at all
+    plain = hold_floors(_walk(rises))
+    nan = hold_floors(_with_swing(_walk(rises), [np.nan] * 5))
+    assert np.array_equal(nan.position, plain.position) and _vertical(plain)["swing_held_strides"] == 0
+    assert _vertical(plain)["stair_strides"] == 4
+
+
+@pytest.mark.parametrize("chunk", [1, 7, 350])
+def test_the_holder_with_swing_rises_in_chunks_gives_the_whole_walk_s(chunk):
+    rng = np.random.default_rng(1)
+    rises = list(rng.normal(0.0, 0.1, 14))
+    walk = _with_swing(_walk(rises), rng.normal(0.0, 0.1, 14))
+    whole = hold_floors(walk)
+    assert 0 < _vertical(whole)["swing_held_strides"] < _vertical(whole)["level_strides"]
+    s = np.zeros(len(walk.t), bool)
+    sw = np.full(len(walk.t), np.nan)
+    for (a, b), r in zip(walk.steps, walk.swing_rise_m):
+        s[a:b] = True
+        sw[a + 2] = r  # within the stance: its first update need not be its first sample
+    holder, got, n = FloorHolder(), [], len(walk.t)
+    for i in range(0, n, chunk):
+        j = min(n, i + chunk)
+        closed = j < n and s[j - 1] and not s[j]
+        got.append(holder.push(walk.t[i:j], walk.position[i:j], walk.velocity[i:j], walk.quaternion[i:j], s[i:j],
+                               closed=closed, swing_rise=sw[i:j]))
+    got.append(holder.flush())
+    p = np.concatenate([g[1] for g in got])
+    assert np.array_equal(p, whole.position)
+    assert {"model": "floors", **holder.floors().to_meta()} == _vertical(whole)
+
+
+def test_a_swing_rise_per_step_must_match_the_steps():
+    walk = _walk([0.02, 0.02])
+    with pytest.raises(Exception, match="swing_rise_m"):
+        replace(walk, swing_rise_m=np.zeros(2))

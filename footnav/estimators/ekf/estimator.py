@@ -36,7 +36,7 @@ from footnav.estimators.ekf.filter import InsFilter
 from footnav.estimators.ekf.online import OnlineInsFilter
 from footnav.estimators.ekf.smoother import KEEP_RECORD_MB, SMOOTHERS, SegmentRecords, StepSmoother, smooth
 from footnav.nav import quaternion as quat
-from footnav.nav.floors import LEVEL_RISE_MAX_M
+from footnav.nav.floors import LEVEL_RISE_MAX_M, stance_swing_rises, swing_rises
 from footnav.nav.heading import turn_to_first_step
 from footnav.nav.heading_drift import TURN_ON_BIAS_STD_RADPS, heading_drift_cov, standstill_rate_std
 from footnav.nav.initial_alignment import align_first_stance
@@ -443,6 +443,8 @@ class EkfEstimator(FootEstimator):
         along +x (:func:`footnav.nav.heading.turn_to_first_step`; in place when not copied).
         """
         q_out, vel, pos, pos_cov = filt.outputs(foot)
+        fed = filt.samples(foot)
+        swing = stance_swing_rises(swing_rises(pos[:, 2], fed.zupt)[0], stance.intervals)
         if smoothed is not None:
             sl = slice(filt.global_index(foot, 0), filt.global_index(foot, len(q_out) - 1) + 1)
             q_out, vel, pos = (x[sl] for x in smoothed)
@@ -450,8 +452,8 @@ class EkfEstimator(FootEstimator):
             pos, vel, q_out = pos.copy(), vel.copy(), q_out.copy()
             pos_cov = pos_cov if self.heading_drift_in_std and self.n_states == 9 else pos_cov.copy()
         return self.package(
-            filt.samples(foot).t, q_out, vel, pos, pos_cov, filt.start_index(foot), filt.meta[foot], stance.intervals,
-            smoothed=smoothed is not None, heading=heading, biases=self.final_biases(filt, foot),
+            fed.t, q_out, vel, pos, pos_cov, filt.start_index(foot), filt.meta[foot], stance.intervals,
+            smoothed=smoothed is not None, heading=heading, biases=self.final_biases(filt, foot), swing_rise=swing,
         )
 
     def final_biases(self, filt: InsFilter, foot: int) -> tuple | None:
@@ -476,12 +478,14 @@ class EkfEstimator(FootEstimator):
         smoothed: bool,
         heading: bool,
         biases: tuple | None = None,
+        swing_rise: NDArray[np.float64] | None = None,
     ) -> FootTrajectory:
         """A foot's :class:`FootTrajectory` from its per-sample estimate (the arrays are taken,
         turned in place with ``heading``): ``pos_cov`` the forward filter's position covariance
         (xx, xy, yy, zz, m^2), ``start_index`` where the filter started, ``filter_meta`` the
         alignment's notes, ``steps`` the stance intervals, ``biases`` (15 states) the final
-        accelerometer and gyro biases and their stds. Used by :meth:`trajectory` and by online
+        accelerometer and gyro biases and their stds, ``swing_rise`` the swing's own rise before
+        each stance (:func:`footnav.nav.floors.stance_swing_rises`). Used by :meth:`trajectory` and by online
         mode (:mod:`footnav.pipeline.online`), which keeps the arrays itself."""
         meta = {"estimator": self.describe(), **filter_meta, "smoother": self.smoother if smoothed else "none"}
         if biases is not None:
@@ -499,7 +503,7 @@ class EkfEstimator(FootEstimator):
             pos, vel, q, std = turn_to_first_step(pos, vel, q, pos_cov, steps, meta)
         else:
             std = np.sqrt(np.maximum(pos_cov[:, [0, 2, 3]], 0.0))
-        return FootTrajectory(t=t, position=pos, velocity=vel, quaternion=q, position_std=std, steps=steps, meta=meta)
+        return FootTrajectory(t=t, position=pos, velocity=vel, quaternion=q, position_std=std, steps=steps, meta=meta, swing_rise_m=swing_rise)
 
     # -- the estimator ---------------------------------------------------------------------------
     def estimate(self, imu: ImuData, stance: StanceResult) -> FootTrajectory:

@@ -37,7 +37,7 @@ and :func:`hold_floors` is the same holder fed a whole trajectory: both give the
 
 from __future__ import annotations
 
-from collections import OrderedDict
+from collections import OrderedDict, deque
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -55,8 +55,10 @@ __all__ = [
     "floor_changes",
     "hold_floors",
     "hold_result_floors",
+    "stair_strides",
     "stance_heights",
     "stance_swing_rises",
+    "swing_offsets",
     "swing_rises",
 ]
 
@@ -69,6 +71,8 @@ FLOOR_MIN_RISE_M = 1.8
 STOREY_M = 3.0
 #: Level strides a flight may hold between two stair strides (a landing) and stay one flight.
 LANDING_STRIDES = 4
+#: Level strides before each whose swing rises give the strapdown's offset (median).
+SWING_OFFSET_STRIDES = 15
 
 
 @dataclass(frozen=True, eq=False)
@@ -196,6 +200,41 @@ def stance_swing_rises(rise: NDArray[np.float64], steps: NDArray[np.int64]) -> N
     return np.where(at < len(vals), vals[np.minimum(at, len(vals) - 1)], np.nan)
 
 
+def stair_strides(rise: NDArray[np.float64], swing: NDArray[np.float64], level_rise_max_m: float = LEVEL_RISE_MAX_M) -> NDArray[np.bool_]:
+    """Which strides are stair strides: the filter's ``rise`` (m) at least ``level_rise_max_m``
+    either way, and the swing's own rise ``swing`` (m, :func:`swing_rises`, its offset
+    :func:`swing_offsets` added) too, the same way, where it is known (not NaN). Same shapes in,
+    a bool array out."""
+    rise, swing = np.asarray(rise, dtype=float), np.asarray(swing, dtype=float)
+    agree = (np.abs(swing) >= level_rise_max_m) & (np.sign(swing) == np.sign(rise))
+    return (np.abs(rise) >= level_rise_max_m) & (np.isnan(swing) | agree)
+
+
+def swing_offsets(
+    rise: NDArray[np.float64], swing: NDArray[np.float64], level_rise_max_m: float = LEVEL_RISE_MAX_M,
+    history: deque | None = None,
+) -> tuple[NDArray[np.float64], deque]:
+    """The strapdown's own offset before each stride, to add to its swing rise: minus the median
+    swing rise ``swing`` (m) of the :data:`SWING_OFFSET_STRIDES` latest strides before it whose
+    filter ``rise`` (m) is level (under ``level_rise_max_m``), 0 with none before; ``history``:
+    those earlier swing rises, oldest first (updated and returned).
+
+    On a level stride the true rise is zero, so there the strapdown's swing rise is its own
+    error: an accelerometer that clips, or reads off scale, loses (or gains) height at every
+    stride alike (the simulator's storey clipped at 3 g: -0.14 m per stride), and the filter's
+    update gives it back. A landing that starts the update while the foot still moves lifts the
+    filter, not the strapdown, so it is not taken for the strapdown's offset (docs/height.md,
+    section 9)."""
+    hist: deque = deque(history or (), maxlen=SWING_OFFSET_STRIDES)
+    level = np.abs(np.asarray(rise, dtype=float)) < level_rise_max_m
+    out = np.zeros(len(level))
+    for k, x in enumerate(np.asarray(swing, dtype=float)):
+        out[k] = -float(np.median(hist)) if hist else 0.0
+        if level[k] and np.isfinite(x):
+            hist.append(float(x))
+    return out, hist
+
+
 def floor_changes(rise_m: NDArray[np.float64], stair: NDArray[np.bool_]) -> tuple[NDArray[np.int64], list[dict]]:
     """Floor index per stance (K,) and the flights of stairs, from the strides' rises (K-1,)."""
     level = np.zeros(len(rise_m) + 1, dtype=np.int64)
@@ -254,6 +293,7 @@ class FloorHolder:
         self.rises: list[float] = []
         self.stairs: list[bool] = []
         self.swing_held = 0
+        self._offsets: deque = deque(maxlen=SWING_OFFSET_STRIDES)  # the latest level strides' swing rises
         self.walked_m = 0.0
         #: stance end time (s) -> the correction its samples got (m), in time order, until
         #: :meth:`held_at` has been asked for it or a later one
@@ -357,11 +397,11 @@ class FloorHolder:
             prev_end = np.concatenate(([self._prev_end_t], end_t[:-1]))
             counted = np.ones(len(runs), bool)
         rise = h - prev_h
-        swing = stance_swing_rises(sw, runs)
-        bound = self.level_rise_max_m
-        agree = (np.abs(swing) >= bound) & (np.sign(swing) == np.sign(rise))
-        held_by_swing = (np.abs(rise) >= bound) & np.isfinite(swing) & ~agree
-        level = counted & ((np.abs(rise) < bound) | held_by_swing)
+        swing = np.where(counted, stance_swing_rises(sw, runs), np.nan)  # the walk's first stance has no stride
+        offset, self._offsets = swing_offsets(rise, swing, self.level_rise_max_m, self._offsets)
+        stair = stair_strides(rise, swing + offset, self.level_rise_max_m)
+        held_by_swing = (np.abs(rise) >= self.level_rise_max_m) & ~stair
+        level = counted & ~stair
         c = np.where(level, -rise, 0.0)
         # at each stance; summed from the last one held, in order, so that samples given in any
         # chunks give the same bits as the whole walk

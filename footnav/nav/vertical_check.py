@@ -4,7 +4,8 @@ A ZUPT filter does not observe height, and its usual failure there is quiet: the
 (or sink) a few centimetres per stride, a flat walk ends a metre above its start, and nothing
 says so (docs/height.md). Stairs change the height in steps of a riser or more; drift changes it
 a little at every stride. :func:`check_vertical` takes one foot's trajectory, splits its strides
-(stance to stance) into level and stair strides as :mod:`footnav.nav.floors` does, and measures
+(stance to stance) into level and stair strides as :mod:`footnav.nav.floors` does (the swing's
+own rise too, where the trajectory has it), and measures
 the height gained over the level strides per 100 m walked on them. A trend of at least
 :data:`WARN_RATE_M_PER_100M` that adds up to :data:`WARN_TREND_M` over the walk, made by most of
 the level strides rising (or falling) alike, is a DataQualityWarning.
@@ -20,7 +21,7 @@ from typing import Any
 
 import numpy as np
 
-from footnav.nav.floors import LEVEL_RISE_MAX_M, stance_heights
+from footnav.nav.floors import LEVEL_RISE_MAX_M, stair_strides, stance_heights, swing_offsets
 from footnav.types import FootTrajectory
 
 __all__ = ["WARN_RATE_M_PER_100M", "WARN_TREND_M", "VerticalCheck", "check_vertical"]
@@ -115,7 +116,8 @@ def check_vertical(traj: FootTrajectory, *, level_rise_max_m: float = LEVEL_RISE
         return VerticalCheck(0, 0, 0.0, 0.0, 0.0, 0.0)
     rise = np.diff(stance_heights(traj.position[:, 2], steps))
     length = np.linalg.norm(np.diff(traj.footprints[:, :2], axis=0), axis=1)
-    level = np.abs(rise) < level_rise_max_m
+    swing = np.full(len(rise), np.nan) if traj.swing_rise_m is None else traj.swing_rise_m[1:]
+    level = ~stair_strides(rise, swing + swing_offsets(rise, swing, level_rise_max_m)[0], level_rise_max_m)
     walked = float(length[level].sum())
     trend = float(rise[level].sum())
     rate = 100.0 * trend / walked if walked > 0 else 0.0

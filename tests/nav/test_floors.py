@@ -19,6 +19,7 @@ from footnav.nav.floors import (
     hold_floors,
     stance_heights,
     stance_swing_rises,
+    swing_offsets,
     swing_rises,
 )
 from dataclasses import replace
@@ -329,3 +330,18 @@ def test_a_swing_rise_per_step_must_match_the_steps():
     walk = _walk([0.02, 0.02])
     with pytest.raises(Exception, match="swing_rise_m"):
         replace(walk, swing_rise_m=np.zeros(2))
+
+
+def test_a_strapdown_that_loses_height_at_every_stride_keeps_the_stairs():
+    # an accelerometer that clips loses height in the strapdown at every stride alike (the
+    # simulator's storey clipped at 3 g: -0.14 m per stride): its level strides' swing rise is
+    # its offset, and a half-flight stride of +0.17 m whose swing rose only +0.03 m is a stair
+    rises = [0.0, -0.02, 0.01, 0.17, 0.34, 0.0]
+    swing = [-0.14, -0.15, -0.13, 0.03, 0.20, -0.14]
+    held = hold_floors(_with_swing(_walk(rises), swing))
+    v = _vertical(held)
+    assert v["stair_strides"] == 2 and v["swing_held_strides"] == 0
+    np.testing.assert_allclose(swing_offsets(np.array(rises), np.array(swing))[0], [0.0, 0.14, 0.145, 0.14, 0.14, 0.14], atol=1e-12)
+    # with no level stride before it, the same stride has nothing to correct it: held
+    first = hold_floors(_with_swing(_walk(rises[3:]), swing[3:]))
+    assert _vertical(first)["swing_held_strides"] == 1 and _vertical(first)["stair_strides"] == 1

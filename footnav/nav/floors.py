@@ -24,11 +24,13 @@ at least :data:`FLOOR_MIN_RISE_M` changes the level by ``max(1, round(rise / STO
 A stride is a stair one only when the strapdown agrees: its own height change over the swing
 (:func:`swing_rises`: the forward filter's height just before the stance's first zero-velocity
 update, less its height at the previous stance's last one: the integration alone, before the
-update shares its velocity residual with position) rises or falls by at least the same bound, in
-the same direction. Where the filter lifts a level stride by a false residual at the landing (the
-foot still moving when the update starts) the strapdown did not rise and the stride is held; a
-real stair rises in both (docs/height.md, section 9). Without the swing's rise (another
-estimator, a coupled fusion) the filter's rise decides alone.
+update shares its velocity residual with position) rises or falls by at least half the bound
+(:data:`SWING_SHARE`), in the same direction, once the strapdown's own offset on level strides
+is removed (:func:`swing_offsets`: a clipping accelerometer loses height at every stride). Where
+the filter lifts a level stride by a false residual at the landing (the foot still moving when
+the update starts) the strapdown did not rise and the stride is held; a real stair rises in both
+(docs/height.md, section 9). Without the swing's rise (another estimator, a coupled fusion) the
+filter's rise decides alone.
 
 The correction of a stride needs only that stride's two stances, so :class:`FloorHolder` makes it
 as the samples come, stance by stance (a live stream's samples, :mod:`footnav.pipeline.online`),
@@ -73,6 +75,12 @@ STOREY_M = 3.0
 LANDING_STRIDES = 4
 #: Level strides before each whose swing rises give the strapdown's offset (median).
 SWING_OFFSET_STRIDES = 15
+#: The strapdown's resolution per stride, a share of ``level_rise_max_m``: a stair stride's swing
+#: must rise at least this much of the bound (its offset removed), and an offset counts from it
+#: on. A sound strapdown's level strides scatter by a few cm about zero (on the shared walks their
+#: median is within 0.03 m); a flight's first stride can rise less than the bound in it (gaitmap's
+#: stairs, left foot: 0.08 m in the filter, 0.07 m in the strapdown).
+SWING_SHARE = 0.5
 
 
 @dataclass(frozen=True, eq=False)
@@ -203,10 +211,10 @@ def stance_swing_rises(rise: NDArray[np.float64], steps: NDArray[np.int64]) -> N
 def stair_strides(rise: NDArray[np.float64], swing: NDArray[np.float64], level_rise_max_m: float = LEVEL_RISE_MAX_M) -> NDArray[np.bool_]:
     """Which strides are stair strides: the filter's ``rise`` (m) at least ``level_rise_max_m``
     either way, and the swing's own rise ``swing`` (m, :func:`swing_rises`, its offset
-    :func:`swing_offsets` added) too, the same way, where it is known (not NaN). Same shapes in,
-    a bool array out."""
+    :func:`swing_offsets` added) at least :data:`SWING_SHARE` of it the same way, where it is
+    known (not NaN). Same shapes in, a bool array out."""
     rise, swing = np.asarray(rise, dtype=float), np.asarray(swing, dtype=float)
-    agree = (np.abs(swing) >= level_rise_max_m) & (np.sign(swing) == np.sign(rise))
+    agree = (np.abs(swing) >= SWING_SHARE * level_rise_max_m) & (np.sign(swing) == np.sign(rise))
     return (np.abs(rise) >= level_rise_max_m) & (np.isnan(swing) | agree)
 
 
@@ -216,8 +224,9 @@ def swing_offsets(
 ) -> tuple[NDArray[np.float64], deque]:
     """The strapdown's own offset before each stride, to add to its swing rise: minus the median
     swing rise ``swing`` (m) of the :data:`SWING_OFFSET_STRIDES` latest strides before it whose
-    filter ``rise`` (m) is level (under ``level_rise_max_m``), 0 with none before; ``history``:
-    those earlier swing rises, oldest first (updated and returned).
+    filter ``rise`` (m) is level (under ``level_rise_max_m``), when that median is at least
+    :data:`SWING_SHARE` of the bound, else 0 (and 0 with none before); ``history``: those
+    earlier swing rises, oldest first (updated and returned).
 
     On a level stride the true rise is zero, so there the strapdown's swing rise is its own
     error: an accelerometer that clips, or reads off scale, loses (or gains) height at every
@@ -229,7 +238,8 @@ def swing_offsets(
     level = np.abs(np.asarray(rise, dtype=float)) < level_rise_max_m
     out = np.zeros(len(level))
     for k, x in enumerate(np.asarray(swing, dtype=float)):
-        out[k] = -float(np.median(hist)) if hist else 0.0
+        m = float(np.median(hist)) if hist else 0.0
+        out[k] = -m if abs(m) >= SWING_SHARE * level_rise_max_m else 0.0
         if level[k] and np.isfinite(x):
             hist.append(float(x))
     return out, hist

@@ -345,3 +345,14 @@ def test_a_strapdown_that_loses_height_at_every_stride_keeps_the_stairs():
     # with no level stride before it, the same stride has nothing to correct it: held
     first = hold_floors(_with_swing(_walk(rises[3:]), swing[3:]))
     assert _vertical(first)["swing_held_strides"] == 1 and _vertical(first)["stair_strides"] == 1
+
+
+def test_a_sound_strapdown_s_scatter_is_no_offset_and_half_the_bound_is_a_stair():
+    # level strides' swing rises of -0.02 m (within the scatter of a sound strapdown) give no
+    # offset; a flight's first stride, 0.08 m in the filter and 0.07 m in the strapdown (gaitmap's
+    # stairs, left foot), is a stair; 0.03 m in the strapdown is not
+    rises = np.array([0.0, 0.01, 0.08, 0.08])
+    swing = np.array([-0.02, -0.03, 0.07, 0.03])
+    np.testing.assert_array_equal(swing_offsets(rises, swing)[0], np.zeros(4))
+    held = hold_floors(_with_swing(_walk(list(rises)), list(swing)))
+    assert _vertical(held)["stair_strides"] == 1 and _vertical(held)["swing_held_strides"] == 1

@@ -444,7 +444,10 @@ class EkfEstimator(FootEstimator):
         """
         q_out, vel, pos, pos_cov = filt.outputs(foot)
         fed = filt.samples(foot)
-        swing = stance_swing_rises(swing_rises(pos[:, 2], fed.zupt)[0], stance.intervals)
+        # the swing's own rise (the floors' check of a stair): one foot's filter only, where the
+        # forward height between two stances is the strapdown's (a joint filter's carries the
+        # coupling's updates, and a coupled fusion's result has none, offline and online)
+        swing = stance_swing_rises(swing_rises(pos[:, 2], fed.zupt)[0], stance.intervals) if filt.n_feet == 1 else None
         if smoothed is not None:
             sl = slice(filt.global_index(foot, 0), filt.global_index(foot, len(q_out) - 1) + 1)
             q_out, vel, pos = (x[sl] for x in smoothed)

@@ -234,15 +234,20 @@ def swing_offsets(
     update gives it back. A landing that starts the update while the foot still moves lifts the
     filter, not the strapdown, so it is not taken for the strapdown's offset (docs/height.md,
     section 9)."""
-    hist: deque = deque(history or (), maxlen=SWING_OFFSET_STRIDES)
-    level = np.abs(np.asarray(rise, dtype=float)) < level_rise_max_m
-    out = np.zeros(len(level))
-    for k, x in enumerate(np.asarray(swing, dtype=float)):
-        m = float(np.median(hist)) if hist else 0.0
-        out[k] = -m if abs(m) >= SWING_SHARE * level_rise_max_m else 0.0
-        if level[k] and np.isfinite(x):
-            hist.append(float(x))
-    return out, hist
+    n_win = SWING_OFFSET_STRIDES
+    old = np.asarray(history or (), dtype=float)[-n_win:]
+    swing = np.asarray(swing, dtype=float)
+    kept = (np.abs(np.asarray(rise, dtype=float)) < level_rise_max_m) & np.isfinite(swing)
+    values = np.concatenate((np.full(n_win, np.nan), old, swing[kept]))
+    # before stride k the window holds the latest n_win values of ``values`` counted so far
+    count = len(old) + np.concatenate(([0], np.cumsum(kept)[:-1])).astype(np.int64)
+    out = np.zeros(len(swing))
+    some = count > 0
+    if some.any():
+        windows = np.lib.stride_tricks.sliding_window_view(values, n_win)[count[some]]
+        m = np.nanmedian(windows, axis=1)
+        out[some] = np.where(np.abs(m) >= SWING_SHARE * level_rise_max_m, -m, 0.0)
+    return out, deque(values[n_win:][-n_win:].tolist(), maxlen=n_win)
 
 
 def floor_changes(rise_m: NDArray[np.float64], stair: NDArray[np.bool_]) -> tuple[NDArray[np.int64], list[dict]]:

@@ -356,3 +356,31 @@ def test_a_sound_strapdown_s_scatter_is_no_offset_and_half_the_bound_is_a_stair(
     np.testing.assert_array_equal(swing_offsets(rises, swing)[0], np.zeros(4))
     held = hold_floors(_with_swing(_walk(list(rises)), list(swing)))
     assert _vertical(held)["stair_strides"] == 1 and _vertical(held)["swing_held_strides"] == 1
+
+
+def _offsets_by_loop(rise, swing, bound=LEVEL_RISE_MAX_M):
+    """swing_offsets' rule, one stride at a time (the reference)."""
+    from footnav.nav.floors import SWING_OFFSET_STRIDES, SWING_SHARE
+
+    hist, out = [], []
+    for r, x in zip(rise, swing):
+        m = float(np.median(hist[-SWING_OFFSET_STRIDES:])) if hist else 0.0
+        out.append(-m if abs(m) >= SWING_SHARE * bound else 0.0)
+        if abs(r) < bound and np.isfinite(x):
+            hist.append(x)
+    return np.array(out)
+
+
+@pytest.mark.parametrize("chunk", [1, 4, 50])
+def test_swing_offsets_are_the_loop_s_in_any_chunks(chunk):
+    rng = np.random.default_rng(5)
+    rise = rng.normal(0.0, 0.08, 50)
+    swing = rng.normal(-0.05, 0.05, 50)
+    swing[rng.random(50) < 0.1] = np.nan
+    ref = _offsets_by_loop(rise, swing)
+    assert np.count_nonzero(ref) > 10 and np.count_nonzero(ref == 0.0) > 2
+    hist, got = None, []
+    for i in range(0, 50, chunk):
+        part, hist = swing_offsets(rise[i : i + chunk], swing[i : i + chunk], history=hist)
+        got.append(part)
+    np.testing.assert_allclose(np.concatenate(got), ref, atol=1e-15)

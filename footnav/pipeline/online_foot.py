@@ -15,6 +15,7 @@ no filter's internals. What a push takes and returns is in :mod:`footnav.pipelin
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 from collections import deque
 from typing import Any, cast
 
@@ -463,8 +464,14 @@ class FootStream:
         q, v, p, pcov = filt.final_outputs(0)
         fed = filt.samples(0)
         t, stance = fed.t[a:b], fed.stance[a:b]
-        zupt = getattr(fed, "zupt", fed.stance)  # an estimator of the online contract without its own update rows
-        swing, self._swing_carry = swing_rises(filt.outputs(0)[2][a:b, 2], zupt[a:b], self._swing_carry)
+        # the swing's own rise at each stance (the floors' stair check), from a filter that gives
+        # its forward outputs (the ekf's; the online contract does not ask for them)
+        forward = getattr(filt, "outputs", None)
+        if forward is None:
+            swing = np.full(b - a, np.nan)
+        else:
+            zupt = getattr(fed, "zupt", fed.stance)
+            swing, self._swing_carry = swing_rises(forward(0)[2][a:b, 2], zupt[a:b], self._swing_carry)
         self.out.append(t, q[a:b], v[a:b], p[a:b], pcov[a:b], stance, swing)
         next_stance = False if final else bool(fed.stance[b]) if b < self.n_fed - self.seg0 else True
         self.steps.add(t, p[a:b], stance, next_stance)
@@ -555,7 +562,9 @@ class FootStream:
         )
         traj = est.package(
             t, q, v, p, pcov, self.start_index, self.meta, runs, smoothed=est.smoother != "none",
-            heading=est.heading == "first-step", biases=est.final_biases(self.filt, 0), swing_rise=stance_swing_rises(swing, runs),
+            heading=est.heading == "first-step", biases=est.final_biases(self.filt, 0),
         )
+        if getattr(self.filt, "outputs", None) is not None:  # what the ekf's trajectory carries offline
+            traj = replace(traj, swing_rise_m=stance_swing_rises(swing, runs))
         traj.meta["online"] = True
         return traj, stance

@@ -16,6 +16,13 @@ if not os.environ.get("NUMBA_CACHE_DIR"):
     from numba_cache_key import numba_cache_dir
 
     os.environ["NUMBA_CACHE_DIR"] = numba_cache_dir()
+# Under pytest-xdist (`pytest -n 2`) each worker caches in its own subfolder: numba's cache is not
+# safe for two processes compiling the same function at once (both pick the same free data-file
+# name for different signatures, and the index of one can end up naming the machine code of the
+# other). A pytest that a test starts inherits both variables and keeps its worker's folder.
+_worker = os.environ.get("PYTEST_XDIST_WORKER")
+if _worker and os.path.basename(os.environ["NUMBA_CACHE_DIR"]) != _worker:
+    os.environ["NUMBA_CACHE_DIR"] = os.path.join(os.environ["NUMBA_CACHE_DIR"], _worker)
 
 import pytest  # noqa: E402
 
@@ -23,6 +30,26 @@ os.environ["FOOTNAV_DISABLE_PLUGIN_AUTOLOAD"] = "1"
 
 #: ../shared/data beside the repository, or $FOOTNAV_DATA.
 SHARED_DATA = Path(os.environ.get("FOOTNAV_DATA", Path(__file__).resolve().parents[1].parent / "shared" / "data"))
+
+
+def pytest_configure(config):
+    """Under pytest-xdist the controller collects nothing, so it never loads tests/faults/conftest.py
+    as a conftest; it is registered there as a plugin instead, to count the workers' fault-injection
+    reports and print their summary (and write FOOTNAV_FAULT_REPORT) once, as a serial run does."""
+    if hasattr(config, "workerinput") or getattr(config.option, "dist", "no") == "no" or config.option.collectonly:
+        return
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("footnav_tests_faults_conftest", Path(__file__).parent / "faults" / "conftest.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    config.pluginmanager.register(module, "footnav-faults-summary")
+
+
+def pytest_collection_modifyitems(items):
+    """The tests marked slow (long subprocess runs, cold numba compiles) run first, in their order,
+    so that with several workers (pytest -n) none of them is left running alone at the end."""
+    items.sort(key=lambda item: item.get_closest_marker("slow") is None)  # stable: the rest keep their order
 
 
 @pytest.fixture

@@ -24,21 +24,34 @@ _HANDLED: list[str] = []
 _OUTCOMES: dict[str, dict] = {}
 
 
+#: The rootdir the reports' node ids are relative to (set by pytest_configure).
+_ROOT: list[Path] = []
+
+
 def _ours(item) -> bool:
     return _HERE in Path(item.path).resolve().parents
 
 
-@pytest.hookimpl(hookwrapper=True)
-def pytest_runtest_makereport(item, call):
-    outcome = yield
-    report = outcome.get_result()
-    fault = item.get_closest_marker("fault") is not None
+def _ours_report(report) -> bool:
+    return _HERE in (_ROOT[0] / report.nodeid.split("::")[0]).resolve().parents
+
+
+def _worker(config) -> bool:
+    """True in a pytest-xdist worker: its reports reach the controller, which counts and writes."""
+    return hasattr(config, "workerinput")
+
+
+def pytest_runtest_logreport(report):
+    # logreport, not makereport: under pytest-xdist (pytest -n 2) it also runs in the controller,
+    # with the workers' reports, so the summary counts every worker's cases
+    fault = "fault" in report.keywords
     if report.when == "call" and fault:
-        _TRIED.append(item.nodeid)
+        _TRIED.append(report.nodeid)
         if report.passed:
-            _HANDLED.append(item.nodeid)
-    if _ours(item):
-        entry = _OUTCOMES.setdefault(item.nodeid, {"file": Path(item.path).name, "fault": fault, "outcome": "not run"})
+            _HANDLED.append(report.nodeid)
+    if _ours_report(report):
+        entry = _OUTCOMES.setdefault(report.nodeid, {"file": Path(report.nodeid.split("::")[0]).name, "fault": fault,
+                                                     "outcome": "not run"})
         if report.skipped:
             entry["outcome"] = "skipped"
         elif report.failed:
@@ -48,6 +61,7 @@ def pytest_runtest_makereport(item, call):
 
 
 def pytest_configure(config):
+    _ROOT[:] = [Path(config.rootpath)]
     config.addinivalue_line("markers", "fault: a bad-input case of the fault-injection suite")
 
 
@@ -61,7 +75,7 @@ def pytest_collection_finish(session):
 
 def pytest_sessionfinish(session, exitstatus):
     path = os.environ.get(REPORT_ENV)
-    if path:
+    if path and not _worker(session.config):
         report = {"exitstatus": int(exitstatus), "tests": _OUTCOMES}
         Path(path).write_text(json.dumps(report, indent=1), encoding="utf-8")
 

@@ -328,7 +328,9 @@ def test_the_holder_with_swing_rises_in_chunks_gives_the_whole_walk_s(chunk):
 
 def test_a_swing_rise_per_step_must_match_the_steps():
     walk = _walk([0.02, 0.02])
-    with pytest.raises(Exception, match="swing_rise_m"):
+    from footnav.errors import InvalidInputError
+
+    with pytest.raises(InvalidInputError, match="swing_rise_m"):
         replace(walk, swing_rise_m=np.zeros(2))
 
 

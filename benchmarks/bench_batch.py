@@ -18,7 +18,7 @@ from functools import partial
 
 import footnav
 from footnav.analysis.batch import evaluate_many
-from footnav.types import Recording
+from footnav.core.types import Recording
 
 
 def simulate_named(seed: int, scale: float = 1.0) -> Recording:

@@ -32,7 +32,7 @@ def main() -> None:
 
     t0 = time.perf_counter()
     import footnav
-    from footnav.types import StanceResult
+    from footnav.core.types import StanceResult
     from footnav.estimators.ekf import EkfEstimator
 
     import_s = time.perf_counter() - t0

@@ -31,7 +31,7 @@ t0 = time.perf_counter()
 import footnav
 from dataclasses import replace
 from footnav.nav import quaternion as quat
-from footnav.types import StanceResult
+from footnav.core.types import StanceResult
 from footnav.estimators.madgwick import MadgwickEstimator
 t1 = time.perf_counter()
 rec = footnav.simulate("straight", seed=0, distance_m=10.0)
@@ -73,7 +73,7 @@ def main() -> None:
 
     import footnav
     from footnav.nav import quaternion as quat
-    from footnav.types import StanceResult
+    from footnav.core.types import StanceResult
     from footnav.estimators.madgwick import MadgwickEstimator
 
     est = MadgwickEstimator()

@@ -44,7 +44,7 @@ import numpy as np
 from _common import WALK_SPEED_MPS, best_of, cpu_name  # benchmarks/_common.py (scripts run from benchmarks/)
 
 import footnav
-from footnav.component import Fusion
+from footnav.core.component import Fusion
 from footnav.fusion.independent import IndependentFusion
 from footnav.fusion.joint import check_two_feet, finish_joint, start_joint
 from footnav.fusion.particle import ParticleFusion

@@ -1,7 +1,7 @@
 """MkDocs hook: the component pages are generated from footnav's registry at every build.
 
 Each built-in (and installed plugin) component gets its name, origin, needs, summary and the
-parameter table of :meth:`footnav.component.Component.parameter_info` (defaults, units and
+parameter table of :meth:`footnav.core.component.Component.parameter_info` (defaults, units and
 descriptions from the class's numpydoc), so the pages cannot drift from the code.
 """
 

@@ -12,7 +12,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 from footnav._lazy import lazy_exports
-from footnav.component import FootEstimator, Fusion, HeadingAid, StanceDetector
+from footnav.core.component import FootEstimator, Fusion, HeadingAid, StanceDetector
 from footnav.errors import (
     CompositionError,
     DataNotFoundError,
@@ -26,7 +26,7 @@ from footnav.errors import (
     PluginWarning,
     UnknownComponentError,
 )
-from footnav.warning_log import warn
+from footnav.core.warning_log import warn
 from footnav.pipeline.factory import (
     Pipeline,
     list_components,
@@ -38,7 +38,7 @@ from footnav.pipeline.factory import (
     make_pipeline,
 )
 from footnav.pipeline.result import PipelineResult
-from footnav.types import (
+from footnav.core.types import (
     GRAVITY_MPS2,
     FootTrajectory,
     FootTruth,

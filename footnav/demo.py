@@ -16,7 +16,7 @@ from pathlib import Path as FilePath
 from footnav.analysis.evaluation import EvaluationReport, evaluate
 from footnav.data.output import OutputClaim, claim_output, is_footnav_figure
 from footnav.pipeline.factory import make_pipeline
-from footnav.types import Recording
+from footnav.core.types import Recording
 
 __all__ = ["demo_recording", "run_demo", "DemoReport", "REFERENCE_ATE_2D_M"]
 

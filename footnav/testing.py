@@ -13,7 +13,7 @@ sample-aligned and deterministic, and that it is *right* on a short simulated wa
 100 Hz, against the simulator's truth): a detector's stances lie in the true stances and find each
 of them, an estimator's foot ends near its true position, a fusion keeps the left foot on the left.
 ``StepableEstimatorContract`` checks an estimator the coupled fusions drive
-(:class:`footnav.component.StepableEstimator`) by running every one of them with it.
+(:class:`footnav.core.component.StepableEstimator`) by running every one of them with it.
 The bounds are generous (5-10x what the built-ins measure) so they fail only a wrong component,
 e.g. one with a flipped ZUPT sign or the feet swapped. They need pytest.
 """
@@ -26,7 +26,7 @@ from typing import Any, ClassVar
 import numpy as np
 import pytest
 
-from footnav.component import (
+from footnav.core.component import (
     JOINT_FILTER_MEMBERS,
     FootEstimator,
     Fusion,
@@ -36,8 +36,8 @@ from footnav.component import (
     StepableEstimator,
     stepable_gaps,
 )
-from footnav.errors import InvalidParameterError
-from footnav.types import FootTrajectory, FusionResult, Recording, StanceResult, stance_intervals
+from footnav.core.errors import InvalidParameterError
+from footnav.core.types import FootTrajectory, FusionResult, Recording, StanceResult, stance_intervals
 
 __all__ = [
     "ComponentContract", "DetectorContract", "EstimatorContract", "FusionContract", "HeadingAidContract",
@@ -221,8 +221,8 @@ def _signed_separation(rec: Recording, res: FusionResult) -> float:
 
 class StepableEstimatorContract(EstimatorContract):
     """Contract for an estimator that coupled fusions drive step by step
-    (:class:`footnav.component.StepableEstimator`): it has every member, its ``start`` returns
-    a :class:`~footnav.component.JointFilter`, and every built-in coupled fusion run with it
+    (:class:`footnav.core.component.StepableEstimator`): it has every member, its ``start`` returns
+    a :class:`~footnav.core.component.JointFilter`, and every built-in coupled fusion run with it
     ends each foot near its truth with the left foot on the left."""
 
     #: The coupled fusions the contract runs (built-in names).
@@ -255,8 +255,8 @@ class StepableEstimatorContract(EstimatorContract):
 
 
 class OnlineEstimatorContract(EstimatorContract):
-    """Contract for an estimator a stream runs (:class:`footnav.online_contract.OnlineEstimator`):
-    it has every member, its ``start`` returns an :class:`~footnav.online_contract.OnlineFilter`,
+    """Contract for an estimator a stream runs (:class:`footnav.core.online_contract.OnlineEstimator`):
+    it has every member, its ``start`` returns an :class:`~footnav.core.online_contract.OnlineFilter`,
     and the ``threshold`` detector's pipeline with it, fed both feet of the contract walk in
     chunks into filter segments of ``online_segment`` samples (many ``rebase`` s), returns the
     offline run's positions within ``online_atol_m`` (per step with ``smoother="whole"``: its
@@ -268,14 +268,14 @@ class OnlineEstimatorContract(EstimatorContract):
     online_atol_m: ClassVar[float] = 1e-9
 
     def test_has_every_member_of_the_online_protocol(self):
-        from footnav.online_contract import OnlineEstimator, online_gaps
+        from footnav.core.online_contract import OnlineEstimator, online_gaps
 
         est = self.make()
         assert online_gaps(est) == [], f"{self.component.__name__} lacks {online_gaps(est)}"
         assert isinstance(est, OnlineEstimator)
 
     def test_start_returns_an_online_filter(self):
-        from footnav.online_contract import ONLINE_FILTER_MEMBERS, OnlineFilter
+        from footnav.core.online_contract import ONLINE_FILTER_MEMBERS, OnlineFilter
 
         rec = contract_walk()
         filt = self.make().start([rec.left], [StanceResult(rec.truth_left.stance)])
@@ -312,8 +312,8 @@ class OnlineEstimatorContract(EstimatorContract):
 
 
 class HeadingAidContract(ComponentContract):
-    """Contract for :class:`~footnav.component.HeadingAid` subclasses: ``correct`` returns a
-    :class:`~footnav.types.FusionResult` aligned with the fusion's, deterministic, and on the
+    """Contract for :class:`~footnav.core.component.HeadingAid` subclasses: ``correct`` returns a
+    :class:`~footnav.core.types.FusionResult` aligned with the fusion's, deterministic, and on the
     contract walk (ekf, true stances, ``independent`` fusion; with a magnetometer for an aid that
     needs one) each corrected foot still ends near its truth: an aid may turn the path, but not a
     straight walk away from its true heading."""

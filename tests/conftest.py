@@ -77,7 +77,7 @@ def _never_still_gait(floor_radps: float, rate_hz: float = 200.0, strides: int =
     stances at the floor all lie between two swings."""
     import numpy as np
 
-    from footnav.types import GRAVITY_MPS2, ImuData
+    from footnav.core.types import GRAVITY_MPS2, ImuData
 
     n_stride = int(stride_s * rate_hz)
     n_stance = int(0.2 * rate_hz)

@@ -39,7 +39,7 @@ sys.path.insert(0, os.path.dirname(__file__))
 from online_replay import _replay
 
 import footnav
-from footnav.types import stance_intervals
+from footnav.core.types import stance_intervals
 
 
 def _differences(live, offline):

@@ -11,7 +11,7 @@ import footnav
 from footnav.plugins.manager import get_registry
 from footnav.testing import DetectorContract, EstimatorContract, FusionContract, HeadingAidContract
 
-#: The contract of each component kind (footnav.component.KINDS).
+#: The contract of each component kind (footnav.core.component.KINDS).
 CONTRACTS = {
     "detector": DetectorContract,
     "estimator": EstimatorContract,

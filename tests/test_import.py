@@ -158,3 +158,13 @@ def test_importing_a_family_loads_none_of_its_components():
     loaded = _loaded_after("import footnav.detectors, footnav.estimators, footnav.fusion")
     assert _offenders(loaded, ["footnav.detectors.hmm", "footnav.detectors.adaptive", "footnav.estimators.ekf",
                                "footnav.fusion.particle", "sklearn", "hmmlearn"]) == []
+
+
+def test_the_public_errors_module_is_the_contracts_layers():
+    """``footnav.errors`` is the public path of :mod:`footnav.core.errors`: the same objects, all
+    of them, so ``except footnav.errors.InvalidInputError`` catches what the code raises."""
+    import footnav.core.errors as core_errors
+    import footnav.errors as public
+
+    assert public.__all__ == core_errors.__all__
+    assert all(getattr(public, name) is getattr(core_errors, name) for name in core_errors.__all__)

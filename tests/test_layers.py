@@ -12,13 +12,17 @@ import pytest
 PACKAGE = Path(__file__).resolve().parents[1] / "footnav"
 
 #: Rank of each top-level part of the package: a module may import its own rank or lower.
+#: The contracts layer ``core`` is ranked by its own parts (``core.types``, ...): its data types
+#: and errors below its component bases and Protocols, all of it below the numerics of ``nav``.
 LAYERS = {
-    "_version": 0, "_numba": 0, "_lazy": 0, "errors": 0, "warning_log": 0, "types": 0,
-    "component": 1, "online_contract": 1, "nav": 1,
-    "detectors": 2, "estimators": 2, "fusion": 2, "heading_aids": 2,
-    "pipeline": 3, "plugins": 3,
-    "analysis": 4, "data": 4, "report": 4,
-    "cli": 5, "demo": 5, "testing": 5, "__init__": 5,
+    "_version": 0, "_numba": 0, "_lazy": 0,
+    "core.errors": 1, "core.warning_log": 1, "core.types": 1, "errors": 1,
+    "core.component": 2, "core.online_contract": 2, "core": 2,
+    "nav": 3,
+    "detectors": 4, "estimators": 4, "fusion": 4, "heading_aids": 4,
+    "pipeline": 5, "plugins": 5,
+    "analysis": 6, "data": 6, "report": 6,
+    "cli": 7, "demo": 7, "testing": 7, "__init__": 7,
 }
 #: Modules nothing inside imports: the entry points (the console script, ``python -m``, the demo
 #: the CLI runs by name, the contracts third parties import, the built-in registrations pluggy loads).
@@ -33,7 +37,9 @@ def module_name(path: Path) -> str:
 
 def layer(module: str) -> int:
     parts = module.split(".")
-    return LAYERS["__init__"] if len(parts) == 1 else LAYERS[parts[1]]
+    if len(parts) == 1:
+        return LAYERS["__init__"]
+    return LAYERS[".".join(parts[1:3])] if parts[1] == "core" and len(parts) > 2 else LAYERS[parts[1]]
 
 
 def imports(path: Path) -> list[tuple[int, str]]:
@@ -78,8 +84,14 @@ def _sources() -> list[Path]:
 
 
 def test_every_part_of_the_package_has_a_layer():
-    tops = {p.relative_to(PACKAGE).parts[0].removesuffix(".py") for p in _sources()}
-    assert tops <= set(LAYERS), sorted(tops - set(LAYERS))
+    parts = {module_name(p) for p in _sources()}
+    unranked = []
+    for module in sorted(parts):
+        try:
+            layer(module)
+        except KeyError:
+            unranked.append(module)
+    assert unranked == []
 
 
 def test_imports_run_only_downwards():
@@ -87,24 +99,29 @@ def test_imports_run_only_downwards():
 
 
 def test_the_check_catches_an_import_that_runs_back_up(tmp_path, monkeypatch):
-    """A bottom-layer module importing the pipeline, and a module importing the package root."""
+    """A bottom-layer module importing the pipeline and a contract above it, and a module importing
+    the package root."""
     fake = tmp_path / "footnav"
-    (fake / "types").mkdir(parents=True)
+    (fake / "core" / "types").mkdir(parents=True)
     (fake / "nav").mkdir()
     (fake / "pipeline").mkdir()
     (fake / "pipeline" / "factory.py").write_text("X = 1\n")
-    (fake / "types" / "imu.py").write_text("def f():\n    from footnav.pipeline.factory import X\n    return X\n")
+    (fake / "core" / "component.py").write_text("X = 1\n")
+    (fake / "core" / "types" / "imu.py").write_text(
+        "def f():\n    from footnav.pipeline.factory import X\n    from footnav.core.component import X\n    return X\n"
+    )
     (fake / "nav" / "quaternion.py").write_text("import footnav\n")
     monkeypatch.setattr(__import__(__name__), "PACKAGE", fake)
-    found = violations([fake / "types" / "imu.py", fake / "nav" / "quaternion.py"])
-    assert len(found) == 2
-    assert "footnav.types.imu (layer 0) imports footnav.pipeline.factory (layer 3)" in found[0]
-    assert "imports the package root" in found[1]
+    found = violations([fake / "core" / "types" / "imu.py", fake / "nav" / "quaternion.py"])
+    assert len(found) == 3
+    assert "footnav.core.types.imu (layer 1) imports footnav.pipeline.factory (layer 5)" in found[0]
+    assert "footnav.core.types.imu (layer 1) imports footnav.core.component (layer 2)" in found[1]
+    assert "imports the package root" in found[2]
 
 
 def test_the_pipeline_imports_nothing_of_the_ekf():
-    """The pipeline runs any estimator through the contracts (footnav.component,
-    footnav.online_contract), never through the EKF's own modules (issue 38)."""
+    """The pipeline runs any estimator through the contracts (footnav.core.component,
+    footnav.core.online_contract), never through the EKF's own modules (issue 38)."""
     bad = [
         f"{p.relative_to(PACKAGE.parent)}:{line}: {target}"
         for p in _sources() if module_name(p).startswith("footnav.pipeline")

@@ -1,4 +1,4 @@
-"""The online contract (footnav.online_contract): the EKF meets it, and a third party's estimator
+"""The online contract (footnav.core.online_contract): the EKF meets it, and a third party's estimator
 written here, a plain strapdown with hard zero-velocity resets that knows nothing of footnav's
 filter, runs online through ``pipe.online`` as the EKF does (issue 38)."""
 
@@ -14,12 +14,12 @@ import pytest
 
 import footnav
 from footnav import FootEstimator
-from footnav.errors import InvalidParameterError
+from footnav.core.errors import InvalidParameterError
 from footnav.estimators.ekf import EkfEstimator
 from footnav.nav import quaternion as quat
-from footnav.online_contract import OnlineEstimator, OnlineFilter
+from footnav.core.online_contract import OnlineEstimator, OnlineFilter
 from footnav.testing import OnlineEstimatorContract, contract_walk
-from footnav.types import GRAVITY_MPS2, FootTrajectory
+from footnav.core.types import GRAVITY_MPS2, FootTrajectory
 
 #: Position variance the toy filter adds per second in swing, m^2/s.
 _SWING_VAR = 1e-3

@@ -20,8 +20,8 @@ from footnav.report import REPORT_NAME, result_html, write_html
 from footnav.report import figures as report_figures
 from footnav.report.evaluation import best_of_row
 from footnav.report.page import scrub
-from footnav.types import FootTrajectory, StanceResult
-from footnav.types import Path as NavPath
+from footnav.core.types import FootTrajectory, StanceResult
+from footnav.core.types import Path as NavPath
 
 SECTIONS = {"plan", "height", "stances", "strides", "checks", "provenance"}
 

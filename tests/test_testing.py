@@ -10,7 +10,7 @@ import dataclasses
 import numpy as np
 import pytest
 
-from footnav.component import FootEstimator, Fusion, HeadingAid, StanceDetector
+from footnav.core.component import FootEstimator, Fusion, HeadingAid, StanceDetector
 from footnav.fusion.independent import IndependentFusion
 from footnav.fusion.step_vector import StepVectorFusion
 from footnav.nav import quaternion as quat
@@ -23,7 +23,7 @@ from footnav.testing import (
     StepableEstimatorContract,
     contract_walk,
 )
-from footnav.types import FootTrajectory, FusionResult, StanceResult, stance_intervals
+from footnav.core.types import FootTrajectory, FusionResult, StanceResult, stance_intervals
 
 G = 9.80665  # standard gravity, m/s^2 (CGPM 1901), written out: not read from the library
 

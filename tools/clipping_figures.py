@@ -37,7 +37,7 @@ from footnav.data.datasets import data_dir, dataset_names, load_dataset
 from footnav.data.io.gaitmap import read_gaitmap
 from footnav.nav.mechanization import strapdown
 from footnav.nav.quaternion import as_matrix
-from footnav.types import FULL_SCALE_RATIO, GRAVITY_MPS2, ImuData, clipped_acc
+from footnav.core.types import FULL_SCALE_RATIO, GRAVITY_MPS2, ImuData, clipped_acc
 
 G = GRAVITY_MPS2
 EXCESS = 10.0 * G

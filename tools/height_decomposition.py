@@ -60,7 +60,7 @@ import footnav
 from footnav.analysis.metrics import rigid_align
 from footnav.data.datasets import dataset_names, load_dataset
 from footnav.nav.floors import hold_floors
-from footnav.types import GRAVITY_MPS2, StanceResult
+from footnav.core.types import GRAVITY_MPS2, StanceResult
 
 STILL_GYR_RADPS = 0.05  # the estimator's own still_gyr_max_radps default
 
@@ -131,7 +131,7 @@ def swing_ins(imu, traj_fwd) -> dict:
     height change (what the integration alone says), and the climb a filter predicts from that
     residual when it spreads it over the swing as a random walk: -v_z T_swing / 2."""
     from footnav.nav.mechanization import strapdown
-    from footnav.types import ImuData
+    from footnav.core.types import ImuData
 
     steps = np.asarray(traj_fwd.steps)
     g0 = np.asarray(traj_fwd.meta.get("gyro_bias_radps", np.zeros(3)))
@@ -176,7 +176,7 @@ def regression(imu, stance, truth, traj_fwd, traj) -> dict | None:
     of the vertical residual at the first ZUPT sample, the pitch a forward residual implies times
     the stride length, and what the integration got wrong by itself over the swing."""
     from footnav.nav.mechanization import strapdown
-    from footnav.types import ImuData
+    from footnav.core.types import ImuData
 
     iv = stance.intervals
     if len(iv) < 6:

@@ -130,7 +130,7 @@ TRUTH = ["tests/analysis/test_truth_checks.py", "tests/faults/test_truth_checks.
 METRICS_NEW = ["tests/analysis/test_metrics.py"] + METRICS
 STRIDES_NEW = ["tests/nav/test_strides.py"] + STRIDES
 OF, OJ = "footnav/pipeline/online_foot.py", "footnav/pipeline/online_joint.py"
-FL, DD, IC = "footnav/nav/floors.py", "footnav/nav/dominant_directions.py", "footnav/types/imu_checks.py"
+FL, DD, IC = "footnav/nav/floors.py", "footnav/nav/dominant_directions.py", "footnav/core/types/imu_checks.py"
 HT = "footnav/nav/heading.py"  # turn_by: the heading aids' turn
 ONLINE_FWD = ["tests/pipeline/test_online_foot.py", "tests/pipeline/test_online_joint.py"]
 NAV_HD = ["tests/nav/test_heading_drift.py", "tests/estimators/test_consistency.py"]
@@ -153,7 +153,7 @@ NAV_SC = ["tests/nav/test_stance_check.py"]
 ADAPT = ["tests/detectors/test_adaptive.py", "tests/detectors/test_mutants_adaptive.py"]
 
 MUTANTS: list[Mutant] = [
-    # -- core/quaternion.py ------------------------------------------------------------------
+    # -- nav/quaternion.py ------------------------------------------------------------------
     M("quat-mul-nb-term", Q, ("out[1] = p[0] * q[1] + p[1] * q[0] + p[2] * q[3] - p[3] * q[2]",
                               "out[1] = p[0] * q[1] + p[1] * q[0] - p[2] * q[3] + p[3] * q[2]"), QUAT, "sign"),
     M("quat-rotvec-series-const", Q, ("k = 0.5 - a2 * (1.0 / 48.0", "k = 0.5 - a2 * (1.0 / 24.0"), QUAT, "constant"),
@@ -171,7 +171,7 @@ MUTANTS: list[Mutant] = [
     M("quat-normalize-nb", Q, ("q[i] /= n", "q[i] *= n"), QUAT, "operator"),
     M("quat-conjugate-index", Q, ("q[..., 1:] *= -1.0", "q[..., 2:] *= -1.0"), QUAT, "off-by-one"),
     M("quat-from-yaw-sign", Q, ("[np.cos(a), z, z, np.sin(a)]", "[np.cos(a), z, z, -np.sin(a)]"), QUAT, "sign"),
-    # -- core/mechanization.py ---------------------------------------------------------------
+    # -- nav/mechanization.py ---------------------------------------------------------------
     M("mech-half-rotation", MECH, ("h = 0.25 * dt", "h = 0.5 * dt"), FILTER, "constant"),
     M("mech-gravity-no-dt", MECH, ("dv -= GRAVITY_MPS2 * dt", "dv -= GRAVITY_MPS2"), FILTER, "dropped dt"),
     M("mech-position-rectangle", MECH, ("p[f, i] += 0.5 * (v[f, i] + v_new) * dt", "p[f, i] += v[f, i] * dt"), FILTER, "missing term"),
@@ -229,7 +229,7 @@ MUTANTS: list[Mutant] = [
     M("smooth-initial-q-swapped", SM, ("quat.multiply(dq, out.q[a : k + 1])", "quat.multiply(out.q[a : k + 1], dq)"),
       SMOOTH, "swapped arguments"),
     M("smooth-keep-threshold", SM, ("while self.nbytes > self.budget_bytes:", "while self.nbytes > 2 * self.budget_bytes:"), SMOOTH, "constant"),
-    # -- core/initial_alignment.py -----------------------------------------------------------
+    # -- nav/initial_alignment.py -----------------------------------------------------------
     M("align-roll-sign", AL, ("roll = np.arctan2(f[1], f[2])", "roll = np.arctan2(-f[1], f[2])"), ALIGN, "sign"),
     M("align-pitch-sign", AL, ("pitch = np.arctan2(-f[0], np.hypot(f[1], f[2]))", "pitch = np.arctan2(f[0], np.hypot(f[1], f[2]))"),
       ALIGN, "sign"),
@@ -237,7 +237,7 @@ MUTANTS: list[Mutant] = [
     M("align-bias-all-samples", AL, ("gyro_bias_radps=np.mean(gyr[start:stop][still], axis=0)", "gyro_bias_radps=np.mean(gyr[start:stop], axis=0)"),
       ALIGN, "missing term"),
     M("align-start-boundary", AL, ("if s0 > 0:", "if s0 > 1:"), ALIGN, "boundary"),
-    # -- core/windows.py ---------------------------------------------------------------------
+    # -- nav/windows.py ---------------------------------------------------------------------
     M("win-length-round", WIN, ("2 * int(np.floor(window_s * rate_hz / 2.0", "2 * int(np.round(window_s * rate_hz / 2.0"), WINDOWS, "rounding"),
     M("win-centred-shift", WIN, ("np.arange(n_samples) - win // 2, 0, n_samples - win)", "np.arange(n_samples) - win // 2 + 1, 0, n_samples - win)"),
       WINDOWS, "off-by-one"),
@@ -245,14 +245,14 @@ MUTANTS: list[Mutant] = [
     M("win-variance-sign", WIN, ("mean_sq_c - np.einsum", "mean_sq_c + np.einsum"), WINDOWS, "sign"),
     M("win-gravity-literal", WIN, ("(row_norms(acc) - GRAVITY_MPS2) ** 2", "(row_norms(acc) - 9.81) ** 2"),
       WINDOWS, "constant"),
-    # -- core/heading_drift.py ---------------------------------------------------------------
+    # -- nav/heading_drift.py ---------------------------------------------------------------
     M("drift-lever-sign", HD, ("ax, ay = -vel[k - 1, 1] * dt, vel[k - 1, 0] * dt", "ax, ay = vel[k - 1, 1] * dt, vel[k - 1, 0] * dt"),
       HEADING_DRIFT, "sign"),
     M("drift-cross-term", HD, ("npp = ppp + 2.0 * dt * ppb", "npp = ppp + dt * ppb"), HEADING_DRIFT, "constant"),
     M("drift-walk-no-dt", HD, ("pbb += q2 * dt", "pbb += q2"), HEADING_DRIFT, "dropped dt"),
     M("drift-sem-no-n", HD, ("np.sqrt(np.mean(np.var(used, axis=0, ddof=1)) / len(used))", "np.sqrt(np.mean(np.var(used, axis=0, ddof=1)))"),
       HEADING_DRIFT, "missing term"),
-    # -- core/stance_check.py, core/gait_cycles.py -------------------------------------------
+    # -- nav/stance_check.py, nav/gait_cycles.py -------------------------------------------
     M("check-swinging-flip", SC, ("swinging = acc_dev[idx] >= SWING_ACC_MPS2", "swinging = acc_dev[idx] <= SWING_ACC_MPS2"), GAIT, "operator"),
     M("check-over-swing-unfiltered", SC, ("over_swing_s = t[idx[swinging & mask[idx]]]", "over_swing_s = t[idx[mask[idx]]]"), GAIT, "missing term"),
     M("check-suspicious-boundary", SC, ("return bad >= max(_MIN_WARN", "return bad > max(_MIN_WARN"), GAIT, "boundary"),
@@ -261,7 +261,7 @@ MUTANTS: list[Mutant] = [
     M("gait-no-max-stride", GC, ("intervals = np.sort(intervals[intervals < max_stride_s * rate_hz])", "intervals = np.sort(intervals)"), GAIT, "missing term"),
     M("gait-distance-min", GC, ("distance = max(int(min_stride_s * rate_hz)", "distance = min(int(min_stride_s * rate_hz)"), GAIT, "operator"),
     M("gait-swing-acc-const", GC, ("SWING_ACC_MPS2 = 2.0", "SWING_ACC_MPS2 = 20.0"), GAIT, "constant"),
-    # -- core/strides.py ---------------------------------------------------------------------
+    # -- nav/strides.py ---------------------------------------------------------------------
     M("strides-mid-stance", ST, ("(iv[:, 0] + iv[:, 1] - 1) // 2", "(iv[:, 0] + iv[:, 1]) // 2"), STRIDES, "off-by-one"),
     M("strides-cadence", ST, ("STEPS_PER_STRIDE * SECONDS_PER_MINUTE / out", "SECONDS_PER_MINUTE / out"), STRIDES, "missing term"),
     M("strides-turn-wrap", ST, ("return -((-angle + np.pi) % (2.0 * np.pi) - np.pi)", "return (angle + np.pi) % (2.0 * np.pi) - np.pi"),
@@ -271,7 +271,7 @@ MUTANTS: list[Mutant] = [
     M("strides-swing-mask", ST, ("swing_dt = np.where(mask, 0.0, dt)", "swing_dt = np.where(mask, dt, 0.0)"), STRIDES, "swapped arguments"),
     M("strides-clearance-chord", ST, ("np.max(z - (z[0] + frac * (z[-1] - z[0])))", "np.max(z - z[0])"), STRIDES, "missing term"),
     M("strides-dt-prepend", ST, ("dt = np.diff(t, append=t[-1])", "dt = np.diff(t, prepend=t[0])"), STRIDES, "off-by-one"),
-    # -- core/metrics/ -----------------------------------------------------------------------
+    # -- analysis/metrics/ -----------------------------------------------------------------------
     M("metrics-umeyama-reflection", MET_AL, ("sign[-1] = -1.0", "sign[-1] = 1.0"), METRICS, "missing term"),
     M("metrics-umeyama-scale-trans", MET_AL, ("trans = mu_d - scale * rot @ mu_s", "trans = mu_d - rot @ mu_s"), METRICS, "missing term"),
     M("metrics-umeyama-transposed", MET_AL, ("cov = xd.T @ xs / n", "cov = xs.T @ xd / n"), METRICS, "transpose"),
@@ -288,7 +288,7 @@ MUTANTS: list[Mutant] = [
       METRICS, "boundary"),
     M("metrics-distance-3d", MET_AL, ("np.cumsum(np.linalg.norm(np.diff(ref[:, :2], axis=0), axis=1))))\n    k",
                                    "np.cumsum(np.linalg.norm(np.diff(ref, axis=0), axis=1))))\n    k"), METRICS, "index"),
-    # -- core/dtw.py, dtw_heading.py, dtw_average.py -----------------------------------------
+    # -- nav/dtw.py, dtw_heading.py, dtw_average.py -----------------------------------------
     M("dtw-tie-break", DT, ("v = cur[k - 1]\n                if v < best:", "v = cur[k - 1]\n                if v <= best:"), DTW, "boundary"),
     M("dtw-end-cell", DT, ("kend = (m - 1) - max(0, n - 1 - band)", "kend = (m - 1) - max(0, n - band)"), DTW, "off-by-one"),
     M("dtw-backtrack-offset", DT, ("s = steps[i, j - max(0, i - band)]", "s = steps[i, j - max(0, i - band - 1)]"), DTW, "off-by-one"),
@@ -336,7 +336,7 @@ MUTANTS: list[Mutant] = [
     M("madgwick-f-transposed", MW, ("m[3 + i, j] = p[3 + i, j] + dt * (c[i, 0] * p[6, j] + c[i, 1] * p[7, j] + c[i, 2] * p[8, j])",
                                     "m[3 + i, j] = p[3 + i, j] + dt * (c[0, i] * p[6, j] + c[1, i] * p[7, j] + c[2, i] * p[8, j])"),
       MADGWICK, "transpose"),
-    M("gravity-constant", "footnav/types/units.py", ("GRAVITY_MPS2 = 9.80665", "GRAVITY_MPS2 = 9.81"), MADGWICK + ["tests/estimators/test_ekf.py"],
+    M("gravity-constant", "footnav/core/types/units.py", ("GRAVITY_MPS2 = 9.80665", "GRAVITY_MPS2 = 9.81"), MADGWICK + ["tests/estimators/test_ekf.py"],
       "constant"),
     # -- fusion ------------------------------------------------------------------------------
     M("range-mirror", RC, ("z = p[anchor] + sign * bound * u", "z = p[anchor] - sign * bound * u"), FUSION, "sign"),

@@ -22,7 +22,7 @@ import os
 import sys
 from typing import Any, Callable, Iterable, Literal, Mapping, Sequence
 
-from footnav.errors import FootnavWarning, InvalidParameterError
+from footnav.core.errors import FootnavWarning, InvalidParameterError
 from footnav.analysis.evaluation import (
     ON_ERROR,
     EvaluationFailure,
@@ -32,8 +32,8 @@ from footnav.analysis.evaluation import (
     fatal,
 )
 from footnav.pipeline.factory import Pipeline
-from footnav.types import Recording
-from footnav.warning_log import warn
+from footnav.core.types import Recording
+from footnav.core.warning_log import warn
 
 __all__ = ["evaluate_many", "BACKENDS", "SERIAL_BELOW_SAMPLES", "serial_is_faster"]
 

@@ -25,11 +25,11 @@ from dataclasses import dataclass, field
 from typing import Any, Sequence
 
 from footnav.analysis import metrics
-from footnav.component import StanceDetector
-from footnav.errors import FootnavError
+from footnav.core.component import StanceDetector
+from footnav.core.errors import FootnavError
 from footnav.analysis.evaluation import EvaluationReport, Metric, labelled_swings
 from footnav.nav.stance_check import check_stances
-from footnav.types import FootTruth, ImuData, Recording, StanceResult
+from footnav.core.types import FootTruth, ImuData, Recording, StanceResult
 
 __all__ = ["DetectorComparison", "compare_detectors", "DEFAULT_TOLERANCE_S"]
 

@@ -51,12 +51,12 @@ import numpy as np
 
 from footnav.analysis import metrics
 from footnav.analysis.truth_checks import TruthCheck, check_truth
-from footnav.errors import FootnavWarning, InvalidParameterError, MetricNotFoundError
+from footnav.core.errors import FootnavWarning, InvalidParameterError, MetricNotFoundError
 from footnav.nav.interpolation import interp_columns
 from footnav.pipeline.factory import Pipeline
 from footnav.pipeline.result import PipelineResult
-from footnav.types import FootTrajectory, FootTruth, Recording, StanceResult
-from footnav.warning_log import warn
+from footnav.core.types import FootTrajectory, FootTruth, Recording, StanceResult
+from footnav.core.warning_log import warn
 
 __all__ = ["Metric", "EvaluationFailure", "EvaluationReport", "TruthCheck", "evaluate", "trajectory_at"]
 

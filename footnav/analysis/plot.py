@@ -16,7 +16,7 @@ import numpy as np  # noqa: E402
 from footnav.analysis import metrics  # noqa: E402
 from footnav.analysis.evaluation import trajectory_at  # noqa: E402
 from footnav.pipeline.result import PipelineResult  # noqa: E402
-from footnav.types import Recording  # noqa: E402
+from footnav.core.types import Recording  # noqa: E402
 
 __all__ = ["plot_trajectories", "plot_stance_comparison", "plot_position_errors", "plot_steps", "has_path_truth"]
 

@@ -3,10 +3,10 @@ its length unit and its handedness (a mirrored plane, a z axis down).
 
 :func:`footnav.evaluate` runs :func:`check_truth` on each foot's truth (with positions) before it
 computes any metric. A truth that cannot be what it claims -- positions in mm or cm, times in ms,
-no overlap with the recording -- raises :class:`~footnav.errors.InvalidInputError` (in a batch:
+no overlap with the recording -- raises :class:`~footnav.core.errors.InvalidInputError` (in a batch:
 an :class:`~footnav.analysis.evaluation.EvaluationFailure` with that message, the other recordings
 still scored). A suspect one -- covering part of the walk, mirrored, a path length far from the
-estimate's -- gives a :class:`~footnav.errors.DataQualityWarning` and its record in
+estimate's -- gives a :class:`~footnav.core.errors.DataQualityWarning` and its record in
 ``EvaluationReport.checks`` (shown under :meth:`EvaluationReport.to_text`). Every check's figure
 is recorded, warning or not.
 
@@ -24,10 +24,10 @@ from numpy.typing import NDArray
 
 from footnav.analysis.metrics import rigid_align
 from footnav.analysis.metrics._alignment import _umeyama
-from footnav.errors import DataQualityWarning, InvalidInputError
+from footnav.core.errors import DataQualityWarning, InvalidInputError
 from footnav.nav.interpolation import interp_columns
-from footnav.types import FootTrajectory, FootTruth
-from footnav.warning_log import warn
+from footnav.core.types import FootTrajectory, FootTruth
+from footnav.core.warning_log import warn
 
 __all__ = ["TruthCheck", "check_truth"]
 
@@ -332,7 +332,7 @@ def check_truth(
     -------
     tuple of TruthCheck
         Every check's figure, in the order run; each ``"warning"`` was also issued as a
-        :class:`~footnav.errors.DataQualityWarning` through :func:`footnav.warn`.
+        :class:`~footnav.core.errors.DataQualityWarning` through :func:`footnav.warn`.
 
     Raises
     ------

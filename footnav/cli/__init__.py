@@ -25,7 +25,7 @@ from footnav.cli._plugins import PLUGINS_WIDTH, cmd_demo, cmd_plugins
 from footnav.cli._run import READER_FLAGS, cmd_run
 from footnav.cli._simulate import cmd_simulate
 from footnav.cli._warmup import cmd_warmup, warm_worker
-from footnav.errors import FootnavError, FootnavWarning, PluginError
+from footnav.core.errors import FootnavError, FootnavWarning, PluginError
 
 __all__ = [
     "EPILOG_FOLLOW",

@@ -7,7 +7,7 @@ import textwrap
 from collections.abc import Sequence
 from contextlib import ExitStack
 
-from footnav.errors import FootnavError
+from footnav.core.errors import FootnavError
 
 EXIT_OK, EXIT_INTERNAL, EXIT_USAGE = 0, 1, 2
 #: First line of every table footnav writes as CSV (EvaluationReport.to_csv): how --force knows one.

@@ -9,7 +9,7 @@ from contextlib import ExitStack
 from pathlib import Path as FilePath
 
 from footnav.cli._common import EXIT_INTERNAL, EXIT_OK, REPORT_CSV_HEADER, _claim_figure, _require_matplotlib
-from footnav.errors import FootnavError
+from footnav.core.errors import FootnavError
 
 
 def cmd_evaluate(args: argparse.Namespace) -> int:
@@ -21,7 +21,7 @@ def cmd_evaluate(args: argparse.Namespace) -> int:
     from footnav.data.output import claim_output, csv_signature
     from footnav.data.results import write_report
     from footnav.pipeline.factory import load_pipeline, make_pipeline
-    from footnav.warning_log import recording
+    from footnav.core.warning_log import recording
 
     if not args.dataset and not args.recordings:
         raise FootnavError("nothing to evaluate: give --dataset NAME and/or recording paths")

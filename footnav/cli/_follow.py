@@ -8,13 +8,13 @@ import sys
 from contextlib import ExitStack
 
 from footnav.cli._common import EXIT_INTERNAL, EXIT_OK, EXIT_USAGE, _claim_figure, _format_table, clip_text
-from footnav.errors import FootnavError, InvalidInputError
+from footnav.core.errors import FootnavError, InvalidInputError
 
 
 def _scales() -> dict[str, dict[str, float]]:
-    """The offline reader's units (footnav.types.units), by column group; imported when a
+    """The offline reader's units (footnav.core.types.units), by column group; imported when a
     command runs, so that ``footnav --help`` does not import numba."""
-    from footnav.types.units import _ACC_SCALE, _GYR_SCALE, _T_SCALE
+    from footnav.core.types.units import _ACC_SCALE, _GYR_SCALE, _T_SCALE
 
     return {"t": _T_SCALE, "acc": _ACC_SCALE, "gyr": _GYR_SCALE}
 
@@ -414,7 +414,7 @@ def _push_good_rows(stream, chunks: dict):
     """Push the rows up to the first the stream refuses: ``(update, error)``, the error None
     when every row was taken. A refused chunk names its foot and first bad sample, so the rows
     before it are pushed again without it (nothing read before a bad row is lost)."""
-    from footnav.errors import InvalidInputError
+    from footnav.core.errors import InvalidInputError
 
     first = None
     while True:

@@ -8,7 +8,7 @@ import sys
 import textwrap
 
 from footnav.cli._common import EXIT_OK, _format_table
-from footnav.errors import FootnavError
+from footnav.core.errors import FootnavError
 
 #: Widest line ``footnav plugins`` prints.
 PLUGINS_WIDTH = 120

@@ -8,7 +8,7 @@ import sys
 from contextlib import ExitStack, nullcontext
 
 from footnav.cli._common import EXIT_OK, _claim_figure, _format_table, _plot_trajectories
-from footnav.errors import FootnavError
+from footnav.core.errors import FootnavError
 
 
 def _pipeline_from_args(args: argparse.Namespace):
@@ -74,7 +74,7 @@ def _run_inputs(args: argparse.Namespace):
 def cmd_run(args: argparse.Namespace) -> int:
     from footnav.data.output import claim_output
     from footnav.data.results import with_warnings, write_results
-    from footnav.warning_log import recording
+    from footnav.core.warning_log import recording
 
     pipeline = _pipeline_from_args(args)
     inputs = [p for p in (args.left, args.right, args.pipeline) if p]

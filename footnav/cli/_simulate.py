@@ -6,7 +6,7 @@ import argparse
 from pathlib import Path as FilePath
 
 from footnav.cli._common import EXIT_OK
-from footnav.errors import FootnavError
+from footnav.core.errors import FootnavError
 
 
 def cmd_simulate(args: argparse.Namespace) -> int:

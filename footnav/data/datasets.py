@@ -16,8 +16,8 @@ from importlib import resources
 from pathlib import Path as FilePath
 from typing import Callable
 
-from footnav.errors import DataNotFoundError, UnknownDatasetError
-from footnav.types import Recording
+from footnav.core.errors import DataNotFoundError, UnknownDatasetError
+from footnav.core.types import Recording
 
 __all__ = ["BUNDLED", "DATA_ENV", "data_dir", "dataset_names", "load_dataset"]
 

@@ -43,7 +43,7 @@ names, then recovers exactly those entries: an aside result is put back when the
 missing (a run killed between the two renames) and otherwise deleted by its marker's list; a
 ``partial`` is removed; a ``partial-old`` is deleted by its marker's list (the marker goes last,
 so one without it holds nothing footnav wrote and is removed only when empty). Each action is
-said in one :class:`~footnav.errors.DataQualityWarning`. A claim released while entries it named
+said in one :class:`~footnav.core.errors.DataQualityWarning`. A claim released while entries it named
 still exist (a deletion cut short by Ctrl-C, a replaced folder kept for files added to it during
 the run) leaves its lock naming them under no writer (process id 0), for the next claim to
 recover. A lock file that is not a readable footnav lock is never removed: the claim refuses,
@@ -82,8 +82,8 @@ from footnav.data.result_marker import (
     _named,
     _recorded,
 )
-from footnav.errors import DataQualityWarning, InvalidInputError
-from footnav.warning_log import warn
+from footnav.core.errors import DataQualityWarning, InvalidInputError
+from footnav.core.warning_log import warn
 
 __all__ = ["LEGACY_NAMES", "MARKER", "OutputClaim", "claim_output", "csv_signature", "is_footnav_figure"]
 

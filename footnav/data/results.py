@@ -25,8 +25,8 @@ import numpy as np
 from footnav.data.output import OutputClaim, claim_output
 from footnav.nav.strides import STRIDE_COLUMNS, stride_parameters
 from footnav.pipeline.result import PipelineResult
-from footnav.types import FootTrajectory, Path
-from footnav.warning_log import merge_warnings
+from footnav.core.types import FootTrajectory, Path
+from footnav.core.warning_log import merge_warnings
 
 __all__ = ["TRAJECTORY_COLUMNS", "atomic_folder", "file_sha256", "merge_warnings", "versions", "with_warnings", "write_report", "write_results"]
 

@@ -53,7 +53,7 @@ from typing import Any
 import numpy as np
 
 from footnav._numba import njit
-from footnav.component import (
+from footnav.core.component import (
     MAX_ACC_MPS2,
     MAX_DURATION_S,
     MAX_RATE_RADPS,
@@ -73,8 +73,8 @@ from footnav.nav.windows import (
     gyr_sq_cumulative,
     window_samples,
 )
-from footnav.types import GRAVITY_MPS2, ImuData, StanceResult
-from footnav.types._derived import sharing
+from footnav.core.types import GRAVITY_MPS2, ImuData, StanceResult
+from footnav.core.types._derived import sharing
 
 __all__ = ["AdaptiveDetector"]
 
@@ -207,7 +207,7 @@ class AdaptiveDetector(StanceDetector):
         self.max_pivot_s = max_pivot_s
 
     def validate_params(self) -> None:
-        # Upper bounds (footnav.component): durations multiply into window lengths in
+        # Upper bounds (footnav.core.component): durations multiply into window lengths in
         # samples, rates and accelerations overflow when squared; the unitless factors and
         # fractions are kept at 1000x / 1000 their sensible range, where every sample is still
         # or none is.

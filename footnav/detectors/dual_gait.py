@@ -59,7 +59,7 @@ from typing import ClassVar, Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from footnav.component import (
+from footnav.core.component import (
     MAX_ACC_MPS2,
     MAX_DURATION_S,
     MAX_RATE_RADPS,
@@ -68,8 +68,8 @@ from footnav.component import (
     require_non_negative,
     require_positive,
 )
-from footnav.errors import CompositionError, InvalidInputError
-from footnav.types import ImuData, StanceResult, stance_intervals
+from footnav.core.errors import CompositionError, InvalidInputError
+from footnav.core.types import ImuData, StanceResult, stance_intervals
 from footnav.detectors.threshold import ThresholdDetector
 
 __all__ = ["DualGaitDetector", "PHASE_NAMES", "ZUPT_RULES", "support_intervals"]
@@ -253,7 +253,7 @@ class DualGaitDetector(StanceDetector):
 
     # -- parameters ---------------------------------------------------------------------------
     def validate_params(self) -> None:
-        # Upper bounds (footnav.component): durations multiply into sample counts,
+        # Upper bounds (footnav.core.component): durations multiply into sample counts,
         # thresholds overflow when squared.
         require_positive(self, "window_s", "hs_min_interval_s", "hs_search_s", "standing_s", high=MAX_DURATION_S)
         require_positive(self, "gyr_threshold_radps", high=MAX_RATE_RADPS)

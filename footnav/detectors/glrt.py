@@ -27,7 +27,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-from footnav.types import GRAVITY_MPS2, ImuData
+from footnav.core.types import GRAVITY_MPS2, ImuData
 from footnav.detectors.threshold import Combine, WindowedStanceDetector, acc_moving_std, gyr_rms
 
 __all__ = ["GlrtDetector", "glrt_statistic", "OPENSHOE_SIGMA_ACC_MPS2", "OPENSHOE_SIGMA_GYR_RADPS"]

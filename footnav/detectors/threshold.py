@@ -34,7 +34,7 @@ from typing import Any, ClassVar, Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from footnav.component import (
+from footnav.core.component import (
     MAX_ACC_MPS2,
     MAX_DURATION_S,
     MAX_RATE_RADPS,
@@ -45,7 +45,7 @@ from footnav.component import (
     unit_of,
 )
 from footnav._numba import njit
-from footnav.types import ImuData, StanceResult, stance_intervals
+from footnav.core.types import ImuData, StanceResult, stance_intervals
 from footnav.nav.windows import acc_magnitude_rms, acc_moving_std, centred, gyr_rms, window_samples, window_sums
 
 __all__ = [
@@ -214,7 +214,7 @@ class WindowedStanceDetector(StanceDetector):
     min_swing_s: float
 
     def validate_params(self) -> None:
-        # Upper bounds by unit (footnav.component): a longer window exhausts memory, a
+        # Upper bounds by unit (footnav.core.component): a longer window exhausts memory, a
         # larger threshold or sigma overflows when squared; unitless is the GLRT's gamma, for
         # which 1e15 already marks every window still.
         highs = {"s": MAX_DURATION_S, "rad/s": MAX_RATE_RADPS, "m/s^2": MAX_ACC_MPS2}

@@ -37,7 +37,7 @@ import numpy as np
 
 from footnav.nav import quaternion as quat
 from footnav._numba import njit  # numba.njit that survives a read-only install
-from footnav.component import (
+from footnav.core.component import (
     MAX_ACC_MPS2,
     MAX_RATE_RADPS,
     MAX_SPEED_MPS,
@@ -51,7 +51,7 @@ from footnav.nav.heading_drift import TURN_ON_BIAS_STD_RADPS, heading_drift_cov,
 from footnav.nav.initial_alignment import MIN_STILL_SAMPLES, Alignment, align_first_stance
 from footnav.nav.kalman import update3_inline
 from footnav.nav.quaternion import as_matrix_nb
-from footnav.types import GRAVITY_MPS2, FootTrajectory, ImuData, StanceResult
+from footnav.core.types import GRAVITY_MPS2, FootTrajectory, ImuData, StanceResult
 
 __all__ = ["MadgwickEstimator", "madgwick_imu_step", "madgwick_marg_step"]
 
@@ -326,7 +326,7 @@ class MadgwickEstimator(FootEstimator):
         self.yaw_bias_walk_radps2_sqrthz = yaw_bias_walk_radps2_sqrthz
 
     def validate_params(self) -> None:
-        # Upper bounds (footnav.component): the stds and densities are squared into the
+        # Upper bounds (footnav.core.component): the stds and densities are squared into the
         # velocity filter's covariance (overflow at 1e308); beta is a gyro-error rate.
         require_positive(self, "acc_noise_mps2_sqrthz", "acc_error_walk_mps3_sqrthz", "init_acc_error_std_mps2", high=MAX_ACC_MPS2)
         require_positive(self, "zupt_std_mps", high=MAX_SPEED_MPS)

@@ -33,9 +33,9 @@ from numpy.typing import NDArray
 from footnav.nav import dtw_average
 from footnav.nav import dtw_heading
 from footnav.nav import quaternion as quat
-from footnav.component import MAX_LENGTH_M, Fusion, require, require_non_negative, require_positive
+from footnav.core.component import MAX_LENGTH_M, Fusion, require, require_non_negative, require_positive
 from footnav.nav.interpolation import interp_columns
-from footnav.types import FootTrajectory, FusionResult, Path
+from footnav.core.types import FootTrajectory, FusionResult, Path
 from footnav.fusion.joint import LEFT, RIGHT, finish_joint, forward_only, fuse_on_common_span, start_filter, start_joint
 
 __all__ = ["DtwFusion", "feet_heading_mismatch", "feet_timeless_average"]

@@ -14,12 +14,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from footnav.component import Fusion
-from footnav.errors import DataQualityWarning
+from footnav.core.component import Fusion
+from footnav.core.errors import DataQualityWarning
 from footnav.nav.interpolation import interp_columns
 from footnav.nav.spans import span_difference
-from footnav.types import FootTrajectory, FusionResult, Path
-from footnav.warning_log import warn
+from footnav.core.types import FootTrajectory, FusionResult, Path
+from footnav.core.warning_log import warn
 
 __all__ = ["IndependentFusion", "midpoint_path"]
 

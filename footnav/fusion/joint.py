@@ -3,10 +3,10 @@
 A coupled fusion needs both feet in one nav frame. Each foot's IMU starts with its own, unknown
 heading, so :func:`start_joint` first runs each foot alone (forward filter) over its first steps
 to find the heading of its first step (:func:`first_step_yaw`), then starts the joint filter
-(:class:`~footnav.component.JointFilter`) with each foot turned so that its first step points
+(:class:`~footnav.core.component.JointFilter`) with each foot turned so that its first step points
 along +x and the feet ``step_width_m`` apart across it (left foot at +y). :func:`finish_joint` has the estimator finish the run (its own smoothing) and
 returns both feet and their midpoint path. Fusions use only the members of
-:class:`~footnav.component.StepableEstimator` and :class:`~footnav.component.JointFilter`,
+:class:`~footnav.core.component.StepableEstimator` and :class:`~footnav.core.component.JointFilter`,
 so any estimator that implements them runs with every coupled fusion.
 
 :func:`fuse_on_common_span` is what every coupled fusion's ``fuse`` is: the feet cut to their
@@ -26,12 +26,12 @@ from typing import Any
 import numpy as np
 
 from footnav.nav import quaternion as quat
-from footnav.component import JOINT_FILTER_MEMBERS, JointFilter, require_stepable
-from footnav.errors import CompositionError, DataQualityWarning, InvalidInputError
+from footnav.core.component import JOINT_FILTER_MEMBERS, JointFilter, require_stepable
+from footnav.core.errors import CompositionError, DataQualityWarning, InvalidInputError
 from footnav.nav.final_rest import final_rest
 from footnav.nav.spans import CommonSpan, FootCut, common_span, slice_stance
-from footnav.types import FootTrajectory, FusionResult, ImuData, StanceResult, stance_intervals
-from footnav.warning_log import warn
+from footnav.core.types import FootTrajectory, FusionResult, ImuData, StanceResult, stance_intervals
+from footnav.core.warning_log import warn
 from footnav.fusion.independent import midpoint_path
 
 __all__ = [
@@ -47,7 +47,7 @@ LEFT, RIGHT = 0, 1
 
 
 class FeetView:
-    """What a fusion's session (:class:`footnav.component.FusionSession`) reads of the feet besides
+    """What a fusion's session (:class:`footnav.core.component.FusionSession`) reads of the feet besides
     the joint filter, in the filter's own sample indexing: each foot's times (s), stance mask,
     sampling rate (Hz) and heel strikes (sample indices; none online). Offline the whole feet;
     online the samples the joint filter holds."""
@@ -182,7 +182,7 @@ def start_filter(
         missing = [m for m in JOINT_FILTER_MEMBERS if not hasattr(filt, m)]
         raise CompositionError(
             f"estimator {estimator.name!r}: start() returned a {type(filt).__name__}, which lacks {', '.join(missing)} "
-            "of footnav.component.JointFilter (what coupled fusions drive)"
+            "of footnav.core.component.JointFilter (what coupled fusions drive)"
         )
     return filt
 

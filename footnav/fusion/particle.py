@@ -93,10 +93,10 @@ from typing import Any, ClassVar
 import numpy as np
 
 from footnav.nav import quaternion as quat
-from footnav.component import MAX_LENGTH_M, Fusion, require, require_in_range, require_non_negative
-from footnav.errors import CompositionError
+from footnav.core.component import MAX_LENGTH_M, Fusion, require, require_in_range, require_non_negative
+from footnav.core.errors import CompositionError
 from footnav.nav.initial_alignment import align_first_stance
-from footnav.types import FootTrajectory, FusionResult
+from footnav.core.types import FootTrajectory, FusionResult
 from footnav.fusion.independent import midpoint_path
 from footnav.fusion.joint import (
     LEFT, RIGHT, EventQueue, FeetView, closing_time, finish_joint, first_step_yaw, forward_only, fuse_on_common_span, start_joint,
@@ -345,7 +345,7 @@ class ParticleFusion(Fusion):
 
     def session(self, estimator: Any, start_s: float) -> ParticleSession:
         """mode="footnav"'s particle updates on a joint filter that grows as samples arrive
-        (online mode; :class:`footnav.component.FusionSession`), from the feet's common start
+        (online mode; :class:`footnav.core.component.FusionSession`), from the feet's common start
         ``start_s`` (s).
 
         Raises
@@ -375,7 +375,7 @@ class ParticleFusion(Fusion):
 
 class ParticleSession:
     """mode="footnav"'s work on one joint filter (:class:`ParticleFusion`, module docstring points
-    1-5; :class:`footnav.component.FusionSession`): at the end of each zero-velocity phase of a
+    1-5; :class:`footnav.core.component.FusionSession`): at the end of each zero-velocity phase of a
     foot but its last, that foot's cloud is moved, weighed by the feet's Gaussian sum and
     resampled, and the joint filter follows the cloud.
 

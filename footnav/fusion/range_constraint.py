@@ -18,8 +18,8 @@ from typing import Any, ClassVar, Literal
 
 import numpy as np
 
-from footnav.component import MAX_DURATION_S, MAX_LENGTH_M, Fusion, is_number, require, require_positive
-from footnav.types import FusionResult
+from footnav.core.component import MAX_DURATION_S, MAX_LENGTH_M, Fusion, is_number, require, require_positive
+from footnav.core.types import FusionResult
 from footnav.fusion.joint import LEFT, RIGHT, FeetView, closing_time, finish_joint, fuse_on_common_span, start_joint
 
 __all__ = ["RangeConstraintFusion", "RangeSession"]
@@ -69,7 +69,7 @@ class RangeConstraintFusion(Fusion):
         self.step_width_m = step_width_m
 
     def validate_params(self) -> None:
-        # Upper bounds (footnav.component): lengths are squared into the update's
+        # Upper bounds (footnav.core.component): lengths are squared into the update's
         # covariance; a check interval longer than a minute never checks a walk.
         require_positive(self, "max_separation_m", "constraint_std_m", high=MAX_LENGTH_M)
         require_positive(self, "check_interval_s", high=MAX_DURATION_S)
@@ -88,7 +88,7 @@ class RangeConstraintFusion(Fusion):
     def session(self, estimator: Any, start_s: float) -> RangeSession:
         """The constraint's checks and projections, from the feet's common start ``start_s``
         (s), on a joint filter that grows as samples arrive (online mode;
-        :class:`footnav.component.FusionSession`)."""
+        :class:`footnav.core.component.FusionSession`)."""
         self.validate_params()
         return RangeSession(self, start_s)  # (a closed loop needs the walk's end: offline only)
 
@@ -107,7 +107,7 @@ class RangeConstraintFusion(Fusion):
 class RangeSession:
     """The range constraint's work on one joint filter: checks every ``check_interval_s`` from
     the feet's common start and at every landing, each a projection when the feet are too far
-    apart (:class:`RangeConstraintFusion`; :class:`footnav.component.FusionSession`).
+    apart (:class:`RangeConstraintFusion`; :class:`footnav.core.component.FusionSession`).
 
     The check times are ``np.arange(start_s, stop_s, check_interval_s)``, made a block at a time
     with numpy's own arithmetic (the first two values, then ``start + i * delta``), so a walk whose

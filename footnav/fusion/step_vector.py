@@ -60,7 +60,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from footnav.component import (
+from footnav.core.component import (
     MAX_DURATION_S,
     MAX_LENGTH_M,
     Fusion,
@@ -69,7 +69,7 @@ from footnav.component import (
     require_non_negative,
     require_positive,
 )
-from footnav.errors import CompositionError, DataQualityWarning, InvalidInputError
+from footnav.core.errors import CompositionError, DataQualityWarning, InvalidInputError
 from footnav.fusion.joint import (
     LEFT,
     RIGHT,
@@ -90,8 +90,8 @@ from footnav.fusion.pendulum import (
 )
 from footnav.nav import quaternion as quat
 from footnav.nav.calibration import StandstillCalibration, calibrate_at_rest
-from footnav.types import FusionResult, ImuData, StanceResult
-from footnav.warning_log import warn
+from footnav.core.types import FusionResult, ImuData, StanceResult
+from footnav.core.warning_log import warn
 
 __all__ = ["LEG_LENGTH_PER_HEIGHT", "StepVectorFusion", "StepVectorSession", "leg_length_from_height", "pendulum_step_length"]
 # (the pendulum model and the fitted leg length live in footnav.fusion.pendulum)
@@ -220,7 +220,7 @@ class StepVectorFusion(Fusion):
         self.heel_strike_before_stance_s = heel_strike_before_stance_s
 
     def validate_params(self) -> None:
-        # Upper bounds (footnav.component): lengths and their stds are squared into the
+        # Upper bounds (footnav.core.component): lengths and their stds are squared into the
         # step update's covariance (overflow at 1e308); a turn threshold above a full turn
         # never fires.
         for name, choices in (("step_length", STEP_LENGTHS), ("relative_frame", RELATIVE_FRAMES), ("calibration", CALIBRATIONS)):
@@ -388,7 +388,7 @@ class StepVectorFusion(Fusion):
 
     def session(self, estimator: Any, start_s: float) -> StepVectorSession:
         """The step updates on a joint filter that grows as samples arrive (online mode;
-        :class:`footnav.component.FusionSession`), from the feet's common start ``start_s`` (s).
+        :class:`footnav.core.component.FusionSession`), from the feet's common start ``start_s`` (s).
 
         With ``step_length="fitted"`` the leg length is fitted as the walk goes
         (:class:`~footnav.fusion.pendulum.LegLengthFit`: no update before ``LEG_FIT_MIN_STEPS``
@@ -419,7 +419,7 @@ class StepVectorFusion(Fusion):
 
 class StepVectorSession:
     """The step-vector updates on one joint filter (:class:`StepVectorFusion`;
-    :class:`footnav.component.FusionSession`): at every landing (the front foot's heel strike,
+    :class:`footnav.core.component.FusionSession`): at every landing (the front foot's heel strike,
     in time order), the relative position of the feet from the rear foot's pendulum, unless the
     rear foot was not on the ground or is turning.
 

@@ -5,10 +5,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from footnav.component import HeadingAid, require, require_positive
+from footnav.core.component import HeadingAid, require, require_positive
 from footnav.nav.dominant_directions import dominant_direction_correction
 from footnav.nav.heading import turn_result
-from footnav.types import FusionResult
+from footnav.core.types import FusionResult
 
 __all__ = ["DominantDirectionsAid"]
 

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from footnav.component import HeadingAid
+from footnav.core.component import HeadingAid
 
 __all__ = ["NoHeadingAid"]
 

@@ -37,8 +37,8 @@ from dataclasses import dataclass, replace
 import numpy as np
 from numpy.typing import NDArray
 
-from footnav.errors import InvalidInputError
-from footnav.types import GRAVITY_MPS2, ImuData
+from footnav.core.errors import InvalidInputError
+from footnav.core.types import GRAVITY_MPS2, ImuData
 
 __all__ = ["StandstillCalibration", "calibrate_at_rest"]
 

@@ -15,9 +15,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from footnav.nav.clock_sync import ClockMap
-from footnav.errors import DataQualityWarning, InvalidInputError, InvalidParameterError
-from footnav.types import ImuData
-from footnav.warning_log import warn
+from footnav.core.errors import DataQualityWarning, InvalidInputError, InvalidParameterError
+from footnav.core.types import ImuData
+from footnav.core.warning_log import warn
 
 __all__ = ["align_from_data"]
 

@@ -27,8 +27,8 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from footnav.errors import InvalidInputError, InvalidParameterError
-from footnav.types import ImuData
+from footnav.core.errors import InvalidInputError, InvalidParameterError
+from footnav.core.types import ImuData
 
 __all__ = ["ClockMap", "apply_clock", "fit_clock"]
 

@@ -32,7 +32,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from footnav.nav import quaternion as quat
-from footnav.types import FootTrajectory
+from footnav.core.types import FootTrajectory
 
 __all__ = ["HeadingCorrection", "dominant_direction_correction"]
 

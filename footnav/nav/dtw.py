@@ -35,8 +35,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from footnav._numba import njit  # numba.njit that survives a read-only install
-from footnav.errors import InvalidInputError, InvalidParameterError
-from footnav.types._arrays import _readonly  # the one copy: a read-only, C-contiguous view
+from footnav.core.errors import InvalidInputError, InvalidParameterError
+from footnav.core.types._arrays import _readonly  # the one copy: a read-only, C-contiguous view
 
 __all__ = [
     "DtwAlignment",

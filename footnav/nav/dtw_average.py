@@ -20,7 +20,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from footnav.nav.dtw import _float64, _readonly, _trajectory, dtw_align
-from footnav.errors import InvalidInputError, InvalidParameterError
+from footnav.core.errors import InvalidInputError, InvalidParameterError
 from footnav.nav.interpolation import interp_columns
 
 __all__ = [

@@ -19,7 +19,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from footnav.nav.dtw import _band, _choice, _dtw_cost_kernel, _readonly, _trajectory, dtw_align
 from footnav.nav.quaternion import wrap_angle
-from footnav.errors import InvalidParameterError
+from footnav.core.errors import InvalidParameterError
 
 __all__ = [
     "HeadingMismatch",

@@ -18,8 +18,8 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-from footnav.errors import InvalidInputError
-from footnav.types import StanceResult
+from footnav.core.errors import InvalidInputError
+from footnav.core.types import StanceResult
 
 __all__ = ["FINAL_REST_MAX_TAIL_S", "FINAL_REST_MIN_S", "final_rest"]
 

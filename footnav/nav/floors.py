@@ -45,7 +45,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 from numpy.typing import NDArray
 
-from footnav.types import FootTrajectory, FusionResult, stance_intervals
+from footnav.core.types import FootTrajectory, FusionResult, stance_intervals
 
 __all__ = [
     "FLOOR_MIN_RISE_M",

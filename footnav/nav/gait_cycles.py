@@ -24,7 +24,7 @@ from numpy.typing import NDArray
 from footnav._numba import njit
 from footnav.nav.peaks import _select_by_distance, peak_candidates
 from footnav.nav.windows import centred_gyr_rms, window_samples
-from footnav.types._derived import shared
+from footnav.core.types._derived import shared
 
 __all__ = ["MAX_STRIDE_S", "SWING_ACC_MPS2", "SwingPeaks", "select_swing_peaks", "swing_peaks"]
 
@@ -99,7 +99,7 @@ def swing_peaks(
     Returns
     -------
     SwingPeaks
-        Within a pipeline run (:func:`footnav.types._derived.sharing`) the one computed for the
+        Within a pipeline run (:func:`footnav.core.types._derived.sharing`) the one computed for the
         same read-only ``gyr`` and arguments: the detector's peaks serve the stance self-check.
     """
     gyr = np.asarray(gyr, dtype=np.float64)

@@ -22,7 +22,7 @@ from numpy.typing import NDArray
 
 from footnav._numba import njit  # numba.njit that survives a read-only install
 from footnav.nav import quaternion as quat
-from footnav.types import FootTrajectory, FusionResult
+from footnav.core.types import FootTrajectory, FusionResult
 
 __all__ = [
     "MIN_FIRST_STEP_M",

@@ -31,7 +31,7 @@ from numpy.typing import NDArray
 
 from footnav._numba import njit  # numba.njit that survives a read-only install
 from footnav.nav.initial_alignment import MIN_STILL_SAMPLES
-from footnav.types._arrays import _readonly  # read-only views: one compiled variant of _propagate
+from footnav.core.types._arrays import _readonly  # read-only views: one compiled variant of _propagate
 
 __all__ = ["heading_drift_cov", "standstill_rate_std", "TURN_ON_BIAS_STD_RADPS"]
 

@@ -19,8 +19,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from footnav.nav import quaternion as quat
-from footnav.errors import DataQualityWarning, InvalidInputError
-from footnav.warning_log import warn
+from footnav.core.errors import DataQualityWarning, InvalidInputError
+from footnav.core.warning_log import warn
 
 __all__ = ["Alignment", "align_at_rest", "align_first_stance"]
 

@@ -33,7 +33,7 @@ from numpy.typing import NDArray
 
 from footnav.nav import quaternion as quat
 from footnav.nav.initial_alignment import align_at_rest
-from footnav.types import FootTrajectory, ImuData
+from footnav.core.types import FootTrajectory, ImuData
 
 __all__ = ["MagneticCorrection", "hard_iron_offset", "magnetic_heading_correction"]
 

@@ -25,7 +25,7 @@ from numpy.typing import NDArray
 
 from footnav._numba import njit  # numba.njit that survives a read-only install
 from footnav.nav.quaternion import as_matrix_nb, from_rotvec_nb, normalize_nb
-from footnav.types import GRAVITY_MPS2, ImuData
+from footnav.core.types import GRAVITY_MPS2, ImuData
 
 __all__ = ["strapdown_step", "strapdown"]
 

@@ -27,8 +27,8 @@ from typing import Any
 
 import numpy as np
 
-from footnav.errors import InvalidInputError
-from footnav.types import ImuData, StanceResult
+from footnav.core.errors import InvalidInputError
+from footnav.core.types import ImuData, StanceResult
 
 __all__ = [
     "CUT_WARN_S",

@@ -24,9 +24,9 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from footnav.nav import quaternion as quat
-from footnav.errors import InvalidInputError
+from footnav.core.errors import InvalidInputError
 from footnav.nav.floors import LEVEL_RISE_MAX_M, floor_changes
-from footnav.types import FootTrajectory, StanceResult, stance_intervals
+from footnav.core.types import FootTrajectory, StanceResult, stance_intervals
 
 __all__ = ["STRIDE_COLUMNS", "STRIDE_DTYPE", "mid_stances", "stride_parameters"]
 

@@ -7,7 +7,7 @@ root-mean-squares in physical units) and by the gait-cycle analysis of
 statistic of the window *centred* on each sample is :func:`centred` (for the ARE and MAG
 statistics, :func:`centred_gyr_rms` and :func:`centred_acc_magnitude_rms` in one pass). The
 cumulative sums of ``||w||^2`` and ``(||f|| - g)^2`` serve every window length; within a pipeline
-run they are computed once per foot (:mod:`footnav.types._derived`).
+run they are computed once per foot (:mod:`footnav.core.types._derived`).
 """
 
 from __future__ import annotations
@@ -16,9 +16,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from footnav._numba import njit
-from footnav.types import GRAVITY_MPS2
-from footnav.types._arrays import _readonly  # the kernels' inputs read-only always: one compiled signature each
-from footnav.types._derived import cumulative, row_norms, shared
+from footnav.core.types import GRAVITY_MPS2
+from footnav.core.types._arrays import _readonly  # the kernels' inputs read-only always: one compiled signature each
+from footnav.core.types._derived import cumulative, row_norms, shared
 
 __all__ = [
     "acc_dev_sq",
@@ -135,7 +135,7 @@ centred_rms = _centred_rms
 
 @njit(cache=True)
 def cumulative_sum(x: NDArray[np.float64]) -> NDArray[np.float64]:
-    """:func:`footnav.types._derived.cumulative` of a (N,) array, compiled (for code that is):
+    """:func:`footnav.core.types._derived.cumulative` of a (N,) array, compiled (for code that is):
     the same running sum, so the same bits."""
     c = np.empty(len(x) + 1)
     c[0] = 0.0

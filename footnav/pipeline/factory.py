@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING, Any, Mapping
 
 import numpy as np
 
-from footnav.component import (
+from footnav.core.component import (
     Component,
     FootEstimator,
     Fusion,
@@ -24,7 +24,7 @@ from footnav.component import (
     check_param_names,
     require_stepable,
 )
-from footnav.errors import (
+from footnav.core.errors import (
     CompositionError,
     DataNotFoundError,
     DataQualityWarning,
@@ -38,9 +38,9 @@ from footnav.nav.stance_check import check_stances
 from footnav.nav.vertical_check import check_vertical
 from footnav.pipeline.sync import ClockSync, recording_exchanges
 from footnav.pipeline.result import PipelineResult
-from footnav.types import FusionResult, ImuData, Recording, StanceResult
-from footnav.types._derived import sharing
-from footnav.warning_log import merge_warnings, recording, warn
+from footnav.core.types import FusionResult, ImuData, Recording, StanceResult
+from footnav.core.types._derived import sharing
+from footnav.core.warning_log import merge_warnings, recording, warn
 
 if TYPE_CHECKING:
     from footnav.pipeline.online import OnlineStream

@@ -19,7 +19,7 @@ How it stays equal to the offline run, per foot (:mod:`footnav.pipeline.online_f
    offline ones but where the window's typical stride is not the walk's, ``online_exact`` False).
    A detector without a bounded latency (``latency_s = None``: the HMM's Viterbi path needs the
    whole recording) is refused.
-2. **The forward filter** (the estimator's :class:`~footnav.online_contract.OnlineFilter`, e.g.
+2. **The forward filter** (the estimator's :class:`~footnav.core.online_contract.OnlineFilter`, e.g.
    the EKF's ``OnlineInsFilter``, aligned by ``estimator.start`` once the first stance is
    final) runs on the final samples. The filter
    is built over a fixed-size *segment* of samples that the stream fills as they become final;
@@ -48,7 +48,7 @@ Memory: the input buffer, the detection buffer and the filter segment are bounde
 final sample for ``close``'s result, as the offline run would.
 
 Fusions: ``independent`` runs on the per-foot filters. A coupled fusion that offers a session
-(:class:`footnav.component.FusionSession`: ``range``, ``step-vector``, ``particle`` in footnav's
+(:class:`footnav.core.component.FusionSession`: ``range``, ``step-vector``, ``particle`` in footnav's
 mode) runs on one joint filter fed by both feet as far as both have arrived
 (:mod:`footnav.pipeline.online_joint`), with the offline run's common-span rules (step-vector's
 fitted leg length is fitted on the steps so far: ``close`` reruns offline); the others (DTW
@@ -65,7 +65,7 @@ from typing import Any
 
 import numpy as np
 
-from footnav.errors import DataQualityWarning, InvalidInputError, InvalidParameterError
+from footnav.core.errors import DataQualityWarning, InvalidInputError, InvalidParameterError
 from footnav.fusion.independent import midpoint_path
 from footnav.nav.clock_sync import ClockMap
 from footnav.nav.floors import LEVEL_RISE_MAX_M, FloorHolder
@@ -81,8 +81,8 @@ from footnav.pipeline.online_io import ClosedStep, FootUpdate, ForwardEstimate, 
 from footnav.pipeline.online_joint import JointStream
 from footnav.pipeline.online_pair import PairDetection
 from footnav.pipeline.result import PipelineResult
-from footnav.types import FusionResult
-from footnav.warning_log import recording, warn
+from footnav.core.types import FusionResult
+from footnav.core.warning_log import recording, warn
 
 __all__ = ["COUPLED_ONLINE_FUSIONS", "OFFLINE_ONLY_FUSIONS", "ONLINE_FUSIONS", "ClosedStep", "FootUpdate", "ForwardEstimate", "OnlineStream", "OnlineUpdate"]
 

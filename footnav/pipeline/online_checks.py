@@ -1,10 +1,10 @@
-"""The input checks of one foot's online stream: the checks :class:`~footnav.types.ImuData` and
+"""The input checks of one foot's online stream: the checks :class:`~footnav.core.types.ImuData` and
 its readers run on a recording, run on chunks as they arrive, with the same messages.
 
 Per chunk, before the stream takes it (:meth:`ChunkChecks.check`; nothing changes when it raises):
 shape (a transposed ``(3, N)`` chunk is refused naming its shape), non-finite values, time that
 does not increase (across chunks too), samples beyond any foot IMU's range and angular rates held
-beyond any gyroscope's (:func:`~footnav.types.imu_checks.check_extremes`); the error names the
+beyond any gyroscope's (:func:`~footnav.core.types.imu_checks.check_extremes`); the error names the
 sample by its index in the foot's stream, as the offline error names it in the recording, and
 says what the offline check of the whole recording says, however the samples are chunked. Sampling gaps are found per chunk
 once the median interval is known and warned as offline (``records["gaps"]``).
@@ -12,14 +12,14 @@ once the median interval is known and warned as offline (``records["gaps"]``).
 Checks that need more than a chunk run when their data have arrived, and at the end on what
 arrived if that is earlier:
 
-* the time base and rate (:func:`~footnav.types.imu_checks.check_time_base`) on the first
+* the time base and rate (:func:`~footnav.core.types.imu_checks.check_time_base`) on the first
   ``TIME_BASE_SAMPLES`` samples: time in ms or us read as s is an error before the filter starts;
 * units, the accelerometer at rest and saturation (``_check_data``) on the first
   ``CHECK_WINDOW_S`` seconds, extended up to ``CHECK_WINDOW_MAX_S`` while the foot has not moved
   enough for the gyroscope's unit to be judged; and again on the whole recording at the end of a
   stream that kept every sample (``keep=True``, :meth:`ChunkChecks.finish_whole`), as offline.
   Saturation later in the walk is found chunk by chunk as well (:class:`_ExtremeTally`: the
-  plateau rule of :func:`~footnav.types.imu_checks.detect_clipping` on the largest and smallest
+  plateau rule of :func:`~footnav.core.types.imu_checks.detect_clipping` on the largest and smallest
   value of each axis so far), so a stream with ``keep=False`` reports it when it happens.
 
 Findings that are not errors are warned (DataQualityWarning) when found and kept in
@@ -37,10 +37,10 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from footnav.errors import DataQualityWarning
-from footnav.types._arrays import _as_float_array
-from footnav.types._derived import row_norms
-from footnav.types.imu_checks import (
+from footnav.core.errors import DataQualityWarning
+from footnav.core.types._arrays import _as_float_array
+from footnav.core.types._derived import row_norms
+from footnav.core.types.imu_checks import (
     ACC_FULL_SCALES_G,
     ACC_MAX_MPS2,
     ACC_MOVING_FRACTION,
@@ -61,8 +61,8 @@ from footnav.types.imu_checks import (
     gap_message,
     peak_hold,
 )
-from footnav.types.sample_checks import check_same_rows
-from footnav.warning_log import warn
+from footnav.core.types.sample_checks import check_same_rows
+from footnav.core.warning_log import warn
 
 __all__ = ["CHECK_WINDOW_MAX_S", "CHECK_WINDOW_S", "MAX_GAP_WARNINGS", "TIME_BASE_SAMPLES", "ChunkChecks"]
 
@@ -93,7 +93,7 @@ class _Pending:
 
 class _ExtremeTally:
     """The largest and smallest value of each axis of one sensor so far, how many samples held
-    it and the first of them: :func:`~footnav.types.imu_checks.detect_clipping`'s plateau rule,
+    it and the first of them: :func:`~footnav.core.types.imu_checks.detect_clipping`'s plateau rule,
     kept up chunk by chunk (a saturated ADC repeats its extreme code)."""
 
     def __init__(self, floor: float, scales: tuple[float, ...], unit_si: float) -> None:

@@ -9,15 +9,15 @@ from __future__ import annotations
 
 from typing import Any
 
-from footnav.errors import CompositionError
-from footnav.online_contract import online_gaps
+from footnav.core.errors import CompositionError
+from footnav.core.online_contract import online_gaps
 
 __all__ = ["COUPLED_ONLINE_FUSIONS", "OFFLINE_ONLY_FUSIONS", "ONLINE_FUSIONS", "check_online"]
 
 #: Fusions of each foot alone: they run online on per-foot filters.
 ONLINE_FUSIONS = ("independent",)
 #: Built-in coupled fusions that run online, on a joint filter fed by both feet (their
-#: ``session``, :class:`footnav.component.FusionSession`; a plugin's fusion runs online the same
+#: ``session``, :class:`footnav.core.component.FusionSession`; a plugin's fusion runs online the same
 #: way when it offers one).
 COUPLED_ONLINE_FUSIONS = ("range", "step-vector", "particle")
 #: Why the other built-in fusions are offline only.
@@ -46,7 +46,7 @@ def check_online(pipeline: Any, feet: int) -> float:
             f"heading aid {aid.name!r} is offline only: it learns from the whole walk; online, use heading_aid=None"
         )
     if fus.name not in ONLINE_FUSIONS and not callable(getattr(fus, "session", None)):
-        why = OFFLINE_ONLY_FUSIONS.get(fus.name, "it offers no session (footnav.component.FusionSession) to run as samples arrive")
+        why = OFFLINE_ONLY_FUSIONS.get(fus.name, "it offers no session (footnav.core.component.FusionSession) to run as samples arrive")
         online = [*ONLINE_FUSIONS, *COUPLED_ONLINE_FUSIONS]
         raise CompositionError(
             f"fusion {fus.name!r} is offline only: {why}; online mode runs {', '.join(repr(n) for n in online)}"
@@ -58,7 +58,7 @@ def check_online(pipeline: Any, feet: int) -> float:
     gaps = online_gaps(est)
     if gaps:
         raise CompositionError(
-            f"estimator {est.name!r} has no step-able filter a stream can run (footnav.online_contract.OnlineEstimator: "
+            f"estimator {est.name!r} has no step-able filter a stream can run (footnav.core.online_contract.OnlineEstimator: "
             f"start(imus, stances) and the rest); it lacks {', '.join(gaps)}; online mode needs one, such as 'ekf'"
         )
     est.validate_params()

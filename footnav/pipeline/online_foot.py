@@ -6,7 +6,7 @@ Global sample indices count the foot's samples since the stream began; the filte
 local index ``k`` is global ``seg0 + k``. What the stream guarantees (the offline causal run,
 bounded memory, the latency) is explained in :mod:`footnav.pipeline.online`.
 
-A segment is the estimator's online filter (:class:`footnav.online_contract.OnlineFilter`, e.g. the
+A segment is the estimator's online filter (:class:`footnav.core.online_contract.OnlineFilter`, e.g. the
 EKF's) with room for the samples to come (``capacity``), fed the final samples with ``extend``
 and started from a step-end checkpoint of the previous segment with ``rebase``: the stream reads
 no filter's internals. What a push takes and returns is in :mod:`footnav.pipeline.online_io`.
@@ -22,16 +22,16 @@ from typing import Any, cast
 import numpy as np
 from numpy.typing import NDArray
 
-from footnav.errors import InvalidInputError
+from footnav.core.errors import InvalidInputError
 from footnav.nav.floors import stance_swing_rises, swing_rises
 from footnav.nav.heading import rotate_about_z
 from footnav.nav.initial_alignment import bridged_gaps
-from footnav.online_contract import OnlineFilter
+from footnav.core.online_contract import OnlineFilter
 from footnav.pipeline.online_checks import ChunkChecks
 from footnav.pipeline.online_io import ClosedStep, FootUpdate, ForwardEstimate, as_chunk, empty_update
 from footnav.pipeline.online_steps import StepTracker
-from footnav.types import FootTrajectory, ImuData, StanceResult, stance_intervals
-from footnav.warning_log import recording
+from footnav.core.types import FootTrajectory, ImuData, StanceResult, stance_intervals
+from footnav.core.warning_log import recording
 
 __all__ = ["SEGMENT_SAMPLES", "ClosedStep", "FootStream", "FootUpdate", "ForwardEstimate", "as_chunk"]
 
@@ -381,7 +381,7 @@ class FootStream:
 
     def _start(self, final: bool) -> bool:
         """Align the filter once the first stance is final (``estimator.start``), in a segment;
-        the fusion's calibration of the foot first (:meth:`footnav.component.Fusion.foot_calibration`)."""
+        the fusion's calibration of the foot first (:meth:`footnav.core.component.Fusion.foot_calibration`)."""
         est = self.stream.pipeline.estimator
         if not self.first_stance_closed and not final:
             return False

@@ -12,8 +12,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from footnav.errors import InvalidInputError
-from footnav.types import ImuData
+from footnav.core.errors import InvalidInputError
+from footnav.core.types import ImuData
 
 __all__ = ["ClosedStep", "FootUpdate", "ForwardEstimate", "as_chunk", "empty_update"]
 

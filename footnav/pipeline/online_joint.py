@@ -14,7 +14,7 @@ step by step:
    found on its samples from the common start, once a step long enough has closed; then the
    estimator's ``start`` aligns both feet, ``step_width_m`` apart, in one filter.
 3. **Run.** Each push gives the joint filter the final samples of both feet up to the newest time
-   both have reached, and the fusion's session (:class:`footnav.component.FusionSession`)
+   both have reached, and the fusion's session (:class:`footnav.core.component.FusionSession`)
    applies its measurements at times up to the last sample whose step end is known. With
    step-wise smoothing a step end of either foot closes the open step of both: every sample up
    to it is final.
@@ -35,7 +35,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from footnav.errors import CompositionError, DataQualityWarning
+from footnav.core.errors import CompositionError, DataQualityWarning
 from footnav.fusion.independent import midpoint_path
 from footnav.fusion.joint import (
     OUTSIDE_SPAN,
@@ -48,12 +48,12 @@ from footnav.fusion.joint import (
 )
 from footnav.nav.heading import rotate_about_z
 from footnav.nav.spans import CommonSpan, FootCut, common_bounds
-from footnav.online_contract import OnlineFilter
+from footnav.core.online_contract import OnlineFilter
 from footnav.pipeline.online_foot import SEGMENT_SAMPLES, FootStream, _Grow
 from footnav.pipeline.online_io import FootUpdate, ForwardEstimate, empty_update
 from footnav.pipeline.online_steps import StepTracker, stance_runs
-from footnav.types import FootTrajectory, FusionResult, ImuData, StanceResult, stance_intervals
-from footnav.warning_log import recording, warn
+from footnav.core.types import FootTrajectory, FusionResult, ImuData, StanceResult, stance_intervals
+from footnav.core.warning_log import recording, warn
 
 __all__ = ["JointFoot", "JointStream"]
 
@@ -213,7 +213,7 @@ class JointStream:
         first = start_filter(self.estimator, [c[0] for c in cuts], [c[1] for c in cuts], [jf.yaw for jf in self.feet], self.session.step_width_m)
         if not isinstance(first, OnlineFilter):
             raise CompositionError(
-                f"online fusion {self.fusion.name!r} needs the estimator's filter in segments (footnav.component.OnlineFilter); "
+                f"online fusion {self.fusion.name!r} needs the estimator's filter in segments (footnav.core.component.OnlineFilter); "
                 f"estimator {self.estimator.name!r} gives a {type(first).__name__}"
             )
         self.meta = first.meta

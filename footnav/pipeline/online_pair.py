@@ -31,8 +31,8 @@ from typing import Any
 import numpy as np
 
 from footnav.pipeline.online_foot import FootStream
-from footnav.types import ImuData
-from footnav.warning_log import recording
+from footnav.core.types import ImuData
+from footnav.core.warning_log import recording
 
 __all__ = ["PairDetection"]
 

@@ -2,7 +2,7 @@
 
 :class:`StepTracker` takes a foot's final (smoothed) samples in order, as they become final, and
 returns a :class:`~footnav.pipeline.online_io.ClosedStep` per stance that ended: its footprint
-(the mean position over the stance, as :attr:`footnav.types.FootTrajectory.footprints`), the
+(the mean position over the stance, as :attr:`footnav.core.types.FootTrajectory.footprints`), the
 stride from the previous footprint and its heading. Where the nav frame's heading is that of
 the foot's first step (``heading="first-step"``), the footprints are held until the first step
 longer than :data:`~footnav.nav.heading.MIN_FIRST_STEP_M` has closed, then turned by it.
@@ -22,7 +22,7 @@ __all__ = ["StepTracker", "stance_runs"]
 
 
 def stance_runs(mask: NDArray[np.bool_]) -> list[tuple[int, int]]:
-    """:func:`~footnav.types.stance_intervals` as a list of (start, stop) ints: the few runs of a
+    """:func:`~footnav.core.types.stance_intervals` as a list of (start, stop) ints: the few runs of a
     push's final samples, with a third of its numpy calls."""
     if len(mask) == 0:
         return []

@@ -13,7 +13,7 @@ from typing import Any
 import numpy as np
 
 from footnav.nav.strides import stride_parameters
-from footnav.types import FootTrajectory, Path, StanceResult
+from footnav.core.types import FootTrajectory, Path, StanceResult
 
 __all__ = ["PipelineResult"]
 

@@ -15,7 +15,7 @@ from typing import Any, ClassVar, Literal, Mapping
 
 from footnav.nav.clock_from_data import align_from_data
 from footnav.nav.clock_sync import ClockMap, apply_clock, fit_clock
-from footnav.component import (
+from footnav.core.component import (
     MAX_DURATION_S,
     Component,
     require,
@@ -23,8 +23,8 @@ from footnav.component import (
     require_non_negative,
     require_positive,
 )
-from footnav.errors import InvalidInputError
-from footnav.types import ImuData, Recording
+from footnav.core.errors import InvalidInputError
+from footnav.core.types import ImuData, Recording
 
 __all__ = ["ClockSync", "SyncResult", "synchronise", "recording_exchanges", "EXCHANGES_KEY"]
 

@@ -2,7 +2,7 @@
 
 Each entry point is loaded on its own: one that fails to import, that implements a misspelt hook,
 or that registers a name already taken (or something that is not a component), becomes a
-:class:`~footnav.errors.PluginWarning` naming it, and the others still load.
+:class:`~footnav.core.errors.PluginWarning` naming it, and the others still load.
 Set ``FOOTNAV_DISABLE_PLUGIN_AUTOLOAD=1`` to load the built-ins only (the test suite does).
 """
 
@@ -15,8 +15,8 @@ from typing import Iterable
 
 import pluggy
 
-from footnav.errors import PluginError, PluginWarning
-from footnav.warning_log import warn
+from footnav.core.errors import PluginError, PluginWarning
+from footnav.core.warning_log import warn
 from footnav.plugins import hookspecs
 from footnav.plugins.registry import Registry
 

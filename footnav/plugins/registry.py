@@ -6,8 +6,8 @@ import difflib
 import importlib
 from typing import Any, Iterator
 
-from footnav.component import KINDS, Component, check_param_names
-from footnav.errors import PluginError, UnknownComponentError
+from footnav.core.component import KINDS, Component, check_param_names
+from footnav.core.errors import PluginError, UnknownComponentError
 
 __all__ = ["Entry", "Registry"]
 

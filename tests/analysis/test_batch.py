@@ -16,7 +16,7 @@ def _comparable(report):
 @pytest.fixture(scope="module")
 def work():
     recs = [footnav.simulate("straight", seed=s, distance_m=8.0, standstill_s=1.0) for s in range(3)]
-    recs = [footnav.types.Recording(**{**r.__dict__, "name": f"walk-{i}"}) for i, r in enumerate(recs)]
+    recs = [footnav.core.types.Recording(**{**r.__dict__, "name": f"walk-{i}"}) for i, r in enumerate(recs)]
     pipes = {"default": footnav.make_pipeline(), "glrt-fwd": footnav.make_pipeline("glrt", "ekf", estimator_params={"smoother": "none"})}
     return pipes, recs
 

@@ -17,7 +17,7 @@ from footnav import CompositionError, StanceDetector
 from footnav.cli import main
 from footnav.analysis.batch import evaluate_many
 from footnav.data.datasets import DATA_ENV, load_dataset
-from footnav.errors import DataNotFoundError, FootnavWarning, UnknownDatasetError
+from footnav.core.errors import DataNotFoundError, FootnavWarning, UnknownDatasetError
 from footnav.analysis.evaluation import EvaluationFailure, evaluate
 from footnav.plugins.manager import build_registry, reset_registry
 

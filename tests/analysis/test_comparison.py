@@ -57,7 +57,7 @@ def test_cli_compare_detectors_needs_one_source(capsys):
 
 
 def test_a_detector_that_fails_is_reported_not_fatal(walk):
-    from footnav.errors import InvalidInputError
+    from footnav.core.errors import InvalidInputError
 
     class Refuses(ThresholdDetector):
         name = "refuses"

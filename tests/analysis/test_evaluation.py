@@ -2,7 +2,7 @@ import numpy as np
 import pytest
 
 import footnav
-from footnav.errors import FootnavError, MetricNotFoundError
+from footnav.core.errors import FootnavError, MetricNotFoundError
 from footnav.analysis import metrics
 from footnav.analysis.batch import evaluate_many
 from footnav.analysis.evaluation import evaluate, trajectory_at
@@ -65,7 +65,7 @@ def test_trajectory_at_interpolates_inside_span_only(loop):
 
 def test_footprint_truth_reports_footprint_errors_not_ate(loop):
     # footprint truth as the gait-driven reader builds it: positions at a few stance samples
-    from footnav.types import FootTruth, stance_intervals
+    from footnav.core.types import FootTruth, stance_intervals
 
     runs = stance_intervals(loop.truth_left.stance)
     idx = ((runs[:, 0] + runs[:, 1]) // 2)[::2]
@@ -87,7 +87,7 @@ def test_footprint_truth_reports_footprint_errors_not_ate(loop):
 def test_labelled_swings_truth_reports_step_f1_inside_the_boundaries(loop):
     # IPOL-style truth: swings = gaps between the simulator's stances, labelled only inside a
     # span that leaves out the first and last stances; stance False outside the span
-    from footnav.types import FootTruth, stance_intervals
+    from footnav.core.types import FootTruth, stance_intervals
 
     runs = stance_intervals(loop.truth_left.stance)
     swings = np.column_stack((runs[:-1, 1], runs[1:, 0]))

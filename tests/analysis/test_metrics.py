@@ -34,7 +34,7 @@ from footnav.analysis.metrics import (
     travelled_distance,
     travelled_distance_error,
 )
-from footnav.errors import DataQualityWarning, InvalidInputError, InvalidParameterError
+from footnav.core.errors import DataQualityWarning, InvalidInputError, InvalidParameterError
 from footnav.nav.dtw import dtw_align
 
 

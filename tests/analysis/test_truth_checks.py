@@ -11,8 +11,8 @@ import pytest
 
 import footnav
 from footnav.analysis.evaluation import evaluate
-from footnav.errors import DataQualityWarning, InvalidInputError
-from footnav.types import Recording
+from footnav.core.errors import DataQualityWarning, InvalidInputError
+from footnav.core.types import Recording
 
 
 @pytest.fixture(scope="module")

@@ -3,7 +3,7 @@ import pytest
 from footnav import DataNotFoundError
 from footnav.cli import main
 from footnav.data.datasets import data_dir, dataset_names, load_dataset
-from footnav.errors import UnknownDatasetError
+from footnav.core.errors import UnknownDatasetError
 
 
 def test_missing_data_folder_says_where_it_looked(tmp_path):

@@ -15,7 +15,7 @@ from pathlib import Path
 import pytest
 
 from footnav.data.output import MARKER, claim_output
-from footnav.errors import DataQualityWarning
+from footnav.core.errors import DataQualityWarning
 
 TOKEN = "footnav-999999999-0badc0de"
 

@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 from footnav.nav import quaternion as quat
-from footnav.errors import InvalidParameterError
+from footnav.core.errors import InvalidParameterError
 from footnav.data.simulate import simulate
-from footnav.types import GRAVITY_MPS2, stance_intervals
+from footnav.core.types import GRAVITY_MPS2, stance_intervals
 
 G_N = np.array([0.0, 0.0, -GRAVITY_MPS2])
 RISE_M, N_STAIRS, TREAD_M = 0.17, 12, 0.3

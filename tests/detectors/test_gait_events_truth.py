@@ -29,7 +29,7 @@ import pytest
 
 import footnav
 from footnav.nav.strides import stride_parameters
-from footnav.types import FootTrajectory
+from footnav.core.types import FootTrajectory
 
 WINDOWED = ["threshold", "adaptive", "glrt", "acc-magnitude", "acc-variance", "ared"]
 EDGE_TOL_S = 0.03

@@ -5,7 +5,7 @@ import pytest
 
 import footnav
 from footnav.analysis import metrics
-from footnav.errors import InvalidParameterError
+from footnav.core.errors import InvalidParameterError
 from footnav.detectors.glrt import GlrtDetector, glrt_statistic
 from footnav.testing import DetectorContract
 

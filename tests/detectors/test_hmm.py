@@ -10,7 +10,7 @@ import pytest
 
 import footnav
 from footnav.analysis import metrics
-from footnav.errors import FootnavWarning, InvalidInputError, InvalidParameterError
+from footnav.core.errors import FootnavWarning, InvalidInputError, InvalidParameterError
 from footnav.detectors.hmm import (
     PHASE_NAMES,
     STRUCTURE,
@@ -428,7 +428,7 @@ def test_collapsed_model_is_refitted_and_recorded(monkeypatch):
 
 
 def test_inverted_model_is_a_specific_error(monkeypatch):
-    from footnav.errors import GaitModelError
+    from footnav.core.errors import GaitModelError
     from footnav.detectors.hmm import learning
 
     real = learning.check_model

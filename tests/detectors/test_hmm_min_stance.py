@@ -11,7 +11,7 @@ from footnav.detectors.hmm.decoding import MIN_STANCE_S, min_stance_samples, vit
 from footnav.detectors.hmm.detector import HmmDetector
 from footnav.detectors.hmm.features import model_grid
 from footnav.detectors.hmm.model import build_hmm
-from footnav.types import stance_intervals
+from footnav.core.types import stance_intervals
 
 
 def _model_1d():

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import footnav
-from footnav.types import GRAVITY_MPS2, ImuData, stance_intervals
+from footnav.core.types import GRAVITY_MPS2, ImuData, stance_intervals
 from footnav.detectors.adaptive import AdaptiveDetector
 
 

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from footnav.types import stance_intervals
+from footnav.core.types import stance_intervals
 from footnav.detectors.threshold import stance_result
 
 
@@ -54,7 +54,7 @@ def test_dual_gait_finds_every_heel_strike_including_the_first():
 # both included: 2.0 s at 100 Hz is 201 model samples (0, 0.01, ..., 2.0 s after the start), and
 # the recording's last sample maps to the last model sample, not to one 10 ms before it
 def test_hmm_model_grid_covers_the_whole_recording():
-    from footnav.types import ImuData
+    from footnav.core.types import ImuData
     from footnav.detectors.hmm.features import model_grid
 
     t = 0.5 + np.arange(401) / 200.0  # 200 Hz, exactly 2.0 s

@@ -5,7 +5,7 @@ import pytest
 
 import footnav
 from footnav.analysis import metrics
-from footnav.errors import FootnavError, InvalidParameterError
+from footnav.core.errors import FootnavError, InvalidParameterError
 from footnav.detectors.threshold import (
     AccMagnitudeDetector,
     AccVarianceDetector,

@@ -27,8 +27,8 @@ import numpy as np
 import pytest
 
 import footnav
-from footnav.errors import CompositionError
-from footnav.types import GRAVITY_MPS2, ImuData
+from footnav.core.errors import CompositionError
+from footnav.core.types import GRAVITY_MPS2, ImuData
 
 STOREY = [(1.4, 0.0), ("stairs", 12, 0.17), (2.8, 180.0), ("stairs", 12, -0.17), (1.4, 0.0)]
 EXCESS = 10.0 * GRAVITY_MPS2
@@ -77,7 +77,7 @@ def test_the_clip_model_is_refused_online():
 
 
 def test_clip_excess_must_not_be_negative():
-    from footnav.errors import InvalidParameterError
+    from footnav.core.errors import InvalidParameterError
 
     with pytest.raises(InvalidParameterError, match="clip_excess_mps2"):
         footnav.make_pipeline(estimator_params={"clip_excess_mps2": -1.0}).estimator.validate_params()

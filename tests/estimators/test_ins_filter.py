@@ -7,7 +7,7 @@ from reference_ins import nominal_step  # tests/reference_ins.py
 
 import footnav
 from footnav import StanceResult
-from footnav.types import FULL_SCALE_RATIO, GRAVITY_MPS2, ImuData
+from footnav.core.types import FULL_SCALE_RATIO, GRAVITY_MPS2, ImuData
 from footnav.nav import quaternion as quat
 from footnav.estimators.ekf import EkfEstimator
 from footnav.estimators.ekf import filter as ekf_filter

@@ -10,7 +10,7 @@ import footnav
 from footnav import InvalidInputError, InvalidParameterError, StanceResult
 from footnav.analysis import metrics
 from footnav.nav import quaternion as quat
-from footnav.errors import DataQualityWarning
+from footnav.core.errors import DataQualityWarning
 from footnav.estimators.madgwick import MadgwickEstimator, madgwick_imu_step, madgwick_marg_step
 from footnav.testing import EstimatorContract
 

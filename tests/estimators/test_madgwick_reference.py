@@ -19,7 +19,7 @@ import numpy as np
 import pytest
 
 import footnav
-from footnav.types import StanceResult
+from footnav.core.types import StanceResult
 from footnav.estimators.madgwick import MadgwickEstimator
 
 G = 9.80665  # m/s^2, footnav's nav-frame gravity, written out

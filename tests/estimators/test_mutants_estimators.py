@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from footnav.types import ImuData, StanceResult
+from footnav.core.types import ImuData, StanceResult
 from footnav.estimators.madgwick import MadgwickEstimator
 
 G = 9.80665  # m/s^2, written out

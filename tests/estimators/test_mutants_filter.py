@@ -14,7 +14,7 @@ from test_ins_filter import _reference_forward
 import footnav
 from footnav.nav import quaternion as quat
 from footnav.estimators.ekf.smoother import smooth
-from footnav.types import StanceResult, stance_intervals
+from footnav.core.types import StanceResult, stance_intervals
 from footnav.estimators.ekf import EkfEstimator
 
 

@@ -24,7 +24,7 @@ from numpy.polynomial import polynomial as P
 import footnav
 from footnav import StanceResult
 from footnav.analysis import metrics
-from footnav.types import GRAVITY_MPS2, ImuData
+from footnav.core.types import GRAVITY_MPS2, ImuData
 from footnav.estimators.ekf import EkfEstimator
 
 
@@ -115,7 +115,7 @@ def test_forward_15_state_track_length():
 
 def _early_stance(mask, n):
     """``mask`` with every stance but the first starting ``n`` samples early (the foot still descending)."""
-    from footnav.types.stance import stance_intervals
+    from footnav.core.types.stance import stance_intervals
 
     out = mask.copy()
     for a, _ in stance_intervals(mask)[1:]:
@@ -173,7 +173,7 @@ def test_zupt_edges_keep_the_middle_of_short_stances():
 
 
 def test_zupt_edges_are_refused_online():
-    from footnav.errors import CompositionError
+    from footnav.core.errors import CompositionError
 
     pipe = footnav.make_pipeline("threshold", "ekf", estimator_params={"smoother": "step", "zupt_start_delay_s": 0.05})
     with pytest.raises(CompositionError, match="zupt_start_delay_s"):

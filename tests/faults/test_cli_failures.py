@@ -82,7 +82,7 @@ def test_a_bug_is_one_line_and_exit_1_with_the_traceback_under_v(walk, tmp_path,
 
 def test_simulate_refuses_a_negative_seed_by_name():
     import footnav
-    from footnav.errors import InvalidParameterError
+    from footnav.core.errors import InvalidParameterError
 
     with pytest.raises(InvalidParameterError, match="seed=-1 is invalid; expected an integer >= 0"):
         footnav.simulate(seed=-1)

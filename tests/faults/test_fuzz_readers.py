@@ -10,7 +10,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from footnav.errors import FootnavError
+from footnav.core.errors import FootnavError
 from footnav.data.io import load, read_azure_fgo, read_footnav_csv, read_gaitmap, read_openshoe, read_xio, read_xsens
 
 HEADERS = [

@@ -18,7 +18,7 @@ import pytest
 
 import footnav
 from footnav import DataQualityWarning, InvalidInputError
-from footnav.types import ImuData
+from footnav.core.types import ImuData
 
 pytestmark = pytest.mark.fault
 

@@ -16,7 +16,7 @@ from pathlib import Path
 import pytest
 
 from footnav.cli import main
-from footnav.errors import DataQualityWarning, InvalidInputError
+from footnav.core.errors import DataQualityWarning, InvalidInputError
 from footnav.data.output import MARKER, claim_output, is_footnav_figure
 
 pytestmark = pytest.mark.fault

@@ -7,7 +7,7 @@ import warnings
 import pytest
 
 import footnav
-from footnav.errors import DataQualityWarning, InvalidInputError
+from footnav.core.errors import DataQualityWarning, InvalidInputError
 
 COUPLED = ["range", "step-vector", "particle", "dtw"]
 

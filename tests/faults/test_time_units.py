@@ -14,7 +14,7 @@ import footnav
 from footnav import DataQualityWarning, InvalidInputError
 from footnav.data.io import load, read_footnav_csv
 from footnav.data.io.footnav_csv import write_footnav_csv
-from footnav.types import GRAVITY_MPS2, ImuData
+from footnav.core.types import GRAVITY_MPS2, ImuData
 
 pytestmark = pytest.mark.fault
 

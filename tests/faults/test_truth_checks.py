@@ -16,9 +16,9 @@ from footnav.analysis.batch import evaluate_many
 from footnav.analysis.evaluation import evaluate
 from footnav.cli import main
 from footnav.data.io.footnav_csv import write_footnav_csv, write_footnav_truth
-from footnav.errors import DataQualityWarning, InvalidInputError
-from footnav.types import FootTruth, Recording
-from footnav.warning_log import recording as recorded_warnings
+from footnav.core.errors import DataQualityWarning, InvalidInputError
+from footnav.core.types import FootTruth, Recording
+from footnav.core.warning_log import recording as recorded_warnings
 
 pytestmark = pytest.mark.fault
 
@@ -136,7 +136,7 @@ def test_mirrored_planar_truth_warns_and_the_3d_fit_does_not_hide_it(walk, pipe)
 
 def test_footprint_truth_is_checked_like_with_like(walk, pipe):
     # footprints (one point per stance, z = 0): its path matches the estimate's at the same times
-    from footnav.types import stance_intervals
+    from footnav.core.types import stance_intervals
 
     runs = stance_intervals(walk.truth_left.stance)
     idx = (runs[:, 0] + runs[:, 1]) // 2

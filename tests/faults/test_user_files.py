@@ -19,7 +19,7 @@ import pytest
 from footnav.cli import main
 from footnav.data import output
 from footnav.data.output import MARKER, claim_output
-from footnav.errors import DataQualityWarning, InvalidInputError
+from footnav.core.errors import DataQualityWarning, InvalidInputError
 
 pytestmark = pytest.mark.fault
 

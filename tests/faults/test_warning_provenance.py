@@ -11,7 +11,7 @@ import pytest
 
 import footnav
 from footnav import StanceDetector
-from footnav.warning_log import recording
+from footnav.core.warning_log import recording
 
 pytestmark = pytest.mark.fault
 

@@ -15,7 +15,7 @@ import pytest
 
 import footnav
 from footnav.fusion.joint import first_step_yaw, forward_only
-from footnav.types import StanceResult
+from footnav.core.types import StanceResult
 
 
 class _Counting:

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 import footnav
-from footnav.types import StanceResult
+from footnav.core.types import StanceResult
 from footnav.estimators.ekf import EkfEstimator
 from footnav.fusion import dtw as dtw_fusion
 from footnav.fusion import particle as particle_fusion

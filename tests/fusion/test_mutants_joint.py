@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 
 import footnav
-from footnav.types import StanceResult
+from footnav.core.types import StanceResult
 
 
 def _fit_2d(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 import footnav
-from footnav.types import StanceResult
+from footnav.core.types import StanceResult
 
 BOUND_M = 0.5  # below the simulated 0.7 m steps: every landing of the walk is over the bound
 STD_M = 1e-3  # the constraint as good as exact

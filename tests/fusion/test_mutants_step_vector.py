@@ -1,7 +1,7 @@
 """Step-vector fusion (Zhao et al. (2019), eq. 5-7) on a hand-worked step (issue 17).
 
 The fusion runs through its public ``fuse`` on a stand-in for the step-able estimator
-(``footnav.component.stepable_gaps`` is the contract): its filter is footnav's own
+(``footnav.core.component.stepable_gaps`` is the contract): its filter is footnav's own
 :class:`~footnav.estimators.ekf.filter.InsFilter` (so the measurement update is footnav's), with the
 propagation replaced by nothing and the per-sample attitudes set by hand. Every expected value is
 computed here in plain numpy from the paper's equations:
@@ -20,7 +20,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from footnav.types import FootTrajectory, ImuData, StanceResult
+from footnav.core.types import FootTrajectory, ImuData, StanceResult
 from footnav.estimators.ekf.filter import InsFilter
 from footnav.estimators.ekf._records import POS, FilterNoise
 from footnav.fusion.joint import FeetView
@@ -110,7 +110,7 @@ class _HandFilter(InsFilter):
 
 
 class _HandEstimator:
-    """The step-able estimator contract (footnav.component.StepableEstimator: start, finish,
+    """The step-able estimator contract (footnav.core.component.StepableEstimator: start, finish,
     estimate, clone; smoother, heading) around one :class:`_HandFilter`."""
 
     name = "hand"

@@ -21,7 +21,7 @@ from footnav.fusion.particle import ParticleFusion
 from footnav.fusion.particle_ekf import N_STATES, PaperFoot
 from footnav.nav import quaternion as quat
 from footnav.nav.mechanization import strapdown_step
-from footnav.types import StanceResult
+from footnav.core.types import StanceResult
 
 
 def _skew(f):

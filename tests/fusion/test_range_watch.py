@@ -17,9 +17,9 @@ import numpy as np
 import pytest
 
 import footnav
-from footnav.component import JOINT_FILTER_MEMBERS
+from footnav.core.component import JOINT_FILTER_MEMBERS
 from footnav.estimators.ekf import EkfEstimator
-from footnav.types import StanceResult
+from footnav.core.types import StanceResult
 
 
 class _PythonChecks:

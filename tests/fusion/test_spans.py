@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 import footnav
-from footnav.errors import DataQualityWarning
+from footnav.core.errors import DataQualityWarning
 from footnav.nav.spans import MIN_COMMON_S, common_span, slice_stance, span_difference
 
 COUPLED = ["range", "step-vector", "particle", "dtw"]

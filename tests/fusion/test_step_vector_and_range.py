@@ -102,7 +102,7 @@ def test_range_constraint_bounds_the_separation():
 
 
 def test_fusions_need_a_stepable_estimator():
-    class NoFilter(footnav.component.FootEstimator):
+    class NoFilter(footnav.core.component.FootEstimator):
         name = "no-filter"
 
         def __init__(self):

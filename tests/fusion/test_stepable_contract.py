@@ -1,4 +1,4 @@
-"""The step-able estimator contract coupled fusions drive (footnav.component.StepableEstimator
+"""The step-able estimator contract coupled fusions drive (footnav.core.component.StepableEstimator
 and JointFilter), written as Protocols and checked before anything runs: an estimator that offers
 ``start`` but not the rest is refused naming what it lacks, and an estimator written by a third
 party against the Protocols alone runs with every coupled fusion."""
@@ -8,7 +8,7 @@ import pytest
 
 import footnav
 from footnav import CompositionError, FootEstimator
-from footnav.component import JointFilter, StepableEstimator, stepable_gaps
+from footnav.core.component import JointFilter, StepableEstimator, stepable_gaps
 from footnav.testing import StepableEstimatorContract
 
 COUPLED = ("range", "step-vector", "dtw", "particle")

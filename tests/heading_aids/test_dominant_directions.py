@@ -8,10 +8,10 @@ import numpy as np
 import pytest
 
 import footnav
-from footnav.errors import CompositionError, InvalidParameterError
+from footnav.core.errors import CompositionError, InvalidParameterError
 from footnav.nav.dominant_directions import dominant_direction_correction
 from footnav.nav.heading import turn_by
-from footnav.types import FootTrajectory, StanceResult
+from footnav.core.types import FootTrajectory, StanceResult
 
 
 def _truth_trajectory(rec, foot="left"):

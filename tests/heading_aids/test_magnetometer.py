@@ -7,7 +7,7 @@ import pytest
 
 import footnav
 from footnav.analysis import metrics
-from footnav.errors import CompositionError, DataQualityWarning
+from footnav.core.errors import CompositionError, DataQualityWarning
 from footnav.nav import quaternion as quat
 from footnav.nav.magnetic_heading import hard_iron_offset, magnetic_heading_correction
 

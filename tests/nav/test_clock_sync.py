@@ -9,7 +9,7 @@ import footnav
 from footnav import DataQualityWarning, InvalidInputError, InvalidParameterError
 from footnav.nav.clock_from_data import align_from_data
 from footnav.nav.clock_sync import ClockMap, apply_clock, fit_clock
-from footnav.types import ImuData
+from footnav.core.types import ImuData
 
 # -- seed 002's linear programs --------------------------------------------------------------------
 

@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from footnav.nav.dominant_directions import dominant_direction_correction
-from footnav.types import FootTrajectory
+from footnav.core.types import FootTrajectory
 
 
 def _walk(headings_deg, lengths=None):

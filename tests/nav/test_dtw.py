@@ -19,7 +19,7 @@ import footnav
 from footnav.nav.dtw import dtw_align
 from footnav.nav.dtw_average import AveragedPath, timed_average, timeless_average
 from footnav.nav.dtw_heading import heading_mismatch
-from footnav.errors import InvalidInputError, InvalidParameterError
+from footnav.core.errors import InvalidInputError, InvalidParameterError
 
 EXACT = 1e-12
 

@@ -9,9 +9,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from footnav.errors import InvalidInputError
+from footnav.core.errors import InvalidInputError
 from footnav.nav.final_rest import final_rest
-from footnav.types import StanceResult
+from footnav.core.types import StanceResult
 
 RATE = 100.0
 

@@ -24,7 +24,7 @@ from footnav.nav.floors import (
 )
 from dataclasses import replace
 
-from footnav.types import FootTrajectory
+from footnav.core.types import FootTrajectory
 
 
 def test_stance_height_is_the_median_of_its_samples():
@@ -328,7 +328,7 @@ def test_the_holder_with_swing_rises_in_chunks_gives_the_whole_walk_s(chunk):
 
 def test_a_swing_rise_per_step_must_match_the_steps():
     walk = _walk([0.02, 0.02])
-    from footnav.errors import InvalidInputError
+    from footnav.core.errors import InvalidInputError
 
     with pytest.raises(InvalidInputError, match="swing_rise_m"):
         replace(walk, swing_rise_m=np.zeros(2))

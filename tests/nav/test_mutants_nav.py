@@ -11,7 +11,7 @@ import pytest
 
 from footnav.nav import quaternion as quat
 from footnav.nav.mechanization import strapdown
-from footnav.types import ImuData, StanceResult
+from footnav.core.types import ImuData, StanceResult
 
 G = 9.80665  # m/s^2, written out: not read from the library
 
@@ -79,7 +79,7 @@ def test_window_is_the_nearest_odd_sample_count(window_s, rate_hz, expected):
 # align-start-boundary: a first stance that starts at sample 1 is a recording that does not start
 # at standstill: warned, and the estimate starts there
 def test_first_stance_at_sample_one_is_reported():
-    from footnav.errors import DataQualityWarning
+    from footnav.core.errors import DataQualityWarning
     from footnav.nav.initial_alignment import align_first_stance
 
     n = 300
@@ -179,7 +179,7 @@ def test_a_second_bump_within_a_stride_is_not_a_swing():
 # of samples 2 and 3 lasts from t[2] to t[4] (the first stance sample after it)
 def test_swing_time_with_uneven_sampling():
     from footnav.nav.strides import stride_parameters
-    from footnav.types import FootTrajectory
+    from footnav.core.types import FootTrajectory
 
     t = np.array([0.0, 0.1, 0.3, 0.6, 1.0, 1.5])
     n = len(t)
@@ -223,7 +223,7 @@ def test_deviation_ratio_includes_the_minimum_distance():
 
 # metrics-interp-duplicates: times must increase strictly
 def test_interpolation_refuses_repeated_times():
-    from footnav.errors import InvalidInputError
+    from footnav.core.errors import InvalidInputError
     from footnav.analysis.metrics import interpolate_positions
 
     with pytest.raises(InvalidInputError):

@@ -7,9 +7,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from footnav.errors import InvalidInputError
+from footnav.core.errors import InvalidInputError
 from footnav.nav.spans import common_bounds, common_span, span_difference
-from footnav.types import ImuData
+from footnav.core.types import ImuData
 
 
 def _imu(t0, t1, rate=10.0):

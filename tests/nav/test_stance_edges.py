@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from footnav.nav.stance_edges import settled_mask
-from footnav.types import GRAVITY_MPS2
+from footnav.core.types import GRAVITY_MPS2
 
 RATE_HZ = 200.0
 

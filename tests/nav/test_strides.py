@@ -13,10 +13,10 @@ import numpy as np
 import pytest
 
 import footnav
-from footnav.errors import InvalidInputError
+from footnav.core.errors import InvalidInputError
 from footnav.nav import quaternion as quat
 from footnav.nav.strides import STRIDE_COLUMNS, mid_stances, stride_parameters
-from footnav.types import FootTrajectory
+from footnav.core.types import FootTrajectory
 
 
 def _strides(stances, n):

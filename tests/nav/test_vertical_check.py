@@ -28,7 +28,7 @@ import footnav
 from footnav import DataQualityWarning
 from footnav.nav.floors import LEVEL_RISE_MAX_M
 from footnav.nav.vertical_check import WARN_RATE_M_PER_100M, WARN_STEADY_FRACTION, check_vertical
-from footnav.types import FootTrajectory
+from footnav.core.types import FootTrajectory
 
 
 def _walk(rises, stride_m=1.5, stance_n=10, swing_n=10):

@@ -12,9 +12,9 @@ import footnav
 from footnav.nav.interpolation import interp_columns
 from footnav.nav.peaks import peak_candidates
 from footnav.nav.windows import centred, centred_acc_magnitude_rms, centred_gyr_rms
-from footnav.types import GRAVITY_MPS2, REST_ACC_REL_STD, REST_GYR_RADPS, REST_WINDOW_S
-from footnav.types._derived import row_norms, shared, sharing
-from footnav.types.imu_checks import _at_rest, _count_beyond, _held_peak
+from footnav.core.types import GRAVITY_MPS2, REST_ACC_REL_STD, REST_GYR_RADPS, REST_WINDOW_S
+from footnav.core.types._derived import row_norms, shared, sharing
+from footnav.core.types.imu_checks import _at_rest, _count_beyond, _held_peak
 
 RNG = np.random.default_rng(20)
 

@@ -10,8 +10,8 @@ import pytest
 
 import footnav
 from footnav.pipeline import online_foot, online_steps
-from footnav.errors import CompositionError, InvalidInputError
-from footnav.types import ImuData
+from footnav.core.errors import CompositionError, InvalidInputError
+from footnav.core.types import ImuData
 from online_replay import STEP, _check_equal, _chunks, _replay, shared_recordings  # tests/online_replay.py
 
 
@@ -164,7 +164,7 @@ def test_runs_are_the_stance_intervals():
     rng = np.random.default_rng(6)
     for n in [0, 1, 2, 3, 10, 200] * 50:
         mask = rng.random(n) < rng.random()
-        assert online_steps.stance_runs(mask) == [tuple(map(int, r)) for r in footnav.types.stance_intervals(mask)]
+        assert online_steps.stance_runs(mask) == [tuple(map(int, r)) for r in footnav.core.types.stance_intervals(mask)]
 
 
 def test_time_stamps_within_a_chunk_are_checked(walk):
@@ -240,7 +240,7 @@ def test_warnings_raised_while_pushing_are_in_the_result(walk):
 def test_close_records_the_offline_runs_checks_of_the_whole_walk(walk):
     """The stance self-check and the saturation found late in the walk: offline they see the whole
     recording, and a stream that kept every sample runs them on it at close, with the same records."""
-    from footnav.types import ImuData
+    from footnav.core.types import ImuData
 
     pipe = footnav.make_pipeline("threshold", "ekf", "independent", estimator_params=STEP)
     t, acc, gyr = walk.left.t, walk.left.acc.copy(), walk.left.gyr.copy()

@@ -13,8 +13,8 @@ import numpy as np
 import pytest
 
 import footnav
-from footnav.errors import DataQualityWarning
-from footnav.types import GRAVITY_MPS2
+from footnav.core.errors import DataQualityWarning
+from footnav.core.types import GRAVITY_MPS2
 
 
 @pytest.mark.parametrize("light_swings", [False, True])

@@ -9,8 +9,8 @@ import numpy as np
 
 import footnav
 from footnav.pipeline.online_checks import _ExtremeTally
-from footnav.types.imu_checks import ACC_FULL_SCALES_G, CLIP_MIN_ACC_MPS2, GRAVITY_MPS2
-from footnav.warning_log import recording
+from footnav.core.types.imu_checks import ACC_FULL_SCALES_G, CLIP_MIN_ACC_MPS2, GRAVITY_MPS2
+from footnav.core.warning_log import recording
 
 
 def test_a_plateau_split_across_chunks_is_one_plateau():

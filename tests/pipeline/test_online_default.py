@@ -10,7 +10,7 @@ import pytest
 from online_replay import _replay, shared_recordings  # tests/online_replay.py
 
 import footnav
-from footnav.types import stance_intervals
+from footnav.core.types import stance_intervals
 
 #: Replayed in chunks of 1 sample too (the others in chunks of 7 and 1000): one whose live
 #: stances are the offline ones, two where some differ (docs/online.md, "The default pipeline online").

@@ -15,7 +15,7 @@ import pytest
 from online_replay import STEP, _check_equal, _replay, shared_recordings  # tests/online_replay.py
 
 import footnav
-from footnav.errors import CompositionError, InvalidInputError
+from footnav.core.errors import CompositionError, InvalidInputError
 from footnav.pipeline import online_joint
 
 #: The coupled fusions that run online, with parameters under which they act often on the

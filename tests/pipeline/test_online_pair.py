@@ -11,7 +11,7 @@ import pytest
 from online_replay import STEP, _replay, shared_recordings  # tests/online_replay.py
 
 import footnav
-from footnav.errors import CompositionError
+from footnav.core.errors import CompositionError
 
 
 @pytest.fixture(scope="module")

@@ -11,7 +11,7 @@ import pytest
 
 import footnav
 from footnav.cli import main
-from footnav.errors import CompositionError, InvalidInputError, InvalidParameterError
+from footnav.core.errors import CompositionError, InvalidInputError, InvalidParameterError
 from footnav.data.io.footnav_csv import write_footnav_csv
 from footnav.pipeline.factory import load_pipeline, make_pipeline
 from footnav.pipeline.sync import ClockSync, synchronise

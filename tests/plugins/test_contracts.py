@@ -15,7 +15,7 @@ from pathlib import Path
 from registry_contracts import CONTRACTS, class_name, contract_classes  # tests/registry_contracts.py
 
 import footnav
-from footnav.component import KINDS
+from footnav.core.component import KINDS
 
 TESTS = Path(__file__).resolve().parents[1]
 MODULES = {

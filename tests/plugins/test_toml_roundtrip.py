@@ -34,7 +34,7 @@ def test_none_that_is_not_the_default_cannot_be_saved():
     pipe = footnav.make_pipeline("threshold", "ekf", "independent", estimator_params={"init_gyr_bias_std_radps": 1e-4})
     assert "init_gyr_bias_std_radps = 0.0001" in pipe.to_toml()
     pipe.detector.window_s = None  # not a default: a missing key would mean something else
-    with pytest.raises(footnav.errors.InvalidParameterError, match="cannot be written to TOML"):
+    with pytest.raises(footnav.core.errors.InvalidParameterError, match="cannot be written to TOML"):
         pipe.to_toml()
 
 
@@ -51,7 +51,7 @@ def test_step_vector_options_round_trip(tmp_path):
 def test_parameter_names_are_read_per_class_and_constructor():
     """Component._param_names is cached: a subclass with its own constructor, and a class whose
     constructor is replaced later, must still report their own parameters."""
-    from footnav.component import StanceDetector
+    from footnav.core.component import StanceDetector
 
     class Base(StanceDetector):
         name = "base-probe"

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import footnav
-from footnav.types import ImuData, StanceResult
+from footnav.core.types import ImuData, StanceResult
 from footnav.estimators.ekf import EkfEstimator
 from footnav.estimators.madgwick import MadgwickEstimator
 
@@ -18,7 +18,7 @@ STANDARD_GRAVITY = 9.80665
 
 def test_gravity_constant_is_standard_gravity():
     # types.GRAVITY_MPS2's comment claims the CGPM 1901 standard gravity: test the claim
-    from footnav import types
+    from footnav.core import types
 
     assert types.GRAVITY_MPS2 == STANDARD_GRAVITY
     assert footnav.GRAVITY_MPS2 == STANDARD_GRAVITY

@@ -1,4 +1,4 @@
-"""footnav.types.imu_checks: the accelerometer-at-rest check on both sides of g, and its reading
+"""footnav.core.types.imu_checks: the accelerometer-at-rest check on both sides of g, and its reading
 of g from a noisy standstill (the median over the still samples, against numpy on the same data)."""
 
 from __future__ import annotations
@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 import footnav
-from footnav.errors import DataQualityWarning, InvalidInputError
-from footnav.types import GRAVITY_MPS2, ImuData
+from footnav.core.errors import DataQualityWarning, InvalidInputError
+from footnav.core.types import GRAVITY_MPS2, ImuData
 
 
 @pytest.fixture(scope="module")

@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 import footnav
-from footnav.errors import InvalidInputError
-from footnav.types import GRAVITY_MPS2, ImuData
+from footnav.core.errors import InvalidInputError
+from footnav.core.types import GRAVITY_MPS2, ImuData
 
 pd = pytest.importorskip("pandas")
 
@@ -83,8 +83,8 @@ def test_unit_hint_only_names_a_unit_with_a_plausible_rate(walk):
     # any hint names only units whose rate falls in RATE_BOUNDS_HZ
     import re
 
-    from footnav.types.imu_checks import RATE_BOUNDS_HZ, _unit_hint
-    from footnav.types.units import _T_SCALE
+    from footnav.core.types.imu_checks import RATE_BOUNDS_HZ, _unit_hint
+    from footnav.core.types.units import _T_SCALE
     for raw_dt in (0.5, 3.0, 7e4, 1e7, 2.5e-6):
         hint = _unit_hint(raw_dt)
         for unit, rate in re.findall(r"t_unit='(\w+)' \(([\d.e+]+) Hz\)", hint):

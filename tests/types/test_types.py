@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from footnav import DataQualityWarning, ImuData, InvalidInputError, StanceResult
-from footnav.types import GRAVITY_MPS2, stance_intervals
+from footnav.core.types import GRAVITY_MPS2, stance_intervals
 
 
 def _arrays(n=50, rate=100.0):

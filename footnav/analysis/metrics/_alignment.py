@@ -10,7 +10,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from footnav.errors import InvalidInputError, InvalidParameterError
+from footnav.core.errors import InvalidInputError, InvalidParameterError
 from footnav.analysis.metrics._checks import _check_dims, _points, _readonly, _same_length
 
 

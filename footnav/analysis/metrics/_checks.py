@@ -6,8 +6,8 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from footnav.errors import InvalidInputError, InvalidParameterError
-from footnav.types._arrays import _readonly  # the one copy: a read-only, C-contiguous view
+from footnav.core.errors import InvalidInputError, InvalidParameterError
+from footnav.core.types._arrays import _readonly  # the one copy: a read-only, C-contiguous view
 
 #: Percent per unit fraction.
 _PERCENT = 100.0

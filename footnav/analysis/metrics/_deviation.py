@@ -11,7 +11,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from footnav.nav.dtw import DtwAlignment, dtw_align
-from footnav.errors import InvalidInputError, InvalidParameterError
+from footnav.core.errors import InvalidInputError, InvalidParameterError
 from footnav.analysis.metrics._checks import _check_dims, _events, _percent, _points, _same_length
 from footnav.nav.interpolation import interp_columns
 

@@ -11,10 +11,10 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.optimize import linear_sum_assignment
 
-from footnav.errors import InvalidInputError, InvalidParameterError
+from footnav.core.errors import InvalidInputError, InvalidParameterError
 from footnav.analysis.metrics._checks import _events, _finite, _float64, _mask, _percent, _readonly, _same_length
 from footnav.analysis.metrics._matching import EventMatches, match_events
-from footnav.types import stance_intervals
+from footnav.core.types import stance_intervals
 
 
 @dataclass(frozen=True, eq=False)

@@ -8,10 +8,10 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from footnav.errors import DataQualityWarning, InvalidInputError
+from footnav.core.errors import DataQualityWarning, InvalidInputError
 from footnav.analysis.metrics._alignment import RigidAlignment, rigid_align
 from footnav.analysis.metrics._checks import _check_dims, _events, _points, _readonly, _same_length
-from footnav.warning_log import warn
+from footnav.core.warning_log import warn
 
 
 @dataclass(frozen=True, eq=False)

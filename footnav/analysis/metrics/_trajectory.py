@@ -9,7 +9,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from footnav.errors import InvalidInputError
+from footnav.core.errors import InvalidInputError
 from footnav.analysis.metrics._alignment import rigid_align
 from footnav.analysis.metrics._checks import _check_dims, _finite, _float64, _percent, _point, _points, _readonly, _same_length
 

@@ -1,11 +1,11 @@
-"""File readers: every supported recording format -> :class:`~footnav.types.Recording`.
+"""File readers: every supported recording format -> :class:`~footnav.core.types.Recording`.
 
 Each reader converts to SI units, keeps the sensor's axes as the body frame (or says which proper
 rotation it applied), converts reference positions to z up, and records in meta what it read
 (``format``, ``source``), what it converted and every change it made (duplicates dropped, gaps,
 clipping). It never fixes data silently: duplicate time stamps raise unless
-``drop_duplicates=True``; bad files raise :class:`~footnav.errors.InvalidInputError` naming
-the file, line and column; missing files raise :class:`~footnav.errors.DataNotFoundError`.
+``drop_duplicates=True``; bad files raise :class:`~footnav.core.errors.InvalidInputError` naming
+the file, line and column; missing files raise :class:`~footnav.core.errors.DataNotFoundError`.
 
 =============== ===================================== =========================================
 format          reader                                data

@@ -9,7 +9,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from footnav.errors import InvalidInputError
+from footnav.core.errors import InvalidInputError
 from footnav.data.io._text import check_file
 
 __all__ = ["mat_imu", "mat_vector", "read_mat"]

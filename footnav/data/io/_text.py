@@ -2,8 +2,8 @@
 
 Every reader goes through these functions so that all of them
 
-* raise :class:`~footnav.errors.DataNotFoundError` for a missing file;
-* raise :class:`~footnav.errors.InvalidInputError` naming the file, the 1-based line and the
+* raise :class:`~footnav.core.errors.DataNotFoundError` for a missing file;
+* raise :class:`~footnav.core.errors.InvalidInputError` naming the file, the 1-based line and the
   column for an empty file, a wrong number of columns, a non-numeric or non-finite cell, a
   truncated last line, a duplicate or backwards time stamp;
 * record every change they make (units converted, duplicates dropped, gaps, clipping) in meta.
@@ -24,8 +24,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from footnav.errors import DataNotFoundError, DataQualityWarning, InvalidInputError
-from footnav.types import (  # noqa: F401  (CLIP_*: re-exported, they were defined here)
+from footnav.core.errors import DataNotFoundError, DataQualityWarning, InvalidInputError
+from footnav.core.types import (  # noqa: F401  (CLIP_*: re-exported, they were defined here)
     CLIP_FRACTION_OF_FULL_SCALE,
     CLIP_MIN_ACC_MPS2,
     CLIP_MIN_GYR_RADPS,
@@ -33,7 +33,7 @@ from footnav.types import (  # noqa: F401  (CLIP_*: re-exported, they were defin
     ImuData,
     detect_clipping,
 )
-from footnav.warning_log import warn
+from footnav.core.warning_log import warn
 
 __all__ = [
     "ROTATE_180_ABOUT_X",

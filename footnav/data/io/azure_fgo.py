@@ -29,7 +29,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from footnav.errors import DataNotFoundError, InvalidInputError
+from footnav.core.errors import DataNotFoundError, InvalidInputError
 from footnav.data.io._text import (
     ROTATE_180_ABOUT_X,
     build_imu,
@@ -38,7 +38,7 @@ from footnav.data.io._text import (
     read_text,
     split_header,
 )
-from footnav.types import FootTruth, Recording
+from footnav.core.types import FootTruth, Recording
 
 __all__ = ["read_azure_fgo", "AZURE_FGO_RATE_HZ", "AZURE_FGO_FILES"]
 

@@ -37,10 +37,10 @@ from typing import Any
 
 import numpy as np
 
-from footnav.errors import DataQualityWarning, InvalidInputError
+from footnav.core.errors import DataQualityWarning, InvalidInputError
 from footnav.data.io._text import TextFile, build_imu, changes_of, parse_table, read_text, split_header
-from footnav.types import Recording
-from footnav.warning_log import warn
+from footnav.core.types import Recording
+from footnav.core.warning_log import warn
 
 __all__ = [
     "read_delimited",

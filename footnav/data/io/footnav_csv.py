@@ -20,9 +20,9 @@ from typing import Any
 
 import numpy as np
 
-from footnav.errors import InvalidInputError
+from footnav.core.errors import InvalidInputError
 from footnav.data.io._text import build_imu, changes_of, parse_table, read_text, split_header
-from footnav.types import FootTruth, ImuData, Recording
+from footnav.core.types import FootTruth, ImuData, Recording
 
 __all__ = [
     "read_footnav_csv",

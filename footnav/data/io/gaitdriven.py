@@ -47,10 +47,10 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from footnav.errors import InvalidInputError
+from footnav.core.errors import InvalidInputError
 from footnav.data.io._mat import mat_imu, mat_vector, read_mat
 from footnav.data.io._text import build_imu, changes_of, remap_indices
-from footnav.types import FootTruth, Recording
+from footnav.core.types import FootTruth, Recording
 
 __all__ = ["GAITDRIVEN_VARIABLES", "read_gaitdriven"]
 

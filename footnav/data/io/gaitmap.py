@@ -33,7 +33,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from footnav.errors import DataQualityWarning, InvalidInputError, InvalidParameterError
+from footnav.core.errors import DataQualityWarning, InvalidInputError, InvalidParameterError
 from footnav.data.io._text import (
     TextFile,
     build_imu,
@@ -43,8 +43,8 @@ from footnav.data.io._text import (
     remap_indices,
     split_header,
 )
-from footnav.types import GRAVITY_MPS2, FootTruth, Recording
-from footnav.warning_log import warn
+from footnav.core.types import GRAVITY_MPS2, FootTruth, Recording
+from footnav.core.warning_log import warn
 
 __all__ = ["read_gaitmap", "GAITMAP_RATE_HZ", "GAITMAP_MOCAP_RATE_HZ", "GAITMAP_EVENT_NAMES"]
 

@@ -32,7 +32,7 @@ What the data show (46 trials of subjects 1-8, checked when this reader was writ
   the walk; some trials have swings labelled after the end (shuffling after stopping). No swing
   straddles a boundary, and every labelled event lies inside its foot's counter span.
 
-Truth, per foot (:class:`~footnav.types.FootTruth`, ``frame="gait_events"``, no positions):
+Truth, per foot (:class:`~footnav.core.types.FootTruth`, ``frame="gait_events"``, no positions):
 
 * ``events["toe_off"]``, ``events["heel_strike"]``: every labelled swing's events as sample
   indices of that foot's file, i.e. the row whose counter is nearest to the labelled counter
@@ -62,11 +62,11 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from footnav.errors import DataNotFoundError, DataQualityWarning, InvalidInputError
+from footnav.core.errors import DataNotFoundError, DataQualityWarning, InvalidInputError
 from footnav.data.io._text import changes_of
 from footnav.data.io.xsens import read_xsens
-from footnav.types import FootTruth, ImuData, Recording
-from footnav.warning_log import warn
+from footnav.core.types import FootTruth, ImuData, Recording
+from footnav.core.warning_log import warn
 
 __all__ = ["ipol_trial_files", "read_ipol"]
 

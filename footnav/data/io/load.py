@@ -28,7 +28,7 @@ from dataclasses import replace
 from pathlib import Path as FilePath
 from typing import Any, Callable
 
-from footnav.errors import DataNotFoundError, InvalidInputError
+from footnav.core.errors import DataNotFoundError, InvalidInputError
 from footnav.data.io._text import check_file, split_header
 from footnav.data.io.azure_fgo import AZURE_FGO_FILES, read_azure_fgo
 from footnav.data.io.delimited import auto_columns, example_command, read_delimited, sniff_delimiter
@@ -41,8 +41,8 @@ from footnav.data.io.pyshoe import read_pyshoe
 from footnav.data.io.xio import read_xio
 from footnav.data.io.xsens import read_xsens
 from footnav.data.io.ximu import is_ximu_cal_header, read_ximu_cal
-from footnav.types import ImuData, Recording
-from footnav.warning_log import recording
+from footnav.core.types import ImuData, Recording
+from footnav.core.warning_log import recording
 
 __all__ = ["load", "guess_format", "reader_options", "READERS"]
 

@@ -13,7 +13,7 @@ from typing import Any
 import numpy as np
 
 from footnav.data.io._text import build_imu, changes_of, parse_table, read_text
-from footnav.types import Recording
+from footnav.core.types import Recording
 
 __all__ = ["read_openshoe", "OPENSHOE_RATE_HZ", "OPENSHOE_COLUMNS"]
 

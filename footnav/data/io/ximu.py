@@ -21,10 +21,10 @@ from __future__ import annotations
 
 from typing import Any
 
-from footnav.errors import InvalidInputError
+from footnav.core.errors import InvalidInputError
 from footnav.data.io._text import read_text, split_header
 from footnav.data.io.delimited import header_line, read_delimited, sniff_delimiter
-from footnav.types import Recording
+from footnav.core.types import Recording
 
 __all__ = ["read_ximu_cal", "XIMU_CAL_HEADER", "XIMU_RATE_HZ", "is_ximu_cal_header"]
 

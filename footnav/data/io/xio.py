@@ -22,9 +22,9 @@ from typing import Any
 
 import numpy as np
 
-from footnav.errors import InvalidInputError
+from footnav.core.errors import InvalidInputError
 from footnav.data.io._text import build_imu, changes_of, parse_table, read_text, split_header
-from footnav.types import FootTruth, Recording
+from footnav.core.types import FootTruth, Recording
 
 __all__ = ["read_xio", "XIO_HEADER"]
 

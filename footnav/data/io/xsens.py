@@ -33,10 +33,10 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from footnav.errors import DataQualityWarning, InvalidInputError
+from footnav.core.errors import DataQualityWarning, InvalidInputError
 from footnav.data.io._text import build_imu, changes_of, parse_table, read_text, split_header
-from footnav.types import Recording
-from footnav.warning_log import warn
+from footnav.core.types import Recording
+from footnav.core.warning_log import warn
 
 __all__ = ["read_xsens", "XSENS_COUNTER_MODULUS", "unwrap_counter"]
 

@@ -40,7 +40,7 @@ from footnav.data.simulate.options import _NOISE_KEYS, SCENARIOS, _fail, _resolv
 from footnav.data.simulate.options import _SCENARIO_DEFAULTS as _SCENARIO_DEFAULTS  # read by tests/faults
 from footnav.data.simulate.path import _centre_line
 from footnav.data.simulate.sensor import _mirrored_yaw_rate, _sensor_clock, _sensor_errors
-from footnav.types import FootTruth, ImuData, Recording
+from footnav.core.types import FootTruth, ImuData, Recording
 
 __all__ = ["simulate", "SCENARIOS", "PHASE_NAMES"]
 

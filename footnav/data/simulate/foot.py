@@ -16,7 +16,7 @@ from numpy.typing import NDArray
 from footnav.nav import quaternion as quat
 from footnav.data.simulate.gait import _FOOT_FLAT, _HEEL_OFF, _STANCE, _SWING, _Swings
 from footnav.data.simulate.profiles import _bump, _polyval, _quintic_coefficients, _smoothstep
-from footnav.types import GRAVITY_MPS2
+from footnav.core.types import GRAVITY_MPS2
 
 # Foot geometry in the foot frame (origin at the sensor on the instep, x forward, z up): the heel
 # contact point and the toe pivot (metatarsal heads), about 0.22 m apart as on an adult foot.

@@ -9,7 +9,7 @@ from typing import Any, Mapping
 
 import numpy as np
 
-from footnav.errors import InvalidParameterError
+from footnav.core.errors import InvalidParameterError
 from footnav.data.simulate.foot import _IMPACT_CUT
 
 #: Scenario names accepted by :func:`simulate`.

@@ -46,7 +46,7 @@ What footnav adds to the paper, and why:
   100 Hz), entered from step-down and left for push-up from its last sub-state: an
   expanded-state HMM with the same cyclic left-right structure, structural zeros and learned
   values (the first sub-states' stay probability becomes 1). Baum-Welch and its check still run
-  on the plain four-state model; the detector raises :class:`~footnav.errors.GaitModelError`
+  on the plain four-state model; the detector raises :class:`~footnav.core.errors.GaitModelError`
   rather than return a stance shorter than the check's 0.05 s. On the simulator's 10-min walks
   (66 turns) at 60 / 100 / 200 Hz: unchanged without swing variation or with ``swing_scale``
   0.7-1.3 (687 of 687 stances, none false); with ``swing_scale=(1, 0.5, 1.5)`` the learned model
@@ -76,7 +76,7 @@ module         what
 
 from __future__ import annotations
 
-from footnav.errors import GaitModelError, HmmNotFittedError
+from footnav.core.errors import GaitModelError, HmmNotFittedError
 from footnav.detectors.hmm.detector import HmmDetector
 from footnav.detectors.hmm.features import FEATURES, lowpass, significant_axis
 from footnav.detectors.hmm.model import PHASE_NAMES, STRUCTURE

@@ -18,10 +18,10 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from footnav.component import MAX_DURATION_S, StanceDetector, require, require_in_range, require_positive
-from footnav.errors import GaitModelError, HmmNotFittedError, InvalidInputError, InvalidParameterError
-from footnav.types import ImuData, StanceResult, stance_intervals
-from footnav.warning_log import recording
+from footnav.core.component import MAX_DURATION_S, StanceDetector, require, require_in_range, require_positive
+from footnav.core.errors import GaitModelError, HmmNotFittedError, InvalidInputError, InvalidParameterError
+from footnav.core.types import ImuData, StanceResult, stance_intervals
+from footnav.core.warning_log import recording
 from footnav.detectors.hmm.decoding import MIN_STANCE_S, decode_offline, min_stance_samples, on_samples, transition_events
 from footnav.detectors.hmm.features import FEATURES, model_grid
 from footnav.detectors.hmm.learning import learn
@@ -84,7 +84,7 @@ class HmmDetector(StanceDetector):
         1373 stance runs one sample long) and decodes 1170 / 710 / 687 stances with a minimum of
         0.05 / 0.1 / 0.15 s, 687 true; without swing variation every minimum gives the truth. A
         foot flat shorter than this (running) is not found: lower it there. Below 0.05 s (the
-        learning's check) a returned micro-stance raises :class:`~footnav.errors.GaitModelError`.
+        learning's check) a returned micro-stance raises :class:`~footnav.core.errors.GaitModelError`.
     seed : int
         Seed of K-means (and of hmmlearn); the same seed gives the same model and detections.
 

@@ -15,9 +15,9 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from footnav.errors import InvalidInputError
+from footnav.core.errors import InvalidInputError
 from footnav.nav.interpolation import interp_columns
-from footnav.types import GRAVITY_MPS2, ImuData
+from footnav.core.types import GRAVITY_MPS2, ImuData
 
 __all__ = ["FEATURES", "ModelGrid", "lowpass", "model_grid", "significant_axis"]
 

@@ -20,8 +20,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from footnav.errors import InvalidInputError
-from footnav.types import stance_intervals
+from footnav.core.errors import InvalidInputError
+from footnav.core.types import stance_intervals
 from footnav.detectors.hmm.features import significant_axis
 from footnav.detectors.hmm.model import N_STATES
 from footnav.detectors.hmm.reorder import CyclicOrder, cyclic_order_votes

@@ -6,7 +6,7 @@ data and checked (:func:`check_model`): stance must be the stillest state, and i
 steps, not one-sample visits at the zero crossings of the swing's rate. When the check fails the
 model is refitted once with a coarser covariance floor (``FALLBACK_MIN_STD_FACTOR`` x
 ``min_std``), with a warning; a model whose stance state is still not the stillest raises
-:class:`~footnav.errors.GaitModelError`. :func:`learn` runs all of it and returns the learned
+:class:`~footnav.core.errors.GaitModelError`. :func:`learn` runs all of it and returns the learned
 values with how the fit went (``fit_info_``).
 """
 
@@ -19,9 +19,9 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from footnav.errors import DataQualityWarning, FootnavWarning, GaitModelError
-from footnav.types import ImuData, stance_intervals
-from footnav.warning_log import warn
+from footnav.core.errors import DataQualityWarning, FootnavWarning, GaitModelError
+from footnav.core.types import ImuData, stance_intervals
+from footnav.core.warning_log import warn
 from footnav.detectors.hmm.features import model_grid
 from footnav.detectors.hmm.initialise import STANDSTILL_MAX_RADPS, initial_guess
 from footnav.detectors.hmm.model import N_STATES, STANCE, build_hmm, initial_emissions

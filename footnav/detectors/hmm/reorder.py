@@ -15,8 +15,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from footnav.errors import InvalidInputError
-from footnav.types import stance_intervals
+from footnav.core.errors import InvalidInputError
+from footnav.core.types import stance_intervals
 from footnav.detectors.hmm.model import N_STATES
 
 __all__ = ["CyclicOrder", "cyclic_order", "cyclic_order_votes"]

@@ -18,7 +18,7 @@ from typing import Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from footnav.component import (
+from footnav.core.component import (
     MAX_ACC_MPS2,
     MAX_ANGLE_RAD,
     MAX_DURATION_S,
@@ -30,7 +30,7 @@ from footnav.component import (
     require_non_negative,
     require_positive,
 )
-from footnav.errors import InvalidParameterError
+from footnav.core.errors import InvalidParameterError
 from footnav.estimators.ekf._records import FilterNoise
 from footnav.estimators.ekf.filter import InsFilter
 from footnav.estimators.ekf.online import OnlineInsFilter
@@ -41,7 +41,7 @@ from footnav.nav.heading import turn_to_first_step
 from footnav.nav.heading_drift import TURN_ON_BIAS_STD_RADPS, heading_drift_cov, standstill_rate_std
 from footnav.nav.initial_alignment import align_first_stance
 from footnav.nav.stance_edges import settled_mask
-from footnav.types import FULL_SCALE_RATIO, FootTrajectory, ImuData, StanceResult, clipped_acc, stance_intervals
+from footnav.core.types import FULL_SCALE_RATIO, FootTrajectory, ImuData, StanceResult, clipped_acc, stance_intervals
 
 __all__ = ["EkfEstimator", "GYRO_BIAS_STD_FLOOR_RADPS"]
 
@@ -163,7 +163,7 @@ class EkfEstimator(FootEstimator):
     clip_excess_mps2 : float
         Std of the specific force beyond the range at a sample whose accelerometer axis is at
         its range, m/s^2 (0: off, the default; offline only). Where the input records clipping
-        (``meta["clipped"]``, :func:`footnav.types.clipped_acc` with the recorded full scale,
+        (``meta["clipped"]``, :func:`footnav.core.types.clipped_acc` with the recorded full scale,
         an axis within ``FULL_SCALE_RATIO[0]`` of it), that sample's transition gets the extra
         velocity variance (clip_excess_mps2 dt)^2 along each clipped body axis, so the next ZUPT
         puts the velocity it finds into the clipped samples rather than over the whole swing.
@@ -239,7 +239,7 @@ class EkfEstimator(FootEstimator):
         self.clip_excess_mps2 = clip_excess_mps2
 
     def validate_params(self) -> None:
-        # Upper bounds (footnav.component): every std and noise density is squared into the
+        # Upper bounds (footnav.core.component): every std and noise density is squared into the
         # filter's covariance, where 1e308 overflows to inf and turns the estimate into NaN.
         require_positive(self, "acc_noise_mps2_sqrthz", "acc_bias_walk_mps3_sqrthz", "init_acc_bias_std_mps2", high=MAX_ACC_MPS2)
         require_positive(
@@ -295,7 +295,7 @@ class EkfEstimator(FootEstimator):
         initial_position_m: Sequence[NDArray[np.float64]] | None = None,
     ) -> OnlineInsFilter:
         """Align each foot at its first standstill and return the filter, ready to run (an
-        :class:`InsFilter` a stream can run in segments, :class:`footnav.component.OnlineFilter`).
+        :class:`InsFilter` a stream can run in segments, :class:`footnav.core.component.OnlineFilter`).
 
         Parameters
         ----------
@@ -352,7 +352,7 @@ class EkfEstimator(FootEstimator):
 
     def _clip_var(self, imu: ImuData, meta: dict) -> NDArray[np.float64] | None:
         """Extra velocity variance (m^2/s^2) of each sample's transition, (N, 3): (``clip_excess_mps2``
-        dt)^2 per accelerometer axis at its range (:func:`footnav.types.clipped_acc`, with the
+        dt)^2 per accelerometer axis at its range (:func:`footnav.core.types.clipped_acc`, with the
         full scale the input records), None when nothing is clipped."""
         found = imu.meta.get("clipped")
         if not self.clip_excess_mps2 or not found or not found.get("acc"):
@@ -427,7 +427,7 @@ class EkfEstimator(FootEstimator):
 
     def finish(self, filt: InsFilter, stances: Sequence[StanceResult]) -> list[FootTrajectory]:
         """Run ``filt`` (from :meth:`start`) to the end, smooth it as ``smoother`` says and return
-        each foot's trajectory (:class:`footnav.component.StepableEstimator`)."""
+        each foot's trajectory (:class:`footnav.core.component.StepableEstimator`)."""
         filt.run_until()
         smoothed = None if self.smoother == "none" else smooth(filt, self.smoother)
         return [self.trajectory(filt, foot, stance, smoothed) for foot, stance in enumerate(stances)]

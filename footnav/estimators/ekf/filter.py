@@ -21,7 +21,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from footnav._numba import EntryPoints
-from footnav.errors import InvalidInputError
+from footnav.core.errors import InvalidInputError
 from footnav.estimators.ekf._buffers import staggered
 from footnav.estimators.ekf._kernels import feedback_all
 from footnav.estimators.ekf._loop import (

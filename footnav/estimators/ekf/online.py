@@ -6,7 +6,7 @@ the samples it still needs, the state where the filter stands (or at a checkpoin
 step-wise smoother's open step, its record re-indexed to the new segment. Every index this
 module takes or gives is a foot's own sample index in the segment (:meth:`InsFilter.index`'s);
 the record's layout (:class:`~footnav.estimators.ekf._records.Record`) stays inside the EKF.
-This is the reference implementation of :class:`footnav.component.OnlineFilter`.
+This is the reference implementation of :class:`footnav.core.component.OnlineFilter`.
 """
 
 from __future__ import annotations
@@ -25,7 +25,7 @@ __all__ = ["OnlineInsFilter"]
 
 class OnlineInsFilter(InsFilter):
     """:class:`InsFilter` with what a stream needs to run it in segments (the
-    :class:`footnav.component.OnlineFilter` contract): :meth:`rebase`, the smoother's open step
+    :class:`footnav.core.component.OnlineFilter` contract): :meth:`rebase`, the smoother's open step
     (:meth:`open_step_start`, :meth:`close_open_step`) and the final per-sample estimate
     (:meth:`final_outputs`). :meth:`footnav.estimators.ekf.EkfEstimator.start` returns one."""
 

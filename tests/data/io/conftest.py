@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from footnav.types import GRAVITY_MPS2
+from footnav.core.types import GRAVITY_MPS2
 
 #: /work/shared/data seen from /work/main/tests/data/io/conftest.py; FOOTNAV_DATA overrides it.
 DEFAULT_SHARED_DATA = Path(__file__).resolve().parents[3].parent / "shared" / "data"

@@ -7,10 +7,10 @@ import pytest
 from scipy.io import savemat
 
 from footnav.data.datasets import data_dir
-from footnav.errors import DataNotFoundError, InvalidInputError
+from footnav.core.errors import DataNotFoundError, InvalidInputError
 from footnav.data.io import guess_format, load, read_gaitdriven
 from footnav.analysis.metrics import ate_rmse
-from footnav.types import GRAVITY_MPS2
+from footnav.core.types import GRAVITY_MPS2
 
 
 def _mat(path, n=400, stride=None, gcp=None):

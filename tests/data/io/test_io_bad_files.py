@@ -6,7 +6,7 @@ from pathlib import Path
 
 import pytest
 
-from footnav.errors import DataNotFoundError, InvalidInputError
+from footnav.core.errors import DataNotFoundError, InvalidInputError
 from footnav.data.io import read_azure_fgo, read_footnav_csv, read_gaitmap, read_openshoe, read_xio, read_xsens
 
 N_ROWS = 8

@@ -11,8 +11,8 @@ import pytest
 import footnav
 from footnav.cli import main
 from footnav.data.io import guess_format, load, read_delimited, read_ximu_cal
-from footnav.errors import DataQualityWarning, InvalidInputError
-from footnav.types import GRAVITY_MPS2
+from footnav.core.errors import DataQualityWarning, InvalidInputError
+from footnav.core.types import GRAVITY_MPS2
 
 G = GRAVITY_MPS2
 D2R = np.pi / 180.0

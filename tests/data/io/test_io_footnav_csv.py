@@ -5,9 +5,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from footnav.errors import DataNotFoundError, DataQualityWarning, InvalidInputError
+from footnav.core.errors import DataNotFoundError, DataQualityWarning, InvalidInputError
 from footnav.data.io import read_footnav_csv, read_footnav_recording, write_footnav_csv
-from footnav.types import GRAVITY_MPS2, ImuData
+from footnav.core.types import GRAVITY_MPS2, ImuData
 
 HEADER = "t,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z"
 

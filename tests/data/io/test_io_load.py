@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 from scipy.io import savemat
 
-from footnav.errors import DataNotFoundError, DataQualityWarning, InvalidInputError
+from footnav.core.errors import DataNotFoundError, DataQualityWarning, InvalidInputError
 from footnav.data.io import READERS, load, write_footnav_csv
-from footnav.types import GRAVITY_MPS2, ImuData
+from footnav.core.types import GRAVITY_MPS2, ImuData
 
 KNOWN = {"footnav_folder", "footnav_csv", "gaitmap", "azure_fgo", "xio", "openshoe", "pyshoe", "xsens", "ipol", "gaitdriven", "ximu_cal", "delimited"}
 

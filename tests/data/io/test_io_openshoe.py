@@ -7,9 +7,9 @@ import warnings
 import numpy as np
 import pytest
 
-from footnav.errors import DataQualityWarning, InvalidInputError
+from footnav.core.errors import DataQualityWarning, InvalidInputError
 from footnav.data.io import read_openshoe
-from footnav.types import GRAVITY_MPS2
+from footnav.core.types import GRAVITY_MPS2
 
 
 def _write(path, acc, gyr):

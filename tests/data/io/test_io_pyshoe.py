@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 from scipy.io import savemat
 
-from footnav.errors import DataNotFoundError, DataQualityWarning, InvalidInputError
+from footnav.core.errors import DataNotFoundError, DataQualityWarning, InvalidInputError
 from footnav.data.io import read_pyshoe
-from footnav.types import GRAVITY_MPS2
+from footnav.core.types import GRAVITY_MPS2
 
 N = 400
 

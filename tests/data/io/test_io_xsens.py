@@ -7,9 +7,9 @@ import warnings
 import numpy as np
 import pytest
 
-from footnav.errors import DataQualityWarning, InvalidInputError
+from footnav.core.errors import DataQualityWarning, InvalidInputError
 from footnav.data.io import read_xsens
-from footnav.types import GRAVITY_MPS2
+from footnav.core.types import GRAVITY_MPS2
 
 PREAMBLE = [
     "// General information:",

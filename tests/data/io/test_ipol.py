@@ -10,9 +10,9 @@ import numpy as np
 import pytest
 
 from footnav.data.datasets import data_dir
-from footnav.errors import DataNotFoundError, DataQualityWarning, InvalidInputError
+from footnav.core.errors import DataNotFoundError, DataQualityWarning, InvalidInputError
 from footnav.data.io import guess_format, load, read_ipol
-from footnav.types import GRAVITY_MPS2, stance_intervals
+from footnav.core.types import GRAVITY_MPS2, stance_intervals
 
 COLUMNS = ["PacketCounter", "Acc_X", "Acc_Y", "Acc_Z", "Gyr_X", "Gyr_Y", "Gyr_Z", "Mag_X", "Mag_Y", "Mag_Z"]
 

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from footnav.data.io.pyshoe import _gravity_z_sign
-from footnav.types import GRAVITY_MPS2
+from footnav.core.types import GRAVITY_MPS2
 
 
 def test_the_sign_comes_from_the_rest_samples_only():

@@ -19,7 +19,7 @@ import warnings
 from collections.abc import Iterator
 from dataclasses import dataclass
 
-from footnav.errors import DataQualityWarning
+from footnav.core.errors import DataQualityWarning
 
 __all__ = ["RecordedWarning", "merge_warnings", "recording", "warn"]
 

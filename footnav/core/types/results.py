@@ -7,8 +7,8 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
-from footnav.types.stance import StanceResult
-from footnav.types.trajectory import FootTrajectory, Path
+from footnav.core.types.stance import StanceResult
+from footnav.core.types.trajectory import FootTrajectory, Path
 
 __all__ = ["FusionResult"]
 

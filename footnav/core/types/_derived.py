@@ -24,7 +24,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from footnav._numba import njit
-from footnav.types._arrays import _readonly
+from footnav.core.types._arrays import _readonly
 
 __all__ = ["cumulative", "row_norms", "shared", "sharing"]
 

@@ -9,9 +9,9 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from footnav.errors import InvalidInputError
-from footnav.types._arrays import _readonly
-from footnav.types.imu import ImuData
+from footnav.core.errors import InvalidInputError
+from footnav.core.types._arrays import _readonly
+from footnav.core.types.imu import ImuData
 
 __all__ = ["FootTruth", "Recording"]
 

@@ -1,7 +1,7 @@
 """Standard gravity and the units footnav converts inputs from.
 
 Inside footnav everything is SI (m, s, rad, m/s^2, and uT for the magnetic field); readers and
-:meth:`footnav.types.ImuData.from_arrays` convert at the edge with the scale factors here.
+:meth:`footnav.core.types.ImuData.from_arrays` convert at the edge with the scale factors here.
 """
 
 from __future__ import annotations
@@ -10,7 +10,7 @@ from typing import Any
 
 import numpy as np
 
-from footnav.errors import InvalidInputError
+from footnav.core.errors import InvalidInputError
 
 __all__ = ["GRAVITY_MPS2"]
 

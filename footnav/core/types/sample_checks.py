@@ -1,5 +1,5 @@
-"""Checks of single samples and their time stamps, shared by a recording (:class:`~footnav.types.ImuData`,
-:mod:`footnav.types.imu_checks`) and an online stream's chunks (:mod:`footnav.pipeline.online_checks`):
+"""Checks of single samples and their time stamps, shared by a recording (:class:`~footnav.core.types.ImuData`,
+:mod:`footnav.core.types.imu_checks`) and an online stream's chunks (:mod:`footnav.pipeline.online_checks`):
 time order, sampling gaps, and values no foot-mounted IMU reads. The errors name the sample by its
 index in the recording (or the foot's stream), with the same words on both paths."""
 
@@ -8,9 +8,9 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-from footnav.errors import InvalidInputError
-from footnav.types._derived import row_norms
-from footnav.types.units import GRAVITY_MPS2
+from footnav.core.errors import InvalidInputError
+from footnav.core.types._derived import row_norms
+from footnav.core.types.units import GRAVITY_MPS2
 
 __all__ = [
     "ACC_MAX_MPS2",

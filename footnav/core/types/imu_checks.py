@@ -1,7 +1,7 @@
 """Plausibility checks of one sensor's data in SI units: units, time base and rate, the
 accelerometer at rest, saturation (clipping).
 
-:meth:`footnav.types.ImuData.from_arrays`, :meth:`~footnav.types.ImuData.check_units`
+:meth:`footnav.core.types.ImuData.from_arrays`, :meth:`~footnav.core.types.ImuData.check_units`
 and the readers run them. Their thresholds are the module constants below, each with the reason
 for its value.
 """
@@ -15,9 +15,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from footnav._numba import njit
-from footnav.errors import InvalidInputError
-from footnav.types._derived import row_norms
-from footnav.types.sample_checks import (
+from footnav.core.errors import InvalidInputError
+from footnav.core.types._derived import row_norms
+from footnav.core.types.sample_checks import (
     ACC_MAX_MPS2,
     ACC_MEDIAN_BOUNDS_MPS2,
     GAP_FACTOR,
@@ -29,7 +29,7 @@ from footnav.types.sample_checks import (
     find_gaps,
     gap_message,
 )
-from footnav.types.units import _T_SCALE, GRAVITY_MPS2
+from footnav.core.types.units import _T_SCALE, GRAVITY_MPS2
 
 __all__ = [
     "ACC_FULL_SCALES_G",

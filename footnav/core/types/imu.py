@@ -10,12 +10,12 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from footnav.errors import DataQualityWarning, InvalidInputError
-from footnav.types._arrays import _as_float_array, _readonly
-from footnav.types.imu_checks import GAP_FACTOR, _check_data, check_time_order, find_gaps, gap_message
-from footnav.types.sample_checks import check_same_rows
-from footnav.types.units import _ACC_SCALE, _GYR_SCALE, _MAG_SCALE, _T_SCALE, _time_seconds
-from footnav.warning_log import warn
+from footnav.core.errors import DataQualityWarning, InvalidInputError
+from footnav.core.types._arrays import _as_float_array, _readonly
+from footnav.core.types.imu_checks import GAP_FACTOR, _check_data, check_time_order, find_gaps, gap_message
+from footnav.core.types.sample_checks import check_same_rows
+from footnav.core.types.units import _ACC_SCALE, _GYR_SCALE, _MAG_SCALE, _T_SCALE, _time_seconds
+from footnav.core.warning_log import warn
 
 __all__ = ["GAP_FACTOR", "ImuData", "ReadOnlyMeta"]
 

@@ -7,7 +7,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from footnav.errors import InvalidInputError
+from footnav.core.errors import InvalidInputError
 
 
 def _readonly(a: NDArray) -> NDArray:

@@ -17,13 +17,13 @@ from dataclasses import dataclass
 from numbers import Integral, Real
 from typing import TYPE_CHECKING, Any, ClassVar, Mapping, Protocol, Sequence, runtime_checkable
 
-from footnav.errors import CompositionError, InvalidParameterError
+from footnav.core.errors import CompositionError, InvalidParameterError
 
 if TYPE_CHECKING:
     import numpy as np
     from numpy.typing import NDArray
 
-    from footnav.types import FootTrajectory, ImuData, StanceResult
+    from footnav.core.types import FootTrajectory, ImuData, StanceResult
 
 __all__ = [
     "Component",
@@ -408,7 +408,7 @@ def require_stepable(fusion: Component, estimator: Component) -> None:
     if gaps:
         raise CompositionError(
             f"fusion {fusion.name!r} drives the per-foot filters step by step and needs an estimator with a "
-            f"step-able filter, such as 'ekf' (the contract: footnav.component.StepableEstimator); "
+            f"step-able filter, such as 'ekf' (the contract: footnav.core.component.StepableEstimator); "
             f"{estimator.name!r} lacks {', '.join(gaps)}"
         )
 
@@ -417,7 +417,7 @@ class Fusion(Component):
     """Combines the feet into one pedestrian: ``fuse(estimator, left, stance_left, right, stance_right)``.
 
     A fusion drives the per-foot ``estimator`` (it may call ``estimator.estimate`` or step its
-    filter) and returns a :class:`~footnav.types.FusionResult`.
+    filter) and returns a :class:`~footnav.core.types.FusionResult`.
     """
 
     kind: ClassVar[str] = "fusion"
@@ -496,8 +496,8 @@ class FusionSession(Protocol):
 class HeadingAid(Component):
     """Corrects the heading of a run's final trajectories: ``correct(result, left, right=None)``.
 
-    ``result`` is the fusion's :class:`~footnav.types.FusionResult`, ``left`` / ``right`` the
-    feet's :class:`~footnav.types.ImuData` (a magnetometer aid reads ``mag``); returns the
+    ``result`` is the fusion's :class:`~footnav.core.types.FusionResult`, ``left`` / ``right`` the
+    feet's :class:`~footnav.core.types.ImuData` (a magnetometer aid reads ``mag``); returns the
     corrected FusionResult, each corrected foot's ``meta["heading_aid"]`` saying what was done.
     The pipeline calls it after the fusion, before the height model. Online mode runs only the
     aids whose ``online`` is True.

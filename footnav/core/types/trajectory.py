@@ -9,8 +9,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from footnav.errors import InvalidInputError
-from footnav.types._arrays import _readonly
+from footnav.core.errors import InvalidInputError
+from footnav.core.types._arrays import _readonly
 
 __all__ = ["FootTrajectory", "Path"]
 

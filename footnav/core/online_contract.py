@@ -8,7 +8,7 @@ and, when a segment is full, starts the next with ``rebase``. Every sample index
 own index in the segment, except a checkpoint's ``k`` (see :class:`OnlineFilter`). footnav's
 ``ekf`` is the reference implementation (:class:`footnav.estimators.ekf.OnlineInsFilter`);
 ``footnav.testing.OnlineEstimatorContract`` checks a candidate. The contracts of the offline
-components are in :mod:`footnav.component`.
+components are in :mod:`footnav.core.component`.
 """
 
 from __future__ import annotations
@@ -20,7 +20,7 @@ if TYPE_CHECKING:
     import numpy as np
     from numpy.typing import NDArray
 
-    from footnav.types import FootTrajectory, ImuData, StanceResult
+    from footnav.core.types import FootTrajectory, ImuData, StanceResult
 
 __all__ = ["ONLINE_ESTIMATOR_MEMBERS", "ONLINE_FILTER_MEMBERS", "OnlineEstimator", "OnlineFilter", "online_gaps"]
 

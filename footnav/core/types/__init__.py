@@ -14,21 +14,21 @@ its frame in a ``frame`` attribute:
 One concept per module, each importing only those above it in this list (and the private array
 helpers of ``_arrays``); every public name is re-exported here:
 
-* :mod:`~footnav.types.units` -- ``GRAVITY_MPS2`` and the unit scale factors;
-* :mod:`~footnav.types.imu_checks` -- the plausibility checks of sensor data and their
+* :mod:`~footnav.core.types.units` -- ``GRAVITY_MPS2`` and the unit scale factors;
+* :mod:`~footnav.core.types.imu_checks` -- the plausibility checks of sensor data and their
   thresholds (``RATE_BOUNDS_HZ``, ``CLIP_*``, ...), :func:`detect_clipping`;
-* :mod:`~footnav.types.imu` -- :class:`ImuData`, ``GAP_FACTOR``;
-* :mod:`~footnav.types.stance` -- :class:`StanceResult`, :func:`stance_intervals`;
-* :mod:`~footnav.types.trajectory` -- :class:`FootTrajectory`, :class:`Path`;
-* :mod:`~footnav.types.results` -- :class:`FusionResult`;
-* :mod:`~footnav.types.recording` -- :class:`FootTruth`, :class:`Recording`.
+* :mod:`~footnav.core.types.imu` -- :class:`ImuData`, ``GAP_FACTOR``;
+* :mod:`~footnav.core.types.stance` -- :class:`StanceResult`, :func:`stance_intervals`;
+* :mod:`~footnav.core.types.trajectory` -- :class:`FootTrajectory`, :class:`Path`;
+* :mod:`~footnav.core.types.results` -- :class:`FusionResult`;
+* :mod:`~footnav.core.types.recording` -- :class:`FootTruth`, :class:`Recording`.
 """
 
 from __future__ import annotations
 
-# every public name footnav.types held when it was one module stays importable from here
-from footnav.types.imu import GAP_FACTOR, ImuData, ReadOnlyMeta  # noqa: F401  (ReadOnlyMeta: importable as before)
-from footnav.types.imu_checks import (  # noqa: F401  (the check thresholds: importable as before)
+# every public name footnav.core.types held when it was one module stays importable from here
+from footnav.core.types.imu import GAP_FACTOR, ImuData, ReadOnlyMeta  # noqa: F401  (ReadOnlyMeta: importable as before)
+from footnav.core.types.imu_checks import (  # noqa: F401  (the check thresholds: importable as before)
     ACC_FULL_SCALES_G,
     ACC_MEDIAN_BOUNDS_MPS2,
     ACC_MOVING_FRACTION,
@@ -53,11 +53,11 @@ from footnav.types.imu_checks import (  # noqa: F401  (the check thresholds: imp
     clipped_acc,
     detect_clipping,
 )
-from footnav.types.recording import FootTruth, Recording
-from footnav.types.results import FusionResult
-from footnav.types.stance import StanceResult, stance_intervals
-from footnav.types.trajectory import FootTrajectory, Path
-from footnav.types.units import GRAVITY_MPS2
+from footnav.core.types.recording import FootTruth, Recording
+from footnav.core.types.results import FusionResult
+from footnav.core.types.stance import StanceResult, stance_intervals
+from footnav.core.types.trajectory import FootTrajectory, Path
+from footnav.core.types.units import GRAVITY_MPS2
 
 __all__ = [
     "GAP_FACTOR",

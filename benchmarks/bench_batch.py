@@ -48,15 +48,24 @@ def main() -> None:
     t0 = time.perf_counter()  # again: loky keeps its workers, so this run has no start-up
     evaluate_many(pipes, recs, n_jobs=args.jobs, progress=False, keep_results=False)
     t_warm = time.perf_counter() - t0
-    same = [m.value for m in serial.metrics if m.name != "runtime"] == [m.value for m in parallel.metrics if m.name != "runtime"]
+    same = [m.value for m in serial.metrics if m.name != "runtime"] == [
+        m.value for m in parallel.metrics if m.name != "runtime"
+    ]
     print(f"machine: {platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()}")
-    print(f"{args.recordings} simulated recordings of {simulate_named(0, args.scale).left.duration_s:.0f} s, default pipeline")
-    print(f"serial: {t_serial:.2f} s; loky n_jobs={args.jobs}: {t_par:.2f} s (speed-up {t_serial / t_par:.2f}x), "
-          f"with its workers already started: {t_warm:.2f} s ({t_serial / t_warm:.2f}x); same metrics: {same}")
+    print(
+        f"{args.recordings} simulated recordings of {simulate_named(0, args.scale).left.duration_s:.0f} s, default pipeline"
+    )
+    print(
+        f"serial: {t_serial:.2f} s; loky n_jobs={args.jobs}: {t_par:.2f} s (speed-up {t_serial / t_par:.2f}x), "
+        f"with its workers already started: {t_warm:.2f} s ({t_serial / t_warm:.2f}x); same metrics: {same}"
+    )
     if args.dask:
         from dask.distributed import Client, LocalCluster
 
-        with LocalCluster(n_workers=args.jobs, threads_per_worker=1, dashboard_address=None) as cluster, Client(cluster):
+        with (
+            LocalCluster(n_workers=args.jobs, threads_per_worker=1, dashboard_address=None) as cluster,
+            Client(cluster),
+        ):
             t0 = time.perf_counter()
             evaluate_many(pipes, recs, backend="dask", progress=False, keep_results=False)
             t_dask = time.perf_counter() - t0

@@ -41,7 +41,9 @@ def main() -> None:
         return best_of(fn, args.repeat)[0]
 
     print(f"machine: {platform.machine()} {cpu_name()}, python {platform.python_version()}, numpy {np.__version__}")
-    print(f"recording: simulated straight walk, {n} samples per foot ({n / args.rate_hz / 60:.1f} min at {args.rate_hz:g} Hz)")
+    print(
+        f"recording: simulated straight walk, {n} samples per foot ({n / args.rate_hz / 60:.1f} min at {args.rate_hz:g} Hz)"
+    )
     per_sample = {}
     for name in ("threshold", "adaptive", "glrt"):
         det = footnav.make_detector(name)

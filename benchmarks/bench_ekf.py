@@ -57,10 +57,14 @@ def main() -> None:
         tracemalloc.stop()
         return peak / 1e6
 
-    print(f"machine: {platform.machine()}, {platform.processor() or 'cpu'}, {os.cpu_count()} cores, "
-          f"Python {platform.python_version()}, numpy {np.__version__}")
+    print(
+        f"machine: {platform.machine()}, {platform.processor() or 'cpu'}, {os.cpu_count()} cores, "
+        f"Python {platform.python_version()}, numpy {np.__version__}"
+    )
     print(f"recording: {rec.left.duration_s / 60:.1f} min simulated at {args.rate_hz:g} Hz, {n} samples per foot")
-    print(f"import footnav: {import_s:.2f} s; first calls of the six ekf variants (cache load or compile): {first_s:.2f} s")
+    print(
+        f"import footnav: {import_s:.2f} s; first calls of the six ekf variants (cache load or compile): {first_s:.2f} s"
+    )
     out_mb = n * (3 + 3 + 4 + 3) * 8 / 1e6
     print(f"output of one foot (position, velocity, attitude, std): {out_mb:.1f} MB")
     print("| states | smoother | us/sample | peak MB |")

@@ -96,8 +96,14 @@ def _timed(code: str, cache_dir: str, tree: str | None = None) -> tuple[float, f
 def _compilations(code: str, tree: str | None = None) -> dict:
     """numba's compilations while a fresh process with an empty cache runs ``code``."""
     with tempfile.TemporaryDirectory() as cache:
-        out = subprocess.run([*_child(_RECORD), code], env=_env(cache, tree), cwd=tree or HERE, check=True,
-                             capture_output=True, text=True)
+        out = subprocess.run(
+            [*_child(_RECORD), code],
+            env=_env(cache, tree),
+            cwd=tree or HERE,
+            check=True,
+            capture_output=True,
+            text=True,
+        )
     return json.loads(out.stdout.strip().splitlines()[-1])
 
 
@@ -105,8 +111,10 @@ def _print_compilations(title: str, found: dict) -> None:
     rows = sorted(found["rows"], key=lambda r: -r[1])
     twice = Counter(name for name, _ in {(r[0], r[3]) for r in rows})  # distinct signatures per kernel
     own = sum(r[1] for r in rows)
-    print(f"\n{title}: {found['total']:.2f} s in all (CPU {found['cpu']:.2f} s), {own:.2f} s compiling, {len(rows)} compilations "
-          f"({sum(1 for n in twice if twice[n] > 1)} kernels for more than one signature: *)")
+    print(
+        f"\n{title}: {found['total']:.2f} s in all (CPU {found['cpu']:.2f} s), {own:.2f} s compiling, {len(rows)} compilations "
+        f"({sum(1 for n in twice if twice[n] > 1)} kernels for more than one signature: *)"
+    )
     print("| kernel | own s | with callees s | arguments |")
     print("|---|---|---|---|")
     for name, mine, whole, args in rows:
@@ -117,13 +125,21 @@ def _print_compilations(title: str, found: dict) -> None:
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--runs", type=int, default=3, help="runs of each measurement (0: --kernels only)")
-    ap.add_argument("--only", choices=("cold", "warmup"), help="time only the cold call (and warm), or only warmup (and after)")
-    ap.add_argument("--kernels", action="store_true", help="also print every kernel's compile time (cold call and warmup)")
+    ap.add_argument(
+        "--only", choices=("cold", "warmup"), help="time only the cold call (and warm), or only warmup (and after)"
+    )
+    ap.add_argument(
+        "--kernels", action="store_true", help="also print every kernel's compile time (cold call and warmup)"
+    )
     ap.add_argument("--against", metavar="TREE", help="another source tree measured in turn with this one")
     args = ap.parse_args()
-    print(f"machine: {cpu_name()}, {os.cpu_count()} cores, Python {platform.python_version()}, "
-          f"load average {os.getloadavg()[0]:.1f}")
-    trees = [("this tree", None)] + ([(f"against {args.against}", os.path.abspath(args.against))] if args.against else [])
+    print(
+        f"machine: {cpu_name()}, {os.cpu_count()} cores, Python {platform.python_version()}, "
+        f"load average {os.getloadavg()[0]:.1f}"
+    )
+    trees = [("this tree", None)] + (
+        [(f"against {args.against}", os.path.abspath(args.against))] if args.against else []
+    )
     times = {label: ([], [], [], []) for label, _ in trees}
     for _ in range(args.runs):
         for label, tree in trees:  # in turn: the machine's load changes from minute to minute
@@ -141,13 +157,19 @@ def main() -> None:
         print(f"\n{label}" if args.against else "")
         print("| first call | median s | runs (wall s) | median CPU s |")
         print("|---|---|---|---|")
-        for name, xs in (("cold (empty numba cache)", cold), ("footnav warmup, once", warmup),
-                         ("after footnav warmup", after), ("warm (the call's own cache)", warm)):
+        for name, xs in (
+            ("cold (empty numba cache)", cold),
+            ("footnav warmup, once", warmup),
+            ("after footnav warmup", after),
+            ("warm (the call's own cache)", warm),
+        ):
             if not xs:
                 continue
             walls = [w for w, _ in xs]
-            print(f"| {name} | {statistics.median(walls):.2f} | {', '.join(f'{x:.2f}' for x in walls)} "
-                  f"| {statistics.median(c for _, c in xs):.2f} |")
+            print(
+                f"| {name} | {statistics.median(walls):.2f} | {', '.join(f'{x:.2f}' for x in walls)} "
+                f"| {statistics.median(c for _, c in xs):.2f} |"
+            )
     print(f"load average after: {os.getloadavg()[0]:.1f}")
     if args.kernels:
         for label, tree in trees:

@@ -22,8 +22,9 @@ import platform
 import time
 import warnings
 
-import footnav
 from _common import cpu_name
+
+import footnav
 from footnav.fusion.joint import finish_joint, start_joint
 
 FUSIONS = ("independent", "range", "step-vector", "dtw", "particle")
@@ -42,12 +43,17 @@ def main() -> None:
     rec = footnav.simulate("path", seed=11, segments=[(150.0, 90.0), (60.0, 90.0), (150.0, 90.0), (60.0, 90.0)] * laps)
     n = rec.left.n_samples
     print(f"machine: {cpu_name()}, {os.cpu_count()} cores, Python {platform.python_version()}")
-    print(f"walk: {rec.left.duration_s / 60:.1f} min, {n} samples per foot; detector {args.detector}, estimator {args.estimator}")
+    print(
+        f"walk: {rec.left.duration_s / 60:.1f} min, {n} samples per foot; detector {args.detector}, estimator {args.estimator}"
+    )
     fusions = ["independent"] + [f for f in args.fusions.split(",") if f and f != "independent"]
     pipes = {f: footnav.make_pipeline(args.detector, args.estimator, f) for f in fusions}
     det = pipes["independent"].detector
     stances = det.detect(rec.left), det.detect(rec.right)
-    runs = {f: (lambda pipe=pipe: pipe.fusion.fuse(pipe.estimator, rec.left, stances[0], rec.right, stances[1])) for f, pipe in pipes.items()}
+    runs = {
+        f: (lambda pipe=pipe: pipe.fusion.fuse(pipe.estimator, rec.left, stances[0], rec.right, stances[1]))
+        for f, pipe in pipes.items()
+    }
     if args.floor:
         est = pipes["independent"].estimator
 

@@ -55,10 +55,7 @@ print(json.dumps({"seconds": best, "version": gaitmap.__version__}))
 """
 
 #: footnav pipelines timed: the default, and the detector closest to gaitmap's (a gyro threshold).
-PIPELINES = {
-    "default (adaptive + ekf, whole-walk RTS)": "adaptive",
-    "threshold + ekf, whole-walk RTS": "threshold",
-}
+PIPELINES = {"default (adaptive + ekf, whole-walk RTS)": "adaptive", "threshold + ekf, whole-walk RTS": "threshold"}
 
 
 def time_gaitmap(python: str, path: str, repeat: int) -> dict:
@@ -72,8 +69,11 @@ def time_gaitmap(python: str, path: str, repeat: int) -> dict:
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--gaitmap-python", default=os.environ.get("FOOTNAV_GAITMAP_PYTHON"),
-                        help="a Python with gaitmap 2.6 installed (or $FOOTNAV_GAITMAP_PYTHON)")
+    parser.add_argument(
+        "--gaitmap-python",
+        default=os.environ.get("FOOTNAV_GAITMAP_PYTHON"),
+        help="a Python with gaitmap 2.6 installed (or $FOOTNAV_GAITMAP_PYTHON)",
+    )
     parser.add_argument("--minutes", type=float, default=10.0)
     parser.add_argument("--repeat", type=int, default=3)
     args = parser.parse_args(argv)
@@ -101,8 +101,10 @@ def main(argv: list[str] | None = None) -> int:
                 ours[label] = min(ours[label], t)
             g = time_gaitmap(args.gaitmap_python, path, args.repeat)
             theirs, version = min(theirs, g["seconds"]), g["version"]
-    print(f"machine: {cpu_name()}, {os.cpu_count()} cores, Python {platform.python_version()}, "
-          f"numpy {np.__version__}, footnav {footnav.__version__}, gaitmap {version}")
+    print(
+        f"machine: {cpu_name()}, {os.cpu_count()} cores, Python {platform.python_version()}, "
+        f"numpy {np.__version__}, footnav {footnav.__version__}, gaitmap {version}"
+    )
     print(f"walk: one foot, {n} samples at {RATE_HZ} Hz ({n / RATE_HZ / 60:.1f} min), best of {args.repeat} x 2 rounds")
     print(f"  gaitmap RtsKalman (its ZUPT detector + EKF + RTS): {theirs:.3f} s, {theirs / n * 1e6:.2f} us/sample")
     for label, t in ours.items():

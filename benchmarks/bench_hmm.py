@@ -44,12 +44,18 @@ def main() -> None:
     fresh_s, _ = best(lambda: HmmDetector(seed=0).detect(imu))
     info = det.fit_info_
 
-    print(f"machine: {platform.machine()}, {cpu_name()}, {os.cpu_count()} cores, Python {platform.python_version()}, "
-          f"numpy {np.__version__}, scikit-learn {sklearn.__version__}, hmmlearn {hmmlearn.__version__}")
-    print(f"recording: {imu.duration_s / 60:.1f} min simulated at {args.rate_hz:g} Hz, {imu.n_samples} samples, "
-          f"model rate {det.model_rate_hz_:g} Hz ({info['n_samples']} samples)")
-    print(f"fit:                 {fit_s:.2f} s  (best of {args.repeat}; EM {info['n_iter']} iterations, "
-          f"converged={info['converged']}; budget {FIT_BUDGET_S:g} s: {'OK' if fit_s < FIT_BUDGET_S else 'OVER'})")
+    print(
+        f"machine: {platform.machine()}, {cpu_name()}, {os.cpu_count()} cores, Python {platform.python_version()}, "
+        f"numpy {np.__version__}, scikit-learn {sklearn.__version__}, hmmlearn {hmmlearn.__version__}"
+    )
+    print(
+        f"recording: {imu.duration_s / 60:.1f} min simulated at {args.rate_hz:g} Hz, {imu.n_samples} samples, "
+        f"model rate {det.model_rate_hz_:g} Hz ({info['n_samples']} samples)"
+    )
+    print(
+        f"fit:                 {fit_s:.2f} s  (best of {args.repeat}; EM {info['n_iter']} iterations, "
+        f"converged={info['converged']}; budget {FIT_BUDGET_S:g} s: {'OK' if fit_s < FIT_BUDGET_S else 'OVER'})"
+    )
     print(f"detect, fitted:      {detect_s:.2f} s  (Viterbi + forward-backward, no refit)")
     print(f"detect, unfitted:    {fresh_s:.2f} s  (fit on the recording + decode)")
 

@@ -55,7 +55,10 @@ def main() -> None:
             pipe.run(rec)
         _, peak = tracemalloc.get_traced_memory()
         tracemalloc.stop()
-        finite = all(np.isfinite(a).all() for a in (res.left.position, res.right.position, res.path.position, res.left.position_std))
+        finite = all(
+            np.isfinite(a).all()
+            for a in (res.left.position, res.right.position, res.path.position, res.left.position_std)
+        )
         print(f"| {det} | {est} | {fus} | {runtime:.2f} | {peak / 1e6:.0f} | {finite} |", flush=True)
     stances = [StanceResult(rec.truth_left.stance), StanceResult(rec.truth_right.stance)]
     for params in ({}, {"bias_states": True, "zaru_std_radps": 0.005}):
@@ -67,8 +70,10 @@ def main() -> None:
         runtime = time.perf_counter() - t0
         asym = max(float(np.abs(cp.cov - cp.cov.T).max()) for cp in filt.checkpoints[1:])
         eig = min(float(np.linalg.eigvalsh(cp.cov).min()) for cp in filt.checkpoints[1:])
-        print(f"joint two-foot EKF, {est.n_states} states per foot: {len(filt.checkpoints)} step checkpoints, "
-              f"{runtime:.2f} s, max covariance asymmetry {asym:.3g}, min eigenvalue {eig:.3g}")
+        print(
+            f"joint two-foot EKF, {est.n_states} states per foot: {len(filt.checkpoints)} step checkpoints, "
+            f"{runtime:.2f} s, max covariance asymmetry {asym:.3g}, min eigenvalue {eig:.3g}"
+        )
 
 
 if __name__ == "__main__":

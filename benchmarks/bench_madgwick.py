@@ -60,21 +60,25 @@ def main() -> None:
     ap.add_argument("--repeat", type=int, default=3)
     args = ap.parse_args()
 
-    print(f"machine: {platform.machine()}, {platform.processor() or 'cpu'}, {os.cpu_count()} cores, "
-          f"Python {platform.python_version()}, numpy {np.__version__}")
+    print(
+        f"machine: {platform.machine()}, {platform.processor() or 'cpu'}, {os.cpu_count()} cores, "
+        f"Python {platform.python_version()}, numpy {np.__version__}"
+    )
     with tempfile.TemporaryDirectory(prefix="numba-cache-") as cache:
         cold = first_calls(cache)
         warm = first_calls(cache)
     for label, r in (("empty numba cache (compile)", cold), ("filled numba cache (load)", warm)):
-        print(f"fresh process, {label}: import footnav {r['import_s']:.2f} s; first IMU call {r['imu_s']:.2f} s, "
-              f"first MARG call {r['marg_s']:.2f} s")
+        print(
+            f"fresh process, {label}: import footnav {r['import_s']:.2f} s; first IMU call {r['imu_s']:.2f} s, "
+            f"first MARG call {r['marg_s']:.2f} s"
+        )
 
     from dataclasses import replace
 
     import footnav
-    from footnav.nav import quaternion as quat
     from footnav.core.types import StanceResult
     from footnav.estimators.madgwick import MadgwickEstimator
+    from footnav.nav import quaternion as quat
 
     est = MadgwickEstimator()
     speed_mps = WALK_SPEED_MPS
@@ -96,8 +100,10 @@ def main() -> None:
             est.estimate(imu, stance)
             peak = tracemalloc.get_traced_memory()[1]
             tracemalloc.stop()
-            print(f"| {rec.left.duration_s / 60:.1f} min at {args.rate_hz:g} Hz | {n} | {name} | "
-                  f"{min(times) / n * 1e6:.3f} | {peak / 1e6:.0f} |")
+            print(
+                f"| {rec.left.duration_s / 60:.1f} min at {args.rate_hz:g} Hz | {n} | {name} | "
+                f"{min(times) / n * 1e6:.3f} | {peak / 1e6:.0f} |"
+            )
 
 
 if __name__ == "__main__":

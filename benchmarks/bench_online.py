@@ -97,24 +97,36 @@ def main() -> None:
     ap.add_argument("--minutes", type=float, default=60.0)
     ap.add_argument("--chunk-s", type=float, default=1.0, help="chunk length per foot and push, s")
     ap.add_argument("--repeat", type=int, default=1, help="throughput replays; their median is reported")
-    ap.add_argument("--fusion", default="independent", choices=["independent", "range", "step-vector", "particle"],
-                    help="independent feet, or both in a coupled fusion's joint filter (step-vector: the pendulum step length)")
+    ap.add_argument(
+        "--fusion",
+        default="independent",
+        choices=["independent", "range", "step-vector", "particle"],
+        help="independent feet, or both in a coupled fusion's joint filter (step-vector: the pendulum step length)",
+    )
     ap.add_argument("--view", action="store_true", help="with and without footnav follow's live view, in turn")
-    ap.add_argument("--pipeline", default="bench", choices=["bench", "default"],
-                    help="bench: threshold + step-wise EKF (the figures since issue 19); default: make_pipeline()'s "
-                         "components (adaptive detector, whole-walk smoother, floors) with --fusion")
+    ap.add_argument(
+        "--pipeline",
+        default="bench",
+        choices=["bench", "default"],
+        help="bench: threshold + step-wise EKF (the figures since issue 19); default: make_pipeline()'s "
+        "components (adaptive detector, whole-walk smoother, floors) with --fusion",
+    )
     args = ap.parse_args()
     params = {"step_length": "pendulum"} if args.fusion == "step-vector" else {}
     if args.pipeline == "default":
         pipe = footnav.make_pipeline(fusion=args.fusion, fusion_params=params)
     else:
-        pipe = footnav.make_pipeline("threshold", "ekf", args.fusion, estimator_params={"smoother": "step"}, fusion_params=params)
+        pipe = footnav.make_pipeline(
+            "threshold", "ekf", args.fusion, estimator_params={"smoother": "step"}, fusion_params=params
+        )
     left, right, loop = tiled_walk(args.minutes)
     chunk = max(1, round(args.chunk_s * RATE_HZ))
     print(f"pipeline: {pipe!r}")
     print(f"machine: {cpu_name()}, {platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()}")
-    print(f"walk: {left.duration_s / 60:.1f} min at {RATE_HZ:g} Hz, two feet, {left.n_samples} samples per foot; "
-          f"chunks of {chunk} samples per foot")
+    print(
+        f"walk: {left.duration_s / 60:.1f} min at {RATE_HZ:g} Hz, two feet, {left.n_samples} samples per foot; "
+        f"chunks of {chunk} samples per foot"
+    )
 
     replay(pipe, loop.left.slice(0, 2000), loop.right.slice(0, 2000), chunk)  # compile and warm up
     coupled = args.fusion != "independent"
@@ -136,14 +148,22 @@ def main() -> None:
     spent = float(np.median([r[0] for r in runs]))
     cpu = float(np.median([r[4] for r in runs]))
     pushes = math.ceil(left.n_samples / chunk)
-    each = f" (median of {len(runs)}: {', '.join(f'{left.duration_s / r[0]:,.0f}x' for r in runs)})" if len(runs) > 1 else ""
-    print(f"throughput: {left.duration_s / spent:,.0f}x real time{each} ({spent:.2f} s for {left.duration_s / 60:.1f} min, "
-          f"{spent / (2 * left.n_samples) * 1e6:.2f} us per sample, {spent / pushes * 1e6:.0f} us per push of both feet); CPU time: {left.duration_s / cpu:,.0f}x "
-          f"({cpu / pushes * 1e6:.0f} us per push)")
+    each = (
+        f" (median of {len(runs)}: {', '.join(f'{left.duration_s / r[0]:,.0f}x' for r in runs)})"
+        if len(runs) > 1
+        else ""
+    )
+    print(
+        f"throughput: {left.duration_s / spent:,.0f}x real time{each} ({spent:.2f} s for {left.duration_s / 60:.1f} min, "
+        f"{spent / (2 * left.n_samples) * 1e6:.2f} us per sample, {spent / pushes * 1e6:.0f} us per push of both feet); CPU time: {left.duration_s / cpu:,.0f}x "
+        f"({cpu / pushes * 1e6:.0f} us per push)"
+    )
     if compared:
         ratios = [r[0] / b for r, b in zip(runs, base_runs)]
-        print(f"  against {base!r} in this process, replayed in turn: {float(np.median(ratios)):.2f}x its time "
-              f"(rounds: {', '.join(f'{x:.2f}x' for x in ratios)}; it ran {left.duration_s / float(np.median(base_runs)):,.0f}x real time)")
+        print(
+            f"  against {base!r} in this process, replayed in turn: {float(np.median(ratios)):.2f}x its time "
+            f"(rounds: {', '.join(f'{x:.2f}x' for x in ratios)}; it ran {left.duration_s / float(np.median(base_runs)):,.0f}x real time)"
+        )
 
     if args.view:
         view_ratio(pipe, left, right, chunk, max(1, args.repeat))
@@ -152,8 +172,10 @@ def main() -> None:
     tracemalloc.start()
     _, _, early, end, _ = replay(pipe, left, right, chunk, trace_at_s=min(600.0, left.duration_s / 2))
     tracemalloc.stop()
-    print(f"memory (tracemalloc peak): {early / 1e6:.2f} MB after 10 min, {end / 1e6:.2f} MB after "
-          f"{left.duration_s / 60:.0f} min ({100 * (end / early - 1):+.1f} %)")
+    print(
+        f"memory (tracemalloc peak): {early / 1e6:.2f} MB after 10 min, {end / 1e6:.2f} MB after "
+        f"{left.duration_s / 60:.0f} min ({100 * (end / early - 1):+.1f} %)"
+    )
 
     # latency, chunks of one sample, on the first loop (both feet in lockstep for a coupled fusion)
     first = loop.left
@@ -166,18 +188,24 @@ def main() -> None:
     result = one.close()
     lag = np.array([newest - end for end, newest in (one.joint.feet[0] if coupled else one.feet[0]).step_final_at])
     declared = pipe.detector.latency_s
-    print(f"latency: a step is final {lag.min()}-{lag.max()} samples ({lag.max() / RATE_HZ * 1e3:.0f} ms at most) "
-          f"after its stance's last sample arrives; declared latency_s = {declared:.3f} s "
-          f"({math.ceil(declared * RATE_HZ)} samples) + 3 samples of the stream's margin")
+    print(
+        f"latency: a step is final {lag.min()}-{lag.max()} samples ({lag.max() / RATE_HZ * 1e3:.0f} ms at most) "
+        f"after its stance's last sample arrives; declared latency_s = {declared:.3f} s "
+        f"({math.ceil(declared * RATE_HZ)} samples) + 3 samples of the stream's margin"
+    )
     if coupled:
         later = lag[5:]
-        print(f"  (the first steps wait for both feet's first-step headings: the first 5 steps {lag[:5].tolist()}, "
-              f"the {len(later)} after them {later.min()}-{later.max()} samples)")
+        print(
+            f"  (the first steps wait for both feet's first-step headings: the first 5 steps {lag[:5].tolist()}, "
+            f"the {len(later)} after them {later.min()}-{later.max()} samples)"
+        )
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         off = pipe.run(first, loop.right if coupled else None)
-    print(f"offline causal run vs online (chunks of 1): largest position difference "
-          f"{np.abs(off.left.position - result.left.position).max():.1e} m")
+    print(
+        f"offline causal run vs online (chunks of 1): largest position difference "
+        f"{np.abs(off.left.position - result.left.position).max():.1e} m"
+    )
 
 
 def view_ratio(pipe, left, right, chunk: int, repeat: int) -> None:
@@ -198,12 +226,16 @@ def view_ratio(pipe, left, right, chunk: int, repeat: int) -> None:
         view.close()
         drawn = view.sent
     off_s, on_s = float(np.median(off)), float(np.median(on))
-    print(f"live view: {left.duration_s / on_s:,.0f}x real time with it, {left.duration_s / off_s:,.0f}x without "
-          f"(median of {repeat}; rounds with/without: {', '.join(f'{a / b:.2f}' for a, b in zip(on, off))}); "
-          f"with it {on_s / off_s:.2f}x the time; {drawn} steps sent to the view, "
-          f"{time.perf_counter() - t0:.1f} s for the last round with it")
-    print(f"  the stream's own CPU time (its process; the view draws in another): "
-          f"{float(np.median(cpu_on)) / float(np.median(cpu_off)):.2f}x with the view")
+    print(
+        f"live view: {left.duration_s / on_s:,.0f}x real time with it, {left.duration_s / off_s:,.0f}x without "
+        f"(median of {repeat}; rounds with/without: {', '.join(f'{a / b:.2f}' for a, b in zip(on, off))}); "
+        f"with it {on_s / off_s:.2f}x the time; {drawn} steps sent to the view, "
+        f"{time.perf_counter() - t0:.1f} s for the last round with it"
+    )
+    print(
+        f"  the stream's own CPU time (its process; the view draws in another): "
+        f"{float(np.median(cpu_on)) / float(np.median(cpu_off)):.2f}x with the view"
+    )
 
 
 if __name__ == "__main__":

@@ -66,9 +66,9 @@ class _JointOnly(Fusion):
 
 
 def accuracy(n_seeds: int) -> None:
-    from footnav.data.datasets import load_dataset
     from footnav.analysis.evaluation import trajectory_at
     from footnav.analysis.metrics import ate_rmse
+    from footnav.data.datasets import load_dataset
     from footnav.estimators.ekf import EkfEstimator
 
     det = footnav.make_detector("threshold")
@@ -77,9 +77,11 @@ def accuracy(n_seeds: int) -> None:
     def fuse(fusion, rec):
         return fusion.fuse(EkfEstimator(), rec.left, det.detect(rec.left), rec.right, det.detect(rec.right))
 
-    walks = [("straight 100 m", "straight", {"distance_m": 100.0}),
-             ("rectangle 105 x 68 m cw", "rectangle", {"width_m": 105.0, "height_m": 68.0, "direction": "cw"}),
-             ("rectangle 105 x 68 m ccw", "rectangle", {"width_m": 105.0, "height_m": 68.0, "direction": "ccw"})]
+    walks = [
+        ("straight 100 m", "straight", {"distance_m": 100.0}),
+        ("rectangle 105 x 68 m cw", "rectangle", {"width_m": 105.0, "height_m": 68.0, "direction": "cw"}),
+        ("rectangle 105 x 68 m ccw", "rectangle", {"width_m": 105.0, "height_m": 68.0, "direction": "ccw"}),
+    ]
     print(f"simulator, seeds 0..{n_seeds - 1}, gyro bias walk 5e-5 rad/s^2/sqrt(Hz); means over seeds (m)")
     for label, scenario, opts in walks:
         rows = {name: [] for name in fusions}
@@ -93,8 +95,10 @@ def accuracy(n_seeds: int) -> None:
                 rows[name].append([es, abs(es - 0.2), *ep])
         for name, r in rows.items():
             r = np.mean(r, axis=0)
-            print(f"  {label:26s} {name:12s} E_s {r[0]:.3f}  |E_s - 0.2| {r[1]:.3f}  "
-                  f"E_p {r[2]:.3f} / {r[3]:.3f} (mean {0.5 * (r[2] + r[3]):.3f})")
+            print(
+                f"  {label:26s} {name:12s} E_s {r[0]:.3f}  |E_s - 0.2| {r[1]:.3f}  "
+                f"E_p {r[2]:.3f} / {r[3]:.3f} (mean {0.5 * (r[2] + r[3]):.3f})"
+            )
     print("real recordings: 2-D ATE left / right (m), E_s horizontal (m)")
     for name in ("azure_fgo", "gaitmap"):
         with warnings.catch_warnings():
@@ -126,15 +130,19 @@ def square(n_seeds: int, laps: int = 3, mirrored: tuple[float, ...] = (0.0,), tu
     from footnav.estimators.ekf import EkfEstimator
 
     det = footnav.make_detector("threshold")
-    runs = {"independent": (IndependentFusion(), EkfEstimator()),
-            "independent, forward only": (IndependentFusion(), EkfEstimator(smoother="none")),
-            "range": (footnav.make_fusion("range"), EkfEstimator()),
-            "step-vector": (footnav.make_fusion("step-vector"), EkfEstimator()),
-            "particle, mode=paper": (ParticleFusion(mode="paper"), EkfEstimator()),
-            "particle, mode=footnav": (ParticleFusion(mode="footnav"), EkfEstimator())}
+    runs = {
+        "independent": (IndependentFusion(), EkfEstimator()),
+        "independent, forward only": (IndependentFusion(), EkfEstimator(smoother="none")),
+        "range": (footnav.make_fusion("range"), EkfEstimator()),
+        "step-vector": (footnav.make_fusion("step-vector"), EkfEstimator()),
+        "particle, mode=paper": (ParticleFusion(mode="paper"), EkfEstimator()),
+        "particle, mode=footnav": (ParticleFusion(mode="footnav"), EkfEstimator()),
+    }
     sign = 1.0 if turn == "ccw" else -1.0
-    print(f"square 93 m round x {laps} laps ({turn}), MTw noise, seeds 0..{n_seeds - 1}: per foot, mean +- std "
-          "over seeds (m); E_s the final foot separation (truth 0.2), E_p the final position error")
+    print(
+        f"square 93 m round x {laps} laps ({turn}), MTw noise, seeds 0..{n_seeds - 1}: per foot, mean +- std "
+        "over seeds (m); E_s the final foot separation (truth 0.2), E_p the final position error"
+    )
     for b in mirrored:
         rows: dict[str, list] = {name: [] for name in runs}
         for seed in range(n_seeds):
@@ -151,8 +159,10 @@ def square(n_seeds: int, laps: int = 3, mirrored: tuple[float, ...] = (0.0,), tu
         print(f"mirrored_yaw_rate_radps = {b:g}")
         for name, v in rows.items():
             v = np.array(v)
-            print(f"  {name:26s} RMS {v[:, 0].mean():.3f} +- {v[:, 0].std():.3f}   final {v[:, 1].mean():.3f} +- "
-                  f"{v[:, 1].std():.3f}   E_s {v[:, 2].mean():.3f}   E_p {v[:, 3].mean():.3f} +- {v[:, 3].std():.3f}")
+            print(
+                f"  {name:26s} RMS {v[:, 0].mean():.3f} +- {v[:, 0].std():.3f}   final {v[:, 1].mean():.3f} +- "
+                f"{v[:, 1].std():.3f}   E_s {v[:, 2].mean():.3f}   E_p {v[:, 3].mean():.3f} +- {v[:, 3].std():.3f}"
+            )
 
 
 def final_error(traj, truth) -> float:
@@ -177,7 +187,9 @@ def paper_speed(repeat: int) -> None:
 
     fuse()  # compile
     best, _ = best_of(fuse, repeat)
-    print(f"machine: {cpu_name()}, {os.cpu_count()} cores, Python {platform.python_version()}, footnav {footnav.__version__}")
+    print(
+        f"machine: {cpu_name()}, {os.cpu_count()} cores, Python {platform.python_version()}, footnav {footnav.__version__}"
+    )
     print(f"paper mode, {rec.left.duration_s / 60:.1f} min two-foot walk: {best:.2f} s (best of {repeat})")
 
 
@@ -188,13 +200,22 @@ def main() -> None:
     ap.add_argument("--accuracy", action="store_true", help="E_s and E_p instead of the runtime")
     ap.add_argument("--seeds", type=int, default=5, help="simulator seeds for --accuracy")
     ap.add_argument("--square", action="store_true", help="cross-track error on the paper's square (--seeds)")
-    ap.add_argument("--mirrored-yaw-rate", type=float, nargs="+", default=[0.0], metavar="RADPS",
-                    help="--square: the simulator's mirrored_yaw_rate_radps values to run (the paper's "
-                         "symmetric drift, Lee, Cho & Park 2022, Sec. 2.1), e.g. 0 2e-4 5e-4 1e-3")
+    ap.add_argument(
+        "--mirrored-yaw-rate",
+        type=float,
+        nargs="+",
+        default=[0.0],
+        metavar="RADPS",
+        help="--square: the simulator's mirrored_yaw_rate_radps values to run (the paper's "
+        "symmetric drift, Lee, Cho & Park 2022, Sec. 2.1), e.g. 0 2e-4 5e-4 1e-3",
+    )
     ap.add_argument("--laps", type=int, default=3, help="--square: laps of the square")
     ap.add_argument("--turn", choices=("ccw", "cw"), default="ccw", help="--square: left (ccw) or right turns")
-    ap.add_argument("--paper-speed", action="store_true",
-                    help="the paper mode's fusion alone on a ~4-minute straight walk (warm best of --repeat)")
+    ap.add_argument(
+        "--paper-speed",
+        action="store_true",
+        help="the paper mode's fusion alone on a ~4-minute straight walk (warm best of --repeat)",
+    )
     args = ap.parse_args()
     if args.paper_speed:
         paper_speed(args.repeat)
@@ -215,17 +236,23 @@ def main() -> None:
         "particle, 100 particles": ParticleFusion(n_particles=100),
         "particle, 1000 particles": ParticleFusion(n_particles=1000),
     }
-    print(f"machine: {platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()}, "
-          f"footnav {footnav.__version__}")
-    print(f"walk: {rec.left.duration_s / 60:.1f} min, two feet at {rec.left.rate_hz:.0f} Hz, "
-          f"{rec.left.n_samples} samples per foot")
+    print(
+        f"machine: {platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()}, "
+        f"footnav {footnav.__version__}"
+    )
+    print(
+        f"walk: {rec.left.duration_s / 60:.1f} min, two feet at {rec.left.rate_hz:.0f} Hz, "
+        f"{rec.left.n_samples} samples per foot"
+    )
     times = {}
     for label, fusion in runs.items():
         pipe = footnav.make_pipeline("threshold", "ekf", fusion)
         res = pipe.run(rec)  # warm: compile or load numba's cache
         if label == "independent":
-            print(f"stances: {res.stance_left.n_stances} left, {res.stance_right.n_stances} right "
-                  "(a PF update at the end of each)")
+            print(
+                f"stances: {res.stance_left.n_stances} left, {res.stance_right.n_stances} right "
+                "(a PF update at the end of each)"
+            )
         best = []
         for _ in range(args.repeat):
             t0 = time.perf_counter()

@@ -26,9 +26,13 @@ def main() -> None:
     distance_m = args.minutes * 60.0 * WALK_SPEED_MPS
     footnav.simulate("straight", distance_m=10.0)  # compile
     best, rec = best_of(lambda: footnav.simulate("straight", distance_m=distance_m), args.repeat)
-    print(f"machine: {cpu_name()}, {os.cpu_count()} cores, Python {platform.python_version()}, footnav {footnav.__version__}")
-    print(f"simulate straight, {rec.left.duration_s / 60:.1f} min two feet at {rec.left.rate_hz:.0f} Hz: "
-          f"{best:.2f} s (best of {args.repeat})")
+    print(
+        f"machine: {cpu_name()}, {os.cpu_count()} cores, Python {platform.python_version()}, footnav {footnav.__version__}"
+    )
+    print(
+        f"simulate straight, {rec.left.duration_s / 60:.1f} min two feet at {rec.left.rate_hz:.0f} Hz: "
+        f"{best:.2f} s (best of {args.repeat})"
+    )
 
 
 if __name__ == "__main__":

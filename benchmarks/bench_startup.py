@@ -35,8 +35,9 @@ def _wall(args: list[str]) -> float:
 
 def _importtime() -> float:
     """``import footnav``'s cumulative time (s) as ``-X importtime`` reports it."""
-    err = subprocess.run([sys.executable, "-X", "importtime", "-c", "import footnav"],
-                         check=True, capture_output=True, text=True).stderr
+    err = subprocess.run(
+        [sys.executable, "-X", "importtime", "-c", "import footnav"], check=True, capture_output=True, text=True
+    ).stderr
     match = re.search(r"\|\s*(\d+)\s*\|\s*footnav\s*$", err, re.MULTILINE)
     return int(match.group(1)) / 1e6
 
@@ -52,24 +53,42 @@ def _show(what: str, median: float, runs: list[float]) -> None:
 
 def _simulated_minute(folder: str) -> str:
     out = Path(folder) / "sim"
-    subprocess.run([sys.executable, "-m", "footnav.cli", "simulate", "straight", "--seed", "1",
-                    "--set", f"distance_m={60 * WALK_SPEED_MPS:.1f}", "--out", str(out)],
-                   check=True, capture_output=True)
+    subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "footnav.cli",
+            "simulate",
+            "straight",
+            "--seed",
+            "1",
+            "--set",
+            f"distance_m={60 * WALK_SPEED_MPS:.1f}",
+            "--out",
+            str(out),
+        ],
+        check=True,
+        capture_output=True,
+    )
     return str(out / "left.csv")
 
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--repeat", type=int, default=7)
-    ap.add_argument("--file", action="append", help="recording(s) to run (default: a simulated minute, the x-io long walk)")
+    ap.add_argument(
+        "--file", action="append", help="recording(s) to run (default: a simulated minute, the x-io long walk)"
+    )
     args = ap.parse_args()
     print(f"{cpu_name()}, {os.cpu_count()} cores, Python {platform.python_version()}")
 
     py = sys.executable
     _show("import footnav (-X importtime total)", *_median(_importtime, args.repeat))
     bare, _ = _median(lambda: _wall([py, "-c", "pass"]), args.repeat)
-    _show(f"import footnav (wall, less {bare:.3f} s of bare python)",
-          *_median(lambda: _wall([py, "-c", "import footnav"]) - bare, args.repeat))
+    _show(
+        f"import footnav (wall, less {bare:.3f} s of bare python)",
+        *_median(lambda: _wall([py, "-c", "import footnav"]) - bare, args.repeat),
+    )
     _show("footnav --help (wall)", *_median(lambda: _wall([py, "-m", "footnav.cli", "--help"]), args.repeat))
 
     with tempfile.TemporaryDirectory() as tmp:

@@ -29,7 +29,11 @@ def main() -> None:
 
     imu = straight_walk(args.minutes, 100.0).left
     n = imu.n_samples
-    variants = {"vertical='free'": {"vertical": "free"}, "default": {}, "zupt_edges='detected'": {"zupt_edges": "detected"}}
+    variants = {
+        "vertical='free'": {"vertical": "free"},
+        "default": {},
+        "zupt_edges='detected'": {"zupt_edges": "detected"},
+    }
     pipes = {v: footnav.make_pipeline(estimator_params=params) for v, params in variants.items()}
     for p in pipes.values():
         p.run(imu)  # compile / warm
@@ -47,7 +51,9 @@ def main() -> None:
         print(f"default pipeline, {v}: {t / n * 1e6:.3f} us/sample")
     print(f"hold_floors alone: {t_hold / n * 1e6:.4f} us/sample; settled_mask alone: {t_edges / n * 1e6:.4f} us/sample")
     free, detected = best["vertical='free'"], best["zupt_edges='detected'"]
-    print(f"ratio default / free: {best['default'] / free:.3f}; default / detected edges: {best['default'] / detected:.3f}")
+    print(
+        f"ratio default / free: {best['default'] / free:.3f}; default / detected edges: {best['default'] / detected:.3f}"
+    )
 
 
 if __name__ == "__main__":

@@ -36,8 +36,10 @@ def main() -> None:
                 aligned = metrics.rigid_align(traj.position, truth.position, dims=2).aligned
                 end = float(((aligned[-1, :2] - truth.position[-1, :2]) ** 2).sum() ** 0.5)
                 name = scenario + ("" if scenario == "straight" else "-" + opts["direction"])
-                print(f"{name:18s}  {seed:4d}  {foot:5s}  {dist:10.1f}  {ate:8.3f}  {100 * ate / dist:5.2f}  "
-                      f"{end:9.3f}  {100 * end / dist:5.2f}")
+                print(
+                    f"{name:18s}  {seed:4d}  {foot:5s}  {dist:10.1f}  {ate:8.3f}  {100 * ate / dist:5.2f}  "
+                    f"{end:9.3f}  {100 * end / dist:5.2f}"
+                )
 
 
 if __name__ == "__main__":

@@ -10,8 +10,12 @@ from __future__ import annotations
 import inspect
 from pathlib import Path
 
-KINDS = {"detector": ("detectors", "Stance detectors"), "estimator": ("estimators", "Estimators"), "fusion": ("fusions", "Fusions"),
-         "heading_aid": ("heading-aids", "Heading aids")}
+KINDS = {
+    "detector": ("detectors", "Stance detectors"),
+    "estimator": ("estimators", "Estimators"),
+    "fusion": ("fusions", "Fusions"),
+    "heading_aid": ("heading-aids", "Heading aids"),
+}
 INTRO = {
     "detector": "A stance detector turns one foot's IMU data (or both feet's) into a `StanceResult`: the "
     "zero-velocity mask, gait events and, where the method has them, phases and probabilities.",
@@ -31,16 +35,37 @@ def component_pages() -> dict[str, str]:
     reg = _registry()
     pages = {}
     for kind, (fname, title) in KINDS.items():
-        lines = [f"# {title}", "", "Generated from the registry when the docs are built (`docs/hooks.py`).", "", INTRO[kind], ""]
+        lines = [
+            f"# {title}",
+            "",
+            "Generated from the registry when the docs are built (`docs/hooks.py`).",
+            "",
+            INTRO[kind],
+            "",
+        ]
         for name in footnav.list_components()[kind]:
             entry = reg.get(kind, name)
             cls, origin = entry.cls, entry.origin
             doc = inspect.getdoc(cls) or ""
             summary = doc.split("\n\n")[0].replace("\n", " ")
-            needs = [n for n, flag in (("two feet", getattr(cls, "needs_two_feet", False)),
-                                       ("a magnetometer", getattr(cls, "needs_magnetometer", False)),
-                                       ("an estimator with a step-able filter (ekf)", getattr(cls, "needs_stepable_estimator", False))) if flag]
-            lines += [f"## `{name}`", "", f"`{cls.__module__}.{cls.__name__}` (from {origin})" + (f"; needs {' and '.join(needs)}" if needs else ""), "", summary, ""]
+            needs = [
+                n
+                for n, flag in (
+                    ("two feet", getattr(cls, "needs_two_feet", False)),
+                    ("a magnetometer", getattr(cls, "needs_magnetometer", False)),
+                    ("an estimator with a step-able filter (ekf)", getattr(cls, "needs_stepable_estimator", False)),
+                )
+                if flag
+            ]
+            lines += [
+                f"## `{name}`",
+                "",
+                f"`{cls.__module__}.{cls.__name__}` (from {origin})"
+                + (f"; needs {' and '.join(needs)}" if needs else ""),
+                "",
+                summary,
+                "",
+            ]
             params = cls.parameter_info()
             if params:
                 lines += ["| parameter | default | unit | description |", "|---|---|---|---|"]

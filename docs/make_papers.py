@@ -102,8 +102,11 @@ class Paper:
 
     def describe(self, key: str) -> str:
         det, est, fus, params = self.pipelines[key]
-        bits = [f"`{det}`", f"`{est}`" + (f" {_params(params.get('estimator_params'))}" if params.get("estimator_params") else ""),
-                f"`{fus}`" + (f" {_params(params.get('fusion_params'))}" if params.get("fusion_params") else "")]
+        bits = [
+            f"`{det}`",
+            f"`{est}`" + (f" {_params(params.get('estimator_params'))}" if params.get("estimator_params") else ""),
+            f"`{fus}`" + (f" {_params(params.get('fusion_params'))}" if params.get("fusion_params") else ""),
+        ]
         if params.get("detector_params"):
             bits[0] += f" {_params(params['detector_params'])}"
         return " + ".join(bits)
@@ -126,8 +129,13 @@ def _loop_002(length_m: float, speed_mps: float, laps: int, standstill_s: float)
     in all, at ``speed_mps`` (stride 1.4 m, the stride period set from the speed)."""
     side = length_m / laps / 6.0
     speed = speed_mps
-    return {"segments": _path_rectangle(2 * side, side, laps), "rate_hz": 125.0, "standstill_s": standstill_s,
-            "stride_length_m": 1.4, "stride_period_s": round(1.4 / speed, 3)}
+    return {
+        "segments": _path_rectangle(2 * side, side, laps),
+        "rate_hz": 125.0,
+        "standstill_s": standstill_s,
+        "stride_length_m": 1.4,
+        "stride_period_s": round(1.4 / speed, 3),
+    }
 
 
 # ---------------------------------------------------------------------------------------------
@@ -143,9 +151,13 @@ SENSOR_001 = {"rate_hz": 400.0, "standstill_s": 8.0, "gyr_bias_walk_radps2_sqrth
 #: (Sec. 2.1): the feet drift in opposite directions (symmetric drift, from the sampling rate), the
 #: simulator's mirrored yaw rate (+b left, -b right while the foot moves); b = 6e-4 rad/s gives the
 #: standalone errors of Tables 2-3 (total 0.86 / 0.85 m on the straight / square; the paper 0.75 / 0.89 m).
-SENSOR_004 = {"standstill_s": 5.0, "gyr_noise_density_radps_sqrthz": math.radians(0.05),
-              "acc_noise_density_mps2_sqrthz": 3e-3, "gyr_bias_walk_radps2_sqrthz": 7e-6,
-              "mirrored_yaw_rate_radps": 6e-4}
+SENSOR_004 = {
+    "standstill_s": 5.0,
+    "gyr_noise_density_radps_sqrthz": math.radians(0.05),
+    "acc_noise_density_mps2_sqrthz": 3e-3,
+    "gyr_bias_walk_radps2_sqrthz": 7e-6,
+    "mirrored_yaw_rate_radps": 6e-4,
+}
 #: sigma_sys of eq. 12, which the paper fits to Fig. 2's histogram without giving it: the square's
 #: waypoint error falls with it up to 0.1 m and no further (fusion/particle.py docstring).
 SIGMA_SYS_004_M = 0.1
@@ -156,42 +168,71 @@ FORWARD = {"smoother": "none"}
 ZHAO = Paper(
     key="001",
     title="Zhao et al. 2019: dual-gait analysis and step-vector fusion",
-    reference="H. Zhao, Z. Wang, S. Qiu, Y. Shen, L. Zhang, K. Tang and G. Fortino, \"Heading drift "
-              "reduction for foot-mounted inertial navigation system via multi-sensor fusion and dual-gait "
-              "analysis\", IEEE Sensors J., 2019, doi:10.1109/JSEN.2018.2866802 (shared/seeds/001).",
+    reference='H. Zhao, Z. Wang, S. Qiu, Y. Shen, L. Zhang, K. Tang and G. Fortino, "Heading drift '
+    "reduction for foot-mounted inertial navigation system via multi-sensor fusion and dual-gait "
+    'analysis", IEEE Sensors J., 2019, doi:10.1109/JSEN.2018.2866802 (shared/seeds/001).',
     did="One ADIS16448 on each heel (gyro +-1000 deg/s, accelerometer +-18 g, 400 Hz, 330 Hz bandwidth), "
-        "calibrated during an ~8 s standstill (Sec. II-A). Dual-gait detector: heel-strike peaks plus "
-        "flat-zone ZUPT, a stance ending at the contralateral heel strike (Sec. III-A). A 9-state "
-        "error filter per foot [attitude, velocity, position] with one time update and two measurement "
-        "updates: ZUPT and the relative position of the feet [step length from the inverted pendulum "
-        "S = 2 l sin(theta/2), shoulder width, 0] rotated by the rear foot (eq. 4-7), suspended while "
-        "turning. Four subjects: a 100 m straight line (12 walks) and the 346 m periphery of a "
-        "105 m x 68 m football pitch, 12 walks clockwise and 12 counter-clockwise, on grass. Metrics "
-        "(eq. 8): final foot separation E_s and final position error E_p of each foot, mean +- std "
-        "(Table I).",
+    "calibrated during an ~8 s standstill (Sec. II-A). Dual-gait detector: heel-strike peaks plus "
+    "flat-zone ZUPT, a stance ending at the contralateral heel strike (Sec. III-A). A 9-state "
+    "error filter per foot [attitude, velocity, position] with one time update and two measurement "
+    "updates: ZUPT and the relative position of the feet [step length from the inverted pendulum "
+    "S = 2 l sin(theta/2), shoulder width, 0] rotated by the rear foot (eq. 4-7), suspended while "
+    "turning. Four subjects: a 100 m straight line (12 walks) and the 346 m periphery of a "
+    "105 m x 68 m football pitch, 12 walks clockwise and 12 counter-clockwise, on grass. Metrics "
+    "(eq. 8): final foot separation E_s and final position error E_p of each foot, mean +- std "
+    "(Table I).",
     data="Not public (no data set is mentioned).",
-    rebuilt="`simulate(\"straight\", distance_m=100)` and `simulate(\"rectangle\")` (105 m x 68 m, 346 m "
-            "round, CW and CCW, back to the start) at 400 Hz with an 8 s standstill; the simulator's "
-            "sensor noise with a 10x gyro bias random walk (1e-4 rad/s^2/sqrt(Hz)) so that independent "
-            "feet drift apart as the paper's do. E_s = `final_separation` (3-D), E_p = `end_error_3d` "
-            "(start and initial heading aligned, as with the paper's known start).",
+    rebuilt='`simulate("straight", distance_m=100)` and `simulate("rectangle")` (105 m x 68 m, 346 m '
+    "round, CW and CCW, back to the start) at 400 Hz with an 8 s standstill; the simulator's "
+    "sensor noise with a 10x gyro bias random walk (1e-4 rad/s^2/sqrt(Hz)) so that independent "
+    "feet drift apart as the paper's do. E_s = `final_separation` (3-D), E_p = `end_error_3d` "
+    "(start and initial heading aligned, as with the paper's known start).",
     walks={
-        "straight": Walk("straight 100 m", "straight", {"distance_m": 100.0, **SENSOR_001}, 5,
-                         {"distance_m": 30.0, **SENSOR_001, "rate_hz": 100.0}),
-        "cw": Walk("rectangle 105 m x 68 m, CW", "rectangle", {"direction": "cw", **SENSOR_001}, 5,
-                   {"width_m": 20.0, "height_m": 10.0, "direction": "cw", **SENSOR_001, "rate_hz": 100.0}),
-        "ccw": Walk("rectangle 105 m x 68 m, CCW", "rectangle", {"direction": "ccw", **SENSOR_001}, 5,
-                    {"width_m": 20.0, "height_m": 10.0, "direction": "ccw", **SENSOR_001, "rate_hz": 100.0}),
+        "straight": Walk(
+            "straight 100 m",
+            "straight",
+            {"distance_m": 100.0, **SENSOR_001},
+            5,
+            {"distance_m": 30.0, **SENSOR_001, "rate_hz": 100.0},
+        ),
+        "cw": Walk(
+            "rectangle 105 m x 68 m, CW",
+            "rectangle",
+            {"direction": "cw", **SENSOR_001},
+            5,
+            {"width_m": 20.0, "height_m": 10.0, "direction": "cw", **SENSOR_001, "rate_hz": 100.0},
+        ),
+        "ccw": Walk(
+            "rectangle 105 m x 68 m, CCW",
+            "rectangle",
+            {"direction": "ccw", **SENSOR_001},
+            5,
+            {"width_m": 20.0, "height_m": 10.0, "direction": "ccw", **SENSOR_001, "rate_hz": 100.0},
+        ),
     },
     pipelines={
         "paper-without": ("dual-gait", "ekf", "independent", {"estimator_params": FORWARD}),
-        "paper-with": ("dual-gait", "ekf", "step-vector", {
-            "estimator_params": FORWARD,
-            "fusion_params": {"step_length": "pendulum", "leg_length_m": 0.9, "relative_frame": "attitude",
-                              "calibration": "standstill"}}),
+        "paper-with": (
+            "dual-gait",
+            "ekf",
+            "step-vector",
+            {
+                "estimator_params": FORWARD,
+                "fusion_params": {
+                    "step_length": "pendulum",
+                    "leg_length_m": 0.9,
+                    "relative_frame": "attitude",
+                    "calibration": "standstill",
+                },
+            },
+        ),
         "best-without": ("adaptive", "ekf", "independent", {}),
-        "best-with": ("adaptive", "ekf", "step-vector", {"fusion_params": {"step_length": "fitted",
-                                                                             "relative_frame": "heading"}}),
+        "best-with": (
+            "adaptive",
+            "ekf",
+            "step-vector",
+            {"fusion_params": {"step_length": "fitted", "relative_frame": "heading"}},
+        ),
     },
     rows=[],  # filled below
     verdict="",  # VERDICTS below
@@ -204,14 +245,44 @@ _TABLE_I = {  # walk: (without E_s, E_p left, E_p right | with E_s, E_p left, E_
 for _walk, (_without, _with) in _TABLE_I.items():
     for _name, _figs in (("without", _without), ("with", _with)):
         _where = f"{ZHAO.walks[_walk].label}, {_name} relative position updates"
-        ZHAO.rows.append(Row(f"{_where}: E_s (m)", _figs[0], "final_separation", "both", _walk,
-                             f"paper-{_name}", f"best-{_name}"))
+        ZHAO.rows.append(
+            Row(f"{_where}: E_s (m)", _figs[0], "final_separation", "both", _walk, f"paper-{_name}", f"best-{_name}")
+        )
         if len(_figs) == 3:
-            ZHAO.rows.append(Row(f"{_where}: E_p left (m)", _figs[1], "end_error_3d", "left", _walk, f"paper-{_name}", f"best-{_name}"))
-            ZHAO.rows.append(Row(f"{_where}: E_p right (m)", _figs[2], "end_error_3d", "right", _walk, f"paper-{_name}", f"best-{_name}"))
+            ZHAO.rows.append(
+                Row(
+                    f"{_where}: E_p left (m)",
+                    _figs[1],
+                    "end_error_3d",
+                    "left",
+                    _walk,
+                    f"paper-{_name}",
+                    f"best-{_name}",
+                )
+            )
+            ZHAO.rows.append(
+                Row(
+                    f"{_where}: E_p right (m)",
+                    _figs[2],
+                    "end_error_3d",
+                    "right",
+                    _walk,
+                    f"paper-{_name}",
+                    f"best-{_name}",
+                )
+            )
         else:  # Table I prints one position error for the rectangle rows; footnav: mean of the feet
-            ZHAO.rows.append(Row(f"{_where}: E_p (m; one figure printed, footnav: mean of the feet)", _figs[1],
-                                 "end_error_3d", "mean", _walk, f"paper-{_name}", f"best-{_name}"))
+            ZHAO.rows.append(
+                Row(
+                    f"{_where}: E_p (m; one figure printed, footnav: mean of the feet)",
+                    _figs[1],
+                    "end_error_3d",
+                    "mean",
+                    _walk,
+                    f"paper-{_name}",
+                    f"best-{_name}",
+                )
+            )
 
 _T002 = {  # N: (duration s, length m, DTW Alg. [6], DTW Alg. 1, max deviation, max ratio)
     1: (88.3, 71.92, "0.45", "0.09", "0.53", "0.03"),
@@ -222,41 +293,54 @@ _LAPS_002 = {1: 1, 4: 3, 7: 8}
 CHISTYAKOV = Paper(
     key="002",
     title="Chistyakov et al. 2021: closed-loop EKF + RTS (Alg. 1), GLRT, two-foot DTW fusion (Alg. 2)",
-    reference="I. A. Chistyakov, I. V. Grishov, A. A. Nikulin, M. V. Pikhletsky and I. B. Gartsev, \"Pedestrian "
-              "navigation: how can inertial measurement units assist smartphones?\", Russian Technological "
-              "J. 9(2), 22-34, 2021, doi:10.32362/2500-316X-2021-9-2-22-34 (in Russian, English abstract; "
-              "shared/seeds/002).",
+    reference='I. A. Chistyakov, I. V. Grishov, A. A. Nikulin, M. V. Pikhletsky and I. B. Gartsev, "Pedestrian '
+    'navigation: how can inertial measurement units assist smartphones?", Russian Technological '
+    "J. 9(2), 22-34, 2021, doi:10.32362/2500-316X-2021-9-2-22-34 (in Russian, English abstract; "
+    "shared/seeds/002).",
     did="Two MIMU22BLPX units (each an array of four InvenSense MPU-9250) on the instep, streamed over "
-        "Bluetooth LE at 125 Hz to a phone (Sec. 5). Standstill by the GLRT statistic T < gamma "
-        "(Skog et al. 2010, eq. 4). Alg. 1: an error-state Kalman filter with attitude feedback and an "
-        "RTS smoother, ZUPT, and the known start = end position used as a measurement at the final "
-        "standstill (closed loop). Alg. 2: both feet in one pass, the other foot's horizontal position "
-        "as a measurement at mid-swing, after the initial heading mismatch is found by minimising the "
-        "DTW distance between the Alg. 1 tracks. Seven closed walks of 1-10 min (72-707 m; the abstract "
-        "says indoors, Sec. 5 that the RTK reference needed open sky). Metrics: the banded DTW distance "
-        "between the two feet's tracks (Table 1: Kalman filter + smoother [6] vs Alg. 1) and the "
-        "maximum deviation of Alg. 2 from an RTK GNSS track on the helmet, with the maximum ratio of "
-        "deviation to the distance walked so far (Table 2).",
+    "Bluetooth LE at 125 Hz to a phone (Sec. 5). Standstill by the GLRT statistic T < gamma "
+    "(Skog et al. 2010, eq. 4). Alg. 1: an error-state Kalman filter with attitude feedback and an "
+    "RTS smoother, ZUPT, and the known start = end position used as a measurement at the final "
+    "standstill (closed loop). Alg. 2: both feet in one pass, the other foot's horizontal position "
+    "as a measurement at mid-swing, after the initial heading mismatch is found by minimising the "
+    "DTW distance between the Alg. 1 tracks. Seven closed walks of 1-10 min (72-707 m; the abstract "
+    "says indoors, Sec. 5 that the RTK reference needed open sky). Metrics: the banded DTW distance "
+    "between the two feet's tracks (Table 1: Kalman filter + smoother [6] vs Alg. 1) and the "
+    "maximum deviation of Alg. 2 from an RTK GNSS track on the helmet, with the maximum ratio of "
+    "deviation to the distance walked so far (Table 2).",
     data="The paper names a public data set (gartsev.ru/projects/rtj2021); that host is unreachable "
-         "from here and nothing was downloaded.",
+    "from here and nothing was downloaded.",
     rebuilt="Three of the seven walks (N = 1, 4, 7: the shortest, a middle one and the longest), each "
-            "laps of a 2:1 rectangle (`simulate(\"path\", segments=...)`: N1 one lap of 24 m x 12 m, N4 "
-            "three laps of 26.7 m x 13.4 m, N7 eight laps of 29.4 m x 14.7 m, indoor-sized) with the "
-            "paper's length, at the paper's mean speed (stride period from the duration), 125 Hz, 5 s "
-            "standstills; the simulator's default sensor noise (the paper gives no noise figures). DTW "
-            "= `dtw_distance_feet` (mean per matched pair at 10 Hz, 2 s band), max deviation = "
-            "`max_deviation_2d` of the worse foot against its own truth (the paper compares the averaged "
-            "track with an antenna on the helmet), ratio = `metrics.max_deviation(...).max_ratio` "
-            "(deviation / distance so far, after the first 5 m).",
-    walks={f"N{n}": Walk(f"walk N{n}: {d:g} s, {length:g} m ({_LAPS_002[n]} lap{'s' * (_LAPS_002[n] > 1)})", "path",
-                         _loop_002(length, length / (d - 10.0), _LAPS_002[n], 5.0), 5,
-                         _loop_002(length / (4 if n == 1 else 8), length / (d - 10.0), 1, 5.0))
-           for n, (d, length, *_r) in _T002.items()},
+    'laps of a 2:1 rectangle (`simulate("path", segments=...)`: N1 one lap of 24 m x 12 m, N4 '
+    "three laps of 26.7 m x 13.4 m, N7 eight laps of 29.4 m x 14.7 m, indoor-sized) with the "
+    "paper's length, at the paper's mean speed (stride period from the duration), 125 Hz, 5 s "
+    "standstills; the simulator's default sensor noise (the paper gives no noise figures). DTW "
+    "= `dtw_distance_feet` (mean per matched pair at 10 Hz, 2 s band), max deviation = "
+    "`max_deviation_2d` of the worse foot against its own truth (the paper compares the averaged "
+    "track with an antenna on the helmet), ratio = `metrics.max_deviation(...).max_ratio` "
+    "(deviation / distance so far, after the first 5 m).",
+    walks={
+        f"N{n}": Walk(
+            f"walk N{n}: {d:g} s, {length:g} m ({_LAPS_002[n]} lap{'s' * (_LAPS_002[n] > 1)})",
+            "path",
+            _loop_002(length, length / (d - 10.0), _LAPS_002[n], 5.0),
+            5,
+            _loop_002(length / (4 if n == 1 else 8), length / (d - 10.0), 1, 5.0),
+        )
+        for n, (d, length, *_r) in _T002.items()
+    },
     pipelines={
         "paper-alg6": ("glrt", "ekf", "independent", {"estimator_params": {"smoother": "whole", "closed_loop": False}}),
         "paper-alg1": ("glrt", "ekf", "independent", {"estimator_params": {"smoother": "whole", "closed_loop": True}}),
-        "paper-alg2": ("glrt", "ekf", "dtw", {"estimator_params": {"smoother": "whole", "closed_loop": True},
-                                              "fusion_params": {"heading_tracks": "smoothed"}}),
+        "paper-alg2": (
+            "glrt",
+            "ekf",
+            "dtw",
+            {
+                "estimator_params": {"smoother": "whole", "closed_loop": True},
+                "fusion_params": {"heading_tracks": "smoothed"},
+            },
+        ),
         "best-alg6": ("adaptive", "ekf", "independent", {}),
         "best-alg1": ("adaptive", "ekf", "independent", {"estimator_params": {"closed_loop": True}}),
         "best-alg2": ("adaptive", "ekf", "dtw", {"estimator_params": {"closed_loop": True}}),
@@ -266,16 +350,46 @@ CHISTYAKOV = Paper(
 )
 for _n, (_d, _l, _dtw6, _dtw1, _dev, _ratio) in _T002.items():
     _w = f"N{_n}"
-    CHISTYAKOV.rows.extend([
-        Row(f"walk N{_n}, Table 1: DTW distance between the feet, Kalman filter + RTS [6] (m)", _dtw6,
-            "dtw_distance_feet", "both", _w, "paper-alg6", "best-alg6"),
-        Row(f"walk N{_n}, Table 1: DTW distance between the feet, Alg. 1 (closed loop) (m)", _dtw1,
-            "dtw_distance_feet", "both", _w, "paper-alg1", "best-alg1"),
-        Row(f"walk N{_n}, Table 2: maximum deviation, Alg. 2 (m; footnav: worse foot)", _dev,
-            "max_deviation_2d", "worse", _w, "paper-alg2", "best-alg2"),
-        Row(f"walk N{_n}, Table 2: max ratio of deviation to distance walked, Alg. 2 (footnav: worse foot)", _ratio,
-            "max_deviation_ratio", "worse", _w, "paper-alg2", "best-alg2"),
-    ])
+    CHISTYAKOV.rows.extend(
+        [
+            Row(
+                f"walk N{_n}, Table 1: DTW distance between the feet, Kalman filter + RTS [6] (m)",
+                _dtw6,
+                "dtw_distance_feet",
+                "both",
+                _w,
+                "paper-alg6",
+                "best-alg6",
+            ),
+            Row(
+                f"walk N{_n}, Table 1: DTW distance between the feet, Alg. 1 (closed loop) (m)",
+                _dtw1,
+                "dtw_distance_feet",
+                "both",
+                _w,
+                "paper-alg1",
+                "best-alg1",
+            ),
+            Row(
+                f"walk N{_n}, Table 2: maximum deviation, Alg. 2 (m; footnav: worse foot)",
+                _dev,
+                "max_deviation_2d",
+                "worse",
+                _w,
+                "paper-alg2",
+                "best-alg2",
+            ),
+            Row(
+                f"walk N{_n}, Table 2: max ratio of deviation to distance walked, Alg. 2 (footnav: worse foot)",
+                _ratio,
+                "max_deviation_ratio",
+                "worse",
+                _w,
+                "paper-alg2",
+                "best-alg2",
+            ),
+        ]
+    )
 
 #: Li et al. 2018's course: 1075 m of road (the shape is not given; this one has five turns and
 #: does not return to its start), 729 steps per foot (Sec. 4) -> stride 1.475 m.
@@ -283,28 +397,35 @@ SEGMENTS_003 = [(250.0, 90.0), (120.0, 90.0), (180.0, -90.0), (80.0, -90.0), (20
 LI = Paper(
     key="003",
     title="Li, Derrode et al. 2018: HMM stance detection, Madgwick + 9-state KF",
-    reference="H. Li, S. Derrode, L. Benyoussef and W. Pieczynski, \"Unsupervised pedestrian trajectory "
-              "reconstruction from IMU sensors\", TAIMA 2018, hal-01786223 (shared/seeds/003).",
+    reference='H. Li, S. Derrode, L. Benyoussef and W. Pieczynski, "Unsupervised pedestrian trajectory '
+    'reconstruction from IMU sensors", TAIMA 2018, hal-01786223 (shared/seeds/003).',
     did="One Shimmer3 on a shoe (accelerometer +-8 g, gyro +-1000 deg/s, magnetometer 2.5 Ga), 100 Hz, "
-        "a short standstill first (Sec. 4). Stance by a cyclic left-to-right 4-state HMM on the 3-axis "
-        "gyro, K-means initialisation re-ordered into the gait cycle, Baum-Welch (Sec. 2); orientation "
-        "by Madgwick's gradient descent and a 9-state error KF [position, velocity, acceleration] (GDA, "
-        "Sec. 3), against a threshold detector [3] and a 15-state INS-EKF-ZUPT (IEZ). One 1075 m walk "
-        "on a road, truth from OpenStreetMap. Metrics: steps detected / missed / false (Table 1; 729 "
-        "true steps per foot) and end-to-end error, travelled distance and its error, DTW distance to "
-        "the truth (Table 2).",
+    "a short standstill first (Sec. 4). Stance by a cyclic left-to-right 4-state HMM on the 3-axis "
+    "gyro, K-means initialisation re-ordered into the gait cycle, Baum-Welch (Sec. 2); orientation "
+    "by Madgwick's gradient descent and a 9-state error KF [position, velocity, acceleration] (GDA, "
+    "Sec. 3), against a threshold detector [3] and a 15-state INS-EKF-ZUPT (IEZ). One 1075 m walk "
+    "on a road, truth from OpenStreetMap. Metrics: steps detected / missed / false (Table 1; 729 "
+    "true steps per foot) and end-to-end error, travelled distance and its error, DTW distance to "
+    "the truth (Table 2).",
     data="Not public (no data set is mentioned).",
-    rebuilt="A 1075 m walk (`simulate(\"path\")`, five 90 deg turns, not closed: the paper's course "
-            "shape is not given) with a stride of 1075/729 m so that each foot makes about 729 steps, "
-            "100 Hz, the simulator's default noise and 2 s standstills; the left foot is scored (the "
-            "paper had one sensor). Detected steps = `steps_found + steps_false`; travelled distance = "
-            "the 2-D reference length x (1 + `travelled_distance_error_percent` / 100); end-to-end = "
-            "`end_error_2d` and `end_error_2d_percent`; DTW = `metrics.dtw_distance(..., "
-            "normalize=\"none\")` of the start-aligned 2-D track against the truth at 1 Hz (an "
-            "unnormalised sum like the paper's; its sample rate is not given, so the figures are not "
-            "comparable in scale). `--quick` walks 150 m.",
-    walks={"road": Walk("1075 m road", "path", {"segments": SEGMENTS_003, "stride_length_m": 1075 / 729}, 5,
-                        {"segments": [(60.0, 90.0), (40.0, -90.0), (50.0, 0.0)], "stride_length_m": 1075 / 729})},
+    rebuilt='A 1075 m walk (`simulate("path")`, five 90 deg turns, not closed: the paper\'s course '
+    "shape is not given) with a stride of 1075/729 m so that each foot makes about 729 steps, "
+    "100 Hz, the simulator's default noise and 2 s standstills; the left foot is scored (the "
+    "paper had one sensor). Detected steps = `steps_found + steps_false`; travelled distance = "
+    "the 2-D reference length x (1 + `travelled_distance_error_percent` / 100); end-to-end = "
+    "`end_error_2d` and `end_error_2d_percent`; DTW = `metrics.dtw_distance(..., "
+    'normalize="none")` of the start-aligned 2-D track against the truth at 1 Hz (an '
+    "unnormalised sum like the paper's; its sample rate is not given, so the figures are not "
+    "comparable in scale). `--quick` walks 150 m.",
+    walks={
+        "road": Walk(
+            "1075 m road",
+            "path",
+            {"segments": SEGMENTS_003, "stride_length_m": 1075 / 729},
+            5,
+            {"segments": [(60.0, 90.0), (40.0, -90.0), (50.0, 0.0)], "stride_length_m": 1075 / 729},
+        )
+    },
     pipelines={
         "hmm+gda": ("hmm", "madgwick", "independent", {}),
         "threshold+gda": ("threshold", "madgwick", "independent", {}),
@@ -312,72 +433,144 @@ LI = Paper(
         "best": ("adaptive", "ekf", "independent", {}),
     },
     rows=[
-        Row("Table 1, LR-HMM: steps detected (729 true in the paper)", "735", "steps_detected", "left", "road", "hmm+gda", "best"),
+        Row(
+            "Table 1, LR-HMM: steps detected (729 true in the paper)",
+            "735",
+            "steps_detected",
+            "left",
+            "road",
+            "hmm+gda",
+            "best",
+        ),
         Row("Table 1, LR-HMM: steps missed", "0", "steps_missed", "left", "road", "hmm+gda", "best"),
         Row("Table 1, LR-HMM: false detections", "6 (0.823 %)", "steps_false", "left", "road", "hmm+gda", "best"),
         Row("Table 1, threshold [3]: steps detected", "724", "steps_detected", "left", "road", "threshold+gda", "best"),
         Row("Table 1, threshold [3]: steps missed", "17", "steps_missed", "left", "road", "threshold+gda", "best"),
-        Row("Table 1, threshold [3]: false detections", "14 (1.920 %)", "steps_false", "left", "road", "threshold+gda", "best"),
+        Row(
+            "Table 1, threshold [3]: false detections",
+            "14 (1.920 %)",
+            "steps_false",
+            "left",
+            "road",
+            "threshold+gda",
+            "best",
+        ),
     ],
     verdict="",
 )
-for _label, _pipe, _figs in (("HMM+GDA", "hmm+gda", ("23.31", "2.16", "1077.69", "0.25", "8784")),
-                             ("Threshold+GDA", "threshold+gda", ("24.76", "2.30", "1131.19", "5.22", "8617")),
-                             ("HMM+IEZ", "hmm+iez", ("16.11", "1.49", "1078.52", "0.32", "12809"))):
-    LI.rows.extend([
-        Row(f"Table 2, {_label}: end-to-end error (m)", _figs[0], "end_error_2d", "left", "road", _pipe, "best"),
-        Row(f"Table 2, {_label}: end-to-end error (% of distance)", _figs[1], "end_error_2d_percent", "left", "road", _pipe, "best"),
-        Row(f"Table 2, {_label}: travelled distance (m; truth 1075)", _figs[2], "travelled_distance_2d", "left", "road", _pipe, "best"),
-        Row(f"Table 2, {_label}: travelled distance error (%)", _figs[3], "travelled_distance_error_percent", "left", "road", _pipe, "best"),
-        Row(f"Table 2, {_label}: DTW distance to the truth (sum; footnav at 1 Hz, m)", _figs[4], "dtw_distance_truth", "left", "road", _pipe, "best"),
-    ])
+for _label, _pipe, _figs in (
+    ("HMM+GDA", "hmm+gda", ("23.31", "2.16", "1077.69", "0.25", "8784")),
+    ("Threshold+GDA", "threshold+gda", ("24.76", "2.30", "1131.19", "5.22", "8617")),
+    ("HMM+IEZ", "hmm+iez", ("16.11", "1.49", "1078.52", "0.32", "12809")),
+):
+    LI.rows.extend(
+        [
+            Row(f"Table 2, {_label}: end-to-end error (m)", _figs[0], "end_error_2d", "left", "road", _pipe, "best"),
+            Row(
+                f"Table 2, {_label}: end-to-end error (% of distance)",
+                _figs[1],
+                "end_error_2d_percent",
+                "left",
+                "road",
+                _pipe,
+                "best",
+            ),
+            Row(
+                f"Table 2, {_label}: travelled distance (m; truth 1075)",
+                _figs[2],
+                "travelled_distance_2d",
+                "left",
+                "road",
+                _pipe,
+                "best",
+            ),
+            Row(
+                f"Table 2, {_label}: travelled distance error (%)",
+                _figs[3],
+                "travelled_distance_error_percent",
+                "left",
+                "road",
+                _pipe,
+                "best",
+            ),
+            Row(
+                f"Table 2, {_label}: DTW distance to the truth (sum; footnav at 1 Hz, m)",
+                _figs[4],
+                "dtw_distance_truth",
+                "left",
+                "road",
+                _pipe,
+                "best",
+            ),
+        ]
+    )
 
 LEE = Paper(
     key="004",
     title="Lee, Cho & Park 2022: particle-filter dual-foot PDR with lateral drift",
-    reference="J. H. Lee, S. Y. Cho and C. G. Park, \"Dual foot-PDR system considering lateral position "
-              "error characteristics\", J. Position. Navig. Timing, 2022 (shared/seeds/004).",
+    reference='J. H. Lee, S. Y. Cho and C. G. Park, "Dual foot-PDR system considering lateral position '
+    'error characteristics", J. Position. Navig. Timing, 2022 (shared/seeds/004).',
     did="An Xsens MTw on the outside of each shoe, at the rear (Table 1: gyro noise 0.05 deg/s/sqrt(Hz), "
-        "bias stability 20 deg/h, accelerometer noise 0.003 m/s^2/sqrt(Hz)), 100 Hz, gyro bias from about "
-        "5 s of standstill (Sec. 4). Zero velocity by a threshold detector (Lee et al. 2012). Each foot: "
-        "an EKF without horizontal position (eq. 3) and a 100-particle filter for it, propagated with "
-        "the velocity covariance and an offset-Rayleigh lateral drift (eq. 10-12); the two clouds are "
-        "fused by a Gaussian sum (eq. 13-14), which each filter takes as a measurement at the end of each "
-        "zero-velocity phase (eq. 15-16). Baselines: standalone feet and a range constraint (Prateek et "
-        "al. 2013). Walks: 70 m straight (20 times), a square 93 m round with three turns back to the "
-        "start, about 3 min (6 times, 3 each way), a 300 m corridor loop (3 people x 3). Metrics: final "
-        "position error (straight, Table 2), mean waypoint error (square, Table 3), position error of "
-        "the long loop (Table 4; the text gives the return error, about 1.5 m), left and right.",
+    "bias stability 20 deg/h, accelerometer noise 0.003 m/s^2/sqrt(Hz)), 100 Hz, gyro bias from about "
+    "5 s of standstill (Sec. 4). Zero velocity by a threshold detector (Lee et al. 2012). Each foot: "
+    "an EKF without horizontal position (eq. 3) and a 100-particle filter for it, propagated with "
+    "the velocity covariance and an offset-Rayleigh lateral drift (eq. 10-12); the two clouds are "
+    "fused by a Gaussian sum (eq. 13-14), which each filter takes as a measurement at the end of each "
+    "zero-velocity phase (eq. 15-16). Baselines: standalone feet and a range constraint (Prateek et "
+    "al. 2013). Walks: 70 m straight (20 times), a square 93 m round with three turns back to the "
+    "start, about 3 min (6 times, 3 each way), a 300 m corridor loop (3 people x 3). Metrics: final "
+    "position error (straight, Table 2), mean waypoint error (square, Table 3), position error of "
+    "the long loop (Table 4; the text gives the return error, about 1.5 m), left and right.",
     data="Not public (no data set is mentioned).",
-    rebuilt="`simulate(\"straight\", distance_m=70)`; the square of `benchmarks/bench_particle.py --square` "
-            "(`simulate(\"path\")`, 23.25 m sides from the middle of a side, three laps, back to the start; "
-            "`--quick`: one lap); `simulate(\"rectangle\", width_m=100, height_m=50)` for the 300 m loop "
-            "(`--quick`: 40 m x 20 m); 100 Hz, the MTw's noise densities, its 20 deg/h bias stability as a "
-            "gyro bias random walk of 7e-6 rad/s^2/sqrt(Hz) (reached over the 3-min walk), 5 s standstill, and "
-            "the paper's error source, the feet drifting in opposite directions (Sec. 2.1): "
-            "`mirrored_yaw_rate_radps=6e-4` (+b on the left foot's yaw rate, -b on the right's while the foot "
-            "moves), which gives the standalone totals of Tables 2-3. Errors as the paper measured them: each "
-            "track turned onto the walking direction by its first five steps (Sec. 2.1; "
-            "`metrics.align_on_first_steps`), then the final error (`end_error_2d_5steps`, Table 2), the mean "
-            "error at the corners the simulator marks (`waypoint_error_5steps`, Table 3) and their *total*, "
-            "both feet averaged. Table 4 keeps `end_error_2d` (start-aligned on 2 m). Paper-mode estimators "
-            "run forward only (the paper smooths nothing); the range constraint is footnav's `range` with "
-            "its defaults (1 m). `sigma_sys_m` (eq. 12) is not given by the paper (fitted to Fig. 2); 0.1 m.",
+    rebuilt='`simulate("straight", distance_m=70)`; the square of `benchmarks/bench_particle.py --square` '
+    '(`simulate("path")`, 23.25 m sides from the middle of a side, three laps, back to the start; '
+    '`--quick`: one lap); `simulate("rectangle", width_m=100, height_m=50)` for the 300 m loop '
+    "(`--quick`: 40 m x 20 m); 100 Hz, the MTw's noise densities, its 20 deg/h bias stability as a "
+    "gyro bias random walk of 7e-6 rad/s^2/sqrt(Hz) (reached over the 3-min walk), 5 s standstill, and "
+    "the paper's error source, the feet drifting in opposite directions (Sec. 2.1): "
+    "`mirrored_yaw_rate_radps=6e-4` (+b on the left foot's yaw rate, -b on the right's while the foot "
+    "moves), which gives the standalone totals of Tables 2-3. Errors as the paper measured them: each "
+    "track turned onto the walking direction by its first five steps (Sec. 2.1; "
+    "`metrics.align_on_first_steps`), then the final error (`end_error_2d_5steps`, Table 2), the mean "
+    "error at the corners the simulator marks (`waypoint_error_5steps`, Table 3) and their *total*, "
+    "both feet averaged. Table 4 keeps `end_error_2d` (start-aligned on 2 m). Paper-mode estimators "
+    "run forward only (the paper smooths nothing); the range constraint is footnav's `range` with "
+    "its defaults (1 m). `sigma_sys_m` (eq. 12) is not given by the paper (fitted to Fig. 2); 0.1 m.",
     walks={
         "straight": Walk("straight 70 m", "straight", {"distance_m": 70.0, **SENSOR_004}, 20, quick_seeds=2),
-        "square": Walk("square 93 m, three laps", "path",
-                       {"segments": _path_rectangle(SQUARE_SIDE_M, SQUARE_SIDE_M, 3), **SENSOR_004}, 6,
-                       {"segments": _path_rectangle(SQUARE_SIDE_M, SQUARE_SIDE_M, 1), **SENSOR_004}),
-        "long": Walk("loop 300 m", "rectangle", {"width_m": 100.0, "height_m": 50.0, **SENSOR_004}, 9,
-                     {"width_m": 40.0, "height_m": 20.0, **SENSOR_004}),
+        "square": Walk(
+            "square 93 m, three laps",
+            "path",
+            {"segments": _path_rectangle(SQUARE_SIDE_M, SQUARE_SIDE_M, 3), **SENSOR_004},
+            6,
+            {"segments": _path_rectangle(SQUARE_SIDE_M, SQUARE_SIDE_M, 1), **SENSOR_004},
+        ),
+        "long": Walk(
+            "loop 300 m",
+            "rectangle",
+            {"width_m": 100.0, "height_m": 50.0, **SENSOR_004},
+            9,
+            {"width_m": 40.0, "height_m": 20.0, **SENSOR_004},
+        ),
     },
     pipelines={
         "paper-standalone": ("threshold", "ekf", "independent", {"estimator_params": FORWARD}),
         "paper-range": ("threshold", "ekf", "range", {"estimator_params": FORWARD}),
-        "paper-proposed": ("threshold", "ekf", "particle", {"estimator_params": FORWARD,
-                                                            "fusion_params": {"mode": "paper", "sigma_sys_m": SIGMA_SYS_004_M}}),
-        "paper-fused": ("threshold", "ekf", "particle", {"estimator_params": FORWARD, "fusion_params": {
-            "mode": "paper", "sigma_sys_m": SIGMA_SYS_004_M, "likelihood_cov": "fused"}}),
+        "paper-proposed": (
+            "threshold",
+            "ekf",
+            "particle",
+            {"estimator_params": FORWARD, "fusion_params": {"mode": "paper", "sigma_sys_m": SIGMA_SYS_004_M}},
+        ),
+        "paper-fused": (
+            "threshold",
+            "ekf",
+            "particle",
+            {
+                "estimator_params": FORWARD,
+                "fusion_params": {"mode": "paper", "sigma_sys_m": SIGMA_SYS_004_M, "likelihood_cov": "fused"},
+            },
+        ),
         "best-standalone": ("adaptive", "ekf", "independent", {}),
         "best-range": ("adaptive", "ekf", "range", {}),
         "best-proposed": ("adaptive", "ekf", "particle", {"fusion_params": {"mode": "footnav"}}),
@@ -387,14 +580,35 @@ LEE = Paper(
 )
 #: Tables 2-3 of Lee, Cho & Park 2022: (left, right); the total is their mean (both feet averaged).
 for _walk, _metric, _table, _figs in (
-        ("straight", "end_error_2d_5steps", "Table 2 (straight), final position error",
-         {"standalone": ("0.52 ± 0.32", "0.97 ± 0.33"), "range": ("0.40 ± 0.23", "0.82 ± 0.21"),
-          "proposed": ("0.48 ± 0.13", "0.55 ± 0.18"), "fused": None}),
-        ("square", "waypoint_error_5steps", "Table 3 (square), mean waypoint error",
-         {"standalone": ("0.50 ± 0.55", "1.28 ± 1.46"), "range": ("0.46 ± 0.61", "0.40 ± 0.68"),
-          "proposed": ("0.32 ± 0.53", "0.31 ± 0.54"), "fused": None}),
-        ("long", "end_error_2d", "Table 4 (300 m loop), return position error",
-         {"proposed": ("1.58 ± 0.97", "1.53 ± 1.01")})):
+    (
+        "straight",
+        "end_error_2d_5steps",
+        "Table 2 (straight), final position error",
+        {
+            "standalone": ("0.52 ± 0.32", "0.97 ± 0.33"),
+            "range": ("0.40 ± 0.23", "0.82 ± 0.21"),
+            "proposed": ("0.48 ± 0.13", "0.55 ± 0.18"),
+            "fused": None,
+        },
+    ),
+    (
+        "square",
+        "waypoint_error_5steps",
+        "Table 3 (square), mean waypoint error",
+        {
+            "standalone": ("0.50 ± 0.55", "1.28 ± 1.46"),
+            "range": ("0.46 ± 0.61", "0.40 ± 0.68"),
+            "proposed": ("0.32 ± 0.53", "0.31 ± 0.54"),
+            "fused": None,
+        },
+    ),
+    (
+        "long",
+        "end_error_2d",
+        "Table 4 (300 m loop), return position error",
+        {"proposed": ("1.58 ± 0.97", "1.53 ± 1.01")},
+    ),
+):
     for _method, _lr in _figs.items():
         if _lr is None:  # the other reading of eq. 15: no figure of its own in the paper
             _lr, _best = ("(proposed)", "(proposed)"), "best-proposed"
@@ -408,8 +622,9 @@ for _walk, _metric, _table, _figs in (
             _total = "(proposed)"
         _feet = (("left", _lr[0]), ("right", _lr[1])) + ((("total", _total),) if _walk != "long" else ())
         for _foot, _fig in _feet:
-            LEE.rows.append(Row(f"{_table}, {_name}, {_foot} (m)", _fig, _metric, _foot, _walk,
-                                f"paper-{_method}", _best))
+            LEE.rows.append(
+                Row(f"{_table}, {_name}, {_foot} (m)", _fig, _metric, _foot, _walk, f"paper-{_method}", _best)
+            )
 
 PAPERS = [ZHAO, CHISTYAKOV, LI, LEE]
 
@@ -428,12 +643,16 @@ def _extra_metrics(report: EvaluationReport, rec: footnav.Recording, pipe_name: 
             return float("nan")
 
     result = report.results[(rec.name, pipe_name)]
-    feet = [("left", result.left, rec.truth_left)] + ([("right", result.right, rec.truth_right)] if result.right is not None else [])
+    feet = [("left", result.left, rec.truth_left)] + (
+        [("right", result.right, rec.truth_right)] if result.right is not None else []
+    )
     ratios, devs, ends, five = [], [], [], []
     for foot, traj, truth in feet:
         out.append((foot, "steps_detected", value("steps_found", foot) + value("steps_false", foot), "count"))
         ref_len = value("reference_path_length", foot)
-        out.append((foot, "travelled_distance_2d", ref_len * (1 + value("travelled_distance_error_percent", foot) / 100), "m"))
+        out.append(
+            (foot, "travelled_distance_2d", ref_len * (1 + value("travelled_distance_error_percent", foot) / 100), "m")
+        )
         est, inside = trajectory_at(traj, truth.t)
         ref = truth.position[inside]
         aligned = metrics.align_at_start(est, ref).aligned
@@ -463,7 +682,9 @@ def _extra_metrics(report: EvaluationReport, rec: footnav.Recording, pipe_name: 
     return [Metric(rec.name, pipe_name, foot, name, float(v), unit) for foot, name, v, unit in out]
 
 
-def _one_seed(paper: Paper, walk: Walk, opts: dict[str, Any], pipe_keys: list[str], seed: int) -> tuple[EvaluationReport, set[str]]:
+def _one_seed(
+    paper: Paper, walk: Walk, opts: dict[str, Any], pipe_keys: list[str], seed: int
+) -> tuple[EvaluationReport, set[str]]:
     """One seed's report and the footnav modules it ran (papers_inputs.ModuleTracker)."""
     with warnings.catch_warnings(), papers_inputs.ModuleTracker() as used:
         warnings.simplefilter("ignore")  # stance checks and data notes are recorded in meta
@@ -474,7 +695,9 @@ def _one_seed(paper: Paper, walk: Walk, opts: dict[str, Any], pipe_keys: list[st
     return EvaluationReport(report.metrics + tuple(extra)), used.files
 
 
-def run_paper(paper: Paper, quick: bool, jobs: int) -> tuple[dict[tuple[str, str, str, str], tuple[float, float, int]], set[str]]:
+def run_paper(
+    paper: Paper, quick: bool, jobs: int
+) -> tuple[dict[tuple[str, str, str, str], tuple[float, float, int]], set[str]]:
     """{(walk, pipeline, foot, metric): (mean, std, n)} over the seeds of each walk, and the
     footnav modules the runs used."""
     out, files = {}, set()
@@ -501,8 +724,13 @@ def _cell(stat: tuple[float, float, int] | None, metric: str) -> str:
     if stat is None:
         return "n/a"
     mean, std, n = stat
-    digits = 1 if metric in ("steps_detected", "steps_missed", "steps_false", "travelled_distance_2d", "dtw_distance_truth") else \
-        3 if metric == "max_deviation_ratio" else 2
+    digits = (
+        1
+        if metric in ("steps_detected", "steps_missed", "steps_false", "travelled_distance_2d", "dtw_distance_truth")
+        else 3
+        if metric == "max_deviation_ratio"
+        else 2
+    )
     if metric == "dtw_distance_truth":
         digits = 0
     text = f"{mean:.{digits}f}"
@@ -512,9 +740,18 @@ def _cell(stat: tuple[float, float, int] | None, metric: str) -> str:
 
 
 def section(paper: Paper, stats: dict, quick: bool, files: set[str] = frozenset()) -> list[str]:
-    lines = [f"## {paper.key}: {paper.title}", "", f"*{paper.reference}*", "",
-             f"**What the paper did.** {paper.did}", "", f"**Data.** {paper.data}", "",
-             f"**Rebuilt here.** {paper.rebuilt}", ""]
+    lines = [
+        f"## {paper.key}: {paper.title}",
+        "",
+        f"*{paper.reference}*",
+        "",
+        f"**What the paper did.** {paper.did}",
+        "",
+        f"**Data.** {paper.data}",
+        "",
+        f"**Rebuilt here.** {paper.rebuilt}",
+        "",
+    ]
     lines += ["| walk | seeds (full run) |", "|---|---|"]
     for walk in paper.walks.values():
         lines.append(f"| {walk.label} | {walk.seeds} |")
@@ -546,9 +783,11 @@ def stamp() -> str:
     state = f"git {git('rev-parse', '--short', 'HEAD')}"
     if dirty:
         state += " with uncommitted changes in " + ", ".join(f"`{d}`" for d in dirty)
-    return (f"Run on {datetime.datetime.now(datetime.timezone.utc):%Y-%m-%d %H:%M} UTC on {platform.machine()} "
-            f"{platform.system()} {platform.release()} ({os.cpu_count()} CPUs) with footnav {footnav.__version__} "
-            f"({state}), Python {platform.python_version()}, numpy {np.__version__}.")
+    return (
+        f"Run on {datetime.datetime.now(datetime.timezone.utc):%Y-%m-%d %H:%M} UTC on {platform.machine()} "
+        f"{platform.system()} {platform.release()} ({os.cpu_count()} CPUs) with footnav {footnav.__version__} "
+        f"({state}), Python {platform.python_version()}, numpy {np.__version__}."
+    )
 
 
 INTRO = """# The four papers, rebuilt on the simulator
@@ -646,8 +885,8 @@ VERDICTS = {
         "error falls by 60 % (1.03 to 0.41 m; the paper 65 %, 0.89 to 0.315 m), on the straight walk "
         "(Table 2) by 51 % (0.84 to 0.41 m; the paper 31 %). *Which reading reproduces which table:* "
         "eq. 15 with `Sigma^i` as eq. 14 defines it, shoe i's own cloud covariance (`likelihood_cov="
-        "\"own\"`, `paper-proposed`), reproduces both; with the Gaussian sum's covariance "
-        "(`\"fused\"`, `paper-fused`) the straight walk still falls by 48 % but the square only by 8 %: "
+        '"own"`, `paper-proposed`), reproduces both; with the Gaussian sum\'s covariance '
+        '(`"fused"`, `paper-fused`) the straight walk still falls by 48 % but the square only by 8 %: '
         "that covariance holds the distance between the two clouds, so once the feet have drifted apart "
         "the weights are nearly uniform. Both take the likelihood across the shoe's heading around the "
         "pedestrian shifted by half the step width (the 2-D Gaussian as printed pulls each foot along "
@@ -689,9 +928,16 @@ def main(argv: list[str] | None = None) -> int:
         return 1 if stale else 0
     only = [k for k in args.only.split(",") if k]
     kept = _sections(out.read_text(encoding="utf-8")) if only else {}
-    lines = [INTRO.rstrip(), "",
-             "Generated by `python docs/make_papers.py" + (" --quick" if args.quick else "") + "` (do not edit by hand). "
-             + stamp() + (f" Sections rerun then: {', '.join(only)}; the others are kept from the previous run." if only else ""), ""]
+    lines = [
+        INTRO.rstrip(),
+        "",
+        "Generated by `python docs/make_papers.py"
+        + (" --quick" if args.quick else "")
+        + "` (do not edit by hand). "
+        + stamp()
+        + (f" Sections rerun then: {', '.join(only)}; the others are kept from the previous run." if only else ""),
+        "",
+    ]
     for paper in PAPERS:
         if only and paper.key not in only:
             lines += kept[paper.key].rstrip("\n").split("\n") + [""]

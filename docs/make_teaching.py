@@ -105,24 +105,34 @@ def main() -> None:
     sim = footnav.simulate("straight", seed=0, rate_hz=100.0, distance_m=30.0)
     cmp = compare_detectors(sim)
     cmp.plot(HERE / "figures" / "detectors-sim.png", seconds=(0.0, 10.0))
-    parts.append(section(
-        "A simulated walk (30 m, 100 Hz)", cmp, "detectors-sim.png",
-        "The simulator knows exactly when each foot is still, so every detector can be scored per sample."))
+    parts.append(
+        section(
+            "A simulated walk (30 m, 100 Hz)",
+            cmp,
+            "detectors-sim.png",
+            "The simulator knows exactly when each foot is still, so every detector can be scored per sample.",
+        )
+    )
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # clipping is recorded in meta
         rec = load_dataset("gaitmap", args.data_dir)
         cmp = compare_detectors(rec)
     cmp.plot(HERE / "figures" / "detectors-gaitmap.png", seconds=(5.0, 15.0))
-    parts.append(section(
-        "The gaitmap example (both feet, 204.8 Hz, 2 x 20 m)", cmp, "detectors-gaitmap.png",
-        "Reference: the 28 + 29 strides of the motion-capture event file; a stride is found when its "
-        "minimum-velocity (mid-stance) sample lies inside a detected stance. Detectors that report heel "
-        "strike or toe off are timed against the mocap initial and terminal contacts; threshold and GLRT "
-        "report only the start and end of stance, which the mocap file does not give. The one extra "
-        "left-foot stance both find (near sample 3620) is the turn at the end of the first 20 m: the "
-        "stride file labels the turn as one stride from mid-stance 3359 to 3826, but the mocap heel "
-        "speed in the detected stance is 0.014 m/s (median), the same as in a normal stance: the foot "
-        "really stood still there. Use this as a discussion point: a reference is a method too."))
+    parts.append(
+        section(
+            "The gaitmap example (both feet, 204.8 Hz, 2 x 20 m)",
+            cmp,
+            "detectors-gaitmap.png",
+            "Reference: the 28 + 29 strides of the motion-capture event file; a stride is found when its "
+            "minimum-velocity (mid-stance) sample lies inside a detected stance. Detectors that report heel "
+            "strike or toe off are timed against the mocap initial and terminal contacts; threshold and GLRT "
+            "report only the start and end of stance, which the mocap file does not give. The one extra "
+            "left-foot stance both find (near sample 3620) is the turn at the end of the first 20 m: the "
+            "stride file labels the turn as one stride from mid-stance 3359 to 3826, but the mocap heel "
+            "speed in the detected stance is 0.014 m/s (median), the same as in a normal stance: the foot "
+            "really stood still there. Use this as a discussion point: a reference is a method too.",
+        )
+    )
     for name, title, seconds, note in GAITS:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")  # refits and data oddities are recorded in meta

@@ -13,6 +13,17 @@ from typing import TYPE_CHECKING
 
 from footnav._lazy import lazy_exports
 from footnav.core.component import FootEstimator, Fusion, HeadingAid, StanceDetector
+from footnav.core.types import (
+    GRAVITY_MPS2,
+    FootTrajectory,
+    FootTruth,
+    FusionResult,
+    ImuData,
+    Path,
+    Recording,
+    StanceResult,
+)
+from footnav.core.warning_log import warn
 from footnav.errors import (
     CompositionError,
     DataNotFoundError,
@@ -26,7 +37,6 @@ from footnav.errors import (
     PluginWarning,
     UnknownComponentError,
 )
-from footnav.core.warning_log import warn
 from footnav.pipeline.factory import (
     Pipeline,
     list_components,
@@ -38,16 +48,6 @@ from footnav.pipeline.factory import (
     make_pipeline,
 )
 from footnav.pipeline.result import PipelineResult
-from footnav.core.types import (
-    GRAVITY_MPS2,
-    FootTrajectory,
-    FootTruth,
-    FusionResult,
-    ImuData,
-    Path,
-    Recording,
-    StanceResult,
-)
 from footnav.plugins.hookspecs import hookimpl
 
 if TYPE_CHECKING:

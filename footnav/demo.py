@@ -14,9 +14,9 @@ from importlib import resources
 from pathlib import Path as FilePath
 
 from footnav.analysis.evaluation import EvaluationReport, evaluate
+from footnav.core.types import Recording
 from footnav.data.output import OutputClaim, claim_output, is_footnav_figure
 from footnav.pipeline.factory import make_pipeline
-from footnav.core.types import Recording
 
 __all__ = ["demo_recording", "run_demo", "DemoReport", "REFERENCE_ATE_2D_M"]
 

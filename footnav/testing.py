@@ -40,9 +40,14 @@ from footnav.core.errors import InvalidParameterError
 from footnav.core.types import FootTrajectory, FusionResult, Recording, StanceResult, stance_intervals
 
 __all__ = [
-    "ComponentContract", "DetectorContract", "EstimatorContract", "FusionContract", "HeadingAidContract",
+    "ComponentContract",
+    "DetectorContract",
+    "EstimatorContract",
+    "FusionContract",
+    "HeadingAidContract",
     "OnlineEstimatorContract",
-    "StepableEstimatorContract", "contract_walk",
+    "StepableEstimatorContract",
+    "contract_walk",
 ]
 
 _WALK: dict[tuple[int, bool], Recording] = {}
@@ -186,7 +191,11 @@ class FusionContract(ComponentContract):
 
         rec = contract_walk()
         res = self.make().fuse(
-            EkfEstimator(), rec.left, StanceResult(rec.truth_left.stance), rec.right, StanceResult(rec.truth_right.stance)
+            EkfEstimator(),
+            rec.left,
+            StanceResult(rec.truth_left.stance),
+            rec.right,
+            StanceResult(rec.truth_right.stance),
         )
         assert isinstance(res, FusionResult)
         assert res.left.position.shape == (rec.left.n_samples, 3)
@@ -251,7 +260,9 @@ class StepableEstimatorContract(EstimatorContract):
                 err = float(np.linalg.norm(traj.position[-1] - truth.position[-1]))
                 assert err <= MAX_FUSION_ERROR_M, f"{name}: {foot} foot ends {err:.2f} m from its true position"
             signed = _signed_separation(rec, res)
-            assert signed >= MIN_SIGNED_SEPARATION_M, f"{name}: the left foot is {-signed:.2f} m right of the right foot"
+            assert signed >= MIN_SIGNED_SEPARATION_M, (
+                f"{name}: the left foot is {-signed:.2f} m right of the right foot"
+            )
 
 
 class OnlineEstimatorContract(EstimatorContract):
@@ -297,7 +308,9 @@ class OnlineEstimatorContract(EstimatorContract):
             stream = pipe.online(feet=2)
             got: dict[str, list] = {"left": [], "right": []}
             for a in range(0, rec.left.n_samples, 37):
-                chunks = [(imu.t[a : a + 37], imu.acc[a : a + 37], imu.gyr[a : a + 37]) for imu in (rec.left, rec.right)]
+                chunks = [
+                    (imu.t[a : a + 37], imu.acc[a : a + 37], imu.gyr[a : a + 37]) for imu in (rec.left, rec.right)
+                ]
                 update = stream.push(left=chunks[0], right=chunks[1])
                 for foot, parts in got.items():
                     parts.append(getattr(update, foot).position)
@@ -305,7 +318,9 @@ class OnlineEstimatorContract(EstimatorContract):
         for foot, parts in got.items():
             parts.append(getattr(stream.last_update, foot).position)
             ref = getattr(offline, foot).position
-            np.testing.assert_allclose(getattr(result, foot).position, ref, atol=self.online_atol_m, rtol=0, err_msg=foot)
+            np.testing.assert_allclose(
+                getattr(result, foot).position, ref, atol=self.online_atol_m, rtol=0, err_msg=foot
+            )
             if getattr(pipe.estimator, "smoother", None) != "whole":
                 pushed = np.concatenate(parts)
                 np.testing.assert_allclose(pushed, ref, atol=self.online_atol_m, rtol=0, err_msg=foot)

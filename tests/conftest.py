@@ -40,7 +40,9 @@ def pytest_configure(config):
         return
     import importlib.util
 
-    spec = importlib.util.spec_from_file_location("footnav_tests_faults_conftest", Path(__file__).parent / "faults" / "conftest.py")
+    spec = importlib.util.spec_from_file_location(
+        "footnav_tests_faults_conftest", Path(__file__).parent / "faults" / "conftest.py"
+    )
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     config.pluginmanager.register(module, "footnav-faults-summary")

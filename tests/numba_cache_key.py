@@ -105,4 +105,3 @@ def numba_cache_dir(package_dir: Path | str | None = None, base: Path | str | No
     if fresh:
         _prune(base, path, now)
     return str(path)
-

@@ -61,7 +61,7 @@ def compare(rec, size=50):
     rows = {}
     for f in stream.feet:
         ref = getattr(step, f.foot)
-        on, offm = live_stance[f.foot], getattr(off, f"stance_{f.foot}").mask[-len(live_stance[f.foot]):]
+        on, offm = live_stance[f.foot], getattr(off, f"stance_{f.foot}").mask[-len(live_stance[f.foot]) :]
         added, removed = _differences(on, offm)
         dist = float(np.linalg.norm(got[f.foot] - ref.position, axis=1).max())
         same = float(np.abs(getattr(result, f.foot).position - getattr(off, f.foot).position).max()) <= 1e-9
@@ -78,7 +78,7 @@ def _live_stances(pipe, rec, size):
     for foot in stream.feet:
         imu = getattr(rec, foot.foot)
         for a in range(0, imu.n_samples, size):
-            stream.push(**{foot.foot: (imu.t[a:a + size], imu.acc[a:a + size], imu.gyr[a:a + size])})
+            stream.push(**{foot.foot: (imu.t[a : a + size], imu.acc[a : a + size], imu.gyr[a : a + size])})
             inp = foot.input
             done = sum(len(m) for m in masks[foot.foot])
             masks[foot.foot].append(inp.rows(done, foot.n_final)[3].copy())
@@ -106,9 +106,18 @@ def compare_step_vector(rec, size=50):
         ref = getattr(off, foot).footprints
         n = min(len(mine), len(ref))
         dist = max(dist, float(np.linalg.norm(mine[:n] - ref[:n], axis=1).max()) if n else 0.0)
-    same = all(float(np.abs(getattr(result, f).position - getattr(off, f).position).max()) <= 1e-9 for f in ("left", "right"))
-    return (legs[0] if legs else None, legs[-1] if legs else None, off.meta["fusion"]["leg_length_m"],
-            fit["first_update_s"], fit["updates_waiting"], dist, same)
+    same = all(
+        float(np.abs(getattr(result, f).position - getattr(off, f).position).max()) <= 1e-9 for f in ("left", "right")
+    )
+    return (
+        legs[0] if legs else None,
+        legs[-1] if legs else None,
+        off.meta["fusion"]["leg_length_m"],
+        fit["first_update_s"],
+        fit["updates_waiting"],
+        dist,
+        same,
+    )
 
 
 def compare_dual_gait(rec, size=50):
@@ -121,7 +130,7 @@ def compare_dual_gait(rec, size=50):
     rows = {}
     for f in stream.feet:
         ref, live = getattr(off, f.foot), f.trajectory()[1].mask
-        offm = getattr(off, f"stance_{f.foot}").mask[-len(live):]
+        offm = getattr(off, f"stance_{f.foot}").mask[-len(live) :]
         added, removed = _differences(live, offm)
         n = min(len(got[f.foot]), len(ref.position))
         dist = float(np.linalg.norm(got[f.foot][-n:] - ref.position[-n:], axis=1).max())
@@ -159,7 +168,9 @@ def main_close(names, size):
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             off = footnav.make_pipeline().run(rec.left, rec.right)
-            _, _, result, _ = _replay(footnav.make_pipeline(), rec.left, rec.right, size, max_wait_s=1e9, rate_hz=rec.left.rate_hz)
+            _, _, result, _ = _replay(
+                footnav.make_pipeline(), rec.left, rec.right, size, max_wait_s=1e9, rate_hz=rec.left.rate_hz
+            )
         d = max(float(np.abs(getattr(result, f).position - getattr(off, f).position).max()) for f in ("left", "right"))
         worst = max(worst, d)
         print(f"{name:28s} close() - offline {d:.3g} m", flush=True)
@@ -167,15 +178,20 @@ def main_close(names, size):
 
 
 def main_step_vector(names):
-    print(f"{'recording':28s} leg_first  leg_last  leg_offline  first_update_s  waiting  max_footprint_dist_m  close=offline")
+    print(
+        f"{'recording':28s} leg_first  leg_last  leg_offline  first_update_s  waiting  max_footprint_dist_m  close=offline"
+    )
     for name, rec in _recordings(names, two_feet=True):
         try:
             first, last, offline, t0, waiting, dist, same = compare_step_vector(rec)
         except footnav.FootnavError as exc:
             print(f"{name:28s} {type(exc).__name__}: {exc}", flush=True)
             continue
-        f = (lambda x: "-" if x is None else f"{x:.3f}")
-        print(f"{name:28s} {f(first):>9s}  {f(last):>8s}  {offline:11.3f}  {f(t0):>14s}  {waiting:7d}  {dist:20.3g}  {same!s}", flush=True)
+        f = lambda x: "-" if x is None else f"{x:.3f}"
+        print(
+            f"{name:28s} {f(first):>9s}  {f(last):>8s}  {offline:11.3f}  {f(t0):>14s}  {waiting:7d}  {dist:20.3g}  {same!s}",
+            flush=True,
+        )
 
 
 if __name__ == "__main__":

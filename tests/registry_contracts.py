@@ -29,6 +29,8 @@ def contract_classes(kind: str) -> dict[str, type]:
     default parameters."""
     registry = get_registry()
     return {
-        class_name(kind, name): type(class_name(kind, name), (CONTRACTS[kind],), {"component": registry.get(kind, name).cls})
+        class_name(kind, name): type(
+            class_name(kind, name), (CONTRACTS[kind],), {"component": registry.get(kind, name).cls}
+        )
         for name in footnav.list_components()[kind]
     }

@@ -26,7 +26,11 @@ def test_plugins_lists_builtins(capsys):
     assert main(["plugins"]) == 0
     out = capsys.readouterr().out
     rows = {tuple(l.split()[:3]) for l in out.splitlines()[2:]}
-    assert {("detector", "threshold", "footnav"), ("estimator", "ekf", "footnav"), ("fusion", "independent", "footnav")} <= rows
+    assert {
+        ("detector", "threshold", "footnav"),
+        ("estimator", "ekf", "footnav"),
+        ("fusion", "independent", "footnav"),
+    } <= rows
     assert "zupt_std_mps" not in out  # parameters: footnav plugins NAME
 
 
@@ -35,7 +39,14 @@ def test_run_writes_results_and_refuses_to_overwrite(sim_csv, tmp_path, capsys):
     args = ["run", "--left", str(sim_csv / "left.csv"), "--right", str(sim_csv / "right.csv"), "--out", str(out)]
     assert main(args) == 0
     assert {p.name for p in out.iterdir()} == {
-        "left.csv", "right.csv", "path.csv", "strides.csv", "trajectories.npz", "summary.json", "pipeline.toml", ".footnav-result",
+        "left.csv",
+        "right.csv",
+        "path.csv",
+        "strides.csv",
+        "trajectories.npz",
+        "summary.json",
+        "pipeline.toml",
+        ".footnav-result",
         "report.html",
     }
     doc = json.loads((out / "summary.json").read_text())
@@ -100,13 +111,22 @@ def test_evaluate_writes_a_report_folder_and_figures(sim_csv, tmp_path, capsys):
     out, figs = tmp_path / "report", tmp_path / "figs"
     args = ["evaluate", str(sim_csv), "--out", str(out), "--plot", str(figs), "--jobs", "2"]
     assert main(args) == 0
-    assert {p.name for p in out.iterdir()} == {"report.csv", "report.json", "pipeline-default.toml", ".footnav-result",
-                                                "report.html"}
+    assert {p.name for p in out.iterdir()} == {
+        "report.csv",
+        "report.json",
+        "pipeline-default.toml",
+        ".footnav-result",
+        "report.html",
+    }
     doc = json.loads((out / "report.json").read_text())
     names = {m["name"] for m in doc["metrics"]}
     assert {"ate_2d", "final_separation", "runtime"} <= names
     # one short walk: worker processes would cost more than they save, so it ran serially, saying so
-    assert doc["batch"]["jobs_asked"] == 2 and doc["batch"]["jobs_used"] == 1 and "samples" in doc["batch"]["serial_because"]
+    assert (
+        doc["batch"]["jobs_asked"] == 2
+        and doc["batch"]["jobs_used"] == 1
+        and "samples" in doc["batch"]["serial_because"]
+    )
     assert "running serially, not --jobs 2" in capsys.readouterr().err
     pngs = sorted(figs.glob("*.png"))
     assert [p.name for p in pngs] == ["walk-default-errors.png", "walk-default.png"]
@@ -169,14 +189,21 @@ def test_interrupt_while_writing_leaves_no_partial_result(sim_csv, tmp_path, mon
 def test_run_says_when_strides_have_no_stance(never_still_gait, tmp_path, capsys):
     imu, _ = never_still_gait(floor_radps=0.9)
     csv = tmp_path / "run.csv"
-    np.savetxt(csv, np.column_stack([imu.t, imu.acc, imu.gyr]), delimiter=",",
-               header="t,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z", comments="")
+    np.savetxt(
+        csv,
+        np.column_stack([imu.t, imu.acc, imu.gyr]),
+        delimiter=",",
+        header="t,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z",
+        comments="",
+    )
     capsys.readouterr()
     assert main(["run", "--left", str(csv), "--detector", "threshold", "--out", str(tmp_path / "strict")]) == 0
     err = capsys.readouterr().err
     # once, as one line in the user's words: no source path, no class name, no second copy
     lines = [ln for ln in err.splitlines() if "gait cycles have no stance" in ln]
-    assert lines == [lines[0]] and lines[0].startswith("footnav: warning: left foot, detector 'threshold': 12 of 12 gait cycles")
+    assert lines == [lines[0]] and lines[0].startswith(
+        "footnav: warning: left foot, detector 'threshold': 12 of 12 gait cycles"
+    )
     assert "cli.py" not in err and "DataQualityWarning" not in err
     doc = json.loads((tmp_path / "strict" / "summary.json").read_text())
     assert doc["provenance"]["stance_check"]["left"]["cycles_without_stance"] == 12
@@ -191,10 +218,22 @@ def test_run_with_a_heading_aid_writes_it_in_the_pipeline_file(sim_csv, tmp_path
     assert main(args) == 0
     again = footnav.load_pipeline(out / "pipeline.toml")
     assert again.heading_aid.name == "dominant-directions"
-    assert json.loads((out / "summary.json").read_text())["provenance"]["pipeline"]["heading_aid"]["name"] == "dominant-directions"
+    assert (
+        json.loads((out / "summary.json").read_text())["provenance"]["pipeline"]["heading_aid"]["name"]
+        == "dominant-directions"
+    )
     capsys.readouterr()
-    both = ["run", "--left", str(sim_csv / "left.csv"), "--pipeline", str(out / "pipeline.toml"), "--heading-aid", "none",
-            "--out", str(tmp_path / "x")]
+    both = [
+        "run",
+        "--left",
+        str(sim_csv / "left.csv"),
+        "--pipeline",
+        str(out / "pipeline.toml"),
+        "--heading-aid",
+        "none",
+        "--out",
+        str(tmp_path / "x"),
+    ]
     assert main(both) == 2 and "not both" in capsys.readouterr().err
     assert main(["plugins"]) == 0
     assert "heading_aid dominant-directions footnav" in " ".join(capsys.readouterr().out.split())

@@ -66,6 +66,7 @@ def test_compiling_is_announced_and_timed(capsys):
 
     notice = _compile_notice()
     with notice.listening():
+
         @numba.njit(cache=False)
         def twice(x):
             return 2 * x

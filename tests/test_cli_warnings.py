@@ -7,10 +7,8 @@ import json
 import os
 import subprocess
 import sys
-from pathlib import Path
-
-import numpy as np
 from dataclasses import replace
+from pathlib import Path
 
 import footnav
 from footnav.data.io.footnav_csv import write_footnav_csv
@@ -19,7 +17,7 @@ PREFIX = "footnav: warning: "
 
 
 def _printed(stderr: str) -> list[str]:
-    return [line[len(PREFIX):] for line in stderr.splitlines() if line.startswith(PREFIX)]
+    return [line[len(PREFIX) :] for line in stderr.splitlines() if line.startswith(PREFIX)]
 
 
 def test_run_writes_every_printed_warning_to_summary_json(tmp_path):
@@ -27,9 +25,17 @@ def test_run_writes_every_printed_warning_to_summary_json(tmp_path):
     acc = rec.left.acc * 1.075  # 7.5 % off g at rest: a reader's warning
     acc[300:305, 2] = 160.0  # a plateau at the largest reading: clipping
     path = write_footnav_csv(replace(rec.left, acc=acc), tmp_path / "left.csv")
-    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(Path(__file__).resolve().parents[1]), os.environ.get("PYTHONPATH", "")])}
-    done = subprocess.run([sys.executable, "-m", "footnav.cli", "run", "--left", str(path), "--out", str(tmp_path / "out")],
-                          env=env, capture_output=True, text=True, timeout=600)
+    env = {
+        **os.environ,
+        "PYTHONPATH": os.pathsep.join([str(Path(__file__).resolve().parents[1]), os.environ.get("PYTHONPATH", "")]),
+    }
+    done = subprocess.run(
+        [sys.executable, "-m", "footnav.cli", "run", "--left", str(path), "--out", str(tmp_path / "out")],
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
     assert done.returncode == 0, done.stderr[-3000:]
     printed = _printed(done.stderr)
     assert any("off g" in w for w in printed) and any("clipping" in w for w in printed), done.stderr

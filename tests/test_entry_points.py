@@ -4,9 +4,9 @@ point compiled for other types."""
 
 from __future__ import annotations
 
-import numpy as np
-
 from collections import namedtuple
+
+import numpy as np
 
 from footnav._numba import EntryPoints, njit, type_key
 
@@ -56,12 +56,28 @@ def test_the_fresh_arguments_key_tells_apart_what_numba_types_apart():
     readonly = x.copy()
     readonly.flags.writeable = False
     values = [
-        x, x.T, x[:, ::2], x.astype(np.float32), readonly, np.zeros(3), 1.0, 1, 2**63, True, None,
-        np.float32(1.0), (x, 1.0), pair(x, 1.0), (x.T, 1.0), pair(x, None),
+        x,
+        x.T,
+        x[:, ::2],
+        x.astype(np.float32),
+        readonly,
+        np.zeros(3),
+        1.0,
+        1,
+        2**63,
+        True,
+        None,
+        np.float32(1.0),
+        (x, 1.0),
+        pair(x, 1.0),
+        (x.T, 1.0),
+        pair(x, None),
     ]
     for i, a in enumerate(values):
         for b in values[i + 1 :]:
-            same_numba = dispatcher.typeof_pyval(a) == dispatcher.typeof_pyval(b) if not (a is None or b is None) else a is b
+            same_numba = (
+                dispatcher.typeof_pyval(a) == dispatcher.typeof_pyval(b) if not (a is None or b is None) else a is b
+            )
             if not same_numba:
                 assert type_key(a, dispatcher) != type_key(b, dispatcher), (a, b)
     for a, b in [(x, np.ones((3, 4))), (2.0, 3.5), (1, -7), (pair(x, 1.0), pair(np.ones((5, 2)), 2.0))]:

@@ -27,15 +27,33 @@ def _writer(source: Path, target: Path, *args: str) -> subprocess.Popen:
 
 
 def _footnav(*args: str, **kwargs) -> subprocess.Popen:
-    return subprocess.Popen([sys.executable, "-m", "footnav.cli", *args], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                            text=True, **kwargs)
+    return subprocess.Popen(
+        [sys.executable, "-m", "footnav.cli", *args],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        **kwargs,
+    )
 
 
 @pytest.fixture(scope="module")
 def walk_csv(tmp_path_factory) -> Path:
     folder = tmp_path_factory.mktemp("walk")
-    subprocess.run([sys.executable, "-m", "footnav.cli", "simulate", "straight", "--set", "distance_m=20", "--out",
-                    str(folder / "sim")], check=True, capture_output=True)
+    subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "footnav.cli",
+            "simulate",
+            "straight",
+            "--set",
+            "distance_m=20",
+            "--out",
+            str(folder / "sim"),
+        ],
+        check=True,
+        capture_output=True,
+    )
     return folder / "sim"
 
 
@@ -47,11 +65,15 @@ def test_follow_prints_steps_as_they_happen_and_writes_the_result_folder(walk_cs
     left, right, go = tmp_path / "left.csv", tmp_path / "right.csv", tmp_path / "go"
     # follow starts first and waits for the files to appear; the writers start once it is up, and
     # hold at 15 s of walk until follow has printed a step (adaptive's steps are final from ~13 s)
-    follow = _footnav("follow", "--left", str(left), "--right", str(right), "--idle-s", "3", "--out", str(tmp_path / "out"))
+    follow = _footnav(
+        "follow", "--left", str(left), "--right", str(right), "--idle-s", "3", "--out", str(tmp_path / "out")
+    )
     lines = [follow.stdout.readline()]
     assert "stride_m" in lines[0]
-    writers = [_writer(walk_csv / f"{foot}.csv", path, "--hold-after-s", "15", "--go", str(go))
-               for foot, path in (("left", left), ("right", right))]
+    writers = [
+        _writer(walk_csv / f"{foot}.csv", path, "--hold-after-s", "15", "--go", str(go))
+        for foot, path in (("left", left), ("right", right))
+    ]
     writing = None
     for line in iter(follow.stdout.readline, ""):
         lines.append(line)
@@ -66,9 +88,23 @@ def test_follow_prints_steps_as_they_happen_and_writes_the_result_folder(walk_cs
     assert writing, "a step is printed while the file is still being written"
     steps = _step_lines(text)
     # the result folder is footnav run's, and equal to the offline run of the default pipeline
-    run = subprocess.run([sys.executable, "-m", "footnav.cli", "run", "--left", str(walk_csv / "left.csv"), "--right",
-                          str(walk_csv / "right.csv"), "--out",
-                          str(tmp_path / "offline")], capture_output=True, text=True, check=False)
+    run = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "footnav.cli",
+            "run",
+            "--left",
+            str(walk_csv / "left.csv"),
+            "--right",
+            str(walk_csv / "right.csv"),
+            "--out",
+            str(tmp_path / "offline"),
+        ],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
     assert run.returncode == 0, run.stderr
     assert sorted(os.listdir(tmp_path / "out")) == sorted(os.listdir(tmp_path / "offline"))
     pipe = footnav.make_pipeline()
@@ -99,8 +135,14 @@ def test_standard_input_with_a_foot_column(walk_csv, tmp_path):
     rows = ["foot,t,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z"]
     for foot in ("left", "right"):
         rows += [f"{foot},{line}" for line in (walk_csv / f"{foot}.csv").read_text().splitlines()[2:]]
-    done = subprocess.run([sys.executable, "-m", "footnav.cli", "follow", "--left", "-", "--feet", "2", "--out",
-                           str(tmp_path / "out")], input="\n".join(rows) + "\n", capture_output=True, text=True, timeout=120, check=False)
+    done = subprocess.run(
+        [sys.executable, "-m", "footnav.cli", "follow", "--left", "-", "--feet", "2", "--out", str(tmp_path / "out")],
+        input="\n".join(rows) + "\n",
+        capture_output=True,
+        text=True,
+        timeout=120,
+        check=False,
+    )
     assert done.returncode == 0, done.stderr
     steps = _step_lines(done.stdout)
     assert {s[1] for s in steps} == {"left", "right"}
@@ -109,9 +151,28 @@ def test_standard_input_with_a_foot_column(walk_csv, tmp_path):
 
 def test_a_coupled_fusion_follows_both_feet(walk_csv, tmp_path):
     """--fusion range: both feet in one joint filter; the result folder holds the offline run."""
-    done = subprocess.run([sys.executable, "-m", "footnav.cli", "follow", "--left", str(walk_csv / "left.csv"), "--right",
-                           str(walk_csv / "right.csv"), "--fusion", "range", "--idle-s", "1", "--out", str(tmp_path / "out")],
-                          capture_output=True, text=True, timeout=120, check=False)
+    done = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "footnav.cli",
+            "follow",
+            "--left",
+            str(walk_csv / "left.csv"),
+            "--right",
+            str(walk_csv / "right.csv"),
+            "--fusion",
+            "range",
+            "--idle-s",
+            "1",
+            "--out",
+            str(tmp_path / "out"),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        check=False,
+    )
     assert done.returncode == 0, done.stderr
     assert {s[1] for s in _step_lines(done.stdout)} == {"left", "right"}
     pipe = footnav.make_pipeline("adaptive", "ekf", "range")
@@ -123,9 +184,23 @@ def test_a_coupled_fusion_follows_both_feet(walk_csv, tmp_path):
 
 
 def test_offline_only_pipeline_is_refused(walk_csv, tmp_path):
-    done = subprocess.run([sys.executable, "-m", "footnav.cli", "follow", "--left", str(walk_csv / "left.csv"),
-                           "--detector", "hmm", "--out", str(tmp_path / "out")], capture_output=True, text=True,
-                          check=False)
+    done = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "footnav.cli",
+            "follow",
+            "--left",
+            str(walk_csv / "left.csv"),
+            "--detector",
+            "hmm",
+            "--out",
+            str(tmp_path / "out"),
+        ],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
     assert done.returncode == 2
     assert "cannot run online" in done.stderr
 
@@ -169,9 +244,26 @@ def test_live_plot_is_redrawn_while_the_walk_goes_on(walk_csv, tmp_path):
     from footnav.data.output import is_footnav_figure
 
     figure = tmp_path / "steps.png"
-    follow = subprocess.Popen([sys.executable, "-m", "footnav.cli", "follow", "--left", "-", "--plot", str(figure),
-                               "--plot-every-s", "1e-6", "--out", str(tmp_path / "out")],
-                              stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    follow = subprocess.Popen(
+        [
+            sys.executable,
+            "-m",
+            "footnav.cli",
+            "follow",
+            "--left",
+            "-",
+            "--plot",
+            str(figure),
+            "--plot-every-s",
+            "1e-6",
+            "--out",
+            str(tmp_path / "out"),
+        ],
+        stdin=subprocess.PIPE,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
     lines = _lines_of(follow)
     rows = (walk_csv / "left.csv").read_text().splitlines(keepends=True)
     t = np.array([float(r.split(",", 1)[0]) for r in rows[2:]])
@@ -201,9 +293,26 @@ def test_live_plot_is_redrawn_while_the_walk_goes_on(walk_csv, tmp_path):
 def test_live_plot_never_replaces_a_users_file(walk_csv, tmp_path):
     mine = tmp_path / "mine.png"
     mine.write_bytes(b"not footnav's")
-    done = subprocess.run([sys.executable, "-m", "footnav.cli", "follow", "--left", str(walk_csv / "left.csv"), "--idle-s",
-                           "0.5", "--plot", str(mine), "--out", str(tmp_path / "out")], capture_output=True, text=True,
-                          timeout=120, check=False)
+    done = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "footnav.cli",
+            "follow",
+            "--left",
+            str(walk_csv / "left.csv"),
+            "--idle-s",
+            "0.5",
+            "--plot",
+            str(mine),
+            "--out",
+            str(tmp_path / "out"),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        check=False,
+    )
     assert done.returncode != 0
     assert mine.read_bytes() == b"not footnav's"
 
@@ -220,8 +329,22 @@ def test_follow_on_a_running_trial_misses_no_stance(shared_data, tmp_path):
     except footnav.DataNotFoundError:
         pytest.skip("pyshoe running trial not found")
     write_footnav_csv(rec.left, tmp_path / "run.csv")
-    done = subprocess.run([sys.executable, "-m", "footnav.cli", "follow", "--left", str(tmp_path / "run.csv"), "--out",
-                           str(tmp_path / "out")], capture_output=True, text=True, timeout=300, check=False)
+    done = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "footnav.cli",
+            "follow",
+            "--left",
+            str(tmp_path / "run.csv"),
+            "--out",
+            str(tmp_path / "out"),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=300,
+        check=False,
+    )
     assert done.returncode == 0, done.stderr
     printed = [float(s[0]) for s in _step_lines(done.stdout)]
     with warnings.catch_warnings():

@@ -33,7 +33,9 @@ NOT_AT_IMPORT = [
 def _loaded_after(code: str) -> set[str]:
     out = subprocess.run(
         [sys.executable, "-c", f"{code}; import json, sys; print(json.dumps(sorted(sys.modules)))"],
-        capture_output=True, text=True, check=True,
+        capture_output=True,
+        text=True,
+        check=True,
     )
     return set(json.loads(out.stdout.strip().splitlines()[-1]))
 
@@ -63,12 +65,17 @@ def test_every_public_name_is_importable_and_listed():
         assert getattr(footnav, name) is not None, name
 
 
-@pytest.mark.parametrize("name", ["evaluate", "evaluate_many", "EvaluationReport", "compare_detectors", "DetectorComparison"])
+@pytest.mark.parametrize(
+    "name", ["evaluate", "evaluate_many", "EvaluationReport", "compare_detectors", "DetectorComparison"]
+)
 def test_a_lazy_name_is_the_analysis_object(name):
     import footnav
 
-    module = {"evaluate_many": "footnav.analysis.batch", "compare_detectors": "footnav.analysis.comparison",
-              "DetectorComparison": "footnav.analysis.comparison"}.get(name, "footnav.analysis.evaluation")
+    module = {
+        "evaluate_many": "footnav.analysis.batch",
+        "compare_detectors": "footnav.analysis.comparison",
+        "DetectorComparison": "footnav.analysis.comparison",
+    }.get(name, "footnav.analysis.evaluation")
     assert getattr(footnav, name) is getattr(importlib.import_module(module), name)
     subprocess.run([sys.executable, "-c", f"from footnav import {name}"], check=True)
 
@@ -139,8 +146,12 @@ def test_a_kernel_passed_to_a_kernel():
 
 
 #: The component families that export their classes (loaded on first look-up).
-FAMILIES = {"detector": "footnav.detectors", "estimator": "footnav.estimators", "fusion": "footnav.fusion",
-            "heading_aid": "footnav.heading_aids"}
+FAMILIES = {
+    "detector": "footnav.detectors",
+    "estimator": "footnav.estimators",
+    "fusion": "footnav.fusion",
+    "heading_aid": "footnav.heading_aids",
+}
 
 
 def test_a_family_package_exports_every_builtin_of_its_kind():
@@ -156,8 +167,20 @@ def test_a_family_package_exports_every_builtin_of_its_kind():
 
 def test_importing_a_family_loads_none_of_its_components():
     loaded = _loaded_after("import footnav.detectors, footnav.estimators, footnav.fusion")
-    assert _offenders(loaded, ["footnav.detectors.hmm", "footnav.detectors.adaptive", "footnav.estimators.ekf",
-                               "footnav.fusion.particle", "sklearn", "hmmlearn"]) == []
+    assert (
+        _offenders(
+            loaded,
+            [
+                "footnav.detectors.hmm",
+                "footnav.detectors.adaptive",
+                "footnav.estimators.ekf",
+                "footnav.fusion.particle",
+                "sklearn",
+                "hmmlearn",
+            ],
+        )
+        == []
+    )
 
 
 def test_the_public_errors_module_is_the_contracts_layers():

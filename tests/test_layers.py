@@ -15,14 +15,30 @@ PACKAGE = Path(__file__).resolve().parents[1] / "footnav"
 #: The contracts layer ``core`` is ranked by its own parts (``core.types``, ...): its data types
 #: and errors below its component bases and Protocols, all of it below the numerics of ``nav``.
 LAYERS = {
-    "_version": 0, "_numba": 0, "_lazy": 0,
-    "core.errors": 1, "core.warning_log": 1, "core.types": 1, "errors": 1,
-    "core.component": 2, "core.online_contract": 2, "core": 2,
+    "_version": 0,
+    "_numba": 0,
+    "_lazy": 0,
+    "core.errors": 1,
+    "core.warning_log": 1,
+    "core.types": 1,
+    "errors": 1,
+    "core.component": 2,
+    "core.online_contract": 2,
+    "core": 2,
     "nav": 3,
-    "detectors": 4, "estimators": 4, "fusion": 4, "heading_aids": 4,
-    "pipeline": 5, "plugins": 5,
-    "analysis": 6, "data": 6, "report": 6,
-    "cli": 7, "demo": 7, "testing": 7, "__init__": 7,
+    "detectors": 4,
+    "estimators": 4,
+    "fusion": 4,
+    "heading_aids": 4,
+    "pipeline": 5,
+    "plugins": 5,
+    "analysis": 6,
+    "data": 6,
+    "report": 6,
+    "cli": 7,
+    "demo": 7,
+    "testing": 7,
+    "__init__": 7,
 }
 #: Modules nothing inside imports: the entry points (the console script, ``python -m``, the demo
 #: the CLI runs by name, the contracts third parties import, the built-in registrations pluggy loads).
@@ -60,9 +76,16 @@ def imports(path: Path) -> list[tuple[int, str]]:
             if base.split(".")[0] != "footnav":
                 continue
             # `from footnav.x import y` may name a submodule y
-            out += [(node.lineno, f"{base}.{a.name}" if (PACKAGE.parent / f"{base}.{a.name}".replace(".", "/")).exists()
-                     or (PACKAGE.parent / (f"{base}.{a.name}".replace(".", "/") + ".py")).exists() else base)
-                    for a in node.names]
+            out += [
+                (
+                    node.lineno,
+                    f"{base}.{a.name}"
+                    if (PACKAGE.parent / f"{base}.{a.name}".replace(".", "/")).exists()
+                    or (PACKAGE.parent / (f"{base}.{a.name}".replace(".", "/") + ".py")).exists()
+                    else base,
+                )
+                for a in node.names
+            ]
     return out
 
 
@@ -124,8 +147,10 @@ def test_the_pipeline_imports_nothing_of_the_ekf():
     footnav.core.online_contract), never through the EKF's own modules (issue 38)."""
     bad = [
         f"{p.relative_to(PACKAGE.parent)}:{line}: {target}"
-        for p in _sources() if module_name(p).startswith("footnav.pipeline")
-        for line, target in imports(p) if target.startswith("footnav.estimators.ekf")
+        for p in _sources()
+        if module_name(p).startswith("footnav.pipeline")
+        for line, target in imports(p)
+        if target.startswith("footnav.estimators.ekf")
     ]
     assert bad == []
 

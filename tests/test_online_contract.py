@@ -15,11 +15,11 @@ import pytest
 import footnav
 from footnav import FootEstimator
 from footnav.core.errors import InvalidParameterError
+from footnav.core.online_contract import OnlineEstimator, OnlineFilter
+from footnav.core.types import GRAVITY_MPS2, FootTrajectory
 from footnav.estimators.ekf import EkfEstimator
 from footnav.nav import quaternion as quat
-from footnav.core.online_contract import OnlineEstimator, OnlineFilter
 from footnav.testing import OnlineEstimatorContract, contract_walk
-from footnav.core.types import GRAVITY_MPS2, FootTrajectory
 
 #: Position variance the toy filter adds per second in swing, m^2/s.
 _SWING_VAR = 1e-3
@@ -185,7 +185,9 @@ class ToyEstimator(FootEstimator):
         filt = self.start([imu], [stance])
         filt.run_until()
         q, v, p, pcov = (x[: len(imu.t)].copy() for x in filt.final_outputs(0))
-        return self.package(imu.t, q, v, p, pcov, filt.start_index(0), filt.meta[0], stance.intervals, smoothed=False, heading=False)
+        return self.package(
+            imu.t, q, v, p, pcov, filt.start_index(0), filt.meta[0], stance.intervals, smoothed=False, heading=False
+        )
 
 
 class TestToyEstimatorIsOnline(OnlineEstimatorContract):
@@ -220,7 +222,9 @@ def test_a_third_party_estimator_runs_online_in_a_pipeline():
         warnings.simplefilter("ignore")
         offline = pipe.run(rec.left)
         stream = pipe.online(feet=1)
-        pushed = [stream.push(left=(rec.left.t[i], rec.left.acc[i], rec.left.gyr[i])).left for i in range(rec.left.n_samples)]
+        pushed = [
+            stream.push(left=(rec.left.t[i], rec.left.acc[i], rec.left.gyr[i])).left for i in range(rec.left.n_samples)
+        ]
         result = stream.close()
     pushed.append(stream.last_update.left)
     t = np.concatenate([u.t for u in pushed])

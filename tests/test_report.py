@@ -14,14 +14,14 @@ import numpy as np
 import pytest
 
 from footnav.cli import main
+from footnav.core.types import FootTrajectory, StanceResult
+from footnav.core.types import Path as NavPath
 from footnav.data.simulate import simulate
 from footnav.pipeline.factory import make_pipeline
 from footnav.report import REPORT_NAME, result_html, write_html
 from footnav.report import figures as report_figures
 from footnav.report.evaluation import best_of_row
 from footnav.report.page import scrub
-from footnav.core.types import FootTrajectory, StanceResult
-from footnav.core.types import Path as NavPath
 
 SECTIONS = {"plan", "height", "stances", "strides", "checks", "provenance"}
 
@@ -88,9 +88,12 @@ def _with_input(result, folder: Path, warning: str | None = None):
 def test_the_page_holds_every_figure_and_table(walk, tmp_path, feet, with_truth):
     pytest.importorskip("matplotlib")
     rec, two, one = walk
-    result = _with_input(two if feet == 2 else one, tmp_path,
-                         warning="{src}: 3 accelerometer samples at full scale; try --acc-unit g")
-    page = _Page(result_html(result, recording=rec if with_truth else None, pipeline_toml="[detector]\nname = 'adaptive'\n"))
+    result = _with_input(
+        two if feet == 2 else one, tmp_path, warning="{src}: 3 accelerometer samples at full scale; try --acc-unit g"
+    )
+    page = _Page(
+        result_html(result, recording=rec if with_truth else None, pipeline_toml="[detector]\nname = 'adaptive'\n")
+    )
     assert page.ids == SECTIONS
     assert page.svgs == 3  # plan, height, stances
     assert page.tables == 3  # strides summary and table, inputs; the run's checks are sentences
@@ -121,14 +124,20 @@ def test_without_matplotlib_the_page_has_its_tables_and_says_how_to_get_figures(
 
 def _tiled(result, copies: int):
     """``result`` repeated ``copies`` times end to end: a long walk without computing one."""
+
     def foot(traj):
         n, span = len(traj.t), traj.t[-1] - traj.t[0] + (traj.t[1] - traj.t[0])
         shift = np.repeat(np.arange(copies), n)
         step = traj.position[-1] - traj.position[0]
-        return FootTrajectory(t=np.tile(traj.t, copies) + shift * span, position=np.tile(traj.position, (copies, 1)) + shift[:, None] * step,
-                              velocity=np.tile(traj.velocity, (copies, 1)), quaternion=np.tile(traj.quaternion, (copies, 1)),
-                              position_std=np.tile(traj.position_std, (copies, 1)),
-                              steps=np.concatenate([traj.steps + k * n for k in range(copies)]), meta=traj.meta)
+        return FootTrajectory(
+            t=np.tile(traj.t, copies) + shift * span,
+            position=np.tile(traj.position, (copies, 1)) + shift[:, None] * step,
+            velocity=np.tile(traj.velocity, (copies, 1)),
+            quaternion=np.tile(traj.quaternion, (copies, 1)),
+            position_std=np.tile(traj.position_std, (copies, 1)),
+            steps=np.concatenate([traj.steps + k * n for k in range(copies)]),
+            meta=traj.meta,
+        )
 
     left, right = foot(result.left), foot(result.right)
     path = NavPath(t=left.t, position=0.5 * (left.position + right.position))
@@ -185,8 +194,25 @@ def test_run_follow_and_evaluate_write_report_html(sim_folder, tmp_path, capsys,
         monkeypatch.delenv(name, raising=False)
     left, right = str(sim_folder / "left.csv"), str(sim_folder / "right.csv")
     assert main(["run", "--left", left, "--right", right, "--out", str(tmp_path / "run")]) == 0
-    assert main(["follow", "--left", left, "--right", right, "--idle-s", "0.2", "--poll-s", "0.01", "--view",
-                 "--out", str(tmp_path / "follow")]) == 0
+    assert (
+        main(
+            [
+                "follow",
+                "--left",
+                left,
+                "--right",
+                right,
+                "--idle-s",
+                "0.2",
+                "--poll-s",
+                "0.01",
+                "--view",
+                "--out",
+                str(tmp_path / "follow"),
+            ]
+        )
+        == 0
+    )
     assert "no display: --view draws off-screen" in capsys.readouterr().err
     assert main(["evaluate", str(sim_folder), "--out", str(tmp_path / "eval")]) == 0
     capsys.readouterr()
@@ -212,7 +238,10 @@ def test_the_live_view_takes_steps_and_ends_with_the_stream():
 
     view = LiveView("test", every_s=0.05, window=False)
     assert view.wait_ready(120.0)  # a guard, as close() below
-    steps = [SimpleNamespace(t=0.5 * i, foot=("left", "right")[i % 2], position=(0.4 * i, 0.1 * (i % 2), 0.0)) for i in range(20)]
+    steps = [
+        SimpleNamespace(t=0.5 * i, foot=("left", "right")[i % 2], position=(0.4 * i, 0.1 * (i % 2), 0.0))
+        for i in range(20)
+    ]
     view.add(steps[:10])
     view.flush(force=True)
     view.add(steps[10:])
@@ -225,8 +254,14 @@ def test_a_stream_with_nothing_final_writes_a_report_saying_so(tmp_path):
     import sys
 
     out = tmp_path / "nothing"
-    proc = subprocess.run([sys.executable, "-m", "footnav.cli", "follow", "--left", "-", "--out", str(out)],
-                          check=False, stdin=subprocess.DEVNULL, capture_output=True, text=True, timeout=120)
+    proc = subprocess.run(
+        [sys.executable, "-m", "footnav.cli", "follow", "--left", "-", "--out", str(out)],
+        check=False,
+        stdin=subprocess.DEVNULL,
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
     assert proc.returncode == 2  # no sample: an error, with the folder written
     page = _Page((out / REPORT_NAME).read_text(encoding="utf-8"))
     assert page.ids == {"checks", "provenance"} and "before any step was final" in page.text

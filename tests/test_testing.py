@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 from footnav.core.component import FootEstimator, Fusion, HeadingAid, StanceDetector
+from footnav.core.types import FootTrajectory, FusionResult, StanceResult, stance_intervals
 from footnav.fusion.independent import IndependentFusion
 from footnav.fusion.step_vector import StepVectorFusion
 from footnav.nav import quaternion as quat
@@ -23,7 +24,6 @@ from footnav.testing import (
     StepableEstimatorContract,
     contract_walk,
 )
-from footnav.core.types import FootTrajectory, FusionResult, StanceResult, stance_intervals
 
 G = 9.80665  # standard gravity, m/s^2 (CGPM 1901), written out: not read from the library
 
@@ -137,7 +137,12 @@ def test_stepable_contract_fails_an_estimator_that_swaps_the_feet_in_its_filter(
             return super().finish(filt, stances[::-1])[::-1]
 
     with pytest.raises(AssertionError, match="left foot is|from its true position"):
-        _check(StepableEstimatorContract, SwappedStart, {}, "test_every_coupled_fusion_ends_near_the_truth_left_foot_on_the_left")
+        _check(
+            StepableEstimatorContract,
+            SwappedStart,
+            {},
+            "test_every_coupled_fusion_ends_near_the_truth_left_foot_on_the_left",
+        )
 
 
 def test_contract_walk_is_the_documented_walk():

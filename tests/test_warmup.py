@@ -61,7 +61,9 @@ def test_after_warmup_a_new_process_compiles_nothing(tmp_path):
     env["NUMBA_CACHE_DIR"] = str(tmp_path / "numba")  # empty: the warmup compiles everything
     root = Path(__file__).resolve().parents[1]
     env["PYTHONPATH"] = os.pathsep.join([str(root), env.get("PYTHONPATH", "")])
-    warm = subprocess.run([sys.executable, "-m", "footnav.cli", "warmup"], env=env, capture_output=True, text=True, timeout=900)
+    warm = subprocess.run(
+        [sys.executable, "-m", "footnav.cli", "warmup"], env=env, capture_output=True, text=True, timeout=900
+    )
     assert warm.returncode == 0, warm.stderr[-3000:]
     assert f"numba cache: {tmp_path / 'numba'}" in warm.stdout
     first = subprocess.run([sys.executable, "-c", _FIRST_RUN], env=env, capture_output=True, text=True, timeout=900)

@@ -57,8 +57,10 @@ def main() -> None:
         res = aided_pipe.run(rec.left, rec.right)
         info = res.left.meta.get("heading_aid", {})
         ratios += [y / x for x, y in zip(a, b) if x > 0]
-        print(f"{name:28s} {metric:16s} {' / '.join(f'{x:.3f}' for x in a)} -> {' / '.join(f'{x:.3f}' for x in b)}"
-              f"  applied {info.get('applied')} end {info.get('correction_end_deg', 0.0):+.2f} deg")
+        print(
+            f"{name:28s} {metric:16s} {' / '.join(f'{x:.3f}' for x in a)} -> {' / '.join(f'{x:.3f}' for x in b)}"
+            f"  applied {info.get('applied')} end {info.get('correction_end_deg', 0.0):+.2f} deg"
+        )
     if ratios:
         print(f"worst ratio aided / default: {max(ratios):.3f}")
     if needs_mag:
@@ -68,17 +70,24 @@ def main() -> None:
     steel = {"mag_disturbances": [(75.0, 0.0, 20.0, 15.0, -10.0, 5.0), (150.0, 60.0, 30.0, 0.0, 20.0, -10.0)]}
     sensors = [({}, "default sensor"), ({"gyr_bias_walk_radps2_sqrthz": 1e-4}, "gyro bias walk 1e-4")]
     if needs_mag:
-        sensors += [({"gyr_bias_walk_radps2_sqrthz": 1e-4, "mag_hard_iron_ut": 5.0}, "gyro bias walk 1e-4, hard iron 5 uT"),
-                    ({"gyr_bias_walk_radps2_sqrthz": 1e-4, **steel}, "gyro bias walk 1e-4, steel on 24 % of the walk")]
+        sensors += [
+            ({"gyr_bias_walk_radps2_sqrthz": 1e-4, "mag_hard_iron_ut": 5.0}, "gyro bias walk 1e-4, hard iron 5 uT"),
+            ({"gyr_bias_walk_radps2_sqrthz": 1e-4, **steel}, "gyro bias walk 1e-4, steel on 24 % of the walk"),
+        ]
     for gyro, label in sensors:
         rows = []
         for seed in range(args.seeds):
             rec = footnav.simulate("path", seed=seed, segments=lap * 2, magnetometer=True, **gyro)
-            vals = [footnav.evaluate(footnav.make_pipeline(heading_aid=aid), rec).value("ate_2d", "left") for aid in (None, args.aid)]
+            vals = [
+                footnav.evaluate(footnav.make_pipeline(heading_aid=aid), rec).value("ate_2d", "left")
+                for aid in (None, args.aid)
+            ]
             rows.append(vals)
         rows = np.array(rows)
-        print(f"simulator 2 laps of 150 x 60 m ({rec.left.duration_s / 60:.1f} min), {label}: left ATE 2-D mean {rows[:, 0].mean():.2f} "
-              f"-> {rows[:, 1].mean():.2f} m, worst {rows[:, 0].max():.2f} -> {rows[:, 1].max():.2f} m ({args.seeds} seeds)")
+        print(
+            f"simulator 2 laps of 150 x 60 m ({rec.left.duration_s / 60:.1f} min), {label}: left ATE 2-D mean {rows[:, 0].mean():.2f} "
+            f"-> {rows[:, 1].mean():.2f} m, worst {rows[:, 0].max():.2f} -> {rows[:, 1].max():.2f} m ({args.seeds} seeds)"
+        )
 
 
 def ipol_figures(aid: str) -> None:
@@ -95,8 +104,10 @@ def ipol_figures(aid: str) -> None:
             applied += bool(info["applied"])
             shares.append(info["accepted"] / max(info["stances"], 1))
     if feet:
-        print(f"ipol: applied on {applied} of {feet} feet; stances passing the gates: median {np.median(shares):.1%}, "
-              f"most {max(shares):.1%}")
+        print(
+            f"ipol: applied on {applied} of {feet} feet; stances passing the gates: median {np.median(shares):.1%}, "
+            f"most {max(shares):.1%}"
+        )
 
 
 if __name__ == "__main__":

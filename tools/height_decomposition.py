@@ -58,9 +58,9 @@ import numpy as np
 
 import footnav
 from footnav.analysis.metrics import rigid_align
+from footnav.core.types import GRAVITY_MPS2, StanceResult
 from footnav.data.datasets import dataset_names, load_dataset
 from footnav.nav.floors import hold_floors
-from footnav.core.types import GRAVITY_MPS2, StanceResult
 
 STILL_GYR_RADPS = 0.05  # the estimator's own still_gyr_max_radps default
 
@@ -81,7 +81,9 @@ VARIANTS: dict[str, dict] = {
 
 
 def default_names() -> list[str]:
-    return [n for n in dataset_names() if n in ("xio_short", "xio_long", "azure_fgo", "gaitmap") or n.startswith("pyshoe_")]
+    return [
+        n for n in dataset_names() if n in ("xio_short", "xio_long", "azure_fgo", "gaitmap") or n.startswith("pyshoe_")
+    ]
 
 
 def at_rest_norm(imu, stance: StanceResult) -> tuple[float, int, int]:
@@ -130,8 +132,8 @@ def swing_ins(imu, traj_fwd) -> dict:
     first sample of the next stance: the vertical velocity there (what the first ZUPT sees) and the
     height change (what the integration alone says), and the climb a filter predicts from that
     residual when it spreads it over the swing as a random walk: -v_z T_swing / 2."""
-    from footnav.nav.mechanization import strapdown
     from footnav.core.types import ImuData
+    from footnav.nav.mechanization import strapdown
 
     steps = np.asarray(traj_fwd.steps)
     g0 = np.asarray(traj_fwd.meta.get("gyro_bias_radps", np.zeros(3)))
@@ -175,8 +177,8 @@ def regression(imu, stance, truth, traj_fwd, traj) -> dict | None:
     ``a (-v_z T / 2) + b (v_fwd L / (g T)) + c (strapdown's own error) + d``: the filter's spread
     of the vertical residual at the first ZUPT sample, the pitch a forward residual implies times
     the stride length, and what the integration got wrong by itself over the swing."""
-    from footnav.nav.mechanization import strapdown
     from footnav.core.types import ImuData
+    from footnav.nav.mechanization import strapdown
 
     iv = stance.intervals
     if len(iv) < 6:
@@ -220,7 +222,9 @@ def truth_vz_at_stance_start(imu, stance, truth) -> np.ndarray | None:
     t, z = truth.t[ok], truth.position[ok, 2]
     ts = imu.t[stance.intervals[1:, 0]]
     h = 0.01
-    return np.array([np.median((np.interp(ts + o + h, t, z) - np.interp(ts + o - h, t, z)) / (2 * h)) for o in OFFSETS_S])
+    return np.array(
+        [np.median((np.interp(ts + o + h, t, z) - np.interp(ts + o - h, t, z)) / (2 * h)) for o in OFFSETS_S]
+    )
 
 
 def vertical_rmse(traj, truth) -> tuple[float, float]:
@@ -246,7 +250,14 @@ def run_variant(imu, stance, spec: dict):
         g_rest, _, _ = at_rest_norm(imu, stance)
         imu = replace(imu, acc=imu.acc * (GRAVITY_MPS2 / g_rest))
     if spec.get("settle_acc"):
-        stance = settled(imu, stance, spec["settle_acc"], spec.get("settle_gyr", 0.5), spec.get("settle_w", 0.02), spec.get("trim_frac", 0.25))
+        stance = settled(
+            imu,
+            stance,
+            spec["settle_acc"],
+            spec.get("settle_gyr", 0.5),
+            spec.get("settle_w", 0.02),
+            spec.get("trim_frac", 0.25),
+        )
     if spec.get("trim_s") or spec.get("trim_start_s") or spec.get("trim_end_s"):
         fs = 1.0 / np.median(np.diff(imu.t))
         n0 = round(float(spec.get("trim_start_s", spec.get("trim_s", 0.0)) * fs))
@@ -269,7 +280,11 @@ def parse_variant(text: str) -> tuple[str, dict]:
         elif k in ("trim_s", "trim_start_s", "trim_end_s", "trim_frac", "settle_acc", "settle_gyr", "settle_w"):
             spec[k] = float(v)
         else:
-            spec["est"][k] = v.lower() == "true" if v.lower() in ("true", "false") else (float(v) if v.replace(".", "").replace("e-", "").replace("-", "").isdigit() else v)
+            spec["est"][k] = (
+                v.lower() == "true"
+                if v.lower() in ("true", "false")
+                else (float(v) if v.replace(".", "").replace("e-", "").replace("-", "").isdigit() else v)
+            )
     return name, spec
 
 
@@ -284,9 +299,13 @@ def main(argv=None) -> int:
     warnings.simplefilter("ignore")
     det = footnav.make_pipeline().detector
     print(f"gravity used by footnav: GRAVITY_MPS2 = {GRAVITY_MPS2} m/s^2")
-    print("pred_g/str: 0.5 (|f_rest| - g) T_swing^2; ins: strapdown alone per swing from the forward filter's state,"
-          " v_z at the first stance sample (m/s), its height change (mm), and -v_z T/2 (mm), the climb a filter makes of that residual")
-    print("rec                          foot  fs_hz |f|rest   dg     T_sw  pred_g/str | variant  dz      d2     vrmse  ate2   dz/str_med dz/str_mean swing   stance")
+    print(
+        "pred_g/str: 0.5 (|f_rest| - g) T_swing^2; ins: strapdown alone per swing from the forward filter's state,"
+        " v_z at the first stance sample (m/s), its height change (mm), and -v_z T/2 (mm), the climb a filter makes of that residual"
+    )
+    print(
+        "rec                          foot  fs_hz |f|rest   dg     T_sw  pred_g/str | variant  dz      d2     vrmse  ate2   dz/str_med dz/str_mean swing   stance"
+    )
     summary: dict[str, list] = {v[0]: [] for v in variants}
     for name in names:
         rec = load_dataset(name)
@@ -310,10 +329,14 @@ def main(argv=None) -> int:
                     f"(v_fwd L/(gT)) + c x {m[3]:+.1f} (strapdown's own) + d: a {c[0]:.2f} b {c[1]:.2f} c {c[2]:.2f} "
                     f"d {c[3] * 1e3:+.1f} mm, R2 {reg['r2']:.2f} ({reg['n']} strides)"
                 )
-            print(f"{name[:28]:28s} {foot:5s} ins: v_z {ins['vz']:+.3f} m/s, dz {ins['dz'] * 1e3:+.1f} mm, -v_z T/2 {ins['pred'] * 1e3:+.1f} mm per stride (medians)")
+            print(
+                f"{name[:28]:28s} {foot:5s} ins: v_z {ins['vz']:+.3f} m/s, dz {ins['dz'] * 1e3:+.1f} mm, -v_z T/2 {ins['pred'] * 1e3:+.1f} mm per stride (medians)"
+            )
             tv = truth_vz_at_stance_start(imu, stance, truth)
             if tv is not None:
-                print(f"{name[:28]:28s} {foot:5s} truth v_z at the detected stance start {OFFSETS_S} s: {np.round(tv, 3)} m/s (medians)")
+                print(
+                    f"{name[:28]:28s} {foot:5s} truth v_z at the detected stance start {OFFSETS_S} s: {np.round(tv, 3)} m/s (medians)"
+                )
             first = True
             for vname, spec in variants:
                 try:

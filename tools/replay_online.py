@@ -32,7 +32,12 @@ from online_replay import _replay  # noqa: E402
 import footnav  # noqa: E402
 from footnav.data.datasets import dataset_names, load_dataset  # noqa: E402
 
-PARAMS = {"independent": {}, "range": {"max_separation_m": 0.6}, "step-vector": {"step_length": "pendulum"}, "particle": {}}
+PARAMS = {
+    "independent": {},
+    "range": {"max_separation_m": 0.6},
+    "step-vector": {"step_length": "pendulum"},
+    "particle": {},
+}
 
 
 def main() -> None:
@@ -43,7 +48,9 @@ def main() -> None:
     args = ap.parse_args()
     warnings.simplefilter("ignore")
     data = Path(args.data_dir)
-    pipe = footnav.make_pipeline("glrt", "ekf", args.fusion, estimator_params={"smoother": "step"}, fusion_params=PARAMS[args.fusion])
+    pipe = footnav.make_pipeline(
+        "glrt", "ekf", args.fusion, estimator_params={"smoother": "step"}, fusion_params=PARAMS[args.fusion]
+    )
     worst, n = 0.0, 0
     for name in dataset_names(data):
         try:
@@ -59,11 +66,17 @@ def main() -> None:
             t0 = time.perf_counter()
             got, _, result, _ = _replay(pipe, rec.left, rec.right, size, rate_hz=rec.left.rate_hz)
             diff = max(
-                max(np.abs(getattr(result, f).position - getattr(off, f).position).max(), np.abs(got[f] - getattr(off, f).position).max())
+                max(
+                    np.abs(getattr(result, f).position - getattr(off, f).position).max(),
+                    np.abs(got[f] - getattr(off, f).position).max(),
+                )
                 for f in ("left", "right")
             )
             worst, n = max(worst, diff), n + 1
-            print(f"{name:32s} chunks {size:5d}  updates {acts:5d}  largest difference {diff:.3g} m  ({time.perf_counter() - t0:.1f} s)", flush=True)
+            print(
+                f"{name:32s} chunks {size:5d}  updates {acts:5d}  largest difference {diff:.3g} m  ({time.perf_counter() - t0:.1f} s)",
+                flush=True,
+            )
     print(f"{n} replays ({args.fusion}); largest difference {worst:.3g} m")
 
 

@@ -66,7 +66,15 @@ ONLINE_CASES = [
     ("online-sim-particle", SIM, "threshold", STEP, "particle", {}, (11, 9)),
     ("online-sim-default", SIM, "adaptive", {}, "independent", {}, (100, 100)),
     ("online-ipol-range", "ipol_1-1", "threshold", STEP, "range", {}, (64, 64)),
-    ("online-azure-step-vector", "azure_fgo", "threshold", STEP, "step-vector", {"step_length": "pendulum"}, (100, 100)),
+    (
+        "online-azure-step-vector",
+        "azure_fgo",
+        "threshold",
+        STEP,
+        "step-vector",
+        {"step_length": "pendulum"},
+        (100, 100),
+    ),
 ]
 #: The filter segments' size in the online cases (samples; 16384 by default): restarts often.
 ONLINE_SEGMENT = 300

@@ -41,7 +41,11 @@ PARTS = ("profile", "lever", "tilt", "edges")
 def _skew(w: np.ndarray) -> np.ndarray:
     z = np.zeros(w.shape[:-1])
     return np.stack(
-        [np.stack([z, -w[..., 2], w[..., 1]], -1), np.stack([w[..., 2], z, -w[..., 0]], -1), np.stack([-w[..., 1], w[..., 0], z], -1)],
+        [
+            np.stack([z, -w[..., 2], w[..., 1]], -1),
+            np.stack([w[..., 2], z, -w[..., 0]], -1),
+            np.stack([-w[..., 1], w[..., 0], z], -1),
+        ],
         -2,
     )
 
@@ -104,7 +108,9 @@ def main(argv=None) -> None:
     ap.add_argument("--parts", default=",".join(PARTS))
     args = ap.parse_args(argv)
     parts = args.parts.split(",")
-    names = args.names or [n for n in dataset_names() if n in ("xio_short", "xio_long", "azure_fgo", "gaitmap") or n.startswith("pyshoe_")]
+    names = args.names or [
+        n for n in dataset_names() if n in ("xio_short", "xio_long", "azure_fgo", "gaitmap") or n.startswith("pyshoe_")
+    ]
     warnings.simplefilter("ignore")
     for name in names:
         rec = load_dataset(name)
@@ -119,24 +125,38 @@ def main(argv=None) -> None:
                     tenth = np.minimum((phase * 10).astype(int), 9)
                     w = np.linalg.norm(imu.gyr[a:b], axis=1)
                     f = np.abs(np.linalg.norm(imu.acc[a:b], axis=1) - g)
-                    rows.append([np.median(w[tenth == i]) if np.any(tenth == i) else np.nan for i in range(10)]
-                                + [np.median(f[tenth == i]) if np.any(tenth == i) else np.nan for i in range(10)])
+                    rows.append(
+                        [np.median(w[tenth == i]) if np.any(tenth == i) else np.nan for i in range(10)]
+                        + [np.median(f[tenth == i]) if np.any(tenth == i) else np.nan for i in range(10)]
+                    )
                 prof = np.nanmedian(np.array(rows), axis=0)
                 dur = np.median(iv[1:, 1] - iv[1:, 0]) / imu.rate_hz
-                print(f"{tag} profile: stance {dur:.2f} s; |w| by tenth " + " ".join(f"{x:.2f}" for x in prof[:10])
-                      + " | ||f|-g| " + " ".join(f"{x:.2f}" for x in prof[10:]))
+                print(
+                    f"{tag} profile: stance {dur:.2f} s; |w| by tenth "
+                    + " ".join(f"{x:.2f}" for x in prof[:10])
+                    + " | ||f|-g| "
+                    + " ".join(f"{x:.2f}" for x in prof[10:])
+                )
             traj = pipe.estimator.estimate(imu, stance) if ("lever" in parts or "tilt" in parts) else None
             bias = np.asarray(traj.meta.get("gyro_bias_radps", np.zeros(3))) if traj is not None else None
             if "lever" in parts:
                 one, two = fit_lever(imu, stance, bias, split=False), fit_lever(imu, stance, bias, split=True)
-                print(f"{tag} lever (cm): whole {np.round(one * 100, 1)} early {np.round(two[:3] * 100, 1)} late {np.round(two[3:] * 100, 1)}")
+                print(
+                    f"{tag} lever (cm): whole {np.round(one * 100, 1)} early {np.round(two[:3] * 100, 1)} late {np.round(two[3:] * 100, 1)}"
+                )
             if "tilt" in parts:
                 rows = []
                 for (a0, b0), (a1, b1) in zip(iv[:-1], iv[1:]):
                     e, m0, m1 = b0 - 1, a1 + (b1 - a1) // 4, a1 + 3 * (b1 - a1) // 4
                     if m1 - m0 < 4:
                         continue
-                    q, _, _ = strapdown(imu.slice(e, m1 + 1), traj.quaternion[e], traj.velocity[e], traj.position[e], gyro_bias_radps=bias)
+                    q, _, _ = strapdown(
+                        imu.slice(e, m1 + 1),
+                        traj.quaternion[e],
+                        traj.velocity[e],
+                        traj.position[e],
+                        gyro_bias_radps=bias,
+                    )
                     c = quat.as_matrix(q[(m0 + m1) // 2 - e])
                     f = imu.acc[m0 : m1 + 1].mean(axis=0)
                     up = c @ (f / np.linalg.norm(f))  # the accelerometer's up in nav, by the carried attitude
@@ -148,17 +168,21 @@ def main(argv=None) -> None:
                     rows.append((up[0] * fwd[0] + up[1] * fwd[1], -up[0] * fwd[1] + up[1] * fwd[0], length))
                 r = np.array(rows)
                 if len(r):
-                    print(f"{tag} tilt: along {np.median(r[:, 0]) * 1e3:+.1f} mrad (IQR {np.percentile(r[:, 0], 25) * 1e3:+.1f}.."
-                          f"{np.percentile(r[:, 0], 75) * 1e3:+.1f}), across {np.median(r[:, 1]) * 1e3:+.1f} mrad; "
-                          f"x stride {np.median(r[:, 0] * r[:, 2]) * 1e3:+.1f} mm ({len(r)} strides)")
+                    print(
+                        f"{tag} tilt: along {np.median(r[:, 0]) * 1e3:+.1f} mrad (IQR {np.percentile(r[:, 0], 25) * 1e3:+.1f}.."
+                        f"{np.percentile(r[:, 0], 75) * 1e3:+.1f}), across {np.median(r[:, 1]) * 1e3:+.1f} mrad; "
+                        f"x stride {np.median(r[:, 0] * r[:, 2]) * 1e3:+.1f} mm ({len(r)} strides)"
+                    )
             if "edges" in parts:
                 est = footnav.make_pipeline().estimator
                 z = est.zupt_rows(imu.t, imu.acc, np.asarray(stance.mask, bool), first_whole=True)
                 if z is not None:
                     lost = [(b - a - z[a:b].sum()) / imu.rate_hz * 1e3 for a, b in iv[1:]]
                     start = [(np.argmax(z[a:b]) if z[a:b].any() else b - a) / imu.rate_hz * 1e3 for a, b in iv[1:]]
-                    print(f"{tag} edges: of each stance the update leaves out {np.median(lost):.0f} ms (median), "
-                          f"{np.median(start):.0f} ms at its start; stance {np.median(iv[1:, 1] - iv[1:, 0]) / imu.rate_hz * 1e3:.0f} ms")
+                    print(
+                        f"{tag} edges: of each stance the update leaves out {np.median(lost):.0f} ms (median), "
+                        f"{np.median(start):.0f} ms at its start; stance {np.median(iv[1:, 1] - iv[1:, 0]) / imu.rate_hz * 1e3:.0f} ms"
+                    )
 
 
 if __name__ == "__main__":

@@ -20,9 +20,9 @@ from __future__ import annotations
 import functools
 import os
 import sys
-from typing import Any, Callable, Iterable, Literal, Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
+from typing import Any, Literal
 
-from footnav.core.errors import FootnavWarning, InvalidParameterError
 from footnav.analysis.evaluation import (
     ON_ERROR,
     EvaluationFailure,
@@ -31,9 +31,10 @@ from footnav.analysis.evaluation import (
     evaluate_or_record,
     fatal,
 )
-from footnav.pipeline.factory import Pipeline
+from footnav.core.errors import FootnavWarning, InvalidParameterError
 from footnav.core.types import Recording
 from footnav.core.warning_log import warn
+from footnav.pipeline.factory import Pipeline
 
 __all__ = ["evaluate_many", "BACKENDS", "SERIAL_BELOW_SAMPLES", "serial_is_faster"]
 
@@ -57,8 +58,10 @@ def serial_is_faster(recordings: Sequence[Any], n_pipelines: int, n_jobs: int) -
     samples = n_pipelines * sum(imu.n_samples for r in recordings for imu in (r.left, r.right) if imu is not None)
     if samples >= SERIAL_BELOW_SAMPLES:
         return None
-    return (f"{samples:,} samples to process ({len(recordings)} recording(s) x {n_pipelines} pipeline(s)), under "
-            f"{SERIAL_BELOW_SAMPLES:,}: starting worker processes (2-3 s each) would cost more than they save")
+    return (
+        f"{samples:,} samples to process ({len(recordings)} recording(s) x {n_pipelines} pipeline(s)), under "
+        f"{SERIAL_BELOW_SAMPLES:,}: starting worker processes (2-3 s each) would cost more than they save"
+    )
 
 
 def _named(pipelines: Any) -> list[tuple[str, Pipeline]]:
@@ -76,7 +79,9 @@ def _named(pipelines: Any) -> list[tuple[str, Pipeline]]:
     names = [n for n, _ in out]
     dup = {n for n in names if names.count(n) > 1}
     if dup:
-        raise InvalidParameterError(f"evaluate_many: pipeline names must be unique; repeated: {sorted(dup)} (pass a dict name -> pipeline)")
+        raise InvalidParameterError(
+            f"evaluate_many: pipeline names must be unique; repeated: {sorted(dup)} (pass a dict name -> pipeline)"
+        )
     return out
 
 
@@ -111,14 +116,18 @@ def _materialise(recording: Any) -> Recording:
     if callable(recording):
         rec = recording()
         if not isinstance(rec, Recording):
-            raise InvalidParameterError(f"evaluate_many: the recording factory {recording!r} returned {type(rec).__name__}, not a Recording")
+            raise InvalidParameterError(
+                f"evaluate_many: the recording factory {recording!r} returned {type(rec).__name__}, not a Recording"
+            )
         return rec
     raise InvalidParameterError(
         f"evaluate_many: a recording must be a Recording, a path or a zero-argument callable; got {type(recording).__name__}"
     )
 
 
-def _run_one(pipeline_name: str, pipeline: Pipeline, recording: Any, keep_results: bool, record: bool) -> EvaluationReport:
+def _run_one(
+    pipeline_name: str, pipeline: Pipeline, recording: Any, keep_results: bool, record: bool
+) -> EvaluationReport:
     """One pair, where it runs (here or in a worker): its report, or -- ``record`` -- its failure."""
     if not record:
         report = evaluate(pipeline, _materialise(recording), pipeline_name=pipeline_name)
@@ -128,7 +137,9 @@ def _run_one(pipeline_name: str, pipeline: Pipeline, recording: Any, keep_result
         except Exception as exc:  # KeyboardInterrupt and SystemExit pass by themselves
             if (end := fatal(exc)) is not None:
                 raise end
-            return EvaluationReport((), failures=(EvaluationFailure.from_exception(_label(recording), pipeline_name, exc),))
+            return EvaluationReport(
+                (), failures=(EvaluationFailure.from_exception(_label(recording), pipeline_name, exc),)
+            )
         report = evaluate_or_record(pipeline, rec, pipeline_name)
     return report if keep_results else EvaluationReport(report.metrics, failures=report.failures, checks=report.checks)
 
@@ -202,9 +213,13 @@ def evaluate_many(
     if backend not in BACKENDS:
         raise InvalidParameterError(f"evaluate_many: unknown backend {backend!r}; valid: {', '.join(BACKENDS)}")
     if not isinstance(n_jobs, int) or isinstance(n_jobs, bool) or n_jobs == 0 or n_jobs < -1:
-        raise InvalidParameterError(f"evaluate_many: n_jobs={n_jobs!r} is invalid; expected a positive int or -1 (all cores)")
+        raise InvalidParameterError(
+            f"evaluate_many: n_jobs={n_jobs!r} is invalid; expected a positive int or -1 (all cores)"
+        )
     if on_error not in ON_ERROR:
-        raise InvalidParameterError(f"evaluate_many: on_error={on_error!r} is invalid; expected one of {', '.join(ON_ERROR)}")
+        raise InvalidParameterError(
+            f"evaluate_many: on_error={on_error!r} is invalid; expected one of {', '.join(ON_ERROR)}"
+        )
     record = on_error == "record"
     named = _named(pipelines)
     tasks = [(name, pipe, _check_recording(rec), keep_results, record) for rec in recordings for name, pipe in named]

@@ -21,15 +21,16 @@ For each detector and foot, against whatever reference the recording has:
 from __future__ import annotations
 
 import time
+from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import Any, Sequence
+from typing import Any
 
 from footnav.analysis import metrics
+from footnav.analysis.evaluation import EvaluationReport, Metric, labelled_swings
 from footnav.core.component import StanceDetector
 from footnav.core.errors import FootnavError
-from footnav.analysis.evaluation import EvaluationReport, Metric, labelled_swings
-from footnav.nav.stance_check import check_stances
 from footnav.core.types import FootTruth, ImuData, Recording, StanceResult
+from footnav.nav.stance_check import check_stances
 
 __all__ = ["DetectorComparison", "compare_detectors", "DEFAULT_TOLERANCE_S"]
 
@@ -112,13 +113,17 @@ def _foot_metrics(
         if event is not None:
             steps = metrics.step_detection_from_events(stance.mask, truth.events[event], tolerance_samples=tol)
     if steps is not None:
-        rows = rows[:3] + [
-            ("steps_reference", float(steps.n_reference), "count"),
-            ("steps_found", float(steps.n_found), "count"),
-            ("steps_missed", float(steps.n_missed), "count"),
-            ("steps_false", float(steps.n_false), "count"),
-            ("step_f1", float(steps.f1), ""),
-        ] + rows[3:]
+        rows = (
+            rows[:3]
+            + [
+                ("steps_reference", float(steps.n_reference), "count"),
+                ("steps_found", float(steps.n_found), "count"),
+                ("steps_missed", float(steps.n_missed), "count"),
+                ("steps_false", float(steps.n_false), "count"),
+                ("step_f1", float(steps.f1), ""),
+            ]
+            + rows[3:]
+        )
     for event in _EVENTS:
         det, ref = stance.events.get(event), truth.events.get(event)
         if det is None or ref is None or len(det) == 0 or len(ref) == 0:
@@ -174,4 +179,6 @@ def compare_detectors(
             for metric, value, unit in _foot_metrics(stance, truth, imu, tolerance_s):
                 rows.append(Metric(name, label, foot, metric, float(value), unit))
         rows.append(Metric(name, label, "both", "runtime", 1e3 * runtime, "ms"))
-    return DetectorComparison(recording=recording, report=EvaluationReport(tuple(rows)), stances=stances, failures=failures)
+    return DetectorComparison(
+        recording=recording, report=EvaluationReport(tuple(rows)), stances=stances, failures=failures
+    )

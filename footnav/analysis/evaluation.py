@@ -52,11 +52,11 @@ import numpy as np
 from footnav.analysis import metrics
 from footnav.analysis.truth_checks import TruthCheck, check_truth
 from footnav.core.errors import FootnavWarning, InvalidParameterError, MetricNotFoundError
+from footnav.core.types import FootTrajectory, FootTruth, Recording, StanceResult
+from footnav.core.warning_log import warn
 from footnav.nav.interpolation import interp_columns
 from footnav.pipeline.factory import Pipeline
 from footnav.pipeline.result import PipelineResult
-from footnav.core.types import FootTrajectory, FootTruth, Recording, StanceResult
-from footnav.core.warning_log import warn
 
 __all__ = ["Metric", "EvaluationFailure", "EvaluationReport", "TruthCheck", "evaluate", "trajectory_at"]
 
@@ -154,16 +154,19 @@ class EvaluationReport:
             ):
                 return m.value
         failed = [
-            f for f in self.failures
+            f
+            for f in self.failures
             if (recording is None or f.recording == recording) and (pipeline is None or f.pipeline == pipeline)
         ]
         if failed:
             raise MetricNotFoundError(f"no metric {name!r} for foot {foot!r}: the run failed ({failed[0]})")
         raise MetricNotFoundError(f"no metric {name!r} for foot {foot!r}")
 
-    def __add__(self, other: "EvaluationReport") -> "EvaluationReport":
+    def __add__(self, other: EvaluationReport) -> EvaluationReport:
         return EvaluationReport(
-            self.metrics + other.metrics, {**self.results, **other.results}, self.failures + other.failures,
+            self.metrics + other.metrics,
+            {**self.results, **other.results},
+            self.failures + other.failures,
             self.checks + other.checks,
         )
 
@@ -175,8 +178,15 @@ class EvaluationReport:
         for row in rows:
             row["error"] = ""
         return rows + [
-            {"recording": f.recording, "pipeline": f.pipeline, "foot": "both", "name": ERROR_ROW,
-             "value": float("nan"), "unit": "", "error": f"{f.error_type}: {f.message}"}
+            {
+                "recording": f.recording,
+                "pipeline": f.pipeline,
+                "foot": "both",
+                "name": ERROR_ROW,
+                "value": float("nan"),
+                "unit": "",
+                "error": f"{f.error_type}: {f.message}",
+            }
             for f in self.failures
         ]
 
@@ -217,12 +227,17 @@ class EvaluationReport:
         rows = []
         for (pipe, foot, name, unit), values in groups.items():
             v = np.asarray([x for x in values if np.isfinite(x)], dtype=float)
-            rows.append({
-                "pipeline": pipe, "foot": foot, "name": name, "unit": unit,
-                "mean": float(v.mean()) if len(v) else float("nan"),
-                "std": float(v.std(ddof=1)) if len(v) > 1 else float("nan"),
-                "n": int(len(v)),
-            })
+            rows.append(
+                {
+                    "pipeline": pipe,
+                    "foot": foot,
+                    "name": name,
+                    "unit": unit,
+                    "mean": float(v.mean()) if len(v) else float("nan"),
+                    "std": float(v.std(ddof=1)) if len(v) > 1 else float("nan"),
+                    "n": int(len(v)),
+                }
+            )
         return rows
 
     def summary_text(self) -> str:
@@ -230,8 +245,14 @@ class EvaluationReport:
         rows = self.summary()
         pipelines = list(dict.fromkeys(r["pipeline"] for r in rows))
         keys = list(dict.fromkeys((r["name"], r["foot"], r["unit"]) for r in rows))
-        cell = {(r["name"], r["foot"], r["unit"], r["pipeline"]): f"{_fmt(r['mean'])} +- {_fmt(r['std'])} ({r['n']})" for r in rows}
-        table = _table(["metric", "foot", "unit"] + pipelines, [list(k) + [cell.get(k + (p,), "") for p in pipelines] for k in keys])
+        cell = {
+            (r["name"], r["foot"], r["unit"], r["pipeline"]): f"{_fmt(r['mean'])} +- {_fmt(r['std'])} ({r['n']})"
+            for r in rows
+        }
+        table = _table(
+            ["metric", "foot", "unit"] + pipelines,
+            [list(k) + [cell.get(k + (p,), "") for p in pipelines] for k in keys],
+        )
         return table + self._failures_text() + self._warnings_text()
 
     def to_text(self) -> str:
@@ -248,11 +269,16 @@ class EvaluationReport:
         for f in self.failures:
             by_recording.setdefault(f.recording, []).append((f.recording, ERROR_ROW, "both", ""))
         keys = list(dict.fromkeys(k for ks in by_recording.values() for k in ks))
-        table: dict[tuple[str, ...], str] = {(m.recording, m.name, m.foot, m.unit, m.pipeline): _fmt(m.value) for m in self.metrics}
+        table: dict[tuple[str, ...], str] = {
+            (m.recording, m.name, m.foot, m.unit, m.pipeline): _fmt(m.value) for m in self.metrics
+        }
         table.update({(f.recording, ERROR_ROW, "both", "", f.pipeline): f.error_type for f in self.failures})
         header = ["recording", "metric", "foot", "unit"] + pipelines
-        return (_table(header, [list(k) + [table.get(k + (p,), "") for p in pipelines] for k in keys])
-                + self._failures_text() + self._warnings_text())
+        return (
+            _table(header, [list(k) + [table.get(k + (p,), "") for p in pipelines] for k in keys])
+            + self._failures_text()
+            + self._warnings_text()
+        )
 
     def _warnings_text(self) -> str:
         warned = self.warnings
@@ -263,7 +289,9 @@ class EvaluationReport:
     def _failures_text(self) -> str:
         if not self.failures:
             return ""
-        runs = len({(m.recording, m.pipeline) for m in self.metrics} | {(f.recording, f.pipeline) for f in self.failures})
+        runs = len(
+            {(m.recording, m.pipeline) for m in self.metrics} | {(f.recording, f.pipeline) for f in self.failures}
+        )
         return f"\n\nfailed ({len(self.failures)} of {runs} runs):" + "".join(f"\n  {f}" for f in self.failures)
 
 
@@ -441,7 +469,9 @@ def evaluate(
     'CompositionError'
     """
     if on_error not in ON_ERROR:
-        raise InvalidParameterError(f"evaluate: on_error={on_error!r} is invalid; expected one of {', '.join(ON_ERROR)}")
+        raise InvalidParameterError(
+            f"evaluate: on_error={on_error!r} is invalid; expected one of {', '.join(ON_ERROR)}"
+        )
     name = pipeline_name or "+".join(c.name for c in pipeline.components)
     if on_error == "raise":
         return _evaluate(pipeline, recording, name)
@@ -463,7 +493,9 @@ def evaluate_or_record(pipeline: Pipeline, recording: Recording, pipeline_name: 
     except Exception as exc:  # KeyboardInterrupt and SystemExit pass by themselves
         if (end := fatal(exc)) is not None:
             raise end
-        return EvaluationReport((), failures=(EvaluationFailure.from_exception(recording_label(recording), pipeline_name, exc),))
+        return EvaluationReport(
+            (), failures=(EvaluationFailure.from_exception(recording_label(recording), pipeline_name, exc),)
+        )
 
 
 def _evaluate(pipeline: Pipeline, recording: Recording, name: str) -> EvaluationReport:
@@ -485,9 +517,15 @@ def _evaluate(pipeline: Pipeline, recording: Recording, name: str) -> Evaluation
             rows.append(Metric(rec_name, name, foot, metric, float(value), unit))
     if result.right is not None:
         rows.append(
-            Metric(rec_name, name, "both", "final_separation", metrics.final_separation(result.left.position, result.right.position), "m")
+            Metric(
+                rec_name,
+                name,
+                "both",
+                "final_separation",
+                metrics.final_separation(result.left.position, result.right.position),
+                "m",
+            )
         )
         rows.append(Metric(rec_name, name, "both", "dtw_distance_feet", _feet_dtw(result.left, result.right), "m"))
     rows.append(Metric(rec_name, name, "both", "runtime", runtime, "s"))
     return EvaluationReport(tuple(rows), {(rec_name, name): result}, checks=tuple(checks))
-

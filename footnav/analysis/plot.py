@@ -15,8 +15,8 @@ import numpy as np  # noqa: E402
 
 from footnav.analysis import metrics  # noqa: E402
 from footnav.analysis.evaluation import trajectory_at  # noqa: E402
-from footnav.pipeline.result import PipelineResult  # noqa: E402
 from footnav.core.types import Recording  # noqa: E402
+from footnav.pipeline.result import PipelineResult  # noqa: E402
 
 __all__ = ["plot_trajectories", "plot_stance_comparison", "plot_position_errors", "plot_steps", "has_path_truth"]
 
@@ -93,7 +93,9 @@ def plot_trajectories(result: PipelineResult, recording: Recording | None, path:
         ax.plot(*shown[-1, :2], "s", color=color, ms=7, label=f"{foot} end")
     if result.right is not None and not (recording is not None and recording.truth_left is not None):
         # the pedestrian (the fusion's path) in the estimate's own frame
-        ax.plot(result.path.position[:, 0], result.path.position[:, 1], color="0.2", lw=1, ls="--", label="pedestrian path")
+        ax.plot(
+            result.path.position[:, 0], result.path.position[:, 1], color="0.2", lw=1, ls="--", label="pedestrian path"
+        )
     ax.set_aspect("equal", adjustable="datalim")
     ax.set_xlabel("x (m)")
     ax.set_ylabel("y (m)")
@@ -115,7 +117,14 @@ def _height_panel(ax, feet, recording: Recording | None) -> None:
         truth = _path_truth(recording, foot)
         if truth is not None:
             z0 = float(np.interp(truth.t[0], traj.t, traj.position[:, 2]))
-            ax.plot(truth.t, truth.position[:, 2] - truth.position[0, 2] + z0, color=color, lw=3, alpha=0.25, label=f"{foot} truth")
+            ax.plot(
+                truth.t,
+                truth.position[:, 2] - truth.position[0, 2] + z0,
+                color=color,
+                lw=3,
+                alpha=0.25,
+                label=f"{foot} truth",
+            )
         vertical = traj.meta.get("vertical")
         label = f"{foot} estimate"
         if vertical:
@@ -163,7 +172,9 @@ def plot_stance_comparison(comparison, path: str | FilePath, *, seconds: tuple[f
     """
     rec = comparison.recording
     labels = list(comparison.stances)
-    feet = [("left", rec.left, rec.truth_left, 0)] + ([("right", rec.right, rec.truth_right, 1)] if rec.right is not None else [])
+    feet = [("left", rec.left, rec.truth_left, 0)] + (
+        [("right", rec.right, rec.truth_right, 1)] if rec.right is not None else []
+    )
     # one signal row per foot, then one band per detector (and the reference stance when known)
     rows: list[tuple] = []
     for foot, imu, truth, col in feet:
@@ -173,8 +184,12 @@ def plot_stance_comparison(comparison, path: str | FilePath, *, seconds: tuple[f
             rows.append(("band", "reference", imu, truth.stance))
     ratios = [3 if r[0] == "signal" else 1 for r in rows]
     fig, axes = plt.subplots(
-        len(rows), 1, sharex=True, figsize=(11, 1.0 + 0.5 * len(rows) + 1.2 * len(feet)),
-        gridspec_kw={"height_ratios": ratios}, constrained_layout=True,
+        len(rows),
+        1,
+        sharex=True,
+        figsize=(11, 1.0 + 0.5 * len(rows) + 1.2 * len(feet)),
+        gridspec_kw={"height_ratios": ratios},
+        constrained_layout=True,
     )
     axes = np.atleast_1d(axes)
     for ax, (kind, name, imu, data) in zip(axes, rows):
@@ -182,11 +197,21 @@ def plot_stance_comparison(comparison, path: str | FilePath, *, seconds: tuple[f
             ax.plot(imu.t, np.linalg.norm(imu.gyr, axis=1), color="0.2", lw=0.7)
             ax.set_ylabel(f"{name}\n|w| (rad/s)")
             if data is not None and data.stance is None and len(data.events.get("mid_stance", ())):
-                ax.vlines(imu.t[data.events["mid_stance"]], 0, 1, transform=ax.get_xaxis_transform(),
-                          color="tab:green", lw=0.8, alpha=0.6, label="reference mid-stance")
+                ax.vlines(
+                    imu.t[data.events["mid_stance"]],
+                    0,
+                    1,
+                    transform=ax.get_xaxis_transform(),
+                    color="tab:green",
+                    lw=0.8,
+                    alpha=0.6,
+                    label="reference mid-stance",
+                )
                 ax.legend(loc="upper right", fontsize="x-small")
         else:
-            ax.fill_between(imu.t, 0, 1, where=data, step="mid", color="tab:green" if name == "reference" else "tab:blue", lw=0)
+            ax.fill_between(
+                imu.t, 0, 1, where=data, step="mid", color="tab:green" if name == "reference" else "tab:blue", lw=0
+            )
             ax.set_yticks([])
             ax.set_ylim(0, 1)
             ax.set_ylabel(name, rotation=0, ha="right", va="center", fontsize="small")
@@ -217,7 +242,17 @@ def plot_position_errors(result: PipelineResult, recording: Recording, path: str
         ax.plot(truth.t[inside], err, color=color, lw=1, label=f"{foot} (RMSE {np.sqrt(np.mean(err**2)):.3f} m)")
     stance = result.stance_left
     t_left = result.left.t
-    ax.fill_between(t_left, 0, 1, where=stance.mask, transform=ax.get_xaxis_transform(), color="0.85", lw=0, step="mid", label="left stance")
+    ax.fill_between(
+        t_left,
+        0,
+        1,
+        where=stance.mask,
+        transform=ax.get_xaxis_transform(),
+        color="0.85",
+        lw=0,
+        step="mid",
+        label="left stance",
+    )
     ax.set_xlabel("t (s)")
     ax.set_ylabel("horizontal error (m)")
     ax.legend(ncol=3, **{**_LEGEND_BELOW, "bbox_to_anchor": (0.5, -0.16)})  # below the x label

@@ -25,9 +25,9 @@ from numpy.typing import NDArray
 from footnav.analysis.metrics import rigid_align
 from footnav.analysis.metrics._alignment import _umeyama
 from footnav.core.errors import DataQualityWarning, InvalidInputError
-from footnav.nav.interpolation import interp_columns
 from footnav.core.types import FootTrajectory, FootTruth
 from footnav.core.warning_log import warn
+from footnav.nav.interpolation import interp_columns
 
 __all__ = ["TruthCheck", "check_truth"]
 
@@ -185,13 +185,16 @@ def _fit_rms(est: NDArray, ref: NDArray, *, reflection: bool) -> float:
 
 def _finite(traj: FootTrajectory, truth: FootTruth, foot: str) -> None:
     """Refuse non-finite times or positions (the metrics would refuse them too)."""
-    for field, what, values, times in (("estimate", "estimated", traj.position, traj.t),
-                                       (f"truth_{foot}", "truth", truth.position, truth.t)):
+    for field, what, values, times in (
+        ("estimate", "estimated", traj.position, traj.t),
+        (f"truth_{foot}", "truth", truth.position, truth.t),
+    ):
         bad = ~np.isfinite(values).all(axis=1) | ~np.isfinite(times)
         if bad.any():
             i = int(np.argmax(bad))
-            raise _Refused(f"non-finite {what} position or time at t = {float(times[i])!r} s; every value must be finite",
-                           field, i)
+            raise _Refused(
+                f"non-finite {what} position or time at t = {float(times[i])!r} s; every value must be finite", field, i
+            )
 
 
 def _time_span(traj: FootTrajectory, truth: FootTruth) -> _Finding:
@@ -202,12 +205,19 @@ def _time_span(traj: FootTrajectory, truth: FootTruth) -> _Finding:
     ratio = (t1 - t0) / span_est if span_est > 0 else float("inf")
     if ratio > TIME_SPAN_RATIO_MAX:
         unit = _unit_named(ratio, TIME_UNITS)
-        what = (f"its times look like {unit} (a ratio near {TIME_UNITS[unit]:g}): pass FootTruth.t in s "
-                f"(divide by {TIME_UNITS[unit]:g}) on the IMU's clock" if unit else
-                "pass FootTruth.t in s on the IMU's clock, cut to the recording's span")
-        raise _Refused(f"spans {t1 - t0:.6g} (t {t0:.6g} to {t1:.6g}), {ratio:.4g} times the recording's "
-                       f"{span_est:.6g} s (t {t_est0:.6g} to {t_est1:.6g} s); {what}")
-    return _Finding("time_span", ratio, "", f"truth spans {t1 - t0:.3f} s, {ratio:.3f} of the recording's {span_est:.3f} s")
+        what = (
+            f"its times look like {unit} (a ratio near {TIME_UNITS[unit]:g}): pass FootTruth.t in s "
+            f"(divide by {TIME_UNITS[unit]:g}) on the IMU's clock"
+            if unit
+            else "pass FootTruth.t in s on the IMU's clock, cut to the recording's span"
+        )
+        raise _Refused(
+            f"spans {t1 - t0:.6g} (t {t0:.6g} to {t1:.6g}), {ratio:.4g} times the recording's "
+            f"{span_est:.6g} s (t {t_est0:.6g} to {t_est1:.6g} s); {what}"
+        )
+    return _Finding(
+        "time_span", ratio, "", f"truth spans {t1 - t0:.3f} s, {ratio:.3f} of the recording's {span_est:.3f} s"
+    )
 
 
 def _coverage(traj: FootTrajectory, truth: FootTruth, inside: NDArray[np.bool_]) -> _Finding:
@@ -225,15 +235,25 @@ def _coverage(traj: FootTrajectory, truth: FootTruth, inside: NDArray[np.bool_])
     span_est = t_est1 - t_est0
     time_cover = max(0.0, hi - lo) / span_est if span_est > 0 else 0.0
     coverage = dist_in / dist_all if dist_all > 0 else time_cover  # an estimate that never moved: by time
-    found = (f"the truth (t {t0:.3f} to {t1:.3f} s) covers {max(0.0, hi - lo):.3f} s of the recording's {span_est:.3f} s "
-             f"({t_est0:.3f} to {t_est1:.3f} s) and {100 * coverage:.1f} % of the estimate's distance "
-             f"({dist_in:.2f} of {dist_all:.2f} m)")
+    found = (
+        f"the truth (t {t0:.3f} to {t1:.3f} s) covers {max(0.0, hi - lo):.3f} s of the recording's {span_est:.3f} s "
+        f"({t_est0:.3f} to {t_est1:.3f} s) and {100 * coverage:.1f} % of the estimate's distance "
+        f"({dist_in:.2f} of {dist_all:.2f} m)"
+    )
     n_in = int(inside.sum())
     if n_in < 2 or coverage < COVERAGE_MIN:
-        raise _Refused(f"{found}, with {n_in} truth point(s) inside the recording: nothing to score; give the truth's "
-                       "times in s on the IMU's clock (FootTruth.t), or the truth of this recording")
-    warning = (f"{found}: the errors are of that part only; give the truth of the whole walk, or cut the recording "
-               "to the truth's span") if coverage < COVERAGE_WARN else None
+        raise _Refused(
+            f"{found}, with {n_in} truth point(s) inside the recording: nothing to score; give the truth's "
+            "times in s on the IMU's clock (FootTruth.t), or the truth of this recording"
+        )
+    warning = (
+        (
+            f"{found}: the errors are of that part only; give the truth of the whole walk, or cut the recording "
+            "to the truth's span"
+        )
+        if coverage < COVERAGE_WARN
+        else None
+    )
     return _Finding("coverage", coverage, "", found, warning)
 
 
@@ -249,20 +269,26 @@ def _scale(t_in: NDArray, ref: NDArray, est: NDArray) -> _Finding:
     dt = np.diff(t_in[keep])
     speeds = np.linalg.norm(np.diff(ref[keep, :2], axis=0), axis=1)[dt > 0] / dt[dt > 0]
     speed = float(np.percentile(speeds, 99)) if len(speeds) else 0.0
-    found = (f"the truth's path is {path_truth:.4g} (horizontal, through {len(keep)} of its points, >= {PATH_STEP_S:g} s "
-             f"apart) against the estimate's {path_est:.4g} m at the same times: ratio {ratio:.4g}, the truth's speed "
-             f"(99th percentile) {speed:.4g} per s")
+    found = (
+        f"the truth's path is {path_truth:.4g} (horizontal, through {len(keep)} of its points, >= {PATH_STEP_S:g} s "
+        f"apart) against the estimate's {path_est:.4g} m at the same times: ratio {ratio:.4g}, the truth's speed "
+        f"(99th percentile) {speed:.4g} per s"
+    )
     if ratio > SCALE_ERROR_RATIO and speed > MAX_FOOT_SPEED_MPS:
         unit = _unit_named(ratio, LENGTH_UNITS)
         what = f"it looks like {unit} (a ratio near {LENGTH_UNITS[unit]:.4g})" if unit else "it is not in metres"
         divide = f", divide by {LENGTH_UNITS[unit]:.4g}" if unit else ""
-        raise _Refused(f"{found}, faster than any foot ({MAX_FOOT_SPEED_MPS:g} m/s): {what}; convert the truth's "
-                       f"positions to metres (FootTruth.position in m{divide}); footnav's readers convert the units "
-                       "they know, so a truth built by hand or read by other code is the suspect")
+        raise _Refused(
+            f"{found}, faster than any foot ({MAX_FOOT_SPEED_MPS:g} m/s): {what}; convert the truth's "
+            f"positions to metres (FootTruth.position in m{divide}); footnav's readers convert the units "
+            "they know, so a truth built by hand or read by other code is the suspect"
+        )
     warning = None
     if ratio > SCALE_WARN_RATIO or ratio < 1.0 / SCALE_WARN_RATIO:
-        warning = (f"{found}: either the estimate's distance is wrong (missed or false strides, divergence) or the truth "
-                   "is not in metres (feet: ratio 3.28; km: 0.001); convert FootTruth.position to m if so")
+        warning = (
+            f"{found}: either the estimate's distance is wrong (missed or false strides, divergence) or the truth "
+            "is not in metres (feet: ratio 3.28; km: 0.001); convert FootTruth.position to m if so"
+        )
     return _Finding("scale", ratio, "", found, warning)
 
 
@@ -272,11 +298,19 @@ def _mirror(ref: NDArray, est: NDArray) -> _Finding:
     rms_ref = _fit_rms(est[:, :2], ref[:, :2], reflection=True)
     extent = float(np.sqrt(np.mean(np.sum((ref[:, :2] - ref[:, :2].mean(axis=0)) ** 2, axis=1))))
     ratio = rms_ref / rms_rot if rms_rot > 0 else 1.0
-    found = (f"the best horizontal fit leaves {rms_rot:.3f} m RMS with a rotation and {rms_ref:.3f} m with a "
-             f"reflection (ratio {ratio:.3f}; the truth's extent {extent:.3f} m)")
+    found = (
+        f"the best horizontal fit leaves {rms_rot:.3f} m RMS with a rotation and {rms_ref:.3f} m with a "
+        f"reflection (ratio {ratio:.3f}; the truth's extent {extent:.3f} m)"
+    )
     mirrored = ratio < MIRROR_FIT_RATIO and MIRROR_MIN_RESIDUAL * extent < rms_rot and rms_ref < MIRROR_MAX_FIT * extent
-    warning = (f"{found}: the truth looks mirrored (a left-handed frame, e.g. y flipped, or z down with x, y kept); "
-               "negate its y (or turn a z-down frame 180 deg about x) so that it is right-handed and z up") if mirrored else None
+    warning = (
+        (
+            f"{found}: the truth looks mirrored (a left-handed frame, e.g. y flipped, or z down with x, y kept); "
+            "negate its y (or turn a z-down frame 180 deg about x) so that it is right-handed and z up"
+        )
+        if mirrored
+        else None
+    )
     return _Finding("mirror_2d", ratio, "", found, warning)
 
 
@@ -285,27 +319,42 @@ def _tilt(ref: NDArray, est: NDArray) -> _Finding:
     rot = rigid_align(est, ref, dims=3).rotation
     tilt = float(np.degrees(np.arccos(np.clip(rot[2, 2], -1.0, 1.0))))
     found = f"the 3-D fit of ate_3d turns the estimate's z axis by {tilt:.1f} deg"
-    warning = (f"{found} (upside down): ate_3d scores an estimate turned over; the truth is mirrored or not z up "
-               "(make it right-handed with z up), or the walk too flat and straight to fix the tilt; trust ate_2d"
-               ) if tilt > FLIP_MIN_TILT_DEG else None
+    warning = (
+        (
+            f"{found} (upside down): ate_3d scores an estimate turned over; the truth is mirrored or not z up "
+            "(make it right-handed with z up), or the walk too flat and straight to fix the tilt; trust ate_2d"
+        )
+        if tilt > FLIP_MIN_TILT_DEG
+        else None
+    )
     return _Finding("tilt_3d", tilt, "deg", found, warning)
 
 
 def _height(t_in: NDArray, ref: NDArray, est: NDArray) -> _Finding | None:
     """Correlation of the truth's height changes with the estimate's (None without height changes)."""
-    keep = np.unique(np.searchsorted(t_in, np.arange(t_in[0], t_in[-1], HEIGHT_STEP_S))) if np.all(np.diff(t_in) > 0) \
+    keep = (
+        np.unique(np.searchsorted(t_in, np.arange(t_in[0], t_in[-1], HEIGHT_STEP_S)))
+        if np.all(np.diff(t_in) > 0)
         else np.arange(len(t_in))
+    )
     dz_ref, dz_est = np.diff(ref[keep, 2]), np.diff(est[keep, 2])
     dz_ref, dz_est = dz_ref - dz_ref.mean(), dz_est - dz_est.mean()
     norm = float(np.sqrt((dz_ref**2).sum() * (dz_est**2).sum()))
     if len(dz_ref) < 3 or norm == 0.0:
         return None
     corr = float((dz_ref * dz_est).sum() / norm)
-    found = (f"the truth's height changes correlate {corr:.3f} with the estimate's ({len(dz_ref)} steps of "
-             f">= {HEIGHT_STEP_S:g} s)")
-    warning = (f"{found}: they run opposite, so the truth's z points down; negate its z (a left-handed frame "
-               "with x, y kept) or turn a right-handed z-down frame 180 deg about x (y -> -y, z -> -z)"
-               ) if corr < HEIGHT_CORR_MIN else None
+    found = (
+        f"the truth's height changes correlate {corr:.3f} with the estimate's ({len(dz_ref)} steps of "
+        f">= {HEIGHT_STEP_S:g} s)"
+    )
+    warning = (
+        (
+            f"{found}: they run opposite, so the truth's z points down; negate its z (a left-handed frame "
+            "with x, y kept) or turn a right-handed z-down frame 180 deg about x (y -> -y, z -> -z)"
+        )
+        if corr < HEIGHT_CORR_MIN
+        else None
+    )
     return _Finding("height", corr, "", found, warning)
 
 
@@ -368,5 +417,16 @@ def check_truth(
     for f in findings:  # after a refusal the error says it all
         if f.warning:
             warn(f"evaluate: {whose}: {f.warning}", DataQualityWarning, stacklevel=3)
-    return tuple(TruthCheck(recording, pipeline, foot, f.name, float(f.value), f.unit,
-                            "warning" if f.warning else "ok", f.warning or f.found) for f in findings)
+    return tuple(
+        TruthCheck(
+            recording,
+            pipeline,
+            foot,
+            f.name,
+            float(f.value),
+            f.unit,
+            "warning" if f.warning else "ok",
+            f.warning or f.found,
+        )
+        for f in findings
+    )

@@ -81,8 +81,11 @@ def _compile_notice():
                 self.started = time.perf_counter()
                 if not self.said:
                     self.said = True
-                    print("footnav: compiling the numerical kernels (once: they are cached for the next runs) ...",
-                          file=sys.stderr, flush=True)
+                    print(
+                        "footnav: compiling the numerical kernels (once: they are cached for the next runs) ...",
+                        file=sys.stderr,
+                        flush=True,
+                    )
             self.depth += 1
 
         def on_end(self, ev) -> None:
@@ -149,7 +152,9 @@ def _main(argv: Sequence[str] | None) -> int:
         print(f"footnav {args.command}: error: {_one_message(exc)}", file=sys.stderr)
         return EXIT_USAGE
     except UnicodeDecodeError as exc:  # a binary file where text was expected (pipeline TOML, CSV)
-        print(f"footnav {args.command}: error: not a UTF-8 text file ({exc.reason} at byte {exc.start})", file=sys.stderr)
+        print(
+            f"footnav {args.command}: error: not a UTF-8 text file ({exc.reason} at byte {exc.start})", file=sys.stderr
+        )
         return EXIT_USAGE
     except OSError as exc:  # unreadable input, full disk, read-only folder, unreachable scheduler
         if args.verbose:

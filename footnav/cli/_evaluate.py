@@ -16,12 +16,12 @@ def cmd_evaluate(args: argparse.Namespace) -> int:
     import sys
 
     from footnav.analysis.batch import evaluate_many, serial_is_faster
+    from footnav.core.warning_log import recording
     from footnav.data.datasets import load_dataset
     from footnav.data.io import load
     from footnav.data.output import claim_output, csv_signature
     from footnav.data.results import write_report
     from footnav.pipeline.factory import load_pipeline, make_pipeline
-    from footnav.core.warning_log import recording
 
     if not args.dataset and not args.recordings:
         raise FootnavError("nothing to evaluate: give --dataset NAME and/or recording paths")
@@ -35,15 +35,25 @@ def cmd_evaluate(args: argparse.Namespace) -> int:
         # a table with failed pairs has a last column "error" (EvaluationReport.to_csv)
         ours = [csv_signature(REPORT_CSV_HEADER), csv_signature(REPORT_CSV_HEADER + ",error")]
         csv_claim = (
-            claims.enter_context(claim_output(args.csv, kind="file", force=args.force, inputs=inputs,
-                                              signature=lambda path: any(s(path) for s in ours), what="table"))
+            claims.enter_context(
+                claim_output(
+                    args.csv,
+                    kind="file",
+                    force=args.force,
+                    inputs=inputs,
+                    signature=lambda path: any(s(path) for s in ours),
+                    what="table",
+                )
+            )
             if args.csv
             else None
         )
         plot_claim = None
         if args.plot:
             _require_matplotlib()
-            plot_claim = claims.enter_context(claim_output(args.plot, force=args.force, inputs=inputs, what="figure folder"))
+            plot_claim = claims.enter_context(
+                claim_output(args.plot, force=args.force, inputs=inputs, what="figure folder")
+            )
         pipelines = [(FilePath(p).stem, load_pipeline(p)) for p in args.pipeline] or [("default", make_pipeline())]
         # every warning shown from here on (reading: clipping, off g; the runs; the truth checks) is
         # also written to report.json; the runs' own are in their meta as well (parallel workers')
@@ -51,11 +61,16 @@ def cmd_evaluate(args: argparse.Namespace) -> int:
             recordings = [load_dataset(name, args.data_dir) for name in args.dataset]
             recordings += [load(path) for path in args.recordings]
             backend = "dask" if args.dask_scheduler else "loky"
-            jobs, serial_why = args.jobs, None if args.dask_scheduler else serial_is_faster(recordings, len(pipelines), args.jobs)
+            jobs, serial_why = (
+                args.jobs,
+                None if args.dask_scheduler else serial_is_faster(recordings, len(pipelines), args.jobs),
+            )
             if serial_why:
                 jobs = 1
                 print(f"footnav evaluate: running serially, not --jobs {args.jobs}: {serial_why}", file=sys.stderr)
-            logging.getLogger("footnav").info("evaluating %d pipeline(s) on %d recording(s)", len(pipelines), len(recordings))
+            logging.getLogger("footnav").info(
+                "evaluating %d pipeline(s) on %d recording(s)", len(pipelines), len(recordings)
+            )
             report = evaluate_many(pipelines, recordings, n_jobs=jobs, backend=backend, scheduler=args.dask_scheduler)
         batch = {"backend": backend, "jobs_asked": args.jobs, "jobs_used": jobs, "serial_because": serial_why}
         with ExitStack() as staged:
@@ -73,8 +88,15 @@ def cmd_evaluate(args: argparse.Namespace) -> int:
             if csv_claim:
                 staged.enter_context(csv_claim.staged()).write_text(report.to_csv(), encoding="utf-8")
             if out_claim:
-                write_report(report, out_claim, pipelines={name: pipe.to_toml() for name, pipe in pipelines}, warnings=shown, batch=batch,
-                             html=True, recordings=recordings)
+                write_report(
+                    report,
+                    out_claim,
+                    pipelines={name: pipe.to_toml() for name, pipe in pipelines},
+                    warnings=shown,
+                    batch=batch,
+                    html=True,
+                    recordings=recordings,
+                )
     print(report.to_text())
     if args.csv:
         print(f"table written to {args.csv}")
@@ -94,8 +116,16 @@ def cmd_compare_detectors(args: argparse.Namespace) -> int:
     inputs = [args.recording] if args.recording else []
     with ExitStack() as claims:
         csv_claim = (
-            claims.enter_context(claim_output(args.csv, kind="file", force=args.force, inputs=inputs,
-                                              signature=csv_signature(REPORT_CSV_HEADER), what="table"))
+            claims.enter_context(
+                claim_output(
+                    args.csv,
+                    kind="file",
+                    force=args.force,
+                    inputs=inputs,
+                    signature=csv_signature(REPORT_CSV_HEADER),
+                    what="table",
+                )
+            )
             if args.csv
             else None
         )
@@ -121,7 +151,9 @@ def _compare(args: argparse.Namespace, csv_claim, plot_claim) -> int:
         if csv_claim:
             staged.enter_context(csv_claim.staged()).write_text(comparison.to_csv(), encoding="utf-8")
         if plot_claim:
-            comparison.plot(staged.enter_context(plot_claim.staged()), seconds=tuple(args.seconds) if args.seconds else None)
+            comparison.plot(
+                staged.enter_context(plot_claim.staged()), seconds=tuple(args.seconds) if args.seconds else None
+            )
     print(comparison.to_text())
     if csv_claim:
         print(f"table written to {args.csv}")

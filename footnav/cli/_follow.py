@@ -18,6 +18,7 @@ def _scales() -> dict[str, dict[str, float]]:
 
     return {"t": _T_SCALE, "acc": _ACC_SCALE, "gyr": _GYR_SCALE}
 
+
 #: Columns of a followed CSV (footnav CSV: ``footnav simulate`` writes it); ``foot`` optional.
 FOLLOW_COLUMNS = ("t", "acc_x", "acc_y", "acc_z", "gyr_x", "gyr_y", "gyr_z")
 
@@ -40,7 +41,10 @@ class _FollowedCsv:
     @property
     def units_in(self) -> dict[str, str]:
         """The units the rows are converted from (the command line's, else the file's, else SI)."""
-        return {k: self.units.get(k) or self.file_units.get(k) or si for k, si in (("t", "s"), ("acc", "m/s^2"), ("gyr", "rad/s"))}
+        return {
+            k: self.units.get(k) or self.file_units.get(k) or si
+            for k, si in (("t", "s"), ("acc", "m/s^2"), ("gyr", "rad/s"))
+        }
 
     def _error(self, message: str) -> InvalidInputError:
         return InvalidInputError(message, path=self.name, line=self.line_no)
@@ -73,13 +77,17 @@ class _FollowedCsv:
                 self.file_units.update(_parse_units_comment(clip_text(line, 400), self.name, self.line_no))
                 for key, unit in self.units_in.items():
                     if unit not in _scales()[key]:
-                        raise self._error(f"unknown {key} unit {clip_text(unit)!r}; expected one of {sorted(_scales()[key])}")
+                        raise self._error(
+                            f"unknown {key} unit {clip_text(unit)!r}; expected one of {sorted(_scales()[key])}"
+                        )
             return
         cells = [c.strip() for c in line.split(",")]
         if self.columns is None:
             if cells[0] in ("left", "right") or (_number(cells[0]) and _number(cells[-1])):  # no header
                 if len(cells) not in (7, 8):
-                    raise self._error(f"{len(cells)} values; expected t,acc_x..gyr_z (7) or foot,t,acc_x..gyr_z (8), or a header")
+                    raise self._error(
+                        f"{len(cells)} values; expected t,acc_x..gyr_z (7) or foot,t,acc_x..gyr_z (8), or a header"
+                    )
                 self.columns = list(FOLLOW_COLUMNS) if len(cells) == 7 else ["foot", *FOLLOW_COLUMNS]
             else:
                 self.columns = cells
@@ -88,7 +96,9 @@ class _FollowedCsv:
                     raise self._error(f"no column(s) {', '.join(missing)} in the header {clip_text(line)!r}")
                 return
         if len(cells) != len(self.columns):
-            raise self._error(f"{len(cells)} values, expected {len(self.columns)} ({','.join(self.columns)}): {clip_text(line)!r}")
+            raise self._error(
+                f"{len(cells)} values, expected {len(self.columns)} ({','.join(self.columns)}): {clip_text(line)!r}"
+            )
         row = dict(zip(self.columns, cells))
         foot = row.get("foot", "left")
         if foot not in ("left", "right"):
@@ -205,8 +215,9 @@ def _step_line(step) -> str:
 
     heading = "" if math.isnan(step.heading_rad) else f"{math.degrees(step.heading_rad):8.1f}"
     x, y, z = step.position
-    return (f"{step.t:10.3f}  {step.foot:<5}  {x:9.3f} {y:9.3f} {z:7.3f}  {step.stride_length_m:8.3f}  {heading:>8}"
-            + ("  (late)" if step.late else ""))
+    return f"{step.t:10.3f}  {step.foot:<5}  {x:9.3f} {y:9.3f} {z:7.3f}  {step.stride_length_m:8.3f}  {heading:>8}" + (
+        "  (late)" if step.late else ""
+    )
 
 
 class _LivePlot:
@@ -274,7 +285,9 @@ def cmd_follow(args: argparse.Namespace) -> int:
     else:  # the offline defaults: adaptive detector, EKF (step-wise live, the whole walk at the end)
         pipeline = make_pipeline(args.detector or "adaptive", args.estimator or "ekf", args.fusion or "independent")
     if args.left == "-" and args.right == "-":
-        raise FootnavError("only one of --left / --right can be standard input; give both feet there with a 'foot' column")
+        raise FootnavError(
+            "only one of --left / --right can be standard input; give both feet there with a 'foot' column"
+        )
     two_feet = args.right is not None or args.feet == 2
     units = {"t": args.t_unit, "acc": args.acc_unit, "gyr": args.gyr_unit}
     raw_sources = _follow_sources(args)
@@ -284,9 +297,14 @@ def cmd_follow(args: argparse.Namespace) -> int:
     named = {foot: name for foot, name, _ in raw_sources if foot is not None}
     stdin = next((name for foot, name, _ in raw_sources if foot is None), None)
     # standard input with both feet: each foot's samples named by their foot too
-    input_meta = {foot: {"source": named[foot] if foot in named else stdin + (f" ({foot} foot)" if two_feet else ""),
-                         "units_in": parsers[named.get(foot, stdin)].units_in}
-                  for foot in feet if named.get(foot, stdin) is not None}
+    input_meta = {
+        foot: {
+            "source": named[foot] if foot in named else stdin + (f" ({foot} foot)" if two_feet else ""),
+            "units_in": parsers[named.get(foot, stdin)].units_in,
+        }
+        for foot in feet
+        if named.get(foot, stdin) is not None
+    }
     stream = pipeline.online(feet=2 if two_feet else 1, max_wait_s=args.max_wait_s, input_meta=input_meta)
     inputs = [p for p in (args.left, args.right, args.pipeline) if p and p != "-"]
     with ExitStack() as claims:
@@ -312,7 +330,9 @@ def cmd_follow(args: argparse.Namespace) -> int:
         ended_by, code = "end of input", EXIT_OK
         try:
             # the header after the handlers: a caller that sees it may signal (tests do)
-            _say(f"{'t_s':>10}  {'foot':<5}  {'x_m':>9} {'y_m':>9} {'z_m':>7}  {'stride_m':>8}  {'heading_deg':>8}", stop)
+            _say(
+                f"{'t_s':>10}  {'foot':<5}  {'x_m':>9} {'y_m':>9} {'z_m':>7}  {'stride_m':>8}  {'heading_deg':>8}", stop
+            )
             last_data = time.monotonic()
             ended = set()
             while len(ended) < len(sources) and stop["signal"] is None:
@@ -382,14 +402,19 @@ def cmd_follow(args: argparse.Namespace) -> int:
             if result.right is not None:
                 summary["right_path_length_m"] = result.right.path_length_m
                 summary["right_stances"] = result.stance_right.n_stances
-            out = write_results(result, out_claim, force=args.force, summary=summary, pipeline_toml=pipeline.to_toml(),
-                                html=True)
+            out = write_results(
+                result, out_claim, force=args.force, summary=summary, pipeline_toml=pipeline.to_toml(), html=True
+            )
         else:
             out = _write_nothing_final(out_claim, summary, stream, pipeline.to_toml())
     print(_format_table(("quantity", "value"), [(k, clip_text(str(v), 200)) for k, v in summary.items()]))
     if code != EXIT_OK:
         print(f"footnav follow: error: {clip_text(ended_by, 600)}", file=sys.stderr)
-    print(("" if complete else clip_text(ended_by, 200) + ": ") + f"results written to {out}" + ("" if complete else " (incomplete)"))
+    print(
+        ("" if complete else clip_text(ended_by, 200) + ": ")
+        + f"results written to {out}"
+        + ("" if complete else " (incomplete)")
+    )
     return code
 
 
@@ -404,8 +429,10 @@ def _start_view(args: argparse.Namespace, pipeline):
     from footnav.report.live import LiveView, has_display
 
     if not has_display():
-        print("footnav follow: no display: --view draws off-screen; open report.html in the output folder at the end",
-              file=sys.stderr)
+        print(
+            "footnav follow: no display: --view draws off-screen; open report.html in the output folder at the end",
+            file=sys.stderr,
+        )
     title = "footnav follow: " + " + ".join(c.get("name", k) for k, c in pipeline.config().items())
     return LiveView(title, args.view_every_s)
 
@@ -452,9 +479,16 @@ def _write_nothing_final(claim, summary: dict, stream, pipeline_toml: str):
 
     from footnav.data.results import atomic_folder, versions
 
-    doc = {"summary": summary, "provenance": {"warnings": list(stream.warnings), "online": stream.stats(),
-                                              "complete": False, "ended_by": summary["ended_by"]},
-           "versions": versions()}
+    doc = {
+        "summary": summary,
+        "provenance": {
+            "warnings": list(stream.warnings),
+            "online": stream.stats(),
+            "complete": False,
+            "ended_by": summary["ended_by"],
+        },
+        "versions": versions(),
+    }
     from footnav.report import REPORT_NAME
     from footnav.report.result import nothing_final_html
 

@@ -76,7 +76,9 @@ def _segments(text: str) -> list[tuple[float, float]]:
             if item.strip()
         ]
     except (ValueError, IndexError):
-        raise argparse.ArgumentTypeError(f"{text!r}: expected DIST:DEG pairs separated by commas, e.g. 10:90,5:-90") from None
+        raise argparse.ArgumentTypeError(
+            f"{text!r}: expected DIST:DEG pairs separated by commas, e.g. 10:90,5:-90"
+        ) from None
     if not pairs or any(len(p) != 2 and p[0] != "stairs" for p in pairs):
         raise argparse.ArgumentTypeError(f"{text!r}: expected DIST:DEG pairs separated by commas, e.g. 10:90,5:-90")
     return pairs  # type: ignore[return-value]
@@ -101,7 +103,9 @@ def _option(text: str) -> tuple[str, object]:
 def build_parser() -> argparse.ArgumentParser:
     from footnav._version import __version__
 
-    parser = _Parser(prog="footnav", description="Foot-mounted inertial navigation: one or both feet, composable methods.")
+    parser = _Parser(
+        prog="footnav", description="Foot-mounted inertial navigation: one or both feet, composable methods."
+    )
     parser.add_argument("--version", action="version", version=f"footnav {__version__}")
     parser.add_argument("-v", "--verbose", action="store_true", help="log what footnav does")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
@@ -133,28 +137,51 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--left", required=True, help="left (or only) foot's recording, or a two-foot recording")
     p.add_argument("--right", help="right foot's recording")
     p.add_argument("--format", choices=list(READERS), help="the recordings' format (default: guessed from each file)")
-    p.add_argument("--acc-unit", choices=["m/s^2", "g"],
-                   help="accelerometer unit of a footnav CSV or delimited table (default: what the file says, else m/s^2)")
-    p.add_argument("--gyr-unit", choices=["rad/s", "deg/s"], help="gyroscope unit (footnav CSV, delimited, gaitmap; default rad/s)")
-    p.add_argument("--t-unit", choices=["s", "ms", "us"], help="time unit of a footnav CSV or delimited table (default s)")
-    p.add_argument("--rate-hz", type=_positive,
-                   help="sampling rate, Hz, for files without time stamps (delimited without a time column, "
-                        "headerless 6-column, ximu_cal: default 256)")
-    p.add_argument("--columns", metavar="SPEC",
-                   help="columns of a delimited table (--format delimited), by index or header name: "
-                        "t=0,acc=1:4,gyr=4:7 or acc=AccX,AccY,AccZ,gyr=GyrX,GyrY,GyrZ; groups t, counter, acc, gyr, mag "
-                        "(default: found from the header names)")
-    p.add_argument("--drop-duplicates", action="store_true",
-                   help="also drop rows that repeat a time stamp with different values (exact copies are always dropped; recorded)")
-    p.add_argument("--pipeline", help="pipeline TOML file ([detector], [estimator], [fusion] tables, optional "
-                   "[heading_aid] and [sync])")
-    p.add_argument("--sync", choices=["data"],
-                   help="put the right foot on the left foot's clock first, found from the data (two feet recorded "
-                        "on unsynchronised clocks; both should start and end standing). More options: a [sync] table")
+    p.add_argument(
+        "--acc-unit",
+        choices=["m/s^2", "g"],
+        help="accelerometer unit of a footnav CSV or delimited table (default: what the file says, else m/s^2)",
+    )
+    p.add_argument(
+        "--gyr-unit", choices=["rad/s", "deg/s"], help="gyroscope unit (footnav CSV, delimited, gaitmap; default rad/s)"
+    )
+    p.add_argument(
+        "--t-unit", choices=["s", "ms", "us"], help="time unit of a footnav CSV or delimited table (default s)"
+    )
+    p.add_argument(
+        "--rate-hz",
+        type=_positive,
+        help="sampling rate, Hz, for files without time stamps (delimited without a time column, "
+        "headerless 6-column, ximu_cal: default 256)",
+    )
+    p.add_argument(
+        "--columns",
+        metavar="SPEC",
+        help="columns of a delimited table (--format delimited), by index or header name: "
+        "t=0,acc=1:4,gyr=4:7 or acc=AccX,AccY,AccZ,gyr=GyrX,GyrY,GyrZ; groups t, counter, acc, gyr, mag "
+        "(default: found from the header names)",
+    )
+    p.add_argument(
+        "--drop-duplicates",
+        action="store_true",
+        help="also drop rows that repeat a time stamp with different values (exact copies are always dropped; recorded)",
+    )
+    p.add_argument(
+        "--pipeline",
+        help="pipeline TOML file ([detector], [estimator], [fusion] tables, optional [heading_aid] and [sync])",
+    )
+    p.add_argument(
+        "--sync",
+        choices=["data"],
+        help="put the right foot on the left foot's clock first, found from the data (two feet recorded "
+        "on unsynchronised clocks; both should start and end standing). More options: a [sync] table",
+    )
     p.add_argument("--detector", help="detector name (see footnav plugins)")
     p.add_argument("--estimator", help="estimator name")
     p.add_argument("--fusion", help="fusion name")
-    p.add_argument("--heading-aid", help="heading aid name, e.g. dominant-directions for hallway walks (docs/heading.md)")
+    p.add_argument(
+        "--heading-aid", help="heading aid name, e.g. dominant-directions for hallway walks (docs/heading.md)"
+    )
     p.add_argument("--out", required=True, help="output folder (must not exist or be empty)")
     p.add_argument("--force", action="store_true", help="replace an output folder (and figure) that footnav wrote")
     p.add_argument("--plot", help="also write the trajectory figure (PNG) here")
@@ -177,23 +204,36 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument("--left", required=True, help="left (or only) foot's CSV file, or - for standard input")
     p.add_argument("--right", help="right foot's CSV file")
-    p.add_argument("--feet", type=int, choices=[1, 2], default=1, help="feet on standard input (a 'foot' column), default 1")
-    p.add_argument("--acc-unit", choices=["m/s^2", "g"], help="accelerometer unit (default: the '# units:' line, else m/s^2)")
+    p.add_argument(
+        "--feet", type=int, choices=[1, 2], default=1, help="feet on standard input (a 'foot' column), default 1"
+    )
+    p.add_argument(
+        "--acc-unit", choices=["m/s^2", "g"], help="accelerometer unit (default: the '# units:' line, else m/s^2)"
+    )
     p.add_argument("--gyr-unit", choices=["rad/s", "deg/s"], help="gyroscope unit")
     p.add_argument("--t-unit", choices=["s", "ms", "us", "ns"], help="time unit")
     p.add_argument("--pipeline", help="pipeline TOML file (its components must run online)")
     p.add_argument("--detector", help="detector name (default adaptive, as footnav run; final 2.75 s after a sample)")
-    p.add_argument("--estimator", help="estimator name (default ekf: each step smoothed at its end, the whole walk at the end)")
+    p.add_argument(
+        "--estimator", help="estimator name (default ekf: each step smoothed at its end, the whole walk at the end)"
+    )
     p.add_argument("--fusion", help="fusion name (default independent)")
     p.add_argument("--idle-s", type=_positive, default=5.0, help="end after this long without a new row, s (files)")
     p.add_argument("--poll-s", type=_positive, default=0.05, help="how often a file is read for new rows, s")
-    p.add_argument("--max-wait-s", type=_positive, default=2.0, help="longest wait for the other foot before a step is printed, s")
+    p.add_argument(
+        "--max-wait-s", type=_positive, default=2.0, help="longest wait for the other foot before a step is printed, s"
+    )
     p.add_argument("--plot", help="a live figure (PNG) of the footprints so far, redrawn as steps close and at the end")
     p.add_argument("--plot-every-s", type=_positive, default=1.0, help="redraw the --plot figure at most this often, s")
-    p.add_argument("--view", action="store_true",
-                   help="draw the footprints live in a window (its own process: the stream is not slowed); without a "
-                        "display it draws off-screen and report.html at the end is the view (needs matplotlib)")
-    p.add_argument("--view-every-s", type=_positive, default=0.25, help="redraw the --view window at most this often, s")
+    p.add_argument(
+        "--view",
+        action="store_true",
+        help="draw the footprints live in a window (its own process: the stream is not slowed); without a "
+        "display it draws off-screen and report.html at the end is the view (needs matplotlib)",
+    )
+    p.add_argument(
+        "--view-every-s", type=_positive, default=0.25, help="redraw the --view window at most this often, s"
+    )
     p.add_argument("--out", required=True, help="output folder (must not exist or be empty)")
     p.add_argument("--force", action="store_true", help="replace an output folder that footnav wrote")
     p.set_defaults(func=cmd_follow)
@@ -205,11 +245,25 @@ def build_parser() -> argparse.ArgumentParser:
         epilog="example:\n  footnav simulate rectangle --rate-hz 100 --seed 1 --out sim/rect",
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    p.add_argument("scenario", nargs="?", default="straight", choices=["straight", "rectangle", "path"],
-                   help="straight, rectangle or path (default straight)")
-    p.add_argument("--segments", type=_segments, help="path: walk DIST m then turn DEG, ...: 10:90,5:-90,3:0; stairs:N:RISE_M[:TREAD_M] a flight")
-    p.add_argument("--set", type=_option, action="append", metavar="NAME=VALUE",
-                   help="any simulator option, e.g. --set distance_m=50 --set noise=false (footnav.simulate's docs)")
+    p.add_argument(
+        "scenario",
+        nargs="?",
+        default="straight",
+        choices=["straight", "rectangle", "path"],
+        help="straight, rectangle or path (default straight)",
+    )
+    p.add_argument(
+        "--segments",
+        type=_segments,
+        help="path: walk DIST m then turn DEG, ...: 10:90,5:-90,3:0; stairs:N:RISE_M[:TREAD_M] a flight",
+    )
+    p.add_argument(
+        "--set",
+        type=_option,
+        action="append",
+        metavar="NAME=VALUE",
+        help="any simulator option, e.g. --set distance_m=50 --set noise=false (footnav.simulate's docs)",
+    )
     p.add_argument("--seed", type=_seed, default=0, help="simulator seed (an integer >= 0)")
     p.add_argument("--rate-hz", type=_positive, default=100.0, help="sampling rate, Hz")
     p.add_argument("--out", required=True)
@@ -229,10 +283,14 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument("recordings", nargs="*", help="recording files or folders (format guessed)")
     p.add_argument("--dataset", action="append", default=[], help="shared recording by name (repeatable)")
-    p.add_argument("--pipeline", action="append", default=[], help="pipeline TOML (repeatable; default pipeline if none)")
+    p.add_argument(
+        "--pipeline", action="append", default=[], help="pipeline TOML (repeatable; default pipeline if none)"
+    )
     p.add_argument("--data-dir", help="shared data folder (default $FOOTNAV_DATA or ../shared/data)")
     p.add_argument("--csv", help="also write the table as CSV")
-    p.add_argument("--out", help="write the report (CSV, JSON with versions and input hashes, pipelines) to this folder")
+    p.add_argument(
+        "--out", help="write the report (CSV, JSON with versions and input hashes, pipelines) to this folder"
+    )
     p.add_argument("--force", action="store_true", help="replace an --out / --plot folder or --csv that footnav wrote")
     p.add_argument("--plot", help="write a trajectory figure per run (PNG) into this folder")
     p.add_argument("--jobs", type=int, default=1, help="parallel worker processes (-1: every core)")

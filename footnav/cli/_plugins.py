@@ -31,7 +31,9 @@ def cmd_plugins(args: argparse.Namespace) -> int:
             names = ", ".join(sorted({e.name for e in reg}))
             raise FootnavError(f"no component named {args.name!r}; registered: {names}")
         for e in entries:
-            needs = [n for n, f in (("two feet", e.cls.needs_two_feet), ("magnetometer", e.cls.needs_magnetometer)) if f]
+            needs = [
+                n for n, f in (("two feet", e.cls.needs_two_feet), ("magnetometer", e.cls.needs_magnetometer)) if f
+            ]
             print(f"{e.name} ({e.kind}, from {e.origin}){': needs ' + ', '.join(needs) if needs else ''}")
             print(textwrap.fill(_summary_line(e.cls), width=PLUGINS_WIDTH, initial_indent="  ", subsequent_indent="  "))
             rows = [(p.name, repr(p.default), p.unit or "-", p.description or "-") for p in e.cls.parameter_info()]

@@ -22,15 +22,29 @@ def _pipeline_from_args(args: argparse.Namespace):
         if sync is not None:
             if pipeline.sync is not None:
                 raise FootnavError(f"{args.pipeline} has a [sync] table already; give it or --sync, not both")
-            return make_pipeline(pipeline.detector, pipeline.estimator, pipeline.fusion, sync=sync, heading_aid=pipeline.heading_aid)
+            return make_pipeline(
+                pipeline.detector, pipeline.estimator, pipeline.fusion, sync=sync, heading_aid=pipeline.heading_aid
+            )
         return pipeline
-    return make_pipeline(args.detector or "adaptive", args.estimator or "ekf", args.fusion or "independent", sync=sync,
-                         heading_aid=getattr(args, "heading_aid", None))
+    return make_pipeline(
+        args.detector or "adaptive",
+        args.estimator or "ekf",
+        args.fusion or "independent",
+        sync=sync,
+        heading_aid=getattr(args, "heading_aid", None),
+    )
 
 
 #: CLI flag -> reader option (footnav.data.io.load.reader_options says which reader takes which).
-READER_FLAGS = {"format": "--format", "acc_unit": "--acc-unit", "gyr_unit": "--gyr-unit", "t_unit": "--t-unit",
-                "rate_hz": "--rate-hz", "columns": "--columns", "drop_duplicates": "--drop-duplicates"}
+READER_FLAGS = {
+    "format": "--format",
+    "acc_unit": "--acc-unit",
+    "gyr_unit": "--gyr-unit",
+    "t_unit": "--t-unit",
+    "rate_hz": "--rate-hz",
+    "columns": "--columns",
+    "drop_duplicates": "--drop-duplicates",
+}
 
 
 def _read_recording(path: str, args: argparse.Namespace):
@@ -67,14 +81,16 @@ def _run_inputs(args: argparse.Namespace):
     other = _read_recording(args.right, args)
     if other.right is not None:
         raise FootnavError(f"{args.right} holds both feet; give it alone as --left")
-    seen = SimpleNamespace(name=None, left=rec.left, right=other.left, truth_left=rec.truth_left, truth_right=other.truth_left)
+    seen = SimpleNamespace(
+        name=None, left=rec.left, right=other.left, truth_left=rec.truth_left, truth_right=other.truth_left
+    )
     return rec.left, other.left, seen
 
 
 def cmd_run(args: argparse.Namespace) -> int:
+    from footnav.core.warning_log import recording
     from footnav.data.output import claim_output
     from footnav.data.results import with_warnings, write_results
-    from footnav.core.warning_log import recording
 
     pipeline = _pipeline_from_args(args)
     inputs = [p for p in (args.left, args.right, args.pipeline) if p]
@@ -85,18 +101,22 @@ def cmd_run(args: argparse.Namespace) -> int:
         with recording() as read_warnings:  # shown as they happen, and kept for summary.json
             left, right, seen = _run_inputs(args)
         result = with_warnings(pipeline.run(left, right), read_warnings)
-        summary = {
-            "left_path_length_m": result.left.path_length_m,
-            "left_stances": result.stance_left.n_stances,
-        }
+        summary = {"left_path_length_m": result.left.path_length_m, "left_stances": result.stance_left.n_stances}
         if result.right is not None:
             summary["right_path_length_m"] = result.right.path_length_m
             summary["right_stances"] = result.stance_right.n_stances
         with plot_claim.staged() if plot_claim else nullcontext() as figure:
             if figure is not None:
                 _plot_trajectories(result, None, figure)
-            out = write_results(result, out_claim, force=args.force, summary=summary, pipeline_toml=pipeline.to_toml(),
-                                html=True, recording=seen)
+            out = write_results(
+                result,
+                out_claim,
+                force=args.force,
+                summary=summary,
+                pipeline_toml=pipeline.to_toml(),
+                html=True,
+                recording=seen,
+            )
     print(_format_table(("quantity", "value"), list(summary.items())))
     print(f"results written to {out}")
     if plot_claim:

@@ -10,9 +10,9 @@ from footnav.core.errors import FootnavError
 
 
 def cmd_simulate(args: argparse.Namespace) -> int:
-    from footnav.data.simulate import simulate
     from footnav.data.io.footnav_csv import write_footnav_csv, write_footnav_truth
     from footnav.data.output import claim_output
+    from footnav.data.simulate import simulate
 
     out = FilePath(args.out)
     options = dict(args.set or [])

@@ -27,8 +27,8 @@ WARMUP_DISTANCE_M = 10.0
 def _tasks() -> list[tuple[str, Callable[[], object]]]:
     """What :func:`warm_up` runs: every registered estimator and fusion on a short simulated walk
     of both feet (offline, with the evaluation's metrics), and ``footnav follow``'s online stream."""
-    from footnav.data.simulate import simulate
     from footnav.analysis.evaluation import evaluate
+    from footnav.data.simulate import simulate
     from footnav.pipeline.factory import make_pipeline
     from footnav.plugins.manager import get_registry
 
@@ -103,8 +103,10 @@ def cmd_warmup(args: argparse.Namespace) -> int:
     print(f"{'total':<20} {time.perf_counter() - t0:6.1f} s")
     folder = cache_folder()
     if folder is None:
-        print("numba has no cache folder here: every process compiles again (set NUMBA_CACHE_DIR to a writable folder)",
-              file=sys.stderr)
+        print(
+            "numba has no cache folder here: every process compiles again (set NUMBA_CACHE_DIR to a writable folder)",
+            file=sys.stderr,
+        )
     else:
         print(f"numba cache: {folder}")
     return EXIT_OK

@@ -13,9 +13,10 @@ from __future__ import annotations
 import inspect
 import math
 import re
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from numbers import Integral, Real
-from typing import TYPE_CHECKING, Any, ClassVar, Mapping, Protocol, Sequence, runtime_checkable
+from typing import TYPE_CHECKING, Any, ClassVar, Protocol, runtime_checkable
 
 from footnav.core.errors import CompositionError, InvalidParameterError
 
@@ -141,12 +142,7 @@ class Component:
         sig = inspect.signature(cls.__init__)
         docs = _docstring_parameters(cls)
         return [
-            ParameterInfo(
-                name=n,
-                default=sig.parameters[n].default,
-                unit=unit_of(n),
-                description=docs.get(n, ""),
-            )
+            ParameterInfo(name=n, default=sig.parameters[n].default, unit=unit_of(n), description=docs.get(n, ""))
             for n in cls._param_names()
         ]
 
@@ -158,14 +154,14 @@ class Component:
         """
         return {n: getattr(self, n) for n in self._param_names()}
 
-    def set_params(self, **params: Any) -> "Component":
+    def set_params(self, **params: Any) -> Component:
         """Set parameters by name; unknown names raise InvalidParameterError listing the valid ones."""
         check_param_names(type(self), params)
         for key, value in params.items():
             setattr(self, key, value)
         return self
 
-    def clone(self, **overrides: Any) -> "Component":
+    def clone(self, **overrides: Any) -> Component:
         """A new, unfitted component with the same parameters (and ``overrides``)."""
         params = self.get_params()
         check_param_names(type(self), overrides)
@@ -318,7 +314,12 @@ class JointFilter(Protocol):
         ...
 
     def update(
-        self, h: NDArray[np.float64], innovation: NDArray[np.float64], r: NDArray[np.float64], *, gate: float | None = None
+        self,
+        h: NDArray[np.float64],
+        innovation: NDArray[np.float64],
+        r: NDArray[np.float64],
+        *,
+        gate: float | None = None,
     ) -> NDArray[np.float64] | None:
         """Kalman update with ``innovation = h(x^) - z = H dx + noise`` of variance ``r``; the
         correction applied, or None when ``gate`` rejected it."""
@@ -380,8 +381,18 @@ STEPABLE_METHODS = ("start", "finish", "estimate", "clone")
 STEPABLE_PARAMS = ("smoother", "heading")
 #: The members of :class:`JointFilter`.
 JOINT_FILTER_MEMBERS = (
-    "covariance", "block", "time", "index", "position", "velocity", "quaternion", "outputs", "run_until", "selection",
-    "update", "update_position",
+    "covariance",
+    "block",
+    "time",
+    "index",
+    "position",
+    "velocity",
+    "quaternion",
+    "outputs",
+    "run_until",
+    "selection",
+    "update",
+    "update_position",
 )
 
 

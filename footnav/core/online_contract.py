@@ -43,7 +43,15 @@ class OnlineFilter(Protocol):
     meta: list[dict]
     checkpoints: list[Any]
 
-    def extend(self, t: NDArray[np.float64], acc: NDArray[np.float64], gyr: NDArray[np.float64], stance: NDArray[np.bool_], *, foot: int = 0) -> None:
+    def extend(
+        self,
+        t: NDArray[np.float64],
+        acc: NDArray[np.float64],
+        gyr: NDArray[np.float64],
+        stance: NDArray[np.bool_],
+        *,
+        foot: int = 0,
+    ) -> None:
         """Take ``foot``'s next samples (time s, specific force m/s^2, rate rad/s, stance)."""
         ...
 
@@ -111,7 +119,14 @@ class OnlineFilter(Protocol):
         """Close the open step now (the stream's end): every processed sample is final."""
         ...
 
-    def rebase(self, keep_from: Sequence[int], capacity: Sequence[int], *, at: int | None = None, step_smoother: bool | None = None) -> OnlineFilter:
+    def rebase(
+        self,
+        keep_from: Sequence[int],
+        capacity: Sequence[int],
+        *,
+        at: int | None = None,
+        step_smoother: bool | None = None,
+    ) -> OnlineFilter:
         """The next segment, holding each foot's samples from ``keep_from[f]`` on (at most the
         sample before :meth:`open_step_start`), room for ``capacity[f]`` samples and a checkpoint
         at every step end. ``at`` None: it continues where this one stands, the open step and
@@ -130,16 +145,30 @@ class OnlineEstimator(Protocol):
     heading: str
 
     def start(
-        self, imus: Sequence[ImuData], stances: Sequence[StanceResult], *,
-        initial_yaw_rad: Sequence[float] | None = None, initial_position_m: Sequence[NDArray[np.float64]] | None = None,
+        self,
+        imus: Sequence[ImuData],
+        stances: Sequence[StanceResult],
+        *,
+        initial_yaw_rad: Sequence[float] | None = None,
+        initial_position_m: Sequence[NDArray[np.float64]] | None = None,
     ) -> OnlineFilter:
         """The filter over ``imus``, each foot aligned at its first stance, not yet run."""
         ...
 
     def package(
-        self, t: NDArray[np.float64], q: NDArray[np.float64], vel: NDArray[np.float64], pos: NDArray[np.float64],
-        pos_cov: NDArray[np.float64], start_index: int, filter_meta: dict, steps: NDArray[np.int64], *,
-        smoothed: bool, heading: bool, biases: tuple | None = None,
+        self,
+        t: NDArray[np.float64],
+        q: NDArray[np.float64],
+        vel: NDArray[np.float64],
+        pos: NDArray[np.float64],
+        pos_cov: NDArray[np.float64],
+        start_index: int,
+        filter_meta: dict,
+        steps: NDArray[np.int64],
+        *,
+        smoothed: bool,
+        heading: bool,
+        biases: tuple | None = None,
     ) -> FootTrajectory:
         """A foot's trajectory from the stream's final samples, as ``estimate`` makes it."""
         ...
@@ -159,8 +188,24 @@ class OnlineEstimator(Protocol):
 
 #: The members of :class:`OnlineFilter` and :class:`OnlineEstimator`.
 ONLINE_FILTER_MEMBERS = (
-    "meta", "checkpoints", "extend", "run_until", "capacity", "samples", "index", "start_index", "global_index", "time",
-    "position", "velocity", "quaternion", "covariance", "block", "final_outputs", "open_step_start", "close_open_step",
+    "meta",
+    "checkpoints",
+    "extend",
+    "run_until",
+    "capacity",
+    "samples",
+    "index",
+    "start_index",
+    "global_index",
+    "time",
+    "position",
+    "velocity",
+    "quaternion",
+    "covariance",
+    "block",
+    "final_outputs",
+    "open_step_start",
+    "close_open_step",
     "rebase",
 )
 ONLINE_ESTIMATOR_MEMBERS = ("smoother", "heading", "start", "package", "final_biases", "estimate", "validate_params")
@@ -170,4 +215,3 @@ def online_gaps(estimator: Any) -> list[str]:
     """The members of :class:`OnlineEstimator` ``estimator`` lacks (empty: it can run online;
     its filter is checked when ``start`` runs)."""
     return [m for m in ONLINE_ESTIMATOR_MEMBERS if not hasattr(estimator, m)]
-

@@ -11,10 +11,10 @@ install.
 from __future__ import annotations
 
 import os
+from collections.abc import Callable
 from dataclasses import replace
 from importlib import resources
 from pathlib import Path as FilePath
-from typing import Callable
 
 from footnav.core.errors import DataNotFoundError, UnknownDatasetError
 from footnav.core.types import Recording
@@ -83,7 +83,10 @@ def _gaitdriven_trials(root: FilePath) -> list[str]:
     d = root / _GAITDRIVEN_DIR
     if not d.is_dir():
         return []
-    nn = [p.name[len(_GAITDRIVEN_PREFIX) : -len(_GAITDRIVEN_SUFFIX)] for p in d.glob(f"{_GAITDRIVEN_PREFIX}*{_GAITDRIVEN_SUFFIX}")]
+    nn = [
+        p.name[len(_GAITDRIVEN_PREFIX) : -len(_GAITDRIVEN_SUFFIX)]
+        for p in d.glob(f"{_GAITDRIVEN_PREFIX}*{_GAITDRIVEN_SUFFIX}")
+    ]
     return sorted(nn, key=_trial_order)
 
 

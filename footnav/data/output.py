@@ -72,6 +72,8 @@ from datetime import datetime, timezone
 from pathlib import Path as FilePath
 from typing import Literal
 
+from footnav.core.errors import DataQualityWarning, InvalidInputError
+from footnav.core.warning_log import warn
 from footnav.data.result_marker import (
     LEGACY_NAMES,
     MARKER,
@@ -82,8 +84,6 @@ from footnav.data.result_marker import (
     _named,
     _recorded,
 )
-from footnav.core.errors import DataQualityWarning, InvalidInputError
-from footnav.core.warning_log import warn
 
 __all__ = ["LEGACY_NAMES", "MARKER", "OutputClaim", "claim_output", "csv_signature", "is_footnav_figure"]
 
@@ -257,8 +257,10 @@ def _take_lock(lock: FilePath, target: FilePath) -> tuple[list[tuple[str, str]],
                 ) from None
             inherited = state.entries
             if state.legacy:
-                notes.append(f"replaced the lock of an earlier footnav run (process {state.pid}), which named no "
-                             "temporary entries")
+                notes.append(
+                    f"replaced the lock of an earlier footnav run (process {state.pid}), which named no "
+                    "temporary entries"
+                )
             lock.unlink(missing_ok=True)
             continue
         except OSError as exc:
@@ -506,7 +508,9 @@ def _check_existing(
         raise _refuse(f"{what} {str(target)!r} is a symbolic link; footnav does not write through links", target)
     if kind == "folder":
         if not target.is_dir():
-            raise _refuse(f"{what} {str(target)!r} is a file; footnav writes a folder there, choose another name", target)
+            raise _refuse(
+                f"{what} {str(target)!r} is a file; footnav writes a folder there, choose another name", target
+            )
         try:
             empty = not any(target.iterdir())
         except OSError as exc:

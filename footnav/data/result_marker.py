@@ -17,8 +17,17 @@ MARKER = ".footnav-result"
 #: Files footnav writes at the top of its result folders: what a marker without a list allows.
 LEGACY_NAMES = frozenset(
     {
-        "left.csv", "right.csv", "path.csv", "strides.csv", "trajectories.npz", "summary.json", "pipeline.toml",
-        "report.csv", "report.json", "left_truth.csv", "right_truth.csv",
+        "left.csv",
+        "right.csv",
+        "path.csv",
+        "strides.csv",
+        "trajectories.npz",
+        "summary.json",
+        "pipeline.toml",
+        "report.csv",
+        "report.json",
+        "left_truth.csv",
+        "right_truth.csv",
     }
 )
 _LEGACY_PATTERN = re.compile(r"pipeline-.+\.toml")

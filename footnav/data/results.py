@@ -22,13 +22,22 @@ from typing import Any
 
 import numpy as np
 
+from footnav.core.types import FootTrajectory, Path
+from footnav.core.warning_log import merge_warnings
 from footnav.data.output import OutputClaim, claim_output
 from footnav.nav.strides import STRIDE_COLUMNS, stride_parameters
 from footnav.pipeline.result import PipelineResult
-from footnav.core.types import FootTrajectory, Path
-from footnav.core.warning_log import merge_warnings
 
-__all__ = ["TRAJECTORY_COLUMNS", "atomic_folder", "file_sha256", "merge_warnings", "versions", "with_warnings", "write_report", "write_results"]
+__all__ = [
+    "TRAJECTORY_COLUMNS",
+    "atomic_folder",
+    "file_sha256",
+    "merge_warnings",
+    "versions",
+    "with_warnings",
+    "write_report",
+    "write_results",
+]
 
 #: Packages whose versions are recorded with every result.
 _DEPENDENCIES = ("numpy", "scipy", "numba", "hmmlearn", "scikit-learn", "pluggy", "pandas", "joblib")
@@ -177,10 +186,14 @@ def write_report(
     with atomic_folder(folder, force=force, inputs=sources) as tmp:
         (tmp / "report.csv").write_text(report.to_csv(), encoding="utf-8")
         metas = [m for res in report.results.values() for m in res.meta.get("input", {}).values() if m]
-        doc = {"metrics": report.rows(), "truth_checks": [c.__dict__.copy() for c in getattr(report, "checks", ())],
-               "warnings": merge_warnings(warnings, *(res.meta.get("warnings", ()) for res in report.results.values())),
-               **({"batch": dict(batch)} if batch else {}),
-               "versions": versions(), "input_sha256": _input_hashes(metas)}
+        doc = {
+            "metrics": report.rows(),
+            "truth_checks": [c.__dict__.copy() for c in getattr(report, "checks", ())],
+            "warnings": merge_warnings(warnings, *(res.meta.get("warnings", ()) for res in report.results.values())),
+            **({"batch": dict(batch)} if batch else {}),
+            "versions": versions(),
+            "input_sha256": _input_hashes(metas),
+        }
         (tmp / "report.json").write_text(json.dumps(_jsonable(doc), indent=2) + "\n", encoding="utf-8")
         for name, toml in (pipelines or {}).items():
             (tmp / f"pipeline-{name}.toml").write_text(toml, encoding="utf-8")
@@ -188,7 +201,9 @@ def write_report(
             from footnav.report import REPORT_NAME
             from footnav.report.evaluation import evaluation_html
 
-            page = evaluation_html(report, list(recordings), pipelines_toml=pipelines, warnings=doc["warnings"], batch=batch)
+            page = evaluation_html(
+                report, list(recordings), pipelines_toml=pipelines, warnings=doc["warnings"], batch=batch
+            )
             (tmp / REPORT_NAME).write_text(page, encoding="utf-8")
     return folder.target if isinstance(folder, OutputClaim) else FilePath(folder)
 
@@ -220,11 +235,16 @@ def write_results(
     sources = [m["source"] for m in result.meta.get("input", {}).values() if m and isinstance(m.get("source"), str)]
     with atomic_folder(folder, force=force, inputs=sources) as tmp:
         arrays = {}
-        for foot, traj, stance in (("left", result.left, result.stance_left), ("right", result.right, result.stance_right)):
+        for foot, traj, stance in (
+            ("left", result.left, result.stance_left),
+            ("right", result.right, result.stance_right),
+        ):
             if traj is None:
                 continue
             _write_trajectory(traj, stance.mask, tmp / f"{foot}.csv")
-            arrays.update({f"{foot}_{k}": getattr(traj, k) for k in ("t", "position", "velocity", "quaternion", "position_std")})
+            arrays.update(
+                {f"{foot}_{k}": getattr(traj, k) for k in ("t", "position", "velocity", "quaternion", "position_std")}
+            )
             arrays[f"{foot}_stance"] = np.asarray(stance.mask)
         path: Path = result.path
         np.savetxt(

@@ -15,5 +15,14 @@ _EXPORTS = {
     "DualGaitDetector": "footnav.detectors.dual_gait",
     "HmmDetector": "footnav.detectors.hmm",
 }
-__all__ = ["AccMagnitudeDetector", "AccVarianceDetector", "AdaptiveDetector", "AredDetector", "DualGaitDetector", "GlrtDetector", "HmmDetector", "ThresholdDetector"]  # the keys of _EXPORTS
+__all__ = [
+    "AccMagnitudeDetector",
+    "AccVarianceDetector",
+    "AdaptiveDetector",
+    "AredDetector",
+    "DualGaitDetector",
+    "GlrtDetector",
+    "HmmDetector",
+    "ThresholdDetector",
+]  # the keys of _EXPORTS
 __getattr__, __dir__ = lazy_exports(__name__, _EXPORTS)

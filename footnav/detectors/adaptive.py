@@ -62,6 +62,8 @@ from footnav.core.component import (
     require_non_negative,
     require_positive,
 )
+from footnav.core.types import GRAVITY_MPS2, ImuData, StanceResult
+from footnav.core.types._derived import sharing
 from footnav.detectors.threshold import _clean_runs, window_events
 from footnav.nav.gait_cycles import MAX_STRIDE_S, SWING_ACC_MPS2, select_swing_peaks, swing_peaks
 from footnav.nav.windows import (
@@ -73,8 +75,6 @@ from footnav.nav.windows import (
     gyr_sq_cumulative,
     window_samples,
 )
-from footnav.core.types import GRAVITY_MPS2, ImuData, StanceResult
-from footnav.core.types._derived import sharing
 
 __all__ = ["AdaptiveDetector"]
 

@@ -92,7 +92,6 @@ _TOE_OFF_MIN_PROMINENCE_RADPS = 1.0
 _FEET = ("left", "right")
 
 
-
 def _at_times(mask: NDArray[np.bool_], t_from: NDArray[np.float64], t_to: NDArray[np.float64]) -> NDArray[np.bool_]:
     """``mask`` (sampled at ``t_from``) at the times ``t_to``: the latest sample at or before each
     time; False outside ``t_from``'s span (nothing is known there)."""
@@ -147,7 +146,11 @@ def support_intervals(
     contra = np.asarray(t_contra_heel_strike, dtype=float)
     j = np.searchsorted(contra, t[hs], side="right")  # first contralateral HS after
     # (none at all: every interval runs to the foot's own next heel strike)
-    t_stop = np.where(j < len(contra), contra[np.minimum(j, len(contra) - 1)], np.inf) if len(contra) else np.full(len(hs), np.inf)
+    t_stop = (
+        np.where(j < len(contra), contra[np.minimum(j, len(contra) - 1)], np.inf)
+        if len(contra)
+        else np.full(len(hs), np.inf)
+    )
     stop = np.searchsorted(t, t_stop, side="left")  # first own sample at or after it (n if none)
     stop = np.minimum(stop, np.append(hs[1:], n))
     return np.column_stack([hs, stop]).astype(np.int64)
@@ -335,7 +338,9 @@ class DualGaitDetector(StanceDetector):
         for foot, other in zip(_FEET, _FEET[::-1]):
             imu, mask = imus[foot], masks[foot]
             other_swing = _at_times(swings[other], imus[other].t, imu.t)
-            phases = np.where(swings[foot], SWING, np.where(other_swing, SINGLE_SUPPORT, DOUBLE_SUPPORT)).astype(np.int64)
+            phases = np.where(swings[foot], SWING, np.where(other_swing, SINGLE_SUPPORT, DOUBLE_SUPPORT)).astype(
+                np.int64
+            )
             runs = stance_intervals(mask)
             out.append(
                 StanceResult(
@@ -384,7 +389,11 @@ class DualGaitDetector(StanceDetector):
             imu, there = imus[foot], other in present
             support[foot] = support_intervals(imu.t, hs[foot], imus[other].t[hs[other]] if there else none)
             masks[foot], standing[foot] = self._zupt_mask(
-                imu, flats[foot].mask, support[foot], imus[other] if there else None, flats[other].mask if there else None
+                imu,
+                flats[foot].mask,
+                support[foot],
+                imus[other] if there else None,
+                flats[other].mask if there else None,
             )
         return flats, hs, support, masks, standing
 
@@ -478,6 +487,8 @@ class DualGaitDetector(StanceDetector):
         k = np.searchsorted(hs, heel_off_next, side="left")
         hs_after = np.where(k < len(hs), hs[np.minimum(k, max(len(hs) - 1, 0))] if len(hs) else n, n)
         stop = np.minimum(hs_after, run_after)
-        to_after = np.where(j < len(toe_off), toe_off[np.minimum(j, max(len(toe_off) - 1, 0))] if len(toe_off) else n, n)
+        to_after = np.where(
+            j < len(toe_off), toe_off[np.minimum(j, max(len(toe_off) - 1, 0))] if len(toe_off) else n, n
+        )
         start = np.where(to_after < stop, to_after, heel_off_next)
         return _interval_mask(start, stop, n)

@@ -39,11 +39,7 @@ OPENSHOE_SIGMA_GYR_RADPS = 0.1 * np.pi / 180.0
 
 
 def glrt_statistic(
-    acc: NDArray[np.float64],
-    gyr: NDArray[np.float64],
-    win: int,
-    sigma_acc_mps2: float,
-    sigma_gyr_radps: float,
+    acc: NDArray[np.float64], gyr: NDArray[np.float64], win: int, sigma_acc_mps2: float, sigma_gyr_radps: float
 ) -> NDArray[np.float64]:
     """SHOE statistic T (Chistyakov et al. (2021), eq. 4) of every full window, by start index, (N-W+1,).
 

@@ -34,6 +34,7 @@ from typing import Any, ClassVar, Literal
 import numpy as np
 from numpy.typing import NDArray
 
+from footnav._numba import njit
 from footnav.core.component import (
     MAX_ACC_MPS2,
     MAX_DURATION_S,
@@ -44,7 +45,6 @@ from footnav.core.component import (
     require_positive,
     unit_of,
 )
-from footnav._numba import njit
 from footnav.core.types import ImuData, StanceResult, stance_intervals
 from footnav.nav.windows import acc_magnitude_rms, acc_moving_std, centred, gyr_rms, window_samples, window_sums
 
@@ -74,9 +74,7 @@ Combine = Literal["center", "any", "all"]
 # ---------------------------------------------------------------------------------------------
 # shared machinery
 # ---------------------------------------------------------------------------------------------
-def windows_to_samples(
-    window_stance: NDArray[np.bool_], win: int, n_samples: int, combine: str
-) -> NDArray[np.bool_]:
+def windows_to_samples(window_stance: NDArray[np.bool_], win: int, n_samples: int, combine: str) -> NDArray[np.bool_]:
     """Per-sample stance from per-window decisions (window k covers samples k .. k+W-1).
 
     ``combine``:
@@ -182,7 +180,6 @@ def window_events(mask: NDArray[np.bool_]) -> dict[str, NDArray[np.int64]]:
     ``foot_flat``, its last ``heel_off`` (step 3 of :func:`stance_result`)."""
     runs = stance_intervals(mask)
     return {"foot_flat": runs[:, 0], "heel_off": runs[:, 1] - 1}
-
 
 
 class WindowedStanceDetector(StanceDetector):
@@ -522,8 +519,7 @@ class ThresholdDetector(WindowedStanceDetector):
 
     def window_statistic(self, imu: ImuData, win: int) -> NDArray[np.float64]:
         return np.maximum(
-            gyr_rms(imu.gyr, win) / self.gyr_threshold_radps,
-            acc_magnitude_rms(imu.acc, win) / self.acc_tolerance_mps2,
+            gyr_rms(imu.gyr, win) / self.gyr_threshold_radps, acc_magnitude_rms(imu.acc, win) / self.acc_tolerance_mps2
         )
 
     def window_threshold(self) -> float:

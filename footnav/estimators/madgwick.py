@@ -35,7 +35,6 @@ from typing import Literal
 
 import numpy as np
 
-from footnav.nav import quaternion as quat
 from footnav._numba import njit  # numba.njit that survives a read-only install
 from footnav.core.component import (
     MAX_ACC_MPS2,
@@ -46,12 +45,13 @@ from footnav.core.component import (
     require_non_negative,
     require_positive,
 )
+from footnav.core.types import GRAVITY_MPS2, FootTrajectory, ImuData, StanceResult
+from footnav.nav import quaternion as quat
 from footnav.nav.heading import turn_to_first_step
 from footnav.nav.heading_drift import TURN_ON_BIAS_STD_RADPS, heading_drift_cov, standstill_rate_std
 from footnav.nav.initial_alignment import MIN_STILL_SAMPLES, Alignment, align_first_stance
 from footnav.nav.kalman import update3_inline
 from footnav.nav.quaternion import as_matrix_nb
-from footnav.core.types import GRAVITY_MPS2, FootTrajectory, ImuData, StanceResult
 
 __all__ = ["MadgwickEstimator", "madgwick_imu_step", "madgwick_marg_step"]
 
@@ -133,17 +133,55 @@ def madgwick_marg_step(q, gx, gy, gz, ax, ay, az, mx, my, mz, beta, dt):
     f3 = 2.0 * bx * (0.5 - q2 * q2 - q3 * q3) + 2.0 * bz * (q1 * q3 - q0 * q2) - mx
     f4 = 2.0 * bx * (q1 * q2 - q0 * q3) + 2.0 * bz * (q0 * q1 + q2 * q3) - my
     f5 = 2.0 * bx * (q0 * q2 + q1 * q3) + 2.0 * bz * (0.5 - q1 * q1 - q2 * q2) - mz
-    s0 = -2.0 * q2 * f0 + 2.0 * q1 * f1 - 2.0 * bz * q2 * f3 + (-2.0 * bx * q3 + 2.0 * bz * q1) * f4 + 2.0 * bx * q2 * f5
-    s1 = (2.0 * q3 * f0 + 2.0 * q0 * f1 - 4.0 * q1 * f2 + 2.0 * bz * q3 * f3 + (2.0 * bx * q2 + 2.0 * bz * q0) * f4
-          + (2.0 * bx * q3 - 4.0 * bz * q1) * f5)
-    s2 = (-2.0 * q0 * f0 + 2.0 * q3 * f1 - 4.0 * q2 * f2 + (-4.0 * bx * q2 - 2.0 * bz * q0) * f3
-          + (2.0 * bx * q1 + 2.0 * bz * q3) * f4 + (2.0 * bx * q0 - 4.0 * bz * q2) * f5)
-    s3 = 2.0 * q1 * f0 + 2.0 * q2 * f1 + (-4.0 * bx * q3 + 2.0 * bz * q1) * f3 + (-2.0 * bx * q0 + 2.0 * bz * q2) * f4 + 2.0 * bx * q1 * f5
+    s0 = (
+        -2.0 * q2 * f0 + 2.0 * q1 * f1 - 2.0 * bz * q2 * f3 + (-2.0 * bx * q3 + 2.0 * bz * q1) * f4 + 2.0 * bx * q2 * f5
+    )
+    s1 = (
+        2.0 * q3 * f0
+        + 2.0 * q0 * f1
+        - 4.0 * q1 * f2
+        + 2.0 * bz * q3 * f3
+        + (2.0 * bx * q2 + 2.0 * bz * q0) * f4
+        + (2.0 * bx * q3 - 4.0 * bz * q1) * f5
+    )
+    s2 = (
+        -2.0 * q0 * f0
+        + 2.0 * q3 * f1
+        - 4.0 * q2 * f2
+        + (-4.0 * bx * q2 - 2.0 * bz * q0) * f3
+        + (2.0 * bx * q1 + 2.0 * bz * q3) * f4
+        + (2.0 * bx * q0 - 4.0 * bz * q2) * f5
+    )
+    s3 = (
+        2.0 * q1 * f0
+        + 2.0 * q2 * f1
+        + (-4.0 * bx * q3 + 2.0 * bz * q1) * f3
+        + (-2.0 * bx * q0 + 2.0 * bz * q2) * f4
+        + 2.0 * bx * q1 * f5
+    )
     _step(q, d0, d1, d2, d3, s0, s1, s2, s3, beta, dt)
 
 
 @njit(cache=True, error_model="numpy")
-def _loop(t, acc, gyr, mag, use_mag, stance, start, q0, beta, var_acc, var_da, var_zupt, p0_diag, q_out, v_out, r_out, rcov_out):
+def _loop(
+    t,
+    acc,
+    gyr,
+    mag,
+    use_mag,
+    stance,
+    start,
+    q0,
+    beta,
+    var_acc,
+    var_da,
+    var_zupt,
+    p0_diag,
+    q_out,
+    v_out,
+    r_out,
+    rcov_out,
+):
     """Madgwick attitude, strapdown velocity/position and the eq. 3-6 error filter, samples start:.
 
     ``rcov_out`` (N, 4) receives the position covariance as xx, xy, yy, zz (m^2): the horizontal
@@ -179,7 +217,20 @@ def _loop(t, acc, gyr, mag, use_mag, stance, start, q0, beta, var_acc, var_da, v
     for k in range(start + 1, n):
         dt = t[k] - t[k - 1]
         if use_mag:
-            madgwick_marg_step(q, gyr[k, 0], gyr[k, 1], gyr[k, 2], acc[k, 0], acc[k, 1], acc[k, 2], mag[k, 0], mag[k, 1], mag[k, 2], beta, dt)
+            madgwick_marg_step(
+                q,
+                gyr[k, 0],
+                gyr[k, 1],
+                gyr[k, 2],
+                acc[k, 0],
+                acc[k, 1],
+                acc[k, 2],
+                mag[k, 0],
+                mag[k, 1],
+                mag[k, 2],
+                beta,
+                dt,
+            )
         else:
             madgwick_imu_step(q, gyr[k, 0], gyr[k, 1], gyr[k, 2], acc[k, 0], acc[k, 1], acc[k, 2], beta, dt)
         as_matrix_nb(q, c)
@@ -328,7 +379,9 @@ class MadgwickEstimator(FootEstimator):
     def validate_params(self) -> None:
         # Upper bounds (footnav.core.component): the stds and densities are squared into the
         # velocity filter's covariance (overflow at 1e308); beta is a gyro-error rate.
-        require_positive(self, "acc_noise_mps2_sqrthz", "acc_error_walk_mps3_sqrthz", "init_acc_error_std_mps2", high=MAX_ACC_MPS2)
+        require_positive(
+            self, "acc_noise_mps2_sqrthz", "acc_error_walk_mps3_sqrthz", "init_acc_error_std_mps2", high=MAX_ACC_MPS2
+        )
         require_positive(self, "zupt_std_mps", high=MAX_SPEED_MPS)
         require_positive(self, "still_gyr_max_radps", high=MAX_RATE_RADPS)
         require_non_negative(self, "beta_radps", "yaw_bias_walk_radps2_sqrthz", high=MAX_RATE_RADPS)
@@ -382,11 +435,23 @@ class MadgwickEstimator(FootEstimator):
         q_out, v_out, r_out, cov = np.empty((n, 4)), np.empty((n, 3)), np.empty((n, 3)), np.empty((n, 4))
         p0 = np.array([0.0] * 6 + [self.init_acc_error_std_mps2**2] * 3)
         _loop(
-            imu.t, np.ascontiguousarray(imu.acc), np.ascontiguousarray(gyr),
-            np.ascontiguousarray(imu.mag) if use_mag else _NO_MAG, use_mag,
-            np.ascontiguousarray(stance.mask), s0, q0, float(self.beta_radps),
-            float(self.acc_noise_mps2_sqrthz) ** 2, float(self.acc_error_walk_mps3_sqrthz) ** 2,
-            float(self.zupt_std_mps) ** 2, p0, q_out, v_out, r_out, cov,
+            imu.t,
+            np.ascontiguousarray(imu.acc),
+            np.ascontiguousarray(gyr),
+            np.ascontiguousarray(imu.mag) if use_mag else _NO_MAG,
+            use_mag,
+            np.ascontiguousarray(stance.mask),
+            s0,
+            q0,
+            float(self.beta_radps),
+            float(self.acc_noise_mps2_sqrthz) ** 2,
+            float(self.acc_error_walk_mps3_sqrthz) ** 2,
+            float(self.zupt_std_mps) ** 2,
+            p0,
+            q_out,
+            v_out,
+            r_out,
+            cov,
         )
         if self.heading_drift_in_std and not use_mag:  # a magnetometer bounds the heading error
             if self.gyro_bias == "initial-standstill":
@@ -395,11 +460,15 @@ class MadgwickEstimator(FootEstimator):
             else:
                 rate_std = TURN_ON_BIAS_STD_RADPS
             cov[:, :3] += heading_drift_cov(imu.t, v_out, s0, rate_std, self.yaw_bias_walk_radps2_sqrthz)
-            meta["heading_drift"] = {"yaw_rate_std_radps": float(rate_std), "yaw_bias_walk_radps2_sqrthz": float(self.yaw_bias_walk_radps2_sqrthz)}
+            meta["heading_drift"] = {
+                "yaw_rate_std_radps": float(rate_std),
+                "yaw_bias_walk_radps2_sqrthz": float(self.yaw_bias_walk_radps2_sqrthz),
+            }
         if self.heading == "first-step":
             r_out, v_out, q_out, std = turn_to_first_step(r_out, v_out, q_out, cov, steps, meta)
         else:
             std = np.sqrt(np.maximum(cov[:, [0, 2, 3]], 0.0))
         meta["runtime_s"] = time.perf_counter() - t0
-        return FootTrajectory(t=imu.t, position=r_out, velocity=v_out, quaternion=q_out, position_std=std, steps=steps, meta=meta)
-
+        return FootTrajectory(
+            t=imu.t, position=r_out, velocity=v_out, quaternion=q_out, position_std=std, steps=steps, meta=meta
+        )

@@ -12,5 +12,11 @@ _EXPORTS = {
     "DtwFusion": "footnav.fusion.dtw",
     "ParticleFusion": "footnav.fusion.particle",
 }
-__all__ = ["DtwFusion", "IndependentFusion", "ParticleFusion", "RangeConstraintFusion", "StepVectorFusion"]  # the keys of _EXPORTS
+__all__ = [
+    "DtwFusion",
+    "IndependentFusion",
+    "ParticleFusion",
+    "RangeConstraintFusion",
+    "StepVectorFusion",
+]  # the keys of _EXPORTS
 __getattr__, __dir__ = lazy_exports(__name__, _EXPORTS)

@@ -30,13 +30,12 @@ from typing import ClassVar, Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from footnav.nav import dtw_average
-from footnav.nav import dtw_heading
-from footnav.nav import quaternion as quat
 from footnav.core.component import MAX_LENGTH_M, Fusion, require, require_non_negative, require_positive
-from footnav.nav.interpolation import interp_columns
 from footnav.core.types import FootTrajectory, FusionResult, Path
 from footnav.fusion.joint import LEFT, RIGHT, finish_joint, forward_only, fuse_on_common_span, start_filter, start_joint
+from footnav.nav import dtw_average, dtw_heading
+from footnav.nav import quaternion as quat
+from footnav.nav.interpolation import interp_columns
 
 __all__ = ["DtwFusion", "feet_heading_mismatch", "feet_timeless_average"]
 
@@ -210,7 +209,9 @@ class DtwFusion(Fusion):
         """:meth:`fuse` on feet that share their whole time span."""
         meta: dict = {"fusion": self.describe()}
         if self.initial_heading == "dtw":
-            tracker = estimator.clone(heading="first-step") if self.heading_tracks == "smoothed" else forward_only(estimator)
+            tracker = (
+                estimator.clone(heading="first-step") if self.heading_tracks == "smoothed" else forward_only(estimator)
+            )
             singles = [tracker.estimate(imu, st) for imu, st in ((left, stance_left), (right, stance_right))]
             a, b = (_decimate(s, self.dtw_rate_hz) for s in singles)
             band = max(int(round(self.band_s * self.dtw_rate_hz)), abs(len(a) - len(b)))
@@ -259,5 +260,7 @@ class DtwFusion(Fusion):
         result = finish_joint(estimator, filt, stance_left, stance_right, meta, imus)
         if self.path == "timeless":
             path = feet_timeless_average(result.left, result.right, self.band_s, self.dtw_rate_hz)
-            result = FusionResult(left=result.left, right=result.right, path=path, meta={**result.meta, "path": path.meta})
+            result = FusionResult(
+                left=result.left, right=result.right, path=path, meta={**result.meta, "path": path.meta}
+            )
         return result

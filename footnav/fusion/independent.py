@@ -16,10 +16,10 @@ import numpy as np
 
 from footnav.core.component import Fusion
 from footnav.core.errors import DataQualityWarning
-from footnav.nav.interpolation import interp_columns
-from footnav.nav.spans import span_difference
 from footnav.core.types import FootTrajectory, FusionResult, Path
 from footnav.core.warning_log import warn
+from footnav.nav.interpolation import interp_columns
+from footnav.nav.spans import span_difference
 
 __all__ = ["IndependentFusion", "midpoint_path"]
 

@@ -25,18 +25,30 @@ from typing import Any
 
 import numpy as np
 
-from footnav.nav import quaternion as quat
 from footnav.core.component import JOINT_FILTER_MEMBERS, JointFilter, require_stepable
 from footnav.core.errors import CompositionError, DataQualityWarning, InvalidInputError
-from footnav.nav.final_rest import final_rest
-from footnav.nav.spans import CommonSpan, FootCut, common_span, slice_stance
 from footnav.core.types import FootTrajectory, FusionResult, ImuData, StanceResult, stance_intervals
 from footnav.core.warning_log import warn
 from footnav.fusion.independent import midpoint_path
+from footnav.nav import quaternion as quat
+from footnav.nav.final_rest import final_rest
+from footnav.nav.spans import CommonSpan, FootCut, common_span, slice_stance
 
 __all__ = [
-    "EventQueue", "FeetView", "check_two_feet", "close_loops", "closing_time", "continue_rigidly", "finish_joint", "first_step_yaw", "forward_only",
-    "fuse_on_common_span", "fused_start", "on_whole_span", "require_stepable", "start_joint",
+    "EventQueue",
+    "FeetView",
+    "check_two_feet",
+    "close_loops",
+    "closing_time",
+    "continue_rigidly",
+    "finish_joint",
+    "first_step_yaw",
+    "forward_only",
+    "fuse_on_common_span",
+    "fused_start",
+    "on_whole_span",
+    "require_stepable",
+    "start_joint",
 ]
 
 #: What a coupled fusion does with a foot's samples outside the common span (meta and warning).
@@ -56,14 +68,20 @@ class FeetView:
         self.times = list(times)
         self.masks = [np.asarray(m, dtype=bool) for m in masks]
         self.rates = [float(r) for r in rates]
-        self.heel_strikes = list(heel_strikes) if heel_strikes is not None else [np.zeros(0, dtype=np.int64)] * len(self.times)
+        self.heel_strikes = (
+            list(heel_strikes) if heel_strikes is not None else [np.zeros(0, dtype=np.int64)] * len(self.times)
+        )
         self._runs: list = [None] * len(self.times)
 
     @classmethod
     def of(cls, imus: Sequence[ImuData], stances: Sequence[StanceResult]) -> FeetView:
         """The view of whole recordings and their stance results."""
-        return cls([imu.t for imu in imus], [st.mask for st in stances], [imu.rate_hz for imu in imus],
-                   [np.asarray(st.events.get("heel_strike", []), dtype=np.int64) for st in stances])
+        return cls(
+            [imu.t for imu in imus],
+            [st.mask for st in stances],
+            [imu.rate_hz for imu in imus],
+            [np.asarray(st.events.get("heel_strike", []), dtype=np.int64) for st in stances],
+        )
 
     def runs(self, foot: int) -> np.ndarray:
         """The foot's stance intervals, (K, 2) [start, stop) (computed once)."""
@@ -165,17 +183,15 @@ def first_step_yaw(forward: Any, imu: ImuData, stance: StanceResult, first_steps
 
 
 def start_filter(
-    estimator: Any,
-    imus: Sequence[ImuData],
-    stances: Sequence[StanceResult],
-    yaws: Sequence[float],
-    step_width_m: float,
+    estimator: Any, imus: Sequence[ImuData], stances: Sequence[StanceResult], yaws: Sequence[float], step_width_m: float
 ) -> JointFilter:
     """``estimator.start`` with the feet turned by ``yaws`` (rad) and ``step_width_m`` apart across
     +x (left at +y); what it returns is checked to be a :class:`JointFilter`."""
     half = 0.5 * float(step_width_m)
     filt = estimator.start(
-        list(imus), list(stances), initial_yaw_rad=list(yaws),
+        list(imus),
+        list(stances),
+        initial_yaw_rad=list(yaws),
         initial_position_m=[np.array([0.0, half, 0.0]), np.array([0.0, -half, 0.0])],
     )
     if not isinstance(filt, JointFilter):
@@ -192,10 +208,14 @@ def closing_time(estimator: Any, imus: Sequence[ImuData], stances: Sequence[Stan
     closed loop at the first final rest: that rest's last sample, or inf without ``closed_loop``."""
     if not getattr(estimator, "closed_loop", False):
         return np.inf
-    return min(float(imu.t[final_rest(imu.t, st, what=f"{estimator.name}: closed_loop")]) for imu, st in zip(imus, stances))
+    return min(
+        float(imu.t[final_rest(imu.t, st, what=f"{estimator.name}: closed_loop")]) for imu, st in zip(imus, stances)
+    )
 
 
-def close_loops(estimator: Any, filt: JointFilter, imus: Sequence[ImuData], stances: Sequence[StanceResult]) -> dict | None:
+def close_loops(
+    estimator: Any, filt: JointFilter, imus: Sequence[ImuData], stances: Sequence[StanceResult]
+) -> dict | None:
     """With the estimator's ``closed_loop``, each foot's start position as a measurement at its
     final standstill (Chistyakov et al. 2021, Alg. 1, here inside the two-foot filter of Alg. 2),
     in time order; the final rest is checked (:func:`footnav.nav.final_rest.final_rest`).
@@ -280,7 +300,8 @@ def _continue_alone(fused: FootTrajectory, alone: FootTrajectory, cut: FootCut) 
         k = anchor - i0  # in the fused trajectory
         pos[lo:hi], vel[lo:hi], q[lo:hi] = continue_rigidly(
             (alone.position[lo:hi], alone.velocity[lo:hi], alone.quaternion[lo:hi]),
-            (alone.position[anchor], alone.quaternion[anchor]), (fused.position[k], fused.quaternion[k]),
+            (alone.position[anchor], alone.quaternion[anchor]),
+            (fused.position[k], fused.quaternion[k]),
         )
         # the fused uncertainty at the edge plus what the foot alone gained since (or before)
         grow = np.maximum(alone.position_std[lo:hi] ** 2 - alone.position_std[anchor] ** 2, 0.0)
@@ -288,8 +309,17 @@ def _continue_alone(fused: FootTrajectory, alone: FootTrajectory, cut: FootCut) 
     alone_idx = [[0, first], [i1, cut.n_samples]]
     info = {"fused_samples": [first, i1], "alone_samples": [r for r in alone_idx if r[1] > r[0]]}
     traj = FootTrajectory(
-        t=alone.t, position=pos, velocity=vel, quaternion=q, position_std=std, steps=alone.steps,
-        meta={**fused.meta, "span": info, "estimate_start_index": first if i0 > 0 else fused.meta.get("estimate_start_index", 0)},
+        t=alone.t,
+        position=pos,
+        velocity=vel,
+        quaternion=q,
+        position_std=std,
+        steps=alone.steps,
+        meta={
+            **fused.meta,
+            "span": info,
+            "estimate_start_index": first if i0 > 0 else fused.meta.get("estimate_start_index", 0),
+        },
     )
     return traj, info
 
@@ -302,23 +332,37 @@ def fused_start(meta: dict, start_index: int) -> int:
     return start_index + (int(meta.get("estimate_start_index", 0)) if start_index > 0 else 0)
 
 
-def on_whole_span(result: FusionResult, span: CommonSpan, alone: Callable[[int], FootTrajectory] | None) -> FusionResult:
+def on_whole_span(
+    result: FusionResult, span: CommonSpan, alone: Callable[[int], FootTrajectory] | None
+) -> FusionResult:
     """A coupled fusion's ``result`` on the common ``span`` put on each foot's whole sample grid:
     outside the span, ``alone(foot)`` (0 left, 1 right; the foot estimated alone) continued
     rigidly from the fused edge; ``meta["span"]`` says which samples are which. (The caller
     warns when ``span.warn``.)"""
     if not span.cut:
-        return FusionResult(result.left, result.right, result.path, meta={**result.meta, "span": {**span.as_meta(), "outside": None}})
+        return FusionResult(
+            result.left, result.right, result.path, meta={**result.meta, "span": {**span.as_meta(), "outside": None}}
+        )
     out, infos = [], {}
-    for foot, (cut, fused, name) in enumerate(zip((span.left, span.right), (result.left, result.right), ("left", "right"))):
+    for foot, (cut, fused, name) in enumerate(
+        zip((span.left, span.right), (result.left, result.right), ("left", "right"))
+    ):
         if not cut.cut:
             out.append(fused)
             continue
         traj, infos[name] = _continue_alone(fused, alone(foot), cut)
         out.append(traj)
-    meta = {**result.meta, "span": {**span.as_meta(), "outside": OUTSIDE_SPAN, **{f"{k}_samples": v for k, v in infos.items()}}}
+    meta = {
+        **result.meta,
+        "span": {**span.as_meta(), "outside": OUTSIDE_SPAN, **{f"{k}_samples": v for k, v in infos.items()}},
+    }
     path = result.path
-    return FusionResult(left=out[0], right=out[1], path=type(path)(t=path.t, position=path.position, meta={**path.meta, "span": [span.start_s, span.stop_s]}), meta=meta)
+    return FusionResult(
+        left=out[0],
+        right=out[1],
+        path=type(path)(t=path.t, position=path.position, meta={**path.meta, "span": [span.start_s, span.stop_s]}),
+        meta=meta,
+    )
 
 
 def fuse_on_common_span(
@@ -349,7 +393,9 @@ def fuse_on_common_span(
     span = common_span(left, right, fusion=fusion.name)
     if not span.cut:
         return on_whole_span(fuse_span(estimator, left, stance_left, right, stance_right), span, None)
-    if getattr(estimator, "closed_loop", False) and (span.left.stop_index < span.left.n_samples or span.right.stop_index < span.right.n_samples):
+    if getattr(estimator, "closed_loop", False) and (
+        span.left.stop_index < span.left.n_samples or span.right.stop_index < span.right.n_samples
+    ):
         raise InvalidInputError(
             f"fusion {fusion.name!r}: closed_loop needs both feet's final rests inside their common span "
             f"({span.start_s:.6g}..{span.stop_s:.6g} s), but a foot goes on after it; cut the feet to a common end "

@@ -92,14 +92,21 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from footnav.nav import quaternion as quat
 from footnav.core.component import MAX_LENGTH_M, Fusion, require, require_in_range, require_non_negative
 from footnav.core.errors import CompositionError
-from footnav.nav.initial_alignment import align_first_stance
 from footnav.core.types import FootTrajectory, FusionResult
 from footnav.fusion.independent import midpoint_path
 from footnav.fusion.joint import (
-    LEFT, RIGHT, EventQueue, FeetView, closing_time, finish_joint, first_step_yaw, forward_only, fuse_on_common_span, start_joint,
+    LEFT,
+    RIGHT,
+    EventQueue,
+    FeetView,
+    closing_time,
+    finish_joint,
+    first_step_yaw,
+    forward_only,
+    fuse_on_common_span,
+    start_joint,
 )
 from footnav.fusion.particle_cloud import (
     _MIN_VAR_M2,
@@ -115,6 +122,8 @@ from footnav.fusion.particle_cloud import (
     systematic_resample,
 )
 from footnav.fusion.particle_ekf import N_STATES, PaperFoot, drift_scales
+from footnav.nav import quaternion as quat
+from footnav.nav.initial_alignment import align_first_stance
 
 __all__ = ["MODES", "ParticleFusion", "ParticleSession"]
 
@@ -242,8 +251,18 @@ class ParticleFusion(Fusion):
         require(self.mode in MODES, self, "mode", " or ".join(repr(m) for m in MODES))
         require_in_range(self, "drift_offset_m", low=-MAX_LENGTH_M, high=MAX_LENGTH_M)
         require(self.drift_mean in DRIFT_MEANS, self, "drift_mean", " or ".join(repr(m) for m in DRIFT_MEANS))
-        require(self.likelihood_cov in LIKELIHOOD_COVS, self, "likelihood_cov", " or ".join(repr(m) for m in LIKELIHOOD_COVS))
-        require(self.likelihood_axes in LIKELIHOOD_AXES, self, "likelihood_axes", " or ".join(repr(m) for m in LIKELIHOOD_AXES))
+        require(
+            self.likelihood_cov in LIKELIHOOD_COVS,
+            self,
+            "likelihood_cov",
+            " or ".join(repr(m) for m in LIKELIHOOD_COVS),
+        )
+        require(
+            self.likelihood_axes in LIKELIHOOD_AXES,
+            self,
+            "likelihood_axes",
+            " or ".join(repr(m) for m in LIKELIHOOD_AXES),
+        )
 
     def fuse(self, estimator, left, stance_left, right=None, stance_right=None) -> FusionResult:
         """Both feet's EKFs with their horizontal positions carried by particle clouds.
@@ -274,8 +293,18 @@ class ParticleFusion(Fusion):
         params = estimator.get_params()
         forward = forward_only(estimator)
         var = {k: float(params.get(k, d)) ** 2 for k, d in _PAPER_NOISE_DEFAULTS.items()}
-        noise = [var["acc_noise_mps2_sqrthz"], var["gyr_noise_radps_sqrthz"], var["acc_bias_walk_mps3_sqrthz"], var["zupt_std_mps"]]
-        cov0 = [0.0] + [var["init_velocity_std_mps"]] * 3 + [var["init_attitude_std_rad"]] * 2 + [var["init_acc_bias_std_mps2"]] * 3
+        noise = [
+            var["acc_noise_mps2_sqrthz"],
+            var["gyr_noise_radps_sqrthz"],
+            var["acc_bias_walk_mps3_sqrthz"],
+            var["zupt_std_mps"],
+        ]
+        cov0 = (
+            [0.0]
+            + [var["init_velocity_std_mps"]] * 3
+            + [var["init_attitude_std_rad"]] * 2
+            + [var["init_acc_bias_std_mps2"]] * 3
+        )
         assert len(cov0) == N_STATES
         still = float(params.get("still_gyr_max_radps", 0.05))
         half = 0.5 * float(self.step_width_m)
@@ -290,10 +319,24 @@ class ParticleFusion(Fusion):
             sigma = float(self.sigma_sys_m)
             offset_m = sigma * math.sqrt(0.5 * math.pi) if self.drift_mean == "zero" else float(self.drift_offset_m)
             scale, offset = drift_scales(st.mask, sigma, offset_m)
-            feet.append(PaperFoot(
-                imu.t, imu.acc, imu.gyr, st.mask, s0, quat.multiply(quat.from_yaw(yaw), align.quaternion), p0,
-                align.gyro_bias_radps, cov0, noise, np.tile(p0[:2], (n, 1)), side, scale, offset,
-            ))
+            feet.append(
+                PaperFoot(
+                    imu.t,
+                    imu.acc,
+                    imu.gyr,
+                    st.mask,
+                    s0,
+                    quat.multiply(quat.from_yaw(yaw), align.quaternion),
+                    p0,
+                    align.gyro_bias_radps,
+                    cov0,
+                    noise,
+                    np.tile(p0[:2], (n, 1)),
+                    side,
+                    scale,
+                    offset,
+                )
+            )
             metas.append(meta)
             yaw0.append(quat.yaw_of(feet[-1].q[0]))
         events = sorted(
@@ -319,11 +362,17 @@ class ParticleFusion(Fusion):
         for f, (imu, st) in enumerate(((left, stance_left), (right, stance_right))):
             feet[f].run_until(len(imu.t) - 1, rng)
             pf = feet[f]
-            out.append(FootTrajectory(
-                t=imu.t, position=pf.position, velocity=pf.velocity, quaternion=pf.quaternion,
-                position_std=pf.position_std, steps=st.intervals,
-                meta={**metas[f], "estimator": "particle-ekf (Lee, Cho & Park 2022, eq. 3)"},
-            ))
+            out.append(
+                FootTrajectory(
+                    t=imu.t,
+                    position=pf.position,
+                    velocity=pf.velocity,
+                    quaternion=pf.quaternion,
+                    position_std=pf.position_std,
+                    steps=st.intervals,
+                    meta={**metas[f], "estimator": "particle-ekf (Lee, Cho & Park 2022, eq. 3)"},
+                )
+            )
         meta = {"fusion": self.describe(), "pf_updates": len(events), "n_particles": n}
         return FusionResult(left=out[0], right=out[1], path=midpoint_path(out[0], out[1]), meta=meta)
 
@@ -489,7 +538,9 @@ class ParticleSession:
         var = max(float(lateral @ cov_f @ lateral), _MIN_VAR_M2)
         mean, cov_c = np.empty(2), np.empty((2, 2))
         z_foot = z + side * 0.5 * self.step_width_m * lateral
-        _weigh_and_resample(self.clouds[foot], z_foot, lateral, var, rng.random(), self.resampled, self.logw, mean, cov_c)
+        _weigh_and_resample(
+            self.clouds[foot], z_foot, lateral, var, rng.random(), self.resampled, self.logw, mean, cov_c
+        )
         self.clouds[foot], self.resampled = self.resampled, self.clouds[foot]
         # the EKF's horizontal position := the cloud's N(mean, cov) by Jeffrey's rule: only
         # what the PF added enters the EKF (module docstring, point 5)

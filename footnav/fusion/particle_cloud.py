@@ -215,7 +215,9 @@ def equivalent_measurement(p_prior, cov_prior, mean_post, cov_post, a, y, r):
         y[i] = (1.0 + r[i]) * (a[i, 0] * d0 + a[i, 1] * d1)
 
 
-def _gaussian_weights(cloud: NDArray[np.float64], z: NDArray[np.float64], cov: NDArray[np.float64]) -> NDArray[np.float64]:
+def _gaussian_weights(
+    cloud: NDArray[np.float64], z: NDArray[np.float64], cov: NDArray[np.float64]
+) -> NDArray[np.float64]:
     """Unnormalised ``N(z | x_n, cov)`` of each particle (eq. 15), scaled so the largest is 1;
     ``cov`` (2, 2) gets a floor of 1e-12 m^2 on its diagonal."""
     d = cloud - z

@@ -44,7 +44,9 @@ N_STATES = 9
 _SQRT_HALF_PI = math.sqrt(0.5 * math.pi)
 
 
-def drift_scales(mask: NDArray[np.bool_], sigma_m: float, offset_m: float) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+def drift_scales(
+    mask: NDArray[np.bool_], sigma_m: float, offset_m: float
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Per-sample scale and offset of the lateral drift, so that one step's sum has the moments of
     one draw of ``Rayleigh(sigma_m) - offset_m`` (the per-step distribution of Sec. 2.2, Fig. 2).
 
@@ -76,8 +78,34 @@ def drift_scales(mask: NDArray[np.bool_], sigma_m: float, offset_m: float) -> tu
 
 @njit(cache=True, error_model="numpy")
 def _advance(
-    k0, k1, t, acc, gyr, mask, bg, q, v, p, f_n, ba, cov, noise, side, cloud, normals, rayleigh,
-    drift_scale, drift_offset, out_pos, out_vel, out_q, out_std, dq, q_tmp, c, tmp,
+    k0,
+    k1,
+    t,
+    acc,
+    gyr,
+    mask,
+    bg,
+    q,
+    v,
+    p,
+    f_n,
+    ba,
+    cov,
+    noise,
+    side,
+    cloud,
+    normals,
+    rayleigh,
+    drift_scale,
+    drift_offset,
+    out_pos,
+    out_vel,
+    out_q,
+    out_std,
+    dq,
+    q_tmp,
+    c,
+    tmp,
 ):
     """Samples ``k0+1 .. k1`` of one foot, in place (module docstring); ``noise`` holds
     ``[sigma_a^2, sigma_g^2, sigma_ba^2, r_zupt]`` (densities squared, m^2/s^2); ``normals``
@@ -109,7 +137,9 @@ def _advance(
             tmp[PZ, col] += dt * cov[VEL + 2, col]
             for i in range(3):
                 acc_term = fa[i][0] * cov[ATT, col] + fa[i][1] * cov[ATT + 1, col]
-                bias_term = c[i, 0] * cov[ACC_BIAS, col] + c[i, 1] * cov[ACC_BIAS + 1, col] + c[i, 2] * cov[ACC_BIAS + 2, col]
+                bias_term = (
+                    c[i, 0] * cov[ACC_BIAS, col] + c[i, 1] * cov[ACC_BIAS + 1, col] + c[i, 2] * cov[ACC_BIAS + 2, col]
+                )
                 tmp[VEL + i, col] += dt * (acc_term - bias_term)
         for r in range(N_STATES):
             for col in range(N_STATES):
@@ -144,8 +174,12 @@ def _advance(
         if mask[k]:
             # ZUPT (eq. 7): y = v^ - 0, S = P_vv + R, K = P H' S^-1, dx = K y
             i00, i01, i02, i11, i12, i22, det = sym3_inverse(
-                cov[VEL, VEL] + noise[3], cov[VEL, VEL + 1], cov[VEL, VEL + 2],
-                cov[VEL + 1, VEL + 1] + noise[3], cov[VEL + 1, VEL + 2], cov[VEL + 2, VEL + 2] + noise[3],
+                cov[VEL, VEL] + noise[3],
+                cov[VEL, VEL + 1],
+                cov[VEL, VEL + 2],
+                cov[VEL + 1, VEL + 1] + noise[3],
+                cov[VEL + 1, VEL + 2],
+                cov[VEL + 2, VEL + 2] + noise[3],
             )
             if det > 0.0:
                 y0, y1, y2 = v[0, 0], v[0, 1], v[0, 2]
@@ -161,7 +195,9 @@ def _advance(
                 # P <- P - K H P
                 for r in range(N_STATES):
                     for col in range(N_STATES):
-                        tmp[r, col] = cov[r, col] - (gain[r, 0] * cov[VEL, col] + gain[r, 1] * cov[VEL + 1, col] + gain[r, 2] * cov[VEL + 2, col])
+                        tmp[r, col] = cov[r, col] - (
+                            gain[r, 0] * cov[VEL, col] + gain[r, 1] * cov[VEL + 1, col] + gain[r, 2] * cov[VEL + 2, col]
+                        )
                 for r in range(N_STATES):
                     for col in range(N_STATES):
                         cov[r, col] = 0.5 * (tmp[r, col] + tmp[col, r])
@@ -213,7 +249,9 @@ class PaperFoot:
         (N,) from :func:`drift_scales`.
     """
 
-    def __init__(self, t, acc, gyr, mask, start, q0, p0, gyro_bias, cov0, noise, cloud, side, drift_scale, drift_offset):
+    def __init__(
+        self, t, acc, gyr, mask, start, q0, p0, gyro_bias, cov0, noise, cloud, side, drift_scale, drift_offset
+    ):
         self.t, self.acc, self.gyr = t, np.ascontiguousarray(acc, float), np.ascontiguousarray(gyr, float)
         self.mask = np.asarray(mask, dtype=np.bool_)
         self.k = int(start)
@@ -251,9 +289,31 @@ class PaperFoot:
         normals = rng.standard_normal((n, n_p, 2))
         rayleigh = rng.rayleigh(1.0, (n, n_p))
         _advance(
-            self.k, k, self.t, self.acc, self.gyr, self.mask, self.bg, self.q, self.v, self.p, self.f_n, self.ba,
-            self.cov, self.noise, self.side, self.cloud, normals, rayleigh, self.drift_scale, self.drift_offset,
-            self.position, self.velocity, self.quaternion, self.position_std, *self._work,
+            self.k,
+            k,
+            self.t,
+            self.acc,
+            self.gyr,
+            self.mask,
+            self.bg,
+            self.q,
+            self.v,
+            self.p,
+            self.f_n,
+            self.ba,
+            self.cov,
+            self.noise,
+            self.side,
+            self.cloud,
+            normals,
+            rayleigh,
+            self.drift_scale,
+            self.drift_offset,
+            self.position,
+            self.velocity,
+            self.quaternion,
+            self.position_std,
+            *self._work,
         )
         self.k = k
 

@@ -22,8 +22,15 @@ import numpy as np
 
 from footnav.nav import quaternion as quat
 
-__all__ = ["LEG_FIT_MIN_STEPS", "LEG_FIT_WINDOW", "LEG_LENGTH_PER_HEIGHT", "LegLengthFit", "leg_length_from_height",
-           "leg_ratio", "pendulum_step_length"]
+__all__ = [
+    "LEG_FIT_MIN_STEPS",
+    "LEG_FIT_WINDOW",
+    "LEG_LENGTH_PER_HEIGHT",
+    "LegLengthFit",
+    "leg_length_from_height",
+    "leg_ratio",
+    "pendulum_step_length",
+]
 
 #: Leg length (floor to greater trochanter, the hip's pivot) per body height: 0.530 H in Winter
 #: (2009), Fig. 4.1, after Drillis and Contini (1966).
@@ -33,6 +40,7 @@ LEG_LENGTH_PER_HEIGHT = 0.530
 #: been fitted (three strides of each foot); then the median of the latest ``LEG_FIT_WINDOW``.
 LEG_FIT_MIN_STEPS = 6
 LEG_FIT_WINDOW = 500
+
 
 def leg_length_from_height(body_height_m: float) -> float:
     """Leg length from body height, m: ``LEG_LENGTH_PER_HEIGHT * body_height_m`` (Winter 2009).
@@ -55,7 +63,9 @@ def leg_length_from_height(body_height_m: float) -> float:
     return LEG_LENGTH_PER_HEIGHT * float(body_height_m)
 
 
-def leg_ratio(xy0: np.ndarray, xy1: np.ndarray, yaw0: float, yaw1: float, swing: float, turn_rad: float) -> float | None:
+def leg_ratio(
+    xy0: np.ndarray, xy1: np.ndarray, yaw0: float, yaw1: float, swing: float, turn_rad: float
+) -> float | None:
     """One straight step's pendulum length, m: half the front foot's stride from ``xy0`` to
     ``xy1`` (m, its stance starts in its own solution) over the rear foot's ``swing`` (eq. 6 with
     l = 1); None when the stride is under 0.2 m, turns more than ``turn_rad`` (its yaws ``yaw0``,
@@ -87,7 +97,12 @@ def pendulum_step_length(q1: np.ndarray, q2: np.ndarray, leg_length_m: float) ->
     quaternion and its negative describe (eq. 5 as printed assumes q[1] >= 0).
     """
     # q = q1 (x) q2* (eq. 5); its scalar part, all eq. 5 needs, is the dot product of q1 and q2
-    w = float(q1[0]) * float(q2[0]) + float(q1[1]) * float(q2[1]) + float(q1[2]) * float(q2[2]) + float(q1[3]) * float(q2[3])
+    w = (
+        float(q1[0]) * float(q2[0])
+        + float(q1[1]) * float(q2[1])
+        + float(q1[2]) * float(q2[2])
+        + float(q1[3]) * float(q2[3])
+    )
     theta = 2.0 * math.acos(min(abs(w), 1.0))  # theta = 2 acos(q[1])
     return 2.0 * leg_length_m * math.sin(0.5 * theta)  # S = 2 l sin(theta/2)  (eq. 6)
 

@@ -74,7 +74,12 @@ class RangeConstraintFusion(Fusion):
         require_positive(self, "max_separation_m", "constraint_std_m", high=MAX_LENGTH_M)
         require_positive(self, "check_interval_s", high=MAX_DURATION_S)
         v = self.step_width_m
-        require(is_number(v) and 0 <= v < self.max_separation_m, self, "step_width_m", "a number >= 0 below max_separation_m")
+        require(
+            is_number(v) and 0 <= v < self.max_separation_m,
+            self,
+            "step_width_m",
+            "a number >= 0 below max_separation_m",
+        )
         require(self.projection in PROJECTIONS, self, "projection", " or ".join(map(repr, PROJECTIONS)))
 
     def fuse(self, estimator, left, stance_left, right=None, stance_right=None) -> FusionResult:

@@ -70,6 +70,8 @@ from footnav.core.component import (
     require_positive,
 )
 from footnav.core.errors import CompositionError, DataQualityWarning, InvalidInputError
+from footnav.core.types import FusionResult, ImuData, StanceResult
+from footnav.core.warning_log import warn
 from footnav.fusion.joint import (
     LEFT,
     RIGHT,
@@ -90,10 +92,14 @@ from footnav.fusion.pendulum import (
 )
 from footnav.nav import quaternion as quat
 from footnav.nav.calibration import StandstillCalibration, calibrate_at_rest
-from footnav.core.types import FusionResult, ImuData, StanceResult
-from footnav.core.warning_log import warn
 
-__all__ = ["LEG_LENGTH_PER_HEIGHT", "StepVectorFusion", "StepVectorSession", "leg_length_from_height", "pendulum_step_length"]
+__all__ = [
+    "LEG_LENGTH_PER_HEIGHT",
+    "StepVectorFusion",
+    "StepVectorSession",
+    "leg_length_from_height",
+    "pendulum_step_length",
+]
 # (the pendulum model and the fitted leg length live in footnav.fusion.pendulum)
 
 #: Shortest first stance ``calibration="standstill"`` calibrates on, s (Zhao et al. (2019) kept the
@@ -223,7 +229,11 @@ class StepVectorFusion(Fusion):
         # Upper bounds (footnav.core.component): lengths and their stds are squared into the
         # step update's covariance (overflow at 1e308); a turn threshold above a full turn
         # never fires.
-        for name, choices in (("step_length", STEP_LENGTHS), ("relative_frame", RELATIVE_FRAMES), ("calibration", CALIBRATIONS)):
+        for name, choices in (
+            ("step_length", STEP_LENGTHS),
+            ("relative_frame", RELATIVE_FRAMES),
+            ("calibration", CALIBRATIONS),
+        ):
             require(getattr(self, name) in choices, self, name, " or ".join(repr(c) for c in choices))
         require_positive(self, "leg_length_m", high=MAX_LENGTH_M)
         require_positive(self, "step_length_std_m", "step_width_std_m", "step_elevation_std_m", high=MAX_LENGTH_M)
@@ -296,15 +306,23 @@ class StepVectorFusion(Fusion):
         out: list[tuple[float, float]] = []
         turn = np.radians(self.turn_threshold_deg)
         landings = self._landings(view)
-        supports = self._supports(view, np.array([1 - front for _, front, _, _ in landings]), np.array([t for t, _, _, _ in landings]))
+        supports = self._supports(
+            view, np.array([1 - front for _, front, _, _ in landings]), np.array([t for t, _, _, _ in landings])
+        )
         for (t, front, hs_front, j), support in zip(landings, supports):
             if support is None:
                 continue
             runs_f, traj_f = view.runs(front), singles[front]
             a0, a1 = runs_f[j - 1, 0], runs_f[j, 0]
             q_f, q_r = traj_f.quaternion, singles[1 - front].quaternion
-            ratio = leg_ratio(traj_f.position[a0], traj_f.position[a1], quat.yaw_of(q_f[a0]), quat.yaw_of(q_f[a1]),
-                              pendulum_step_length(q_r[support[0]], q_r[support[1]], 1.0), turn)
+            ratio = leg_ratio(
+                traj_f.position[a0],
+                traj_f.position[a1],
+                quat.yaw_of(q_f[a0]),
+                quat.yaw_of(q_f[a1]),
+                pendulum_step_length(q_r[support[0]], q_r[support[1]], 1.0),
+                turn,
+            )
             if ratio is not None:
                 out.append((float(view.times[front][a1]), ratio))
         return out
@@ -406,10 +424,15 @@ class StepVectorFusion(Fusion):
         imus, stances = (left, right), (stance_left, stance_right)
         view = FeetView.of(imus, stances)
         if self.step_length == "fitted":
-            filt, singles = start_joint(estimator, left, stance_left, right, stance_right, self.step_width_m, return_singles=True)
+            filt, singles = start_joint(
+                estimator, left, stance_left, right, stance_right, self.step_width_m, return_singles=True
+            )
             leg = self._fit_leg_length(view, singles)
         else:
-            filt, leg = start_joint(estimator, left, stance_left, right, stance_right, self.step_width_m), self.leg_length_m
+            filt, leg = (
+                start_joint(estimator, left, stance_left, right, stance_right, self.step_width_m),
+                self.leg_length_m,
+            )
         session = StepVectorSession(self, leg, closing_time(estimator, imus, stances))
         landings = [imu.t[stance.intervals[1:, 0]] for imu, stance in zip(imus, stances)]
         stop = min(left.t[-1], right.t[-1])
@@ -550,7 +573,10 @@ class StepVectorSession:
             "updates": self.applied,
             "suspended_turning": self.suspended,
             "skipped_rear_foot_moving": self.skipped,
-            "step_length_m": {"median": float(np.median(self.lengths)) if self.lengths else None, "n": len(self.lengths)},
+            "step_length_m": {
+                "median": float(np.median(self.lengths)) if self.lengths else None,
+                "n": len(self.lengths),
+            },
         }
         if self.fit is not None:
             meta["leg_length_fit"] = self.fit.as_meta()

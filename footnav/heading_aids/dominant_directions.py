@@ -6,9 +6,9 @@ from __future__ import annotations
 import numpy as np
 
 from footnav.core.component import HeadingAid, require, require_positive
+from footnav.core.types import FusionResult
 from footnav.nav.dominant_directions import dominant_direction_correction
 from footnav.nav.heading import turn_result
-from footnav.core.types import FusionResult
 
 __all__ = ["DominantDirectionsAid"]
 
@@ -61,10 +61,18 @@ class DominantDirectionsAid(HeadingAid):
         self.min_strength = min_strength
 
     def validate_params(self) -> None:
-        require(isinstance(self.n_directions, (int, np.integer)) and 1 <= self.n_directions <= 16, self, "n_directions",
-                "an integer in [1, 16]")
-        require(isinstance(self.min_stretch_strides, (int, np.integer)) and 2 <= self.min_stretch_strides <= 1000, self,
-                "min_stretch_strides", "an integer in [2, 1000]")
+        require(
+            isinstance(self.n_directions, (int, np.integer)) and 1 <= self.n_directions <= 16,
+            self,
+            "n_directions",
+            "an integer in [1, 16]",
+        )
+        require(
+            isinstance(self.min_stretch_strides, (int, np.integer)) and 2 <= self.min_stretch_strides <= 1000,
+            self,
+            "min_stretch_strides",
+            "an integer in [2, 1000]",
+        )
         require_positive(self, "straight_deg", "gate_deg", high=90.0)
         require_positive(self, "min_stride_m", high=10.0)
         require(0.0 <= self.min_strength <= 1.0, self, "min_strength", "in [0, 1]")
@@ -73,5 +81,8 @@ class DominantDirectionsAid(HeadingAid):
         """Each foot turned by its own heading error; the pedestrian path by their mean."""
         self.validate_params()
         params = self.get_params()
-        found = [None if traj is None else dominant_direction_correction(traj, **params) for traj in (result.left, result.right)]
+        found = [
+            None if traj is None else dominant_direction_correction(traj, **params)
+            for traj in (result.left, result.right)
+        ]
         return turn_result(result, found, self.name)

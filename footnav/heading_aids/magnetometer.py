@@ -6,10 +6,10 @@ from __future__ import annotations
 import numpy as np
 
 from footnav.core.component import HeadingAid, require, require_in_range, require_positive
-from footnav.nav.heading import turn_result
-from footnav.nav.magnetic_heading import magnetic_heading_correction
 from footnav.core.types import FusionResult, ImuData
 from footnav.core.warning_log import warn
+from footnav.nav.heading import turn_result
+from footnav.nav.magnetic_heading import magnetic_heading_correction
 
 __all__ = ["MagnetometerAid"]
 

@@ -14,10 +14,10 @@ from typing import Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from footnav.nav.clock_sync import ClockMap
 from footnav.core.errors import DataQualityWarning, InvalidInputError, InvalidParameterError
 from footnav.core.types import ImuData
 from footnav.core.warning_log import warn
+from footnav.nav.clock_sync import ClockMap
 
 __all__ = ["align_from_data"]
 

@@ -31,8 +31,8 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import NDArray
 
-from footnav.nav import quaternion as quat
 from footnav.core.types import FootTrajectory
+from footnav.nav import quaternion as quat
 
 __all__ = ["HeadingCorrection", "dominant_direction_correction"]
 
@@ -155,15 +155,25 @@ def dominant_direction_correction(
             stretches.append((k, j, err))
         k = j + 1
     if len(stretches) < 2:
-        return HeadingCorrection(False, f"{len(stretches)} straight stretch(es): nothing to compare", strength, grid,
-                                 straight_fraction=straight_fraction)
+        return HeadingCorrection(
+            False,
+            f"{len(stretches)} straight stretch(es): nothing to compare",
+            strength,
+            grid,
+            straight_fraction=straight_fraction,
+        )
     knots_s, knots = [], []
     for a, b, err in stretches:  # stride k runs from footprint k to k + 1
         knots_s += [mid_t[a], mid_t[b + 1]]
         knots += [err, err]
     knots_rad = np.array(knots) - knots[0]
     info = [
-        {"first_stride": a, "last_stride": b, "direction": int(direction[a]), "error_deg": round(float(np.degrees(e)), 3)}
+        {
+            "first_stride": a,
+            "last_stride": b,
+            "direction": int(direction[a]),
+            "error_deg": round(float(np.degrees(e)), 3),
+        }
         for a, b, e in stretches
     ]
     return HeadingCorrection(True, "", strength, grid, np.array(knots_s), knots_rad, straight_fraction, info)

@@ -38,10 +38,7 @@ from footnav._numba import njit  # numba.njit that survives a read-only install
 from footnav.core.errors import InvalidInputError, InvalidParameterError
 from footnav.core.types._arrays import _readonly  # the one copy: a read-only, C-contiguous view
 
-__all__ = [
-    "DtwAlignment",
-    "dtw_align",
-]
+__all__ = ["DtwAlignment", "dtw_align"]
 
 _COSTS = ("euclidean", "sqeuclidean")
 _NORMALIZE = ("mean", "none")
@@ -374,8 +371,7 @@ def dtw_align(
     pb = _trajectory(b, "b")
     if pa.shape[1] != pb.shape[1]:
         raise InvalidInputError(
-            f"a has {pa.shape[1]} coordinate(s) per position but b has {pb.shape[1]}; pass the same columns",
-            field="b",
+            f"a has {pa.shape[1]} coordinate(s) per position but b has {pb.shape[1]}; pass the same columns", field="b"
         )
     n, m = len(pa), len(pb)
     band_i = _band(band, n, m)

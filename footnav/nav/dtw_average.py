@@ -19,15 +19,11 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from footnav.nav.dtw import _float64, _readonly, _trajectory, dtw_align
 from footnav.core.errors import InvalidInputError, InvalidParameterError
+from footnav.nav.dtw import _float64, _readonly, _trajectory, dtw_align
 from footnav.nav.interpolation import interp_columns
 
-__all__ = [
-    "AveragedPath",
-    "timed_average",
-    "timeless_average",
-]
+__all__ = ["AveragedPath", "timed_average", "timeless_average"]
 
 
 def _times(value: ArrayLike, n: int, name: str) -> NDArray[np.float64]:
@@ -43,7 +39,6 @@ def _times(value: ArrayLike, n: int, name: str) -> NDArray[np.float64]:
         k = int(np.argmax(back)) + 1
         raise InvalidInputError(f"times must increase strictly, got {t[k - 1]!r} then {t[k]!r}", field=name, index=k)
     return t
-
 
 
 # ---------------------------------------------------------------------------------------------
@@ -136,12 +131,7 @@ def timeless_average(
 
 
 def timed_average(
-    t_a: ArrayLike,
-    a: ArrayLike,
-    t_b: ArrayLike,
-    b: ArrayLike,
-    *,
-    t: ArrayLike | None = None,
+    t_a: ArrayLike, a: ArrayLike, t_b: ArrayLike, b: ArrayLike, *, t: ArrayLike | None = None
 ) -> AveragedPath:
     """Midpoints of two trajectories interpolated to one time grid (Chistyakov et al. (2021), Sec. 3).
 

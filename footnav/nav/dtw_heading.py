@@ -17,14 +17,11 @@ from typing import Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from footnav.core.errors import InvalidParameterError
 from footnav.nav.dtw import _band, _choice, _dtw_cost_kernel, _readonly, _trajectory, dtw_align
 from footnav.nav.quaternion import wrap_angle
-from footnav.core.errors import InvalidParameterError
 
-__all__ = [
-    "HeadingMismatch",
-    "heading_mismatch",
-]
+__all__ = ["HeadingMismatch", "heading_mismatch"]
 
 #: Coarse grid of the heading search: 36 angles over the full turn, 10 deg apart.
 DEFAULT_HEADING_GRID = 36

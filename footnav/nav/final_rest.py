@@ -63,7 +63,8 @@ def final_rest(t: NDArray[np.float64], stance: StanceResult, *, what: str = "clo
     need_s = max(FINAL_REST_MIN_S, 2.0 * median_s)
     if tail_s > FINAL_REST_MAX_TAIL_S or rest_s < need_s:
         why = (
-            f"the foot moves for {tail_s:.2f} s after its last stance" if tail_s > FINAL_REST_MAX_TAIL_S
+            f"the foot moves for {tail_s:.2f} s after its last stance"
+            if tail_s > FINAL_REST_MAX_TAIL_S
             else f"its last stance lasts {rest_s:.2f} s, no longer than a walking step (median stance {median_s:.2f} s)"
         )
         raise InvalidInputError(

@@ -208,7 +208,9 @@ def stance_swing_rises(rise: NDArray[np.float64], steps: NDArray[np.int64]) -> N
     return np.where(at < len(vals), vals[np.minimum(at, len(vals) - 1)], np.nan)
 
 
-def stair_strides(rise: NDArray[np.float64], swing: NDArray[np.float64], level_rise_max_m: float = LEVEL_RISE_MAX_M) -> NDArray[np.bool_]:
+def stair_strides(
+    rise: NDArray[np.float64], swing: NDArray[np.float64], level_rise_max_m: float = LEVEL_RISE_MAX_M
+) -> NDArray[np.bool_]:
     """Which strides are stair strides: the filter's ``rise`` (m) at least ``level_rise_max_m``
     either way, and the swing's own rise ``swing`` (m, :func:`swing_rises`, its offset
     :func:`swing_offsets` added) at least :data:`SWING_SHARE` of it the same way, where it is
@@ -219,7 +221,9 @@ def stair_strides(rise: NDArray[np.float64], swing: NDArray[np.float64], level_r
 
 
 def swing_offsets(
-    rise: NDArray[np.float64], swing: NDArray[np.float64], level_rise_max_m: float = LEVEL_RISE_MAX_M,
+    rise: NDArray[np.float64],
+    swing: NDArray[np.float64],
+    level_rise_max_m: float = LEVEL_RISE_MAX_M,
     history: deque | None = None,
 ) -> tuple[NDArray[np.float64], deque]:
     """The strapdown's own offset before each stride, to add to its swing rise: minus the median
@@ -314,15 +318,25 @@ class FloorHolder:
         #: :meth:`held_at` has been asked for it or a later one
         self._held_at: OrderedDict[float, float] = OrderedDict()
 
-    def push(self, t, position, velocity, quaternion, stance, *, closed: bool = False, swing_rise=None) -> tuple[NDArray, ...]:
+    def push(
+        self, t, position, velocity, quaternion, stance, *, closed: bool = False, swing_rise=None
+    ) -> tuple[NDArray, ...]:
         """Add samples; return the corrected ``(t, position, velocity, quaternion, stance)`` of
         those now final (copies). ``closed``: the stance at the end of these samples has ended.
         ``swing_rise``: (N,) the swing's own rise at the first update sample of each stance,
         NaN elsewhere (:func:`swing_rises`); None: not known (the filter's rise decides alone)."""
         if len(t):
             sw = np.full(len(t), np.nan) if swing_rise is None else np.array(swing_rise, float)
-            self._rows.append([np.array(t, float), np.array(position, float), np.array(velocity, float),
-                               np.array(quaternion, float), np.asarray(stance, bool).copy(), sw])
+            self._rows.append(
+                [
+                    np.array(t, float),
+                    np.array(position, float),
+                    np.array(velocity, float),
+                    np.array(quaternion, float),
+                    np.asarray(stance, bool).copy(),
+                    sw,
+                ]
+            )
         return self._release(closed)
 
     def flush(self) -> tuple[NDArray, ...]:
@@ -479,12 +493,12 @@ def hold_floors(traj: FootTrajectory, *, level_rise_max_m: float = LEVEL_RISE_MA
     return replace(traj, position=pos, velocity=vel, meta=meta)
 
 
-def hold_result_floors(
-    result: FusionResult, *, level_rise_max_m: float = LEVEL_RISE_MAX_M
-) -> FusionResult:
+def hold_result_floors(result: FusionResult, *, level_rise_max_m: float = LEVEL_RISE_MAX_M) -> FusionResult:
     """:func:`hold_floors` on each foot of a fusion's result; the pedestrian path's height moves
     by the mean of the feet's corrections at its times."""
-    feet = [None if tr is None else hold_floors(tr, level_rise_max_m=level_rise_max_m) for tr in (result.left, result.right)]
+    feet = [
+        None if tr is None else hold_floors(tr, level_rise_max_m=level_rise_max_m) for tr in (result.left, result.right)
+    ]
     shift = [
         np.interp(result.path.t, new.t, new.position[:, 2] - old.position[:, 2])
         for new, old in zip(feet, (result.left, result.right))

@@ -22,9 +22,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from footnav._numba import njit
+from footnav.core.types._derived import shared
 from footnav.nav.peaks import _select_by_distance, peak_candidates
 from footnav.nav.windows import centred_gyr_rms, window_samples
-from footnav.core.types._derived import shared
 
 __all__ = ["MAX_STRIDE_S", "SWING_ACC_MPS2", "SwingPeaks", "select_swing_peaks", "swing_peaks"]
 

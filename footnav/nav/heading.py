@@ -21,8 +21,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from footnav._numba import njit  # numba.njit that survives a read-only install
-from footnav.nav import quaternion as quat
 from footnav.core.types import FootTrajectory, FusionResult
+from footnav.nav import quaternion as quat
 
 __all__ = [
     "MIN_FIRST_STEP_M",

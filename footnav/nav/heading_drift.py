@@ -30,8 +30,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from footnav._numba import njit  # numba.njit that survives a read-only install
-from footnav.nav.initial_alignment import MIN_STILL_SAMPLES
 from footnav.core.types._arrays import _readonly  # read-only views: one compiled variant of _propagate
+from footnav.nav.initial_alignment import MIN_STILL_SAMPLES
 
 __all__ = ["heading_drift_cov", "standstill_rate_std", "TURN_ON_BIAS_STD_RADPS"]
 
@@ -71,11 +71,7 @@ def _propagate(t, vel, start, var_rate0, q2, out):
 
 
 def heading_drift_cov(
-    t: NDArray[np.float64],
-    velocity: NDArray[np.float64],
-    start: int,
-    rate_std_radps: float,
-    walk_radps2_sqrthz: float,
+    t: NDArray[np.float64], velocity: NDArray[np.float64], start: int, rate_std_radps: float, walk_radps2_sqrthz: float
 ) -> NDArray[np.float64]:
     """Horizontal position covariance from unestimated heading drift, (N, 3): xx, xy, yy in m^2.
 
@@ -95,8 +91,12 @@ def heading_drift_cov(
     out = np.empty((len(t), 3))
     if len(t):
         _propagate(
-            _readonly(np.asarray(t, dtype=np.float64)), _readonly(np.asarray(velocity, dtype=np.float64)),
-            int(min(max(start, 0), len(t) - 1)), float(rate_std_radps) ** 2, float(walk_radps2_sqrthz) ** 2, out,
+            _readonly(np.asarray(t, dtype=np.float64)),
+            _readonly(np.asarray(velocity, dtype=np.float64)),
+            int(min(max(start, 0), len(t) - 1)),
+            float(rate_std_radps) ** 2,
+            float(walk_radps2_sqrthz) ** 2,
+            out,
         )
     return out
 

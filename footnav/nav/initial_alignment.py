@@ -18,9 +18,9 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from footnav.nav import quaternion as quat
 from footnav.core.errors import DataQualityWarning, InvalidInputError
 from footnav.core.warning_log import warn
+from footnav.nav import quaternion as quat
 
 __all__ = ["Alignment", "align_at_rest", "align_first_stance"]
 

@@ -8,7 +8,9 @@ from numpy.typing import NDArray
 __all__ = ["interp_columns"]
 
 
-def interp_columns(t_new: NDArray[np.float64], t: NDArray[np.float64], values: NDArray[np.float64]) -> NDArray[np.float64]:
+def interp_columns(
+    t_new: NDArray[np.float64], t: NDArray[np.float64], values: NDArray[np.float64]
+) -> NDArray[np.float64]:
     """Each column of ``values`` (N, K), sampled at increasing times ``t`` (N,), linearly
     interpolated to ``t_new`` (M,): (M, K), in the columns' units. No checks and, as
     ``numpy.interp``, no extrapolation: times outside ``t`` take the end values; callers check

@@ -31,9 +31,9 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import NDArray
 
+from footnav.core.types import FootTrajectory, ImuData
 from footnav.nav import quaternion as quat
 from footnav.nav.initial_alignment import align_at_rest
-from footnav.core.types import FootTrajectory, ImuData
 
 __all__ = ["MagneticCorrection", "hard_iron_offset", "magnetic_heading_correction"]
 
@@ -220,10 +220,16 @@ def magnetic_heading_correction(
     sample = _samples_of(traj, imu)
     raw = np.asarray(imu.mag, dtype=np.float64)[sample]
     up = quat.as_matrix(traj.quaternion)[:, 2, :]  # row 2 of C (sensor -> nav): nav up in the sensor frame
-    offset, note = hard_iron_offset(raw, up, dip_tol_deg=dip_tol_deg, min_spread=min_spread) if hard_iron else (None, "not asked for")
+    offset, note = (
+        hard_iron_offset(raw, up, dip_tol_deg=dip_tol_deg, min_spread=min_spread)
+        if hard_iron
+        else (None, "not asked for")
+    )
     mag = raw if offset is None else raw - offset
     idx = np.concatenate([np.arange(a, b) for a, b in steps])
-    m_nav = np.einsum("nij,nj->ni", quat.as_matrix(_stance_attitudes(traj, imu.acc[sample], imu.gyr[sample], steps)), mag[idx])
+    m_nav = np.einsum(
+        "nij,nj->ni", quat.as_matrix(_stance_attitudes(traj, imu.acc[sample], imu.gyr[sample], steps)), mag[idx]
+    )
     strength = np.linalg.norm(m_nav, axis=1)
     horizontal = np.hypot(m_nav[:, 0], m_nav[:, 1])
     dip = np.degrees(np.arctan2(-m_nav[:, 2], horizontal))
@@ -248,11 +254,21 @@ def magnetic_heading_correction(
             rej_mag += 1
         else:
             rej_dip += 1
-    base = {"stances": len(steps), "accepted": len(heads), "rejected_magnitude": rej_mag, "rejected_dip": rej_dip,
-            "field_median": f_med, "dip_median_deg": dip_med, "hard_iron": offset, "hard_iron_note": note}
+    base = {
+        "stances": len(steps),
+        "accepted": len(heads),
+        "rejected_magnitude": rej_mag,
+        "rejected_dip": rej_dip,
+        "field_median": f_med,
+        "dip_median_deg": dip_med,
+        "hard_iron": offset,
+        "hard_iron_note": note,
+    }
     if len(heads) < max(min_stances, 2) or len(heads) < min_fraction * len(steps):
-        why = (f"{len(heads)} of {len(steps)} stances passed the field's gates "
-               f"(need {min_stances} and {min_fraction:.0%}): a disturbed field")
+        why = (
+            f"{len(heads)} of {len(steps)} stances passed the field's gates "
+            f"(need {min_stances} and {min_fraction:.0%}): a disturbed field"
+        )
         return MagneticCorrection(False, why, **base)
     t_k = np.array(times)
     err = np.unwrap(np.array(heads))

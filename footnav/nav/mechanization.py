@@ -24,8 +24,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from footnav._numba import njit  # numba.njit that survives a read-only install
-from footnav.nav.quaternion import as_matrix_nb, from_rotvec_nb, normalize_nb
 from footnav.core.types import GRAVITY_MPS2, ImuData
+from footnav.nav.quaternion import as_matrix_nb, from_rotvec_nb, normalize_nb
 
 __all__ = ["strapdown_step", "strapdown"]
 

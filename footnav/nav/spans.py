@@ -232,7 +232,9 @@ def span_difference(left: ImuData, right: ImuData) -> dict[str, Any]:
 def slice_stance(stance: StanceResult, start: int, stop: int) -> StanceResult:
     """Samples ``start:stop`` of a stance result: mask, phases and score cut, events inside kept
     and shifted by ``-start``."""
-    events = {k: np.asarray(v)[(np.asarray(v) >= start) & (np.asarray(v) < stop)] - start for k, v in stance.events.items()}
+    events = {
+        k: np.asarray(v)[(np.asarray(v) >= start) & (np.asarray(v) < stop)] - start for k, v in stance.events.items()
+    }
     return StanceResult(
         mask=stance.mask[start:stop],
         events=events,

@@ -20,8 +20,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from footnav.nav.gait_cycles import SWING_ACC_MPS2, swing_peaks
 from footnav.core.types import ImuData, StanceResult, stance_intervals
+from footnav.nav.gait_cycles import SWING_ACC_MPS2, swing_peaks
 from footnav.nav.windows import centred_acc_magnitude_rms
 
 __all__ = ["StanceCheck", "check_stances"]

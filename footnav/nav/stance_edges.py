@@ -95,7 +95,12 @@ def settled_mask(
     if len(t) == 0 or len(iv) == 0:
         return mask
     _settled(
-        np.ascontiguousarray(t, dtype=np.float64), np.ascontiguousarray(acc, dtype=np.float64),
-        np.ascontiguousarray(iv[:, 0]), np.ascontiguousarray(iv[:, 1]), float(v_max_mps), float(max_fraction), mask,
+        np.ascontiguousarray(t, dtype=np.float64),
+        np.ascontiguousarray(acc, dtype=np.float64),
+        np.ascontiguousarray(iv[:, 0]),
+        np.ascontiguousarray(iv[:, 1]),
+        float(v_max_mps),
+        float(max_fraction),
+        mask,
     )
     return mask

@@ -23,10 +23,10 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from footnav.nav import quaternion as quat
 from footnav.core.errors import InvalidInputError
-from footnav.nav.floors import LEVEL_RISE_MAX_M, floor_changes
 from footnav.core.types import FootTrajectory, StanceResult, stance_intervals
+from footnav.nav import quaternion as quat
+from footnav.nav.floors import LEVEL_RISE_MAX_M, floor_changes
 
 __all__ = ["STRIDE_COLUMNS", "STRIDE_DTYPE", "mid_stances", "stride_parameters"]
 
@@ -114,7 +114,11 @@ def _turn(q_start: NDArray[np.float64], q_end: NDArray[np.float64]) -> NDArray[n
 
 
 def _standstill(
-    t: NDArray[np.float64], mask: NDArray[np.bool_], i0: NDArray[np.int64], i1: NDArray[np.int64], duration: NDArray[np.float64]
+    t: NDArray[np.float64],
+    mask: NDArray[np.bool_],
+    i0: NDArray[np.int64],
+    i1: NDArray[np.int64],
+    duration: NDArray[np.float64],
 ) -> NDArray[np.bool_]:
     """Strides holding a pause: a stance longer than 1.5x the median stance, or a stride longer
     than 2x the median stride (:data:`STANDSTILL_STANCE_FACTOR`, :data:`STANDSTILL_DURATION_FACTOR`)."""

@@ -21,8 +21,8 @@ from typing import Any
 
 import numpy as np
 
-from footnav.nav.floors import LEVEL_RISE_MAX_M, stair_strides, stance_heights, swing_offsets
 from footnav.core.types import FootTrajectory
+from footnav.nav.floors import LEVEL_RISE_MAX_M, stair_strides, stance_heights, swing_offsets
 
 __all__ = ["WARN_RATE_M_PER_100M", "WARN_TREND_M", "VerticalCheck", "check_vertical"]
 

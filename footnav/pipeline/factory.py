@@ -9,9 +9,10 @@ from __future__ import annotations
 import copy
 import sys
 import time
+from collections.abc import Mapping
 from contextlib import contextmanager
 from pathlib import Path as FilePath
-from typing import TYPE_CHECKING, Any, Mapping
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -33,14 +34,14 @@ from footnav.core.errors import (
     InvalidParameterError,
     PluginError,
 )
-from footnav.nav.floors import LEVEL_RISE_MAX_M, hold_result_floors
-from footnav.nav.stance_check import check_stances
-from footnav.nav.vertical_check import check_vertical
-from footnav.pipeline.sync import ClockSync, recording_exchanges
-from footnav.pipeline.result import PipelineResult
 from footnav.core.types import FusionResult, ImuData, Recording, StanceResult
 from footnav.core.types._derived import sharing
 from footnav.core.warning_log import merge_warnings, recording, warn
+from footnav.nav.floors import LEVEL_RISE_MAX_M, hold_result_floors
+from footnav.nav.stance_check import check_stances
+from footnav.nav.vertical_check import check_vertical
+from footnav.pipeline.result import PipelineResult
+from footnav.pipeline.sync import ClockSync, recording_exchanges
 
 if TYPE_CHECKING:
     from footnav.pipeline.online import OnlineStream
@@ -237,7 +238,9 @@ class Pipeline:
         if imu is None:
             return
         if not isinstance(stance, StanceResult):
-            raise self._faulty(self.detector, f"returned {type(stance).__name__} for the {foot} foot, not a StanceResult")
+            raise self._faulty(
+                self.detector, f"returned {type(stance).__name__} for the {foot} foot, not a StanceResult"
+            )
         if len(stance.mask) != imu.n_samples:
             raise self._faulty(
                 self.detector,
@@ -317,19 +320,21 @@ class Pipeline:
                 raise InvalidInputError("give either a Recording or left/right ImuData, not both", field="right")
             exchanges = recording_exchanges(left)
             left, right = left.left, left.right
-        left, right = (ImuData.from_dataframe(x) if hasattr(x, "columns") and hasattr(x, "iloc") else x for x in (left, right))
+        left, right = (
+            ImuData.from_dataframe(x) if hasattr(x, "columns") and hasattr(x, "iloc") else x for x in (left, right)
+        )
         for name, imu in (("left", left), ("right", right)):
             if imu is not None and not isinstance(imu, ImuData):
                 raise InvalidInputError(f"expected ImuData, got {type(imu).__name__}", field=name)
         if left is None:
             raise InvalidInputError("no data for the left (or only) foot", field="left")
-        self.check(
-            n_feet=1 if right is None else 2,
-            magnetometer=left.has_mag and (right is None or right.has_mag),
-        )
+        self.check(n_feet=1 if right is None else 2, magnetometer=left.has_mag and (right is None or right.has_mag))
         t0 = time.perf_counter()
         # the inputs' provenance as given, before any component could touch it
-        inputs = {"left": copy.deepcopy(dict(left.meta)), "right": None if right is None else copy.deepcopy(dict(right.meta))}
+        inputs = {
+            "left": copy.deepcopy(dict(left.meta)),
+            "right": None if right is None else copy.deepcopy(dict(right.meta)),
+        }
         # this run's warnings, not another thread's (core/warning_log.py); what the checks, the
         # detector and the stance self-check derive from the same arrays is computed once
         with recording() as caught, sharing():
@@ -361,7 +366,9 @@ class Pipeline:
             "pipeline": self.config(),
             "footnav_version": __version__,
             # what reading the files said (footnav.load records it with the data), then the run's
-            "warnings": merge_warnings(*(x.meta.get("read_warnings", ()) for x in (left, right) if x is not None), caught),
+            "warnings": merge_warnings(
+                *(x.meta.get("read_warnings", ()) for x in (left, right) if x is not None), caught
+            ),
             "stance_check": stance_checks,
             "vertical_check": vertical_checks,
             # what the fusion computed (update counts, fitted values, suspended turns, the span)
@@ -379,7 +386,7 @@ class Pipeline:
             meta=meta,
         )
 
-    def online(self, feet: int = 2, **options: Any) -> "OnlineStream":
+    def online(self, feet: int = 2, **options: Any) -> OnlineStream:
         """The pipeline on a live stream: push chunks of samples as they arrive, get what became
         final (:class:`footnav.pipeline.online.OnlineStream`; options ``max_wait_s``,
         ``clock_offset_s``, ``clocks``, ``keep``). Refused (CompositionError) for components that need the
@@ -485,7 +492,9 @@ def load_pipeline(path: str | FilePath) -> Pipeline:
     except tomllib.TOMLDecodeError as exc:
         raise InvalidInputError(f"not valid TOML: {exc}", path=str(path)) from None
     except RecursionError:  # tomllib parses nested arrays and tables recursively
-        raise InvalidInputError("not a pipeline file: arrays or tables nested too deeply to read", path=str(path)) from None
+        raise InvalidInputError(
+            "not a pipeline file: arrays or tables nested too deeply to read", path=str(path)
+        ) from None
     unknown = set(config) - set(_BASES) - {"sync"}
     if unknown:
         raise InvalidParameterError(

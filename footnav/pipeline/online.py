@@ -66,6 +66,8 @@ from typing import Any
 import numpy as np
 
 from footnav.core.errors import DataQualityWarning, InvalidInputError, InvalidParameterError
+from footnav.core.types import FusionResult
+from footnav.core.warning_log import recording, warn
 from footnav.fusion.independent import midpoint_path
 from footnav.nav.clock_sync import ClockMap
 from footnav.nav.floors import LEVEL_RISE_MAX_M, FloorHolder
@@ -81,10 +83,17 @@ from footnav.pipeline.online_io import ClosedStep, FootUpdate, ForwardEstimate, 
 from footnav.pipeline.online_joint import JointStream
 from footnav.pipeline.online_pair import PairDetection
 from footnav.pipeline.result import PipelineResult
-from footnav.core.types import FusionResult
-from footnav.core.warning_log import recording, warn
 
-__all__ = ["COUPLED_ONLINE_FUSIONS", "OFFLINE_ONLY_FUSIONS", "ONLINE_FUSIONS", "ClosedStep", "FootUpdate", "ForwardEstimate", "OnlineStream", "OnlineUpdate"]
+__all__ = [
+    "COUPLED_ONLINE_FUSIONS",
+    "OFFLINE_ONLY_FUSIONS",
+    "ONLINE_FUSIONS",
+    "ClosedStep",
+    "FootUpdate",
+    "ForwardEstimate",
+    "OnlineStream",
+    "OnlineUpdate",
+]
 
 
 _FEET = ("left", "right")
@@ -163,7 +172,9 @@ class OnlineStream:
         offsets = dict(clock_offset_s or {})
         unknown = set(offsets) - set(_FEET[:feet])
         if unknown:
-            raise InvalidParameterError(f"online: clock_offset_s names {sorted(unknown)}; expected {list(_FEET[:feet])}")
+            raise InvalidParameterError(
+                f"online: clock_offset_s names {sorted(unknown)}; expected {list(_FEET[:feet])}"
+            )
         self.clocks = dict(clocks or {})
         for foot, clock in self.clocks.items():
             if foot not in _FEET[:feet]:
@@ -173,9 +184,13 @@ class OnlineStream:
                     f"online: clocks[{foot!r}] is a {type(clock).__name__}; expected a footnav.nav.clock_sync.ClockMap"
                 )
             if foot in offsets:
-                raise InvalidParameterError(f"online: the {foot} foot has both a clock_offset_s and a clock map; give one")
+                raise InvalidParameterError(
+                    f"online: the {foot} foot has both a clock_offset_s and a clock map; give one"
+                )
         if rate_hz is not None and not (isinstance(rate_hz, (int, float)) and 0 < rate_hz < 1e6):
-            raise InvalidParameterError(f"online: rate_hz={rate_hz!r} is invalid; expected a number in (0, 1e6) Hz or None")
+            raise InvalidParameterError(
+                f"online: rate_hz={rate_hz!r} is invalid; expected a number in (0, 1e6) Hz or None"
+            )
         self.rate_hz = rate_hz
         self.pipeline = pipeline
         self.latency_s = check_online(pipeline, feet)
@@ -184,8 +199,11 @@ class OnlineStream:
         #: and a detector or fusion whose online decisions may differ from its offline ones (its
         #: ``online_exact`` False: adaptive's typical stride, step-vector's fitted leg length)
         #: would give other stances or steps
-        self.rerun = (getattr(pipeline.estimator, "smoother", None) == "whole" or not getattr(pipeline.detector, "online_exact", True)
-                      or not getattr(pipeline.fusion, "online_exact", True))
+        self.rerun = (
+            getattr(pipeline.estimator, "smoother", None) == "whole"
+            or not getattr(pipeline.detector, "online_exact", True)
+            or not getattr(pipeline.fusion, "online_exact", True)
+        )
         self.n_feet = feet
         self.max_wait_s = float(max_wait_s)
         self.keep = bool(keep)
@@ -202,7 +220,11 @@ class OnlineStream:
         est = pipeline.estimator
         #: each foot's live height hold (the estimator's ``vertical="floors"``), as offline
         bound = getattr(est, "level_rise_max_m", LEVEL_RISE_MAX_M)
-        self._floors = [FloorHolder(bound, keep_strides=keep) for _ in self.feet] if getattr(est, "vertical", "free") == "floors" else None
+        self._floors = (
+            [FloorHolder(bound, keep_strides=keep) for _ in self.feet]
+            if getattr(est, "vertical", "free") == "floors"
+            else None
+        )
         self._closed = False
         #: the exception that ended the stream inside a push (a component's failure), if any
         self.failure: BaseException | None = None
@@ -270,7 +292,9 @@ class OnlineStream:
             clock = self.clocks.get(foot.foot)
             foot.push(t if clock is None else clock(t), acc, gyr)
 
-    def describe_input(self, foot: str, *, source: str | None = None, units_in: Mapping[str, str] | None = None) -> None:
+    def describe_input(
+        self, foot: str, *, source: str | None = None, units_in: Mapping[str, str] | None = None
+    ) -> None:
         """Say where a foot's samples come from (``input_meta``) once it is known, e.g. the units of
         a file's ``# units:`` line read with its first rows."""
         checks = self.feet[_FEET.index(foot)].checks
@@ -312,7 +336,17 @@ class OnlineStream:
                 if other.closed_until() >= step.t or other.finished:
                     released.append(step)
                 elif own.t_last - step.t > self.max_wait_s:
-                    released.append(ClosedStep(step.t, step.foot, step.position, step.stride_length_m, step.heading_rad, step.index, late=True))
+                    released.append(
+                        ClosedStep(
+                            step.t,
+                            step.foot,
+                            step.position,
+                            step.stride_length_m,
+                            step.heading_rad,
+                            step.index,
+                            late=True,
+                        )
+                    )
                 else:
                     keep.append(step)
             self._held = keep
@@ -421,8 +455,14 @@ class OnlineStream:
         meta = self._meta(fusion_meta, complete=True, ended_by="close")
         meta["stance_check"] = stance_check
         meta["vertical_check"] = vertical_check
-        return PipelineResult(left=left, right=right, path=path, stance_left=trajs[0][1],
-                              stance_right=trajs[1][1] if self.n_feet == 2 else None, meta=meta)
+        return PipelineResult(
+            left=left,
+            right=right,
+            path=path,
+            stance_left=trajs[0][1],
+            stance_right=trajs[1][1] if self.n_feet == 2 else None,
+            meta=meta,
+        )
 
     def _offline_result(self) -> PipelineResult:
         """The offline run of the pipeline on every sample pushed (on the common clock): its
@@ -434,7 +474,11 @@ class OnlineStream:
         result.meta["runtime_s"] = self._push_s + result.meta.get("runtime_s", 0.0)
         result.meta.update(complete=True, ended_by="close")
         for f in self.feet:
-            result.meta["input"][f.foot] = {**(result.meta["input"].get(f.foot) or {}), "online": True, "samples": f.input.end}
+            result.meta["input"][f.foot] = {
+                **(result.meta["input"].get(f.foot) or {}),
+                "online": True,
+                "samples": f.input.end,
+            }
         return result
 
     def _meta(self, fusion_meta: dict, complete: bool, ended_by: str) -> dict[str, Any]:
@@ -448,8 +492,10 @@ class OnlineStream:
             "vertical_check": {},
             "fusion": fusion_meta,
             "runtime_s": self._push_s,
-            "input": {foot.foot: {**foot.checks.meta, **foot.checks.records, "online": True, "samples": foot.input.end}
-                      for foot in self.feet},
+            "input": {
+                foot.foot: {**foot.checks.meta, **foot.checks.records, "online": True, "samples": foot.input.end}
+                for foot in self.feet
+            },
             "online": self.stats(),
             "complete": complete,
             "ended_by": ended_by,
@@ -469,7 +515,10 @@ class OnlineStream:
                 feet[f.foot] = f.trajectory() if f.n_out > 1 and f.filt is not None else None
                 if feet[f.foot] is not None:
                     traj, stance = feet[f.foot]
-                    feet[f.foot] = (self.pipeline._hold_floors(FusionResult(traj, None, midpoint_path(traj, None))).left, stance)
+                    feet[f.foot] = (
+                        self.pipeline._hold_floors(FusionResult(traj, None, midpoint_path(traj, None))).left,
+                        stance,
+                    )
             except Exception:  # nothing of this foot can be made
                 feet[f.foot] = None
         partial = None
@@ -477,7 +526,10 @@ class OnlineStream:
             (left, stance_left), right_pair = feet["left"], feet.get("right")
             right, stance_right = right_pair if right_pair is not None else (None, None)
             partial = PipelineResult(
-                left=left, right=right, path=midpoint_path(left, right), stance_left=stance_left,
+                left=left,
+                right=right,
+                path=midpoint_path(left, right),
+                stance_left=stance_left,
                 stance_right=stance_right,
                 meta=self._meta({"fusion": "none: the stream ended before the feet could be fused"}, False, reason),
             )
@@ -501,7 +553,9 @@ class OnlineStream:
 
         try:
             with recording(quiet=True):  # said live
-                result = make_pipeline(self.pipeline.detector, self.pipeline.estimator, "independent").run(f.whole_input())
+                result = make_pipeline(self.pipeline.detector, self.pipeline.estimator, "independent").run(
+                    f.whole_input()
+                )
         except Exception:  # the stream's own samples below
             return None
         return result.left, result.stance_left
@@ -517,13 +571,23 @@ class OnlineStream:
             "push_time_s": self._push_s,
             # what ``close`` returns: the offline rerun ("whole input"), the stream's final samples
             # ("stream"), or nothing (keep=False: the past is not kept, no whole-walk smoothing)
-            "close": ("whole input" if self.rerun else "stream") if self.keep else
-            "none: keep=False keeps no past" + (", the whole-walk smoother was not possible (the stream's samples are "
-                                                "smoothed step-wise)" if getattr(self.pipeline.estimator, "smoother", None) == "whole" else ""),
+            "close": ("whole input" if self.rerun else "stream")
+            if self.keep
+            else "none: keep=False keeps no past"
+            + (
+                ", the whole-walk smoother was not possible (the stream's samples are smoothed step-wise)"
+                if getattr(self.pipeline.estimator, "smoother", None) == "whole"
+                else ""
+            ),
             # (step end, when it became final) of each foot's latest steps, s after the step's end
-            "step_latency_s": {f.foot: [round((b - a) / f.rate_hz, 6) for a, b in f.step_final_at] if f.rate_hz else [] for f in self.feet},
+            "step_latency_s": {
+                f.foot: [round((b - a) / f.rate_hz, 6) for a, b in f.step_final_at] if f.rate_hz else []
+                for f in self.feet
+            },
             # a coupled fusion's own record of what it applied live (step-vector's fitted leg length per update)
-            "fusion": self.joint.session.finish() if self.joint is not None and self.joint.session is not None else None,
+            "fusion": self.joint.session.finish()
+            if self.joint is not None and self.joint.session is not None
+            else None,
         }
 
 
@@ -531,7 +595,15 @@ def _hold(holder: FloorHolder, update: FootUpdate, source: Any, final: bool) -> 
     """A foot's final samples with level strides held level (:class:`FloorHolder`): those whose
     stride's next stance has ended; the rest wait for it (or for the end)."""
     closed = bool(len(update.t)) and any(s.t == update.t[-1] for s in source.steps.pending)
-    rows = holder.push(update.t, update.position, update.velocity, update.quaternion, update.stance, closed=closed, swing_rise=update.swing_rise)
+    rows = holder.push(
+        update.t,
+        update.position,
+        update.velocity,
+        update.quaternion,
+        update.stance,
+        closed=closed,
+        swing_rise=update.swing_rise,
+    )
     if final:
         rows = tuple(np.concatenate([a, b]) for a, b in zip(rows, holder.flush()))
     t, p, v, q, stance = rows

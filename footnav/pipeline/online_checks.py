@@ -117,8 +117,12 @@ class _ExtremeTally:
 
     def clipped(self) -> tuple[int, int, float | None] | None:
         """(samples, first index, nominal full scale or None) of the plateaus found, or None."""
-        hits = [k for k in range(6) if self.count[k] >= CLIP_MIN_REPEATS
-                and (abs(self.value[k]) >= self.floor or _full_scale_of(self.value[k], self.scales, self.unit_si))]
+        hits = [
+            k
+            for k in range(6)
+            if self.count[k] >= CLIP_MIN_REPEATS
+            and (abs(self.value[k]) >= self.floor or _full_scale_of(self.value[k], self.scales, self.unit_si))
+        ]
         if not hits:
             return None
         fs = next((f for f in (_full_scale_of(self.value[k], self.scales, self.unit_si) for k in hits) if f), None)
@@ -129,7 +133,9 @@ def _empty() -> tuple[NDArray, NDArray, NDArray]:
     return np.empty(0), np.empty((0, 3)), np.empty((0, 3))
 
 
-def _join(first: tuple[NDArray, NDArray, NDArray], then: tuple[NDArray, NDArray, NDArray]) -> tuple[NDArray, NDArray, NDArray]:
+def _join(
+    first: tuple[NDArray, NDArray, NDArray], then: tuple[NDArray, NDArray, NDArray]
+) -> tuple[NDArray, NDArray, NDArray]:
     if not len(first[0]):  # the common case: nothing held back
         return then
     return tuple(np.concatenate((a, b)) for a, b in zip(first, then))  # type: ignore[return-value]
@@ -243,8 +249,9 @@ class ChunkChecks:
             # before the window check settled the unit: the median of everything received so far
             received = head()
             acc_median = float(np.median(row_norms(np.concatenate([h[1] for h in received]) if received else acc)))
-        check_extremes(acc, gyr, path=self.path, offset=offset, hold=hold, settled=keep, acc_median=acc_median,
-                       gyr_norm=gyr_norm)
+        check_extremes(
+            acc, gyr, path=self.path, offset=offset, hold=hold, settled=keep, acc_median=acc_median, gyr_norm=gyr_norm
+        )
         return keep
 
     def accept(self, pending: _Pending) -> None:
@@ -273,8 +280,15 @@ class ChunkChecks:
         if acc is None and gyr is None:
             return []
         parts = []
-        record: dict[str, Any] = {"acc": 0, "first_index": None, "gyr": 0, "gyr_first_index": None,
-                                  "acc_full_scale": None, "gyr_full_scale": None, "online": True}
+        record: dict[str, Any] = {
+            "acc": 0,
+            "first_index": None,
+            "gyr": 0,
+            "gyr_first_index": None,
+            "acc_full_scale": None,
+            "gyr_full_scale": None,
+            "online": True,
+        }
         if acc is not None:
             record.update(acc=acc[0], first_index=acc[1], acc_full_scale=f"+-{acc[2]:g} g" if acc[2] else None)
             fs = f", full scale {record['acc_full_scale']}" if acc[2] else ""
@@ -283,8 +297,10 @@ class ChunkChecks:
             record.update(gyr=gyr[0], gyr_first_index=gyr[1], gyr_full_scale=f"+-{gyr[2]:g} deg/s" if gyr[2] else None)
             fs = f", full scale {record['gyr_full_scale']}" if gyr[2] else ""
             parts.append(f"{gyr[0]} gyroscope sample(s) (first at index {gyr[1]}{fs})")
-        message = (f"{self.label}: {' and '.join(parts)} at the sensor's full scale so far: the true value is unknown "
-                   "there (clipping, saturation); recorded in meta['clipped']")
+        message = (
+            f"{self.label}: {' and '.join(parts)} at the sensor's full scale so far: the true value is unknown "
+            "there (clipping, saturation); recorded in meta['clipped']"
+        )
         return [("clipped", record, message)]
 
     def finish(self) -> tuple[NDArray, NDArray, NDArray]:
@@ -349,5 +365,7 @@ class ChunkChecks:
             self.records.setdefault("gaps", []).extend(gaps)
             if self._gap_warnings < MAX_GAP_WARNINGS:
                 self._gap_warnings += 1
-                more = "" if self._gap_warnings < MAX_GAP_WARNINGS else " (later gaps are recorded there without a word)"
+                more = (
+                    "" if self._gap_warnings < MAX_GAP_WARNINGS else " (later gaps are recorded there without a word)"
+                )
                 warn(gap_message(self.label, gaps, self.median_dt) + more, DataQualityWarning, stacklevel=4)

@@ -22,7 +22,7 @@ ONLINE_FUSIONS = ("independent",)
 COUPLED_ONLINE_FUSIONS = ("range", "step-vector", "particle")
 #: Why the other built-in fusions are offline only.
 OFFLINE_ONLY_FUSIONS = {
-    "dtw": "it averages the feet's whole walks (dynamic time warping needs both sequences complete)",
+    "dtw": "it averages the feet's whole walks (dynamic time warping needs both sequences complete)"
 }
 
 
@@ -46,7 +46,9 @@ def check_online(pipeline: Any, feet: int) -> float:
             f"heading aid {aid.name!r} is offline only: it learns from the whole walk; online, use heading_aid=None"
         )
     if fus.name not in ONLINE_FUSIONS and not callable(getattr(fus, "session", None)):
-        why = OFFLINE_ONLY_FUSIONS.get(fus.name, "it offers no session (footnav.core.component.FusionSession) to run as samples arrive")
+        why = OFFLINE_ONLY_FUSIONS.get(
+            fus.name, "it offers no session (footnav.core.component.FusionSession) to run as samples arrive"
+        )
         online = [*ONLINE_FUSIONS, *COUPLED_ONLINE_FUSIONS]
         raise CompositionError(
             f"fusion {fus.name!r} is offline only: {why}; online mode runs {', '.join(repr(n) for n in online)}"

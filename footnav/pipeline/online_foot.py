@@ -15,23 +15,23 @@ no filter's internals. What a push takes and returns is in :mod:`footnav.pipelin
 from __future__ import annotations
 
 import math
-from dataclasses import replace
 from collections import deque
+from dataclasses import replace
 from typing import Any, cast
 
 import numpy as np
 from numpy.typing import NDArray
 
 from footnav.core.errors import InvalidInputError
+from footnav.core.online_contract import OnlineFilter
+from footnav.core.types import FootTrajectory, ImuData, StanceResult, stance_intervals
+from footnav.core.warning_log import recording
 from footnav.nav.floors import stance_swing_rises, swing_rises
 from footnav.nav.heading import rotate_about_z
 from footnav.nav.initial_alignment import bridged_gaps
-from footnav.core.online_contract import OnlineFilter
 from footnav.pipeline.online_checks import ChunkChecks
 from footnav.pipeline.online_io import ClosedStep, FootUpdate, ForwardEstimate, as_chunk, empty_update
 from footnav.pipeline.online_steps import StepTracker
-from footnav.core.types import FootTrajectory, ImuData, StanceResult, stance_intervals
-from footnav.core.warning_log import recording
 
 __all__ = ["SEGMENT_SAMPLES", "ClosedStep", "FootStream", "FootUpdate", "ForwardEstimate", "as_chunk"]
 
@@ -144,7 +144,17 @@ class FootStream:
         self.meta: dict = {}
         # final (smoothed) outputs: t, q, v, p, position covariance (xx, xy, yy, zz), stance, and
         # the swing's own rise at each stance's first update (footnav.nav.floors.swing_rises)
-        self.out = _Grow([((), np.float64), ((4,), np.float64), ((3,), np.float64), ((3,), np.float64), ((4,), np.float64), ((), np.bool_), ((), np.float64)])
+        self.out = _Grow(
+            [
+                ((), np.float64),
+                ((4,), np.float64),
+                ((3,), np.float64),
+                ((3,), np.float64),
+                ((4,), np.float64),
+                ((), np.bool_),
+                ((), np.float64),
+            ]
+        )
         self._swing_carry: tuple[float, bool, float] = (math.nan, False, math.nan)
         self.n_out = 0
         self.emitted = 0
@@ -387,7 +397,9 @@ class FootStream:
             return False
         stop = self.whole_stances_until(0, self.n_final, final)
         t, acc, gyr, mask = (x.copy() for x in self.input.rows(0, stop))
-        cal = self.stream.pipeline.fusion.foot_calibration(ImuData(t=t, acc=acc, gyr=gyr, meta=self.input_meta()), StanceResult(mask=mask), self.foot)
+        cal = self.stream.pipeline.fusion.foot_calibration(
+            ImuData(t=t, acc=acc, gyr=gyr, meta=self.input_meta()), StanceResult(mask=mask), self.foot
+        )
         if cal is not None:
             self.acc_scale, self.calibration = float(cal.acc_scale), cal.as_meta(gyro_bias=False)
             acc = acc * self.acc_scale
@@ -558,11 +570,24 @@ class FootStream:
         stance = StanceResult(
             mask=mask,
             events={"foot_flat": runs[:, 0], "heel_off": runs[:, 1] - 1},
-            meta={"detector": self.stream.pipeline.detector.describe(), "online": True, "latency_s": self.stream.latency_s},
+            meta={
+                "detector": self.stream.pipeline.detector.describe(),
+                "online": True,
+                "latency_s": self.stream.latency_s,
+            },
         )
         traj = est.package(
-            t, q, v, p, pcov, self.start_index, self.meta, runs, smoothed=est.smoother != "none",
-            heading=est.heading == "first-step", biases=est.final_biases(self.filt, 0),
+            t,
+            q,
+            v,
+            p,
+            pcov,
+            self.start_index,
+            self.meta,
+            runs,
+            smoothed=est.smoother != "none",
+            heading=est.heading == "first-step",
+            biases=est.final_biases(self.filt, 0),
         )
         if getattr(self.filt, "outputs", None) is not None:  # what the ekf's trajectory carries offline
             traj = replace(traj, swing_rise_m=stance_swing_rises(swing, runs))

@@ -102,7 +102,9 @@ def as_chunk(chunk: Any, foot: str) -> tuple[NDArray, NDArray, NDArray]:
         try:
             t, acc, gyr = chunk["t"], chunk["acc"], chunk["gyr"]
         except KeyError as exc:
-            raise InvalidInputError(f"the {foot} foot's chunk has no {exc.args[0]!r}; give t, acc, gyr", field=foot) from None
+            raise InvalidInputError(
+                f"the {foot} foot's chunk has no {exc.args[0]!r}; give t, acc, gyr", field=foot
+            ) from None
     elif isinstance(chunk, (tuple, list)) and len(chunk) == 3:
         t, acc, gyr = chunk
     else:

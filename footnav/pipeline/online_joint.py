@@ -36,6 +36,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from footnav.core.errors import CompositionError, DataQualityWarning
+from footnav.core.online_contract import OnlineFilter
+from footnav.core.types import FootTrajectory, FusionResult, ImuData, StanceResult, stance_intervals
+from footnav.core.warning_log import recording, warn
 from footnav.fusion.independent import midpoint_path
 from footnav.fusion.joint import (
     OUTSIDE_SPAN,
@@ -48,12 +51,9 @@ from footnav.fusion.joint import (
 )
 from footnav.nav.heading import rotate_about_z
 from footnav.nav.spans import CommonSpan, FootCut, common_bounds
-from footnav.core.online_contract import OnlineFilter
 from footnav.pipeline.online_foot import SEGMENT_SAMPLES, FootStream, _Grow
 from footnav.pipeline.online_io import FootUpdate, ForwardEstimate, empty_update
 from footnav.pipeline.online_steps import StepTracker, stance_runs
-from footnav.core.types import FootTrajectory, FusionResult, ImuData, StanceResult, stance_intervals
-from footnav.core.warning_log import recording, warn
 
 __all__ = ["JointFoot", "JointStream"]
 
@@ -210,7 +210,13 @@ class JointStream:
         cap = self._cap(final)
         cuts = [self._cut(jf, self._stop(jf, cap, final)) for jf in self.feet]
         self.session = self.fusion.session(self.estimator, self.start_s)
-        first = start_filter(self.estimator, [c[0] for c in cuts], [c[1] for c in cuts], [jf.yaw for jf in self.feet], self.session.step_width_m)
+        first = start_filter(
+            self.estimator,
+            [c[0] for c in cuts],
+            [c[1] for c in cuts],
+            [jf.yaw for jf in self.feet],
+            self.session.step_width_m,
+        )
         if not isinstance(first, OnlineFilter):
             raise CompositionError(
                 f"online fusion {self.fusion.name!r} needs the estimator's filter in segments (footnav.core.component.OnlineFilter); "
@@ -431,7 +437,11 @@ class JointStream:
         out = []
         for f in range(2):
             sl = filt.block(f, "pos")
-            out.append(ForwardEstimate(filt.time(f), filt.position(f), filt.velocity(f), filt.quaternion(f), cov[sl, sl].copy()))
+            out.append(
+                ForwardEstimate(
+                    filt.time(f), filt.position(f), filt.velocity(f), filt.quaternion(f), cov[sl, sl].copy()
+                )
+            )
         return out
 
     # -- the end --------------------------------------------------------------------------------------
@@ -457,15 +467,32 @@ class JointStream:
             t, q, v, p, pcov, mask = (np.array(x) for x in jf.out.rows(jf.i0, jf.n_out))
             runs = stance_intervals(mask)
             traj = est.package(
-                t, q, v, p, pcov, self.start_index[f], self.meta[f], runs, smoothed=self.smooth, heading=False,
+                t,
+                q,
+                v,
+                p,
+                pcov,
+                self.start_index[f],
+                self.meta[f],
+                runs,
+                smoothed=self.smooth,
+                heading=False,
                 biases=est.final_biases(self.filt, f),
             )
             fused.append(traj)
             n = jf.alone.input.end
             t_first, t_end = self._span_of(jf)
-            cuts.append(FootCut(jf.i0, jf.n_out, n, max(0.0, float(self.start_s - t_first)), max(0.0, float(t_end - self.span_end))))
-        span = CommonSpan(float(self.start_s), float(self.span_end), cuts[0], cuts[1], *[self._span_of(jf) for jf in self.feet])
+            cuts.append(
+                FootCut(
+                    jf.i0, jf.n_out, n, max(0.0, float(self.start_s - t_first)), max(0.0, float(t_end - self.span_end))
+                )
+            )
+        span = CommonSpan(
+            float(self.start_s), float(self.span_end), cuts[0], cuts[1], *[self._span_of(jf) for jf in self.feet]
+        )
         if span.warn:
             warn(span.message(self.fusion.name, OUTSIDE_SPAN), DataQualityWarning, stacklevel=4)
-        joint = FusionResult(left=fused[0], right=fused[1], path=midpoint_path(fused[0], fused[1]), meta=self.result_meta)
+        joint = FusionResult(
+            left=fused[0], right=fused[1], path=midpoint_path(fused[0], fused[1]), meta=self.result_meta
+        )
         return on_whole_span(joint, span, lambda foot: alone[foot])

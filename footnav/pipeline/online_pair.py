@@ -30,9 +30,9 @@ from typing import Any
 
 import numpy as np
 
-from footnav.pipeline.online_foot import FootStream
 from footnav.core.types import ImuData
 from footnav.core.warning_log import recording
+from footnav.pipeline.online_foot import FootStream
 
 __all__ = ["PairDetection"]
 
@@ -120,7 +120,11 @@ class PairDetection:
         for i, (f, fr) in enumerate(zip(self.feet, frontiers)):
             if fr > f.n_final:
                 mask = masks.get(f.foot)  # none: a single sample in its window, no stance
-                f.decide(mask[f.n_final - starts[i] : fr - starts[i]] if mask is not None else np.zeros(fr - f.n_final, dtype=bool))
+                f.decide(
+                    mask[f.n_final - starts[i] : fr - starts[i]]
+                    if mask is not None
+                    else np.zeros(fr - f.n_final, dtype=bool)
+                )
 
     def _window(self, i: int, t: np.ndarray, acc: np.ndarray, gyr: np.ndarray) -> ImuData:
         """The foot's window as an ImuData on the stream's sampling interval (the detector counts
@@ -128,5 +132,7 @@ class PairDetection:
         grid = self._grids[i]
         if grid is None:
             rate = self.feet[i].rate_hz
-            grid = self._grids[i] = ImuData(t=np.arange(2) / rate, acc=np.tile([0.0, 0.0, 9.81], (2, 1)), gyr=np.zeros((2, 3)))
+            grid = self._grids[i] = ImuData(
+                t=np.arange(2) / rate, acc=np.tile([0.0, 0.0, 9.81], (2, 1)), gyr=np.zeros((2, 3))
+            )
         return grid.same_grid(t.copy(), acc.copy(), gyr.copy())

@@ -12,8 +12,8 @@ from typing import Any
 
 import numpy as np
 
-from footnav.nav.strides import stride_parameters
 from footnav.core.types import FootTrajectory, Path, StanceResult
+from footnav.nav.strides import stride_parameters
 
 __all__ = ["PipelineResult"]
 

@@ -10,11 +10,10 @@ pipeline file, ``footnav run --sync data``); :func:`synchronise` runs it on a Re
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, replace
-from typing import Any, ClassVar, Literal, Mapping
+from typing import Any, ClassVar, Literal
 
-from footnav.nav.clock_from_data import align_from_data
-from footnav.nav.clock_sync import ClockMap, apply_clock, fit_clock
 from footnav.core.component import (
     MAX_DURATION_S,
     Component,
@@ -25,6 +24,8 @@ from footnav.core.component import (
 )
 from footnav.core.errors import InvalidInputError
 from footnav.core.types import ImuData, Recording
+from footnav.nav.clock_from_data import align_from_data
+from footnav.nav.clock_sync import ClockMap, apply_clock, fit_clock
 
 __all__ = ["ClockSync", "SyncResult", "synchronise", "recording_exchanges", "EXCHANGES_KEY"]
 
@@ -133,11 +134,7 @@ class ClockSync(Component):
         require(self.leading_foot in (None, "left", "right"), self, "leading_foot", "None, 'left' or 'right'")
 
     def align(
-        self,
-        left: ImuData,
-        right: ImuData | None = None,
-        *,
-        exchanges: Mapping[str, Mapping[str, Any]] | None = None,
+        self, left: ImuData, right: ImuData | None = None, *, exchanges: Mapping[str, Mapping[str, Any]] | None = None
     ) -> SyncResult:
         """Map the feet's times onto one clock.
 

@@ -10,8 +10,8 @@ from __future__ import annotations
 
 import importlib.metadata
 import os
+from collections.abc import Iterable
 from types import ModuleType
-from typing import Iterable
 
 import pluggy
 
@@ -53,10 +53,7 @@ def _register_checked(pm: pluggy.PluginManager, plugin: object, name: str, origi
 
 
 def build_registry(
-    plugins: Iterable[ModuleType | object] = (),
-    *,
-    builtins: bool = True,
-    autoload: bool | None = None,
+    plugins: Iterable[ModuleType | object] = (), *, builtins: bool = True, autoload: bool | None = None
 ) -> Registry:
     """A fresh registry from the built-ins, ``plugins`` (objects with hook implementations) and,
     unless disabled, the installed ``footnav`` entry points.
@@ -146,5 +143,3 @@ def reset_registry(registry: Registry | None = None) -> None:
     """Replace the process-wide registry (None: rebuild on next use)."""
     global _registry
     _registry = registry
-
-

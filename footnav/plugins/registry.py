@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import difflib
 import importlib
-from typing import Any, Iterator
+from collections.abc import Iterator
+from typing import Any
 
 from footnav.core.component import KINDS, Component, check_param_names
 from footnav.core.errors import PluginError, UnknownComponentError
@@ -36,14 +37,21 @@ class Entry:
         if not isinstance(other, Entry):
             return NotImplemented
         return (self.kind, self.name, self.cls, self.plugin, self.origin) == (
-            other.kind, other.name, other.cls, other.plugin, other.origin)
+            other.kind,
+            other.name,
+            other.cls,
+            other.plugin,
+            other.origin,
+        )
 
     def __hash__(self) -> int:
         return hash((self.kind, self.name, self.plugin, self.origin))
 
     def __repr__(self) -> str:
-        return (f"Entry(kind={self.kind!r}, name={self.name!r}, cls={self._cls!r}, plugin={self.plugin!r}, "
-                f"origin={self.origin!r})")
+        return (
+            f"Entry(kind={self.kind!r}, name={self.name!r}, cls={self._cls!r}, plugin={self.plugin!r}, "
+            f"origin={self.origin!r})"
+        )
 
 
 def _import_class(ref: str, kind: str, plugin: str, origin: str) -> type[Component]:

@@ -55,5 +55,7 @@ def write_html(
     from footnav.report.result import result_html
 
     path = FilePath(path)
-    path.write_text(result_html(result, recording=recording, pipeline_toml=pipeline_toml, summary=summary), encoding="utf-8")
+    path.write_text(
+        result_html(result, recording=recording, pipeline_toml=pipeline_toml, summary=summary), encoding="utf-8"
+    )
     return path

@@ -27,8 +27,11 @@ def best_of_row(name: str, values: Sequence[float], decimals: int = 3) -> set[in
     """Indices of the best values of a metric row, as shown (rounded to ``decimals``): the
     highest for an F1 score, the smallest in size for an error (a signed one too). None marked
     for a descriptive metric, fewer than two values, or when every value ties (nothing is better)."""
-    finite = [(i, round(abs(v) if not name.endswith("f1") else v, decimals)) for i, v in enumerate(values)
-              if v is not None and math.isfinite(v)]
+    finite = [
+        (i, round(abs(v) if not name.endswith("f1") else v, decimals))
+        for i, v in enumerate(values)
+        if v is not None and math.isfinite(v)
+    ]
     if name in _DESCRIPTIVE or len(finite) < 2:
         return set()
     best = max(v for _, v in finite) if name.endswith("f1") else min(v for _, v in finite)
@@ -75,8 +78,14 @@ def _overlay(report, recording: str, rec) -> str | None:
     return figures.overlay_svg(truths, estimates) if estimates else None
 
 
-def evaluation_html(report, recordings: Sequence[Any] = (), *, pipelines_toml: Mapping[str, str] | None = None,
-                    warnings: Sequence[str] = (), batch: Mapping[str, Any] | None = None) -> str:
+def evaluation_html(
+    report,
+    recordings: Sequence[Any] = (),
+    *,
+    pipelines_toml: Mapping[str, str] | None = None,
+    warnings: Sequence[str] = (),
+    batch: Mapping[str, Any] | None = None,
+) -> str:
     """The report page of an :class:`~footnav.EvaluationReport` as HTML text. ``recordings``
     (by their ``name``) give the truths to draw; ``pipelines_toml`` each pipeline as written."""
     by_name = {getattr(r, "name", None): r for r in recordings}
@@ -87,26 +96,41 @@ def evaluation_html(report, recordings: Sequence[Any] = (), *, pipelines_toml: M
     ok = figures.available()
     sections = []
     for i, name in enumerate(names):
-        parts = [_metrics_table(report, name, pipelines),
-                 ('<p class="muted">★ the best pipeline of each row: the smallest error, the highest F1, as '
-                 "shown (none when all tie; path lengths and counts describe the walk and have none).</p>")]
+        parts = [
+            _metrics_table(report, name, pipelines),
+            (
+                '<p class="muted">★ the best pipeline of each row: the smallest error, the highest F1, as '
+                "shown (none when all tie; path lengths and counts describe the walk and have none).</p>"
+            ),
+        ]
         svg = _overlay(report, name, by_name.get(name)) if ok else None
         if svg is not None or not ok:
-            parts.append(figure(svg, "Each pipeline's path (solid: left foot, dashed: right) rigidly aligned in 2-D "
-                                "onto the truth (wide grey), as the ate_2d metric aligns it.", figures_ok=ok))
+            parts.append(
+                figure(
+                    svg,
+                    "Each pipeline's path (solid: left foot, dashed: right) rigidly aligned in 2-D "
+                    "onto the truth (wide grey), as the ate_2d metric aligns it.",
+                    figures_ok=ok,
+                )
+            )
         else:
             parts.append('<p class="muted">No path truth to overlay for this recording.</p>')
         failed = [f for f in report.failures if f.recording == name]
         if failed:
-            parts.append('<div class="warn"><p>Failed runs:</p><ul>'
-                         + "".join(f"<li>{esc(scrub(f, places))}</li>" for f in failed) + "</ul></div>")
+            parts.append(
+                '<div class="warn"><p>Failed runs:</p><ul>'
+                + "".join(f"<li>{esc(scrub(f, places))}</li>" for f in failed)
+                + "</ul></div>"
+            )
         sections.append((f"rec{i}", f"Recording {scrub(name, places)}", "".join(parts)))
     checks = list(getattr(report, "warnings", ()))
     all_warnings = list(dict.fromkeys([*map(str, warnings), *(str(w) for m in metas for w in m.get("warnings", ()))]))
     body = warnings_html(all_warnings, places)
     if checks:
-        body += ('<div class="warn"><p>The truth looks suspect here (part of the walk, mirrored, another scale): its '
-                 "metrics mean less.</p><ul>" + "".join(f"<li>{esc(scrub(c, places))}</li>" for c in checks) + "</ul></div>")
+        body += (
+            '<div class="warn"><p>The truth looks suspect here (part of the walk, mirrored, another scale): its '
+            "metrics mean less.</p><ul>" + "".join(f"<li>{esc(scrub(c, places))}</li>" for c in checks) + "</ul></div>"
+        )
     sections.append(("warnings", "Warnings", body))
     hashes: dict[str, str] = {}
     for meta in metas:

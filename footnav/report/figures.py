@@ -16,7 +16,16 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["angular_rate_norm", "available", "decimate", "height_svg", "overlay_svg", "plan_svg", "stance_svg", "stride_bands"]
+__all__ = [
+    "angular_rate_norm",
+    "available",
+    "decimate",
+    "height_svg",
+    "overlay_svg",
+    "plan_svg",
+    "stance_svg",
+    "stride_bands",
+]
 
 #: Points a drawn line keeps at most (every k-th sample).
 MAX_LINE_POINTS = 2500
@@ -26,7 +35,16 @@ MAX_FOOTPRINTS = 1500
 STANCE_WINDOW_S = 10.0
 
 FOOT_COLORS = {"left": "tab:blue", "right": "tab:red"}
-_PIPELINE_COLORS = ("tab:blue", "tab:orange", "tab:green", "tab:purple", "tab:brown", "tab:pink", "tab:olive", "tab:cyan")
+_PIPELINE_COLORS = (
+    "tab:blue",
+    "tab:orange",
+    "tab:green",
+    "tab:purple",
+    "tab:brown",
+    "tab:pink",
+    "tab:olive",
+    "tab:cyan",
+)
 
 
 def available() -> bool:
@@ -124,14 +142,14 @@ def _svg(fig) -> str:
     buf = io.StringIO()
     fig.savefig(buf, format="svg", metadata={"Date": None, "Creator": "footnav"})
     text = buf.getvalue()
-    text = text[text.index("<svg"):]
+    text = text[text.index("<svg") :]
     # a hundredth of a point is finer than any screen: matplotlib writes six decimals
     text = re.sub(r"(\d\.\d\d)\d+", r"\1", text)
     text = re.sub(r'(<svg[^>]*?) width="[^"]*" height="[^"]*"', r"\1", text, count=1)
     # several figures in one page: their clip paths and markers must not share ids
     salt = f"f{id(fig) % 100000}"
     text = re.sub(r'id="([^"]+)"', lambda m: f'id="{salt}{m.group(1)}"', text)
-    text = re.sub(r'url\(#([^)]+)\)', lambda m: f"url(#{salt}{m.group(1)})", text)
+    text = re.sub(r"url\(#([^)]+)\)", lambda m: f"url(#{salt}{m.group(1)})", text)
     text = re.sub(r'xlink:href="#([^"]+)"', lambda m: f'xlink:href="#{salt}{m.group(1)}"', text)
     return text.strip()
 
@@ -178,8 +196,16 @@ def plan_svg(feet: list[tuple[str, Any, Any]], path, truths: dict[str, Any] | No
         ax.plot(traj.position[k, 0], traj.position[k, 1], color=color, lw=0.8, alpha=0.7, label=f"{foot} foot")
         prints = _footprints(traj, stance)
         shown = prints[decimate(len(prints), MAX_FOOTPRINTS)] if len(prints) else prints
-        ax.plot(shown[:, 0], shown[:, 1], "o", color=color, ms=3, mfc="none", mew=0.8,
-                label=f"{foot} footprints ({len(prints)}" + (f", {len(shown)} drawn)" if len(shown) < len(prints) else ")"))
+        ax.plot(
+            shown[:, 0],
+            shown[:, 1],
+            "o",
+            color=color,
+            ms=3,
+            mfc="none",
+            mew=0.8,
+            label=f"{foot} footprints ({len(prints)}" + (f", {len(shown)} drawn)" if len(shown) < len(prints) else ")"),
+        )
         ax.plot(*traj.position[0, :2], "o", color=color, ms=8)
         ax.plot(*traj.position[-1, :2], "s", color=color, ms=8)
     if path is not None and len(path.t) > 1:
@@ -197,13 +223,24 @@ def height_svg(feet: list[tuple[str, Any, Any]], strides, truths: dict[str, Any]
     for foot, traj, stance in feet:
         color = FOOT_COLORS[foot]
         prints = _footprints(traj, stance)
-        mid = np.clip(np.asarray(stance.intervals, dtype=int).reshape(-1, 2).mean(axis=1).astype(int), 0, len(traj.t) - 1)
+        mid = np.clip(
+            np.asarray(stance.intervals, dtype=int).reshape(-1, 2).mean(axis=1).astype(int), 0, len(traj.t) - 1
+        )
         edges_s = np.asarray(traj.t)[mid] if len(prints) else np.zeros(0)
         truth = (truths or {}).get(foot)
         if truth is not None:
             z0 = float(np.interp(truth.t[0], traj.t, traj.position[:, 2]))
-            _height_curve(ax, truth.t, truth.position[:, 2] - truth.position[0, 2] + z0, edges_s, color,
-                          f"{foot} truth", lw=4, alpha=0.2, outline=True)
+            _height_curve(
+                ax,
+                truth.t,
+                truth.position[:, 2] - truth.position[0, 2] + z0,
+                edges_s,
+                color,
+                f"{foot} truth",
+                lw=4,
+                alpha=0.2,
+                outline=True,
+            )
         _height_curve(ax, traj.t, traj.position[:, 2], edges_s, color, f"{foot} foot", lw=0.6, alpha=0.8)
         if len(prints):
             k = decimate(len(mid))
@@ -246,8 +283,18 @@ def stance_svg(rows: list[tuple[str, np.ndarray, np.ndarray, np.ndarray, str]], 
     for ax, (foot, t, rate, mask, source) in zip(axes, rows):
         inside = np.flatnonzero((t >= window[0]) & (t <= window[1]))
         k = inside[decimate(len(inside))] if len(inside) else inside
-        ax.fill_between(t[k], 0, 1, where=np.asarray(mask)[k], step="mid", color="tab:green", alpha=0.25, lw=0,
-                        transform=ax.get_xaxis_transform(), label="stance")
+        ax.fill_between(
+            t[k],
+            0,
+            1,
+            where=np.asarray(mask)[k],
+            step="mid",
+            color="tab:green",
+            alpha=0.25,
+            lw=0,
+            transform=ax.get_xaxis_transform(),
+            label="stance",
+        )
         ax.plot(t[k], rate[k], color=FOOT_COLORS[foot], lw=0.9)
         ax.set_ylabel("|ω| (rad/s)")
         ax.set_title(f"{foot} foot: angular rate ({source}); green: stance", loc="left", fontsize="medium")
@@ -264,8 +311,14 @@ def overlay_svg(truths: dict[str, Any], estimates: list[tuple[str, str, np.ndarr
     ax = fig.add_subplot()
     for foot, truth in truths.items():
         k = decimate(len(truth.t))
-        ax.plot(truth.position[k, 0], truth.position[k, 1], color="0.2", lw=4, alpha=0.2,
-                label="truth" if foot == next(iter(truths)) else None)
+        ax.plot(
+            truth.position[k, 0],
+            truth.position[k, 1],
+            color="0.2",
+            lw=4,
+            alpha=0.2,
+            label="truth" if foot == next(iter(truths)) else None,
+        )
     pipelines = list(dict.fromkeys(p for p, _, _ in estimates))
     for pipe, foot, xy in estimates:
         color = _PIPELINE_COLORS[pipelines.index(pipe) % len(_PIPELINE_COLORS)]

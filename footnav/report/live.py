@@ -50,8 +50,9 @@ class LiveView:
         self.sent = 0
         ctx = multiprocessing.get_context("spawn")  # no fork of a process holding numba's threads
         self._reader, self._writer = ctx.Pipe(duplex=True)
-        self._process = ctx.Process(target=_view_main, args=(self._reader, title, self.every_s, self.window),
-                                    name="footnav-view", daemon=True)
+        self._process = ctx.Process(
+            target=_view_main, args=(self._reader, title, self.every_s, self.window), name="footnav-view", daemon=True
+        )
         self._process.start()
         self._reader.close()  # the child's end
 

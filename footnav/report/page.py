@@ -72,12 +72,18 @@ def figure(svg: str | None, caption: str, *, figures_ok: bool) -> str:
     return f'<figure><div class="scroll">{svg}</div><figcaption>{caption}</figcaption></figure>'
 
 
-def table(header: Sequence[str], rows: Sequence[Sequence[object]], *, row_class: Sequence[str] | None = None,
-          cell_class: Mapping[tuple[int, int], str] | None = None, text_columns: Iterable[int] = (0,)) -> str:
+def table(
+    header: Sequence[str],
+    rows: Sequence[Sequence[object]],
+    *,
+    row_class: Sequence[str] | None = None,
+    cell_class: Mapping[tuple[int, int], str] | None = None,
+    text_columns: Iterable[int] = (0,),
+) -> str:
     """An HTML table in a horizontally scrolling box (a narrow screen scrolls it, not the page)."""
     left = set(text_columns)
     cls = dict(cell_class or {})
-    head = "".join(f'<th{" class=t" if j in left else ""}>{esc(h)}</th>' for j, h in enumerate(header))
+    head = "".join(f"<th{' class=t' if j in left else ''}>{esc(h)}</th>" for j, h in enumerate(header))
     body = []
     for i, row in enumerate(rows):
         rc = f' class="{row_class[i]}"' if row_class and row_class[i] else ""
@@ -104,7 +110,7 @@ def page(title: str, subtitle: str, sections: Sequence[tuple[str, str, str]]) ->
     links = " ".join(f'<a href="#{esc(a)}">{esc(t)}</a>' for a, t, _ in sections)  # spaces: room to wrap
     body = "".join(section(a, t, b) for a, t, b in sections)
     return (
-        "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
+        '<!DOCTYPE html>\n<html lang="en"><head><meta charset="utf-8">'
         '<meta name="viewport" content="width=device-width, initial-scale=1">'
         f'<meta name="generator" content="footnav"><title>{esc(title)}</title><style>{_STYLE}</style></head>\n'
         f'<body><h1>{esc(title)}</h1><p class="muted">{subtitle}</p><nav>{links}</nav>\n{body}</body></html>\n'
@@ -113,18 +119,24 @@ def page(title: str, subtitle: str, sections: Sequence[tuple[str, str, str]]) ->
 
 # --- warnings and self-checks, in plain words ------------------------------------------------
 
-_STANCE_TRY = ("try another stance detector (<code>--detector</code>, see <code>footnav plugins</code>) or compare them "
-               "with <code>footnav compare-detectors</code>; look at the stance figure above")
-_VERTICAL_TRY = ("the height drifts over level walking: check the sensor's mounting and the recording's units, or "
-                 "keep <code>vertical = \"floors\"</code> in the estimator (the default) to hold level strides level")
+_STANCE_TRY = (
+    "try another stance detector (<code>--detector</code>, see <code>footnav plugins</code>) or compare them "
+    "with <code>footnav compare-detectors</code>; look at the stance figure above"
+)
+_VERTICAL_TRY = (
+    "the height drifts over level walking: check the sensor's mounting and the recording's units, or "
+    'keep <code>vertical = "floors"</code> in the estimator (the default) to hold level strides level'
+)
 
 
 def warnings_html(warnings: Sequence[str], places: Iterable[str]) -> str:
     if not warnings:
         return '<p class="ok">The run issued no warning.</p>'
     items = "".join(f"<li>{esc(scrub(w, places))}</li>" for w in warnings)
-    return f'<div class="warn"><p>The run issued {len(warnings)} warning(s): each says what it found and, ' \
-           f"where footnav knows one, what to try.</p><ul>{items}</ul></div>"
+    return (
+        f'<div class="warn"><p>The run issued {len(warnings)} warning(s): each says what it found and, '
+        f"where footnav knows one, what to try.</p><ul>{items}</ul></div>"
+    )
 
 
 def _signed(value: object) -> str:
@@ -140,9 +152,11 @@ def checks_html(meta: Mapping[str, Any]) -> str:
     out = []
     for foot, c in (meta.get("stance_check") or {}).items():
         missed, over = c.get("cycles_without_stance", 0), c.get("stances_over_swing", 0)
-        text = (f"<b>{esc(foot)} stances</b>: {c.get('stances', '?')} stances for {c.get('gait_cycles', '?')} gait cycles "
-                f"(stride {c.get('stride_s', float('nan')):.2f} s); {missed} cycle(s) without a stance, {over} stance(s) "
-                "across a swing.")
+        text = (
+            f"<b>{esc(foot)} stances</b>: {c.get('stances', '?')} stances for {c.get('gait_cycles', '?')} gait cycles "
+            f"(stride {c.get('stride_s', float('nan')):.2f} s); {missed} cycle(s) without a stance, {over} stance(s) "
+            "across a swing."
+        )
         if c.get("suspicious"):
             at = (c.get("cycles_without_stance_at_s") or []) + (c.get("stances_over_swing_at_s") or [])
             where = f" First at {', '.join(f'{t:g} s' for t in at[:5])}." if at else ""
@@ -150,30 +164,41 @@ def checks_html(meta: Mapping[str, Any]) -> str:
         else:
             out.append(f'<p class="ok">{text} Fine.</p>')
     for foot, c in (meta.get("vertical_check") or {}).items():
-        text = (f"<b>{esc(foot)} height</b>: {c.get('level_strides', '?')} level and {c.get('stair_strides', '?')} stair "
-                f"strides over {c.get('walked_m', float('nan')):.1f} m; trend over level strides "
-                f"{_signed(c.get('trend_m'))} m ({_signed(c.get('rate_m_per_100m'))} m per 100 m).")
+        text = (
+            f"<b>{esc(foot)} height</b>: {c.get('level_strides', '?')} level and {c.get('stair_strides', '?')} stair "
+            f"strides over {c.get('walked_m', float('nan')):.1f} m; trend over level strides "
+            f"{_signed(c.get('trend_m'))} m ({_signed(c.get('rate_m_per_100m'))} m per 100 m)."
+        )
         if c.get("suspicious"):
             out.append(f'<p class="warn">{text} That is a steady drift: {_VERTICAL_TRY}.</p>')
         else:
             out.append(f'<p class="ok">{text} Fine.</p>')
-    span = ((meta.get("fusion") or {}).get("span") or {})
+    span = (meta.get("fusion") or {}).get("span") or {}
     if span.get("marked"):
-        out.append('<p class="warn"><b>feet</b>: the two feet\'s recordings start or end '
-                   f"{span.get('start_difference_s', 0):.1f} / {span.get('end_difference_s', 0):.1f} s apart: "
-                   "were they recorded together? Try <code>--sync data</code> when their clocks differ.</p>")
+        out.append(
+            '<p class="warn"><b>feet</b>: the two feet\'s recordings start or end '
+            f"{span.get('start_difference_s', 0):.1f} / {span.get('end_difference_s', 0):.1f} s apart: "
+            "were they recorded together? Try <code>--sync data</code> when their clocks differ.</p>"
+        )
     if "complete" in meta:
         ended = esc(scrub(meta.get("ended_by", "")))
         if meta["complete"]:
             out.append(f'<p class="ok"><b>stream</b>: complete ({ended}).</p>')
         else:
-            out.append(f'<p class="warn"><b>stream</b>: incomplete, ended by {ended}: the result holds what was '
-                       "final by then.</p>")
+            out.append(
+                f'<p class="warn"><b>stream</b>: incomplete, ended by {ended}: the result holds what was '
+                "final by then.</p>"
+            )
     return "".join(out) or '<p class="muted">No self-check ran for this result.</p>'
 
 
-def provenance_html(meta: Mapping[str, Any], versions: Mapping[str, Any], hashes: Mapping[str, str],
-                    pipeline_toml: str | None, extra: Mapping[str, Any] | None = None) -> str:
+def provenance_html(
+    meta: Mapping[str, Any],
+    versions: Mapping[str, Any],
+    hashes: Mapping[str, str],
+    pipeline_toml: str | None,
+    extra: Mapping[str, Any] | None = None,
+) -> str:
     """The pipeline, the versions and the inputs (file names and SHA-256, never their folders)."""
     pipe = meta.get("pipeline") or {}
     named = " + ".join(f"{kind} {c.get('name', '?')}" for kind, c in pipe.items())
@@ -184,7 +209,10 @@ def provenance_html(meta: Mapping[str, Any], versions: Mapping[str, Any], hashes
     if isinstance(runtime, (int, float)):
         items.append(("run time", f"{runtime:.2f} s"))
     dl = "".join(f"<dt>{esc(k)}</dt><dd>{esc(v)}</dd>" for k, v in items)
-    inputs = table(("input file", "SHA-256"), [(FilePath(p).name, h) for p, h in hashes.items()]) if hashes else \
-        '<p class="muted">No input file (a stream or data in memory).</p>'
+    inputs = (
+        table(("input file", "SHA-256"), [(FilePath(p).name, h) for p, h in hashes.items()])
+        if hashes
+        else '<p class="muted">No input file (a stream or data in memory).</p>'
+    )
     toml = f"<h3>Pipeline (TOML)</h3><pre>{esc(pipeline_toml)}</pre>" if pipeline_toml else ""
     return f"<dl>{dl}</dl><h3>Inputs</h3>{inputs}{toml}"

@@ -17,7 +17,10 @@ def _comparable(report):
 def work():
     recs = [footnav.simulate("straight", seed=s, distance_m=8.0, standstill_s=1.0) for s in range(3)]
     recs = [footnav.core.types.Recording(**{**r.__dict__, "name": f"walk-{i}"}) for i, r in enumerate(recs)]
-    pipes = {"default": footnav.make_pipeline(), "glrt-fwd": footnav.make_pipeline("glrt", "ekf", estimator_params={"smoother": "none"})}
+    pipes = {
+        "default": footnav.make_pipeline(),
+        "glrt-fwd": footnav.make_pipeline("glrt", "ekf", estimator_params={"smoother": "none"}),
+    }
     return pipes, recs
 
 
@@ -46,7 +49,9 @@ def test_local_processes_give_the_serial_report(work, serial):
 def test_dask_local_cluster_gives_the_serial_report(work, serial):
     distributed = pytest.importorskip("dask.distributed")
     pipes, recs = work
-    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=False, dashboard_address=None) as cluster:
+    with distributed.LocalCluster(
+        n_workers=2, threads_per_worker=1, processes=False, dashboard_address=None
+    ) as cluster:
         with distributed.Client(cluster):
             report = evaluate_many(pipes, recs, backend="dask", progress=False)
     assert _comparable(report) == _comparable(serial)

@@ -14,11 +14,11 @@ import pytest
 
 import footnav
 from footnav import CompositionError, StanceDetector
-from footnav.cli import main
 from footnav.analysis.batch import evaluate_many
-from footnav.data.datasets import DATA_ENV, load_dataset
-from footnav.core.errors import DataNotFoundError, FootnavWarning, UnknownDatasetError
 from footnav.analysis.evaluation import EvaluationFailure, evaluate
+from footnav.cli import main
+from footnav.core.errors import DataNotFoundError, FootnavWarning, UnknownDatasetError
+from footnav.data.datasets import DATA_ENV, load_dataset
 from footnav.plugins.manager import build_registry, reset_registry
 
 HAS_DASK = importlib.util.find_spec("dask") is not None and importlib.util.find_spec("distributed") is not None
@@ -77,10 +77,18 @@ def _pipes():
 
 
 def _check_one_failure(report, walks):
-    assert [(f.recording, f.pipeline, f.error_type) for f in report.failures] == [("left only", "fused", "CompositionError")]
+    assert [(f.recording, f.pipeline, f.error_type) for f in report.failures] == [
+        ("left only", "fused", "CompositionError")
+    ]
     assert "needs both feet" in report.failures[0].message
     runs = {(m.recording, m.pipeline) for m in report.metrics}
-    assert runs == {("walk a", "plain"), ("walk a", "fused"), ("left only", "plain"), ("walk b", "plain"), ("walk b", "fused")}
+    assert runs == {
+        ("walk a", "plain"),
+        ("walk a", "fused"),
+        ("left only", "plain"),
+        ("walk b", "plain"),
+        ("walk b", "fused"),
+    }
     assert set(report.results) == runs
 
 
@@ -241,8 +249,16 @@ def test_cli_evaluate_prints_every_good_row_and_exits_1(no_shared_data, tmp_path
     capsys.readouterr()
     table = tmp_path / "r.csv"
     argv = [
-        "evaluate", "--dataset", "azure_fgo", str(walk / "left.csv"),
-        "--pipeline", str(tmp_path / "plain.toml"), "--pipeline", str(tmp_path / "fused.toml"), "--csv", str(table),
+        "evaluate",
+        "--dataset",
+        "azure_fgo",
+        str(walk / "left.csv"),
+        "--pipeline",
+        str(tmp_path / "plain.toml"),
+        "--pipeline",
+        str(tmp_path / "fused.toml"),
+        "--csv",
+        str(table),
     ]
     assert main(argv) == 1
     captured = capsys.readouterr()

@@ -2,8 +2,8 @@ import numpy as np
 import pytest
 
 import footnav
-from footnav.cli import main
 from footnav.analysis.comparison import compare_detectors
+from footnav.cli import main
 from footnav.detectors.threshold import ThresholdDetector
 
 
@@ -43,8 +43,22 @@ def test_event_reference_and_timing(walk):
 
 def test_cli_compare_detectors_writes_table_and_figure(tmp_path, capsys):
     fig, csv = tmp_path / "d.png", tmp_path / "d.csv"
-    code = main(["compare-detectors", "--simulate", "straight", "--detectors", "threshold", "--plot", str(fig),
-                 "--csv", str(csv), "--seconds", "0", "8"])
+    code = main(
+        [
+            "compare-detectors",
+            "--simulate",
+            "straight",
+            "--detectors",
+            "threshold",
+            "--plot",
+            str(fig),
+            "--csv",
+            str(csv),
+            "--seconds",
+            "0",
+            "8",
+        ]
+    )
     assert code == 0
     out = capsys.readouterr().out
     assert "steps_found" in out and "threshold" in out.splitlines()[0]

@@ -2,10 +2,10 @@ import numpy as np
 import pytest
 
 import footnav
-from footnav.core.errors import FootnavError, MetricNotFoundError
 from footnav.analysis import metrics
 from footnav.analysis.batch import evaluate_many
 from footnav.analysis.evaluation import evaluate, trajectory_at
+from footnav.core.errors import FootnavError, MetricNotFoundError
 
 
 @pytest.fixture(scope="module")
@@ -20,7 +20,9 @@ def test_metrics_equal_direct_computation(loop):
     for foot, traj, truth in (("left", res.left, loop.truth_left), ("right", res.right, loop.truth_right)):
         assert report.value("ate_2d", foot) == pytest.approx(metrics.ate_rmse(traj.position, truth.position, dims=2))
         assert report.value("loop_closure_2d", foot) == pytest.approx(metrics.loop_closure_error(traj.position).error_m)
-        assert report.value("stance_f1", foot) == pytest.approx(metrics.sample_scores(res.stance_left.mask if foot == "left" else res.stance_right.mask, truth.stance).f1)
+        assert report.value("stance_f1", foot) == pytest.approx(
+            metrics.sample_scores(res.stance_left.mask if foot == "left" else res.stance_right.mask, truth.stance).f1
+        )
         assert report.value("steps_missed", foot) == 0 and report.value("steps_false", foot) == 0
     assert report.value("final_separation", "both") == pytest.approx(
         float(np.linalg.norm(res.left.position[-1] - res.right.position[-1]))
@@ -39,8 +41,10 @@ def test_one_foot_recording_has_no_two_foot_metrics(loop):
 
 
 def test_many_pipelines_side_by_side(loop):
-    pipes = [("loose", footnav.make_pipeline(estimator_params={"zupt_std_mps": 0.5})),
-             ("tight", footnav.make_pipeline(estimator_params={"zupt_std_mps": 0.01}))]
+    pipes = [
+        ("loose", footnav.make_pipeline(estimator_params={"zupt_std_mps": 0.5})),
+        ("tight", footnav.make_pipeline(estimator_params={"zupt_std_mps": 0.01})),
+    ]
     report = evaluate_many(pipes, [loop])
     text = report.to_text().splitlines()
     assert text[0].split()[-2:] == ["loose", "tight"]
@@ -70,8 +74,10 @@ def test_footprint_truth_reports_footprint_errors_not_ate(loop):
     runs = stance_intervals(loop.truth_left.stance)
     idx = ((runs[:, 0] + runs[:, 1]) // 2)[::2]
     truth = FootTruth(
-        t=loop.left.t[idx], position=loop.truth_left.position[idx] * [1.0, 1.0, 0.0],
-        events={"footprint": idx}, frame="footprints",
+        t=loop.left.t[idx],
+        position=loop.truth_left.position[idx] * [1.0, 1.0, 0.0],
+        events={"footprint": idx},
+        frame="footprints",
     )
     rec = footnav.Recording(left=loop.left, truth_left=truth, name="fp")
     report = evaluate(footnav.make_pipeline(), rec, pipeline_name="p")
@@ -95,14 +101,19 @@ def test_labelled_swings_truth_reports_step_f1_inside_the_boundaries(loop):
     labelled = np.zeros(len(loop.left.t), dtype=bool)
     labelled[start:end] = True
     truth = FootTruth(
-        t=np.empty(0), position=np.empty((0, 3)), stance=loop.truth_left.stance & labelled,
-        events={"toe_off": swings[:, 0], "heel_strike": swings[:, 1]}, frame="gait_events",
+        t=np.empty(0),
+        position=np.empty((0, 3)),
+        stance=loop.truth_left.stance & labelled,
+        events={"toe_off": swings[:, 0], "heel_strike": swings[:, 1]},
+        frame="gait_events",
         meta={"labelled": labelled, "trial_boundaries": (start, end)},
     )
     rec = footnav.Recording(left=loop.left, truth_left=truth, name="sw")
     report = evaluate(footnav.make_pipeline(), rec, pipeline_name="p")
     mask = report.results[("sw", "p")].stance_left.mask
-    direct = metrics.step_detection_from_swings(mask, swings, (start, end), tolerance_samples=round(0.1 * loop.left.rate_hz))
+    direct = metrics.step_detection_from_swings(
+        mask, swings, (start, end), tolerance_samples=round(0.1 * loop.left.rate_hz)
+    )
     assert report.value("step_f1") == pytest.approx(direct.f1)
     assert report.value("steps_found") == direct.found and direct.found == len(runs) - 4  # stances between swings 1..22
     assert report.value("steps_missed") == direct.missed and report.value("steps_false") == direct.false

@@ -356,9 +356,7 @@ def greedy_max_matching(det, ref, tol):
 
 @settings(max_examples=200, deadline=None)
 @given(
-    det=st.lists(st.integers(0, 60), max_size=15),
-    ref=st.lists(st.integers(0, 60), max_size=15),
-    tol=st.integers(0, 6),
+    det=st.lists(st.integers(0, 60), max_size=15), ref=st.lists(st.integers(0, 60), max_size=15), tol=st.integers(0, 6)
 )
 def test_match_events_is_one_to_one_and_maximal(det, ref, tol):
     m, missed, false = match_events(np.array(det, dtype=np.int64), np.array(ref, dtype=np.int64), tolerance=tol)

@@ -68,11 +68,15 @@ def test_end_error_of_a_closed_walk_is_its_return_error(loop_report):
 def test_feet_metrics_of_a_two_foot_run(loop_report):
     rec, rep = loop_report
     res = rep.results[(rec.name, "threshold+ekf+range")]
-    assert rep.value("final_separation", "both") == pytest.approx(np.linalg.norm(res.left.position[-1] - res.right.position[-1]))
+    assert rep.value("final_separation", "both") == pytest.approx(
+        np.linalg.norm(res.left.position[-1] - res.right.position[-1])
+    )
     # the feet walk side by side 0.2 m apart: their DTW distance is about the step width
     assert 0.05 < rep.value("dtw_distance_feet", "both") < 0.5
     # the rectangle's four turn apexes and its end are marked; each passed once
-    assert np.isfinite(rep.value("waypoint_error_mean")) and rep.value("waypoint_error_max") >= rep.value("waypoint_error_mean")
+    assert np.isfinite(rep.value("waypoint_error_mean")) and rep.value("waypoint_error_max") >= rep.value(
+        "waypoint_error_mean"
+    )
 
 
 def test_summary_is_mean_and_sample_std_over_seeds():

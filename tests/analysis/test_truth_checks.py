@@ -33,8 +33,9 @@ def _checks(pipe, rec):
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         report = evaluate(pipe, rec, pipeline_name="p")
-    return {c.name: c for c in report.checks if c.foot == "left"}, [str(w.message) for w in caught
-                                                                   if issubclass(w.category, DataQualityWarning)]
+    return {c.name: c for c in report.checks if c.foot == "left"}, [
+        str(w.message) for w in caught if issubclass(w.category, DataQualityWarning)
+    ]
 
 
 def test_one_truth_point_inside_is_refused_though_its_span_covers_the_walk(walk, pipe):

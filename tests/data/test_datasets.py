@@ -2,8 +2,8 @@ import pytest
 
 from footnav import DataNotFoundError
 from footnav.cli import main
-from footnav.data.datasets import data_dir, dataset_names, load_dataset
 from footnav.core.errors import UnknownDatasetError
+from footnav.data.datasets import data_dir, dataset_names, load_dataset
 
 
 def test_missing_data_folder_says_where_it_looked(tmp_path):
@@ -29,11 +29,25 @@ def test_every_dataset_loads_with_its_name(shared_data):
 @pytest.mark.filterwarnings("ignore::footnav.DataQualityWarning")
 def test_cli_evaluate_prints_one_table(shared_data, tmp_path, capsys):
     csv = tmp_path / "r.csv"
-    code = main(["evaluate", "--dataset", "azure_fgo", "--dataset", "xio_short", "--data-dir", str(shared_data), "--csv", str(csv)])
+    code = main(
+        [
+            "evaluate",
+            "--dataset",
+            "azure_fgo",
+            "--dataset",
+            "xio_short",
+            "--data-dir",
+            str(shared_data),
+            "--csv",
+            str(csv),
+        ]
+    )
     assert code == 0
     out = capsys.readouterr().out
     rows = [l.split() for l in out.splitlines()]
-    assert ["azure_fgo", "ate_2d", "left", "m"] == rows[2 + [r[:3] for r in rows[2:]].index(["azure_fgo", "ate_2d", "left"])][:4]
+    assert ["azure_fgo", "ate_2d", "left", "m"] == rows[
+        2 + [r[:3] for r in rows[2:]].index(["azure_fgo", "ate_2d", "left"])
+    ][:4]
     assert any(r[:2] == ["xio_short", "loop_closure_2d"] for r in rows)
     assert csv.read_text().startswith("recording,pipeline,foot,name,value,unit")
 

@@ -14,8 +14,8 @@ from pathlib import Path
 
 import pytest
 
-from footnav.data.output import MARKER, claim_output
 from footnav.core.errors import DataQualityWarning
+from footnav.data.output import MARKER, claim_output
 
 TOKEN = "footnav-999999999-0badc0de"
 

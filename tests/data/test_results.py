@@ -30,8 +30,9 @@ def test_every_column_of_both_feet_is_written(result, tmp_path):
         traj, stance = getattr(result, foot), getattr(result, f"stance_{foot}")
         data = np.loadtxt(out / f"{foot}.csv", delimiter=",")
         assert (out / f"{foot}.csv").read_text().splitlines()[1] == "# " + TRAJECTORY_COLUMNS
-        expected = np.column_stack([traj.t, traj.position, traj.velocity, traj.quaternion, traj.position_std,
-                                    stance.mask.astype(float)])
+        expected = np.column_stack(
+            [traj.t, traj.position, traj.velocity, traj.quaternion, traj.position_std, stance.mask.astype(float)]
+        )
         np.testing.assert_allclose(data, expected, rtol=1e-8, atol=1e-9)
         arrays = np.load(out / "trajectories.npz", allow_pickle=False)
         np.testing.assert_array_equal(arrays[f"{foot}_stance"], stance.mask)

@@ -3,15 +3,14 @@
 from __future__ import annotations
 
 import math
-import time
 
 import numpy as np
 import pytest
 
-from footnav.nav import quaternion as quat
 from footnav.core.errors import InvalidParameterError
-from footnav.data.simulate import PHASE_NAMES, simulate
 from footnav.core.types import GRAVITY_MPS2, FootTruth, ImuData, Recording, stance_intervals
+from footnav.data.simulate import PHASE_NAMES, simulate
+from footnav.nav import quaternion as quat
 
 G_N = np.array([0.0, 0.0, -GRAVITY_MPS2])
 SHORT = {"distance_m": 6.0, "standstill_s": 1.0}

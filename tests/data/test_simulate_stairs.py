@@ -5,10 +5,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from footnav.nav import quaternion as quat
 from footnav.core.errors import InvalidParameterError
-from footnav.data.simulate import simulate
 from footnav.core.types import GRAVITY_MPS2, stance_intervals
+from footnav.data.simulate import simulate
+from footnav.nav import quaternion as quat
 
 G_N = np.array([0.0, 0.0, -GRAVITY_MPS2])
 RISE_M, N_STAIRS, TREAD_M = 0.17, 12, 0.3
@@ -86,8 +86,15 @@ def test_a_path_without_stairs_has_no_stairs_meta():
 
 @pytest.mark.parametrize(
     "segment",
-    [("stairs", 0, 0.17), ("stairs", 3, 0.0), ("stairs", 3, 0.6), ("stairs", 3, 0.17, 0.2), ("stairs", 2.5, 0.17),
-     ("stairs", True, 0.17), ("stairs", 3, float("nan"))],
+    [
+        ("stairs", 0, 0.17),
+        ("stairs", 3, 0.0),
+        ("stairs", 3, 0.6),
+        ("stairs", 3, 0.17, 0.2),
+        ("stairs", 2.5, 0.17),
+        ("stairs", True, 0.17),
+        ("stairs", 3, float("nan")),
+    ],
 )
 def test_bad_stairs_are_refused(segment):
     with pytest.raises(InvalidParameterError, match="segments"):
@@ -99,7 +106,10 @@ def test_cli_segments_read_stairs(tmp_path):
     from footnav.cli._parser import _segments
 
     assert _segments("1.4:0,stairs:12:0.17,stairs:3:-0.17:0.35,2:90") == [
-        (1.4, 0.0), ("stairs", 12, 0.17), ("stairs", 3, -0.17, 0.35), (2.0, 90.0)
+        (1.4, 0.0),
+        ("stairs", 12, 0.17),
+        ("stairs", 3, -0.17, 0.35),
+        (2.0, 90.0),
     ]
     out = tmp_path / "sim"
     assert main(["simulate", "path", "--segments", "1.4:0,stairs:4:0.17,1:0", "--out", str(out)]) == 0

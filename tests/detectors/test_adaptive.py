@@ -7,10 +7,10 @@ import pytest
 
 import footnav
 from footnav.analysis import metrics
-from footnav.detectors.adaptive import AdaptiveDetector
-from footnav.detectors.threshold import ThresholdDetector
 from footnav.core.errors import DataNotFoundError, InvalidParameterError
 from footnav.core.types import GRAVITY_MPS2, ImuData
+from footnav.detectors.adaptive import AdaptiveDetector
+from footnav.detectors.threshold import ThresholdDetector
 
 
 def test_finds_one_stance_per_cycle_where_the_foot_never_stops(never_still_gait):

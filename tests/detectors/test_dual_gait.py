@@ -37,7 +37,9 @@ def test_stance_ends_at_the_contralateral_heel_strike(walk):
 
 
 @pytest.mark.parametrize("rate", [100.0, 400.0])
-@pytest.mark.parametrize("scenario, opts", [("straight", {"distance_m": 30.0}), ("rectangle", {"width_m": 20.0, "height_m": 10.0})])
+@pytest.mark.parametrize(
+    "scenario, opts", [("straight", {"distance_m": 30.0}), ("rectangle", {"width_m": 20.0, "height_m": 10.0})]
+)
 def test_simulated_steps_heel_strikes_and_stance_match_truth(scenario, opts, rate):
     rec = footnav.simulate(scenario, seed=3, rate_hz=rate, **opts)
     left, right = DualGaitDetector().detect_pair(rec.left, rec.right)
@@ -46,7 +48,9 @@ def test_simulated_steps_heel_strikes_and_stance_match_truth(scenario, opts, rat
         assert steps.n_missed == 0 and steps.n_false == 0
         assert metrics.sample_scores(stance.mask, truth.stance).f1 >= 0.95  # measured 0.962-0.970
         # the simulator's heel-strike impact is the |f| peak the detector looks for
-        hs = metrics.event_timing_error(stance.events["heel_strike"], truth.events["heel_strike"], tolerance=0.1 * rate, rate_hz=rate)
+        hs = metrics.event_timing_error(
+            stance.events["heel_strike"], truth.events["heel_strike"], tolerance=0.1 * rate, rate_hz=rate
+        )
         assert hs.n_missed == 0 and hs.n_false == 0 and hs.mean_abs_error_s <= 1.0 / rate
 
 
@@ -73,7 +77,9 @@ def test_a_foot_that_never_lands_leaves_the_other_its_own_heel_strikes(walk):
     left, right = det.detect_pair(walk.left, still)
     hs = left.events["heel_strike"]
     assert len(hs) > 10 and len(right.events["heel_strike"]) == 0 and right.mask.all()
-    np.testing.assert_array_equal(left.meta["support_intervals"], np.column_stack([hs, np.append(hs[1:], walk.left.n_samples)]))
+    np.testing.assert_array_equal(
+        left.meta["support_intervals"], np.column_stack([hs, np.append(hs[1:], walk.left.n_samples)])
+    )
     # both feet flat at the start and end: standing, kept; in between the flat zones after each heel strike
     alone = det.window_masks(walk.left, None)
     assert set(alone) == {"left"}
@@ -92,10 +98,16 @@ def test_gaitmap_strides_and_heel_strike_timing(shared_data):
     left, right = DualGaitDetector().detect_pair(rec.left, rec.right)
     found = false = 0
     for stance, truth in ((left, rec.truth_left), (right, rec.truth_right)):
-        steps = metrics.step_detection_from_events(stance.mask, truth.events["mid_stance"], tolerance_samples=0.15 * rec.left.rate_hz)
+        steps = metrics.step_detection_from_events(
+            stance.mask, truth.events["mid_stance"], tolerance_samples=0.15 * rec.left.rate_hz
+        )
         found, false = found + steps.n_found, false + steps.n_false
-        timing = metrics.event_timing_error(stance.events["heel_strike"], truth.events["heel_strike"],
-                                            tolerance=0.3 * rec.left.rate_hz, rate_hz=rec.left.rate_hz)
+        timing = metrics.event_timing_error(
+            stance.events["heel_strike"],
+            truth.events["heel_strike"],
+            tolerance=0.3 * rec.left.rate_hz,
+            rate_hz=rec.left.rate_hz,
+        )
         assert timing.n_missed == 0 and timing.mean_abs_error_s < 0.04  # measured 28 ms
     # measured (0.15 s tolerance, as compare_detectors): 57 of 57 found; the one extra is the left foot standing still in the turn, which
     # the stride file labels as part of one turning stride (mocap heel speed there 0.014 m/s)

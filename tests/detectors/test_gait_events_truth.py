@@ -28,15 +28,18 @@ import numpy as np
 import pytest
 
 import footnav
-from footnav.nav.strides import stride_parameters
 from footnav.core.types import FootTrajectory
+from footnav.nav.strides import stride_parameters
 
 WINDOWED = ["threshold", "adaptive", "glrt", "acc-magnitude", "acc-variance", "ared"]
 EDGE_TOL_S = 0.03
 
 
-@pytest.fixture(scope="module", params=[(1, "rectangle", {"width_m": 12.0, "height_m": 6.0}), (2, "straight", {"distance_m": 20.0})],
-                ids=["rectangle", "straight"])
+@pytest.fixture(
+    scope="module",
+    params=[(1, "rectangle", {"width_m": 12.0, "height_m": 6.0}), (2, "straight", {"distance_m": 20.0})],
+    ids=["rectangle", "straight"],
+)
 def walk(request):
     seed, scenario, opts = request.param
     return footnav.simulate(scenario, seed=seed, rate_hz=100.0, **opts)
@@ -70,7 +73,12 @@ def test_dual_gait_events_at_the_true_times(walk):
     left, right = footnav.make_pipeline("dual-gait", "ekf", "independent").detector.detect_pair(walk.left, walk.right)
     for (imu, truth), stance in zip(_feet(walk), (left, right)):
         true_s = truth.meta["event_times_s"]
-        for name, tol in (("heel_strike", 1.0 / imu.rate_hz + 1e-9), ("foot_flat", EDGE_TOL_S), ("heel_off", EDGE_TOL_S), ("toe_off", 0.1)):
+        for name, tol in (
+            ("heel_strike", 1.0 / imu.rate_hz + 1e-9),
+            ("foot_flat", EDGE_TOL_S),
+            ("heel_off", EDGE_TOL_S),
+            ("toe_off", 0.1),
+        ):
             assert len(stance.events[name]) == len(true_s[name]), name
             assert np.abs(_errors_s(imu, stance.events[name], true_s[name])).max() <= tol, name
 
@@ -99,8 +107,14 @@ def test_stride_stance_and_swing_times_against_the_true_phases(walk):
     true_swing = opts["heel_off_s"] + opts["swing_s"] + opts["foot_flat_s"]
     detector = footnav.make_pipeline("threshold", "ekf", "independent").detector
     for imu, truth in _feet(walk):
-        traj = FootTrajectory(t=truth.t, position=truth.position, velocity=truth.velocity, quaternion=truth.quaternion,
-                              position_std=np.zeros_like(truth.position), steps=np.empty((0, 2)))
+        traj = FootTrajectory(
+            t=truth.t,
+            position=truth.position,
+            velocity=truth.velocity,
+            quaternion=truth.quaternion,
+            position_std=np.zeros_like(truth.position),
+            steps=np.empty((0, 2)),
+        )
         s = stride_parameters(traj, detector.detect(imu))[1:-1]  # whole strides (not the first / last half ones)
         assert len(s) >= 5
         np.testing.assert_allclose(s["swing_s"], true_swing, atol=2 * EDGE_TOL_S)

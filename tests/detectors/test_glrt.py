@@ -1,4 +1,4 @@
-from functools import lru_cache
+from functools import cache
 
 import numpy as np
 import pytest
@@ -21,7 +21,7 @@ def test_registry_name():
     assert GlrtDetector.name == "glrt"
 
 
-@lru_cache(maxsize=None)
+@cache
 def _walk(scenario: str, rate: float, seed: int = 2):
     opts = {"distance_m": 30.0} if scenario == "straight" else {"width_m": 20.0, "height_m": 10.0}
     return footnav.simulate(scenario, seed=seed, rate_hz=rate, **opts)
@@ -71,11 +71,13 @@ def test_gravity_direction_is_each_windows_own():
     rate, rng = 100.0, np.random.default_rng(4)
     t = np.arange(100) / rate
     tilt = np.deg2rad(60.0)
-    acc = np.concatenate([
-        np.tile([0.0, 0.0, G], (150, 1)),
-        np.stack([4 * np.sin(9 * t), np.zeros(100), G + 4 * np.cos(9 * t)], axis=1),
-        np.tile([G * np.sin(tilt), 0.0, G * np.cos(tilt)], (150, 1)),
-    ]) + rng.normal(scale=0.01, size=(400, 3))
+    acc = np.concatenate(
+        [
+            np.tile([0.0, 0.0, G], (150, 1)),
+            np.stack([4 * np.sin(9 * t), np.zeros(100), G + 4 * np.cos(9 * t)], axis=1),
+            np.tile([G * np.sin(tilt), 0.0, G * np.cos(tilt)], (150, 1)),
+        ]
+    ) + rng.normal(scale=0.01, size=(400, 3))
     gyr = np.concatenate([np.zeros((150, 3)), np.tile([0.0, 5.0, 0.0], (100, 1)), np.zeros((150, 3))])
     gyr = gyr + rng.normal(scale=0.003, size=(400, 3))
     stance = GlrtDetector().detect(_imu(acc, gyr, rate))
@@ -87,7 +89,7 @@ def test_gravity_direction_is_each_windows_own():
     # with one gravity direction for the whole recording the tilted period would not be still:
     # its specific force is ~30 deg off the average direction, ~5 m/s^2 -> T ~ 2.5e5 > gamma
     u = acc.mean(axis=0) / np.linalg.norm(acc.mean(axis=0))
-    t_global = np.sum((acc[260:390] - G * u) ** 2, axis=1) / GlrtDetector().sigma_acc_mps2**2
+    t_global = np.sum((acc[260:390] - G * u) ** 2, axis=1) / GlrtDetector().sigma_acc_mps2 ** 2
     assert np.all(t_global > GlrtDetector().gamma)
 
 
@@ -165,8 +167,14 @@ def test_short_recordings():
 
 @pytest.mark.parametrize(
     "param, value",
-    [("gamma", 0.0), ("sigma_acc_mps2", -0.01), ("sigma_gyr_radps", float("inf")), ("window_s", None),
-     ("combine", "majority"), ("min_swing_s", -1.0)],
+    [
+        ("gamma", 0.0),
+        ("sigma_acc_mps2", -0.01),
+        ("sigma_gyr_radps", float("inf")),
+        ("window_s", None),
+        ("combine", "majority"),
+        ("min_swing_s", -1.0),
+    ],
 )
 def test_invalid_parameters_are_named(param, value):
     rng = np.random.default_rng(6)

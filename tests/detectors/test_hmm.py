@@ -2,7 +2,7 @@
 
 import json
 import warnings
-from functools import lru_cache
+from functools import cache
 from itertools import permutations
 
 import numpy as np
@@ -41,7 +41,7 @@ def test_registry_name_and_documented_parameters():
     assert units["reorder_min_stance_s"] == "s"
 
 
-@lru_cache(maxsize=None)
+@cache
 def _walk(scenario: str, rate: float, seed: int = 1):
     opts = {"distance_m": 30.0} if scenario == "straight" else {"width_m": 20.0, "height_m": 10.0}
     return footnav.simulate(scenario, seed=seed, rate_hz=rate, **opts)
@@ -87,7 +87,9 @@ def test_result_layout_phases_events_and_score():
     # the first stance starts at sample 0 (standstill), every later one at a foot_flat
     np.testing.assert_array_equal(stance.events["foot_flat"], stance.intervals[1:, 0])
     order = np.argsort(np.concatenate([stance.events[k] for k in ("heel_off", "toe_off", "heel_strike", "foot_flat")]))
-    kinds = np.repeat(np.arange(4), [len(stance.events[k]) for k in ("heel_off", "toe_off", "heel_strike", "foot_flat")])
+    kinds = np.repeat(
+        np.arange(4), [len(stance.events[k]) for k in ("heel_off", "toe_off", "heel_strike", "foot_flat")]
+    )
     seq = kinds[order]
     assert np.all(np.diff(seq) % 4 == 1), "events must follow heel_off -> toe_off -> heel_strike -> foot_flat"
 
@@ -183,7 +185,7 @@ def test_cyclic_order_rejects_bad_labels():
 
 
 # -- learned model ------------------------------------------------------------------------------
-@lru_cache(maxsize=None)
+@cache
 def _fitted() -> HmmDetector:
     # a walk with turns: a model fitted on straight walking alone has no yaw or roll rate in any
     # state and cannot classify turning steps
@@ -369,12 +371,16 @@ def test_gaitmap_all_strides_found_and_event_timing(shared_data):
             timing[foot, name] = metrics.event_timing_error(
                 stance.events[name], truth.events[name], tolerance=0.3 * rate, rate_hz=rate
             )
-    print(f"\ngaitmap hmm: {found} of 57 strides found, {missed} missed, {extra} extra stance(s) without a "
-          f"reference event ({unconfirmed} of them moving per mocap)")
+    print(
+        f"\ngaitmap hmm: {found} of 57 strides found, {missed} missed, {extra} extra stance(s) without a "
+        f"reference event ({unconfirmed} of them moving per mocap)"
+    )
     for (foot, name), te in timing.items():
-        print(f"  {foot:5s} {name:11s}: mean |error| {te.mean_abs_error_s * 1e3:5.1f} ms (sd "
-              f"{te.std_abs_error_s * 1e3:4.1f}, max {te.max_abs_error_s * 1e3:5.1f}), mean signed "
-              f"{te.mean_error_s * 1e3:+5.1f} ms, {te.n_matched} matched, {te.n_missed} missed")
+        print(
+            f"  {foot:5s} {name:11s}: mean |error| {te.mean_abs_error_s * 1e3:5.1f} ms (sd "
+            f"{te.std_abs_error_s * 1e3:4.1f}, max {te.max_abs_error_s * 1e3:5.1f}), mean signed "
+            f"{te.mean_error_s * 1e3:+5.1f} ms, {te.n_matched} matched, {te.n_missed} missed"
+        )
     assert found == 57 and missed == 0
     assert unconfirmed == 0 and extra <= 2  # measured: 1 (the left foot's turn stance, mocap still)
     for te in timing.values():
@@ -392,9 +398,19 @@ def test_ten_minute_walk_with_turns_no_missed_no_false_stance():
     # on the right foot.
     rng = np.random.default_rng(5)
     segs = [(float(rng.uniform(3, 25)), float(rng.choice([-180, -90, -45, 45, 90, 180]))) for _ in range(40)]
-    rec = footnav.simulate("path", seed=5, rate_hz=400.0, segments=segs, stride_period_s=1.4, swing_s=0.574,
-                           heel_off_s=0.126, foot_flat_s=0.126, turn_radius_m=1.5, stride_length_m=1.4,
-                           mounting_rpy_deg=(-100.1, 50.7, -141.4))
+    rec = footnav.simulate(
+        "path",
+        seed=5,
+        rate_hz=400.0,
+        segments=segs,
+        stride_period_s=1.4,
+        swing_s=0.574,
+        heel_off_s=0.126,
+        foot_flat_s=0.126,
+        turn_radius_m=1.5,
+        stride_length_m=1.4,
+        mounting_rpy_deg=(-100.1, 50.7, -141.4),
+    )
     assert rec.left.duration_s >= 600 and len(segs) >= 20
     for imu, truth in ((rec.left, rec.truth_left), (rec.right, rec.truth_right)):
         stance = HmmDetector().detect(imu)
@@ -432,8 +448,11 @@ def test_inverted_model_is_a_specific_error(monkeypatch):
     from footnav.detectors.hmm import learning
 
     real = learning.check_model
-    monkeypatch.setattr(learning, "check_model", lambda *a, **k: {**real(*a, **k), "ok": False,
-                                                              "stance_stillest": False, "problem": "inverted"})
+    monkeypatch.setattr(
+        learning,
+        "check_model",
+        lambda *a, **k: {**real(*a, **k), "ok": False, "stance_stillest": False, "problem": "inverted"},
+    )
     with pytest.raises(GaitModelError, match="stance state is not the stillest"):
         HmmDetector().detect(_walk("straight", 100.0).left)
 

@@ -29,8 +29,16 @@ def _sample(n=3000, seed=0):
 
 def _plain(x, z, n_iter, implementation="log"):
     """hmmlearn's GaussianHMM started where footnav's Baum-Welch starts."""
-    model = GaussianHMM(4, covariance_type="full", covars_prior=0.0, init_params="", params="tmc", n_iter=n_iter,
-                        tol=-np.inf, implementation=implementation)
+    model = GaussianHMM(
+        4,
+        covariance_type="full",
+        covars_prior=0.0,
+        init_params="",
+        params="tmc",
+        n_iter=n_iter,
+        tol=-np.inf,
+        implementation=implementation,
+    )
     model.startprob_, model.transmat_ = np.full(4, 0.25), START_TRANSMAT
     model.means_, model.covars_ = initial_emissions(x, z, MIN_STD)
     return model
@@ -89,7 +97,10 @@ def test_no_private_hmmlearn_api():
     # hmmlearn below 0.4. Nothing private of hmmlearn may come back.
     package = Path(footnav.detectors.hmm.__file__).parent
     private = re.compile(r"hmmlearn\.(\w+\.)?_(?!_)|_hmmc|\(\s*(Gaussian|Base)HMM\s*\)|\bmodel\._[a-z]|\.monitor_\._")
-    found = [f"{path.name}:{n}: {line.strip()}" for path in sorted(package.glob("*.py"))
-             for n, line in enumerate(path.read_text(encoding="utf-8").splitlines(), 1)
-             if private.search(line) and not line.lstrip().startswith("#")]
+    found = [
+        f"{path.name}:{n}: {line.strip()}"
+        for path in sorted(package.glob("*.py"))
+        for n, line in enumerate(path.read_text(encoding="utf-8").splitlines(), 1)
+        if private.search(line) and not line.lstrip().startswith("#")
+    ]
     assert not found, "private hmmlearn API used (use its public API; see learning.baum_welch):\n" + "\n".join(found)

@@ -7,11 +7,11 @@ import numpy as np
 import pytest
 
 import footnav
+from footnav.core.types import stance_intervals
 from footnav.detectors.hmm.decoding import MIN_STANCE_S, min_stance_samples, viterbi_min_stance
 from footnav.detectors.hmm.detector import HmmDetector
 from footnav.detectors.hmm.features import model_grid
 from footnav.detectors.hmm.model import build_hmm
-from footnav.core.types import stance_intervals
 
 
 def _model_1d():
@@ -34,7 +34,9 @@ def test_one_sub_state_is_hmmlearns_viterbi():
 def test_a_one_sample_stance_needs_the_chain_to_be_longer():
     # stance, push-up, swing with -1, 0, +1 inside it (a zero crossing), step-down, stance:
     # the plain path goes round the cycle there with a one-sample stance (sample 21)
-    x = np.r_[np.zeros(10), np.ones(5), 3.0 * np.ones(5), -1.0, 0.0, 1.0, 3.0 * np.ones(5), -np.ones(5), np.zeros(10)][:, None]
+    x = np.r_[np.zeros(10), np.ones(5), 3.0 * np.ones(5), -1.0, 0.0, 1.0, 3.0 * np.ones(5), -np.ones(5), np.zeros(10)][
+        :, None
+    ]
     model = _model_1d()
     _, plain = model.decode(x, algorithm="viterbi")
     assert len(stance_intervals(plain == 0)) == 3 and plain[21] == 0 and plain[20] == 3

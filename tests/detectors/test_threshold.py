@@ -1,4 +1,4 @@
-from functools import lru_cache
+from functools import cache
 
 import numpy as np
 import pytest
@@ -26,7 +26,7 @@ def test_registry_names():
 
 
 # -- simulated walks -------------------------------------------------------------------------
-@lru_cache(maxsize=None)
+@cache
 def _walk(scenario: str, rate: float):
     opts = {"distance_m": 30.0} if scenario == "straight" else {"width_m": 20.0, "height_m": 10.0}
     return footnav.simulate(scenario, seed=2, rate_hz=rate, **opts)

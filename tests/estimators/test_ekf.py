@@ -84,7 +84,9 @@ def test_first_step_points_along_x():
     assert abs(np.arctan2(d[1], d[0])) < 1e-6
     assert traj.position[-1, 0] == pytest.approx(20.0, abs=0.5)
     sensor = EkfEstimator(heading="sensor").estimate(rec.left, StanceResult(rec.truth_left.stance))
-    np.testing.assert_allclose(np.linalg.norm(sensor.position[:, :2], axis=1), np.linalg.norm(traj.position[:, :2], axis=1), atol=1e-9)
+    np.testing.assert_allclose(
+        np.linalg.norm(sensor.position[:, :2], axis=1), np.linalg.norm(traj.position[:, :2], axis=1), atol=1e-9
+    )
 
 
 def test_stance_mask_of_wrong_length_is_rejected():
@@ -176,7 +178,9 @@ def test_bias_states_converge_to_the_simulated_biases_within_two_sigma():
 
 @pytest.mark.parametrize("bias_states", [False, True])
 @pytest.mark.parametrize("seed", [2, 3])
-@pytest.mark.parametrize("scenario, opts", [("straight", {"distance_m": 30.0}), ("rectangle", {"width_m": 20.0, "height_m": 10.0})])
+@pytest.mark.parametrize(
+    "scenario, opts", [("straight", {"distance_m": 30.0}), ("rectangle", {"width_m": 20.0, "height_m": 10.0})]
+)
 def test_smoothing_never_worsens_the_forward_filter(scenario, opts, seed, bias_states):
     # 400 Hz: at 100 Hz the simulator's own discretisation error dominates (its gait profiles are
     # C2, so the jerk jumps at each phase change and the integration error, 0.02 m/s per swing
@@ -184,11 +188,15 @@ def test_smoothing_never_worsens_the_forward_filter(scenario, opts, seed, bias_s
     rec = footnav.simulate(scenario, seed=seed, rate_hz=400.0, **opts)
     stance = StanceResult(rec.truth_left.stance)
     kw = LONG_WALK if bias_states else {}
-    fwd, step, whole = (EkfEstimator(smoother=s, heading="sensor", **kw).estimate(rec.left, stance) for s in ("none", "step", "whole"))
+    fwd, step, whole = (
+        EkfEstimator(smoother=s, heading="sensor", **kw).estimate(rec.left, stance) for s in ("none", "step", "whole")
+    )
     truth = rec.truth_left
 
     def speed_rmse(traj):
-        return float(np.sqrt(np.mean((np.linalg.norm(traj.velocity, axis=1) - np.linalg.norm(truth.velocity, axis=1)) ** 2)))
+        return float(
+            np.sqrt(np.mean((np.linalg.norm(traj.velocity, axis=1) - np.linalg.norm(truth.velocity, axis=1)) ** 2))
+        )
 
     for smoothed in (step, whole):
         assert speed_rmse(smoothed) <= speed_rmse(fwd)  # measured 15-65 % lower
@@ -198,7 +206,10 @@ def test_smoothing_never_worsens_the_forward_filter(scenario, opts, seed, bias_s
     # discretisation error, outside the model, leaves both at 1-3 mm on this walk, the
     # smoother up to 0.9 mm behind (seed 2)
     slack = 1e-3 if bias_states else 0.0
-    assert metrics.ate_rmse(whole.position, truth.position, dims=2) <= metrics.ate_rmse(fwd.position, truth.position, dims=2) + slack
+    assert (
+        metrics.ate_rmse(whole.position, truth.position, dims=2)
+        <= metrics.ate_rmse(fwd.position, truth.position, dims=2) + slack
+    )
 
 
 def test_covariance_stays_symmetric_positive_definite_over_a_60_minute_walk():
@@ -246,8 +257,8 @@ def test_closed_loop_needs_the_whole_walk_smoother():
 @pytest.mark.filterwarnings("ignore::footnav.DataQualityWarning")  # the x-io files' duplicates and gaps
 @pytest.mark.parametrize("name", ["xio_short", "xio_long"])
 def test_closed_loop_constraint_on_the_xio_loops(shared_data, name):
-    from footnav.data.datasets import load_dataset
     from footnav.analysis.evaluation import evaluate
+    from footnav.data.datasets import load_dataset
 
     rec = load_dataset(name, shared_data)
     free = evaluate(footnav.make_pipeline(), rec).value("loop_closure_2d", "left")

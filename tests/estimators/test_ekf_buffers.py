@@ -12,7 +12,13 @@ def _span(a):
 
 @pytest.mark.parametrize("first", [0, 8])
 def test_arrays_start_at_distinct_page_offsets_and_do_not_overlap(first):
-    specs = [((5000, 3), np.float64), ((5000, 3), np.float64), ((5000,), np.bool_), ((7, 9, 6), np.float64), ((3,), np.int64)]
+    specs = [
+        ((5000, 3), np.float64),
+        ((5000, 3), np.float64),
+        ((5000,), np.bool_),
+        ((7, 9, 6), np.float64),
+        ((3,), np.int64),
+    ]
     arrays = staggered(specs, first=first, zero=True)
     offsets = [a.ctypes.data % 4096 for a in arrays]
     assert len(set(offsets)) == len(arrays)

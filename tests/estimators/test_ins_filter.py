@@ -8,12 +8,12 @@ from reference_ins import nominal_step  # tests/reference_ins.py
 import footnav
 from footnav import StanceResult
 from footnav.core.types import FULL_SCALE_RATIO, GRAVITY_MPS2, ImuData
-from footnav.nav import quaternion as quat
 from footnav.estimators.ekf import EkfEstimator
 from footnav.estimators.ekf import filter as ekf_filter
 from footnav.estimators.ekf._kernels import predict_cov
 from footnav.estimators.ekf._records import FilterNoise
 from footnav.estimators.ekf.smoother import SegmentRecords, smooth
+from footnav.nav import quaternion as quat
 
 
 def _dense_f(n, f_n, c, dt):
@@ -283,7 +283,9 @@ def test_a_zupt_of_one_foot_corrects_the_other_once_a_measurement_links_them(bia
     before = filt.state()
     assert np.abs(before.cov[:n, n:]).max() > 1e-6
     # the reference: the left foot's sample k + 1 written densely, the whole dx fed back
-    q, v, p, _ = nominal_step(left, k + 1, before.q[0], before.v[0], before.p[0], before.f_n[0], before.ba[0], before.bg[0])
+    q, v, p, _ = nominal_step(
+        left, k + 1, before.q[0], before.v[0], before.p[0], before.f_n[0], before.ba[0], before.bg[0]
+    )
     big_f = np.eye(2 * n)
     big_f[:n, :n] = _dense_f(n, before.f_n[0], quat.as_matrix(before.q[0]), dt)
     q_cov = np.zeros((2 * n, 2 * n))
@@ -293,7 +295,10 @@ def test_a_zupt_of_one_foot_corrects_the_other_once_a_measurement_links_them(bia
     hz[:, filt.block(0, "vel")] = np.eye(3)
     gain = p_pred @ hz.T @ np.linalg.inv(hz @ p_pred @ hz.T + np.eye(3) * filt.noise.zupt_std_mps**2)
     dx = gain @ v
-    expect_q = [quat.normalize(quat.multiply(quat.from_rotvec(dx[:3]), q)), quat.normalize(quat.multiply(quat.from_rotvec(dx[n : n + 3]), before.q[1]))]
+    expect_q = [
+        quat.normalize(quat.multiply(quat.from_rotvec(dx[:3]), q)),
+        quat.normalize(quat.multiply(quat.from_rotvec(dx[n : n + 3]), before.q[1])),
+    ]
     expect_v = [v - dx[3:6], before.v[1] - dx[n + 3 : n + 6]]
     expect_p = [p - dx[6:9], before.p[1] - dx[n + 6 : n + 9]]
     filt.run_until(left.t[k + 1])
@@ -391,7 +396,9 @@ def test_kept_chunks_smooth_exactly_as_re_run_ones(bias_states, monkeypatch):
     monkeypatch.setattr(ekf_filter, "MAX_SEGMENT_EVENTS", 300)  # many chunks besides the updates
     rec = footnav.simulate("straight", seed=10, distance_m=15.0, standstill_s=1.0)
     stances = [StanceResult(rec.truth_left.stance), StanceResult(rec.truth_right.stance)]
-    est = EkfEstimator(smoother="whole", heading="sensor", bias_states=bias_states, zaru_std_radps=0.01 if bias_states else 0.0)
+    est = EkfEstimator(
+        smoother="whole", heading="sensor", bias_states=bias_states, zaru_std_radps=0.01 if bias_states else 0.0
+    )
     re_run, kept_none, chunks = _whole_with_updates(est, rec, stances, 0.0)
     all_kept, kept_all, _ = _whole_with_updates(est, rec, stances, 1000.0)
     some_kept, kept_some, _ = _whole_with_updates(est, rec, stances, 1.2 if bias_states else 0.3)  # a few chunks
@@ -418,8 +425,18 @@ def test_samples_given_in_chunks_filter_exactly_as_given_at_once(bias_states):
     n0 = k0 + 50
     first = whole.checkpoints[0].state  # the aligned start
     grown = type(whole)(
-        [imu.t[:n0]], [imu.acc[:n0]], [imu.gyr[:n0]], [stance.mask[:n0]], [k0], [first.q[0]], [first.p[0]], [first.bg[0]],
-        np.diag(first.cov), whole.noise, whole.n_states, capacity=[imu.n_samples],
+        [imu.t[:n0]],
+        [imu.acc[:n0]],
+        [imu.gyr[:n0]],
+        [stance.mask[:n0]],
+        [k0],
+        [first.q[0]],
+        [first.p[0]],
+        [first.bg[0]],
+        np.diag(first.cov),
+        whole.noise,
+        whole.n_states,
+        capacity=[imu.n_samples],
     )
     grown.step_smoother = type(whole.step_smoother)(grown)
     assert grown.capacity(0) == imu.n_samples and len(grown.samples(0).t) == n0
@@ -449,8 +466,17 @@ def test_a_filter_resumed_from_a_checkpoint_continues_the_run_exactly():
     assert cp.step_end
     s = int(cp.k[0])
     rest = type(whole)(
-        [imu.t[s:]], [imu.acc[s:]], [imu.gyr[s:]], [stance.mask[s:]], [0], [whole.quaternion(0)], [whole.position(0)],
-        [whole.biases(0)[1]], np.ones(15), whole.noise, whole.n_states,
+        [imu.t[s:]],
+        [imu.acc[s:]],
+        [imu.gyr[s:]],
+        [stance.mask[s:]],
+        [0],
+        [whole.quaternion(0)],
+        [whole.position(0)],
+        [whole.biases(0)[1]],
+        np.ones(15),
+        whole.noise,
+        whole.n_states,
     )
     rest.resume(cp.state, [0])
     assert rest.index(0) == 0 and len(rest.checkpoints) == 1
@@ -479,7 +505,9 @@ def test_the_loops_entry_point_runs_exactly_as_its_dispatcher(smoother, monkeypa
             filt.update_position(0, filt.position(0) + [0.01, -0.01, 0.0], std_m=0.05, axes=2)
         filt.run_range_constrained(np.arange(rec.left.t[-1] - 2.0, rec.left.t[-1], 0.05), 0.3, 0.01)
         left, right = est.finish(filt, stances)
-        return filt, [getattr(traj, x) for traj in (left, right) for x in ("position", "velocity", "quaternion", "position_std")]
+        return filt, [
+            getattr(traj, x) for traj in (left, right) for x in ("position", "velocity", "quaternion", "position_std")
+        ]
 
     fast_filt, fast = walk()
     assert len(fast_filt._fast)  # the entry points were used

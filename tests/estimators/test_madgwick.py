@@ -9,9 +9,9 @@ import pytest
 import footnav
 from footnav import InvalidInputError, InvalidParameterError, StanceResult
 from footnav.analysis import metrics
-from footnav.nav import quaternion as quat
 from footnav.core.errors import DataQualityWarning
 from footnav.estimators.madgwick import MadgwickEstimator, madgwick_imu_step, madgwick_marg_step
+from footnav.nav import quaternion as quat
 from footnav.testing import EstimatorContract
 
 #: Earth field for the MARG tests: 50 uT dipping 60 deg, magnetic north along nav +x.
@@ -130,7 +130,9 @@ def _errors(traj, truth):
     return metrics.ate_rmse(traj.position, truth.position, dims=2), final, dist
 
 
-@pytest.mark.parametrize("scenario, opts", [("straight", {"distance_m": 50.0}), ("rectangle", {"width_m": 20.0, "height_m": 10.0})])
+@pytest.mark.parametrize(
+    "scenario, opts", [("straight", {"distance_m": 50.0}), ("rectangle", {"width_m": 20.0, "height_m": 10.0})]
+)
 def test_trajectory_matches_truth_at_100_and_400_hz(scenario, opts):
     runs = []
     for rate in (100.0, 400.0):
@@ -189,7 +191,9 @@ def test_position_std_grows_in_swing_and_keeps_its_size_under_the_heading_turn(w
     a, b = stance.intervals[3, 1], stance.intervals[4, 0]  # a swing
     assert np.all(traj.position_std[b, :2] > traj.position_std[a, :2])
     # a rotation about z keeps the horizontal variance (xx + yy) and the vertical one
-    np.testing.assert_allclose((traj.position_std[:, :2] ** 2).sum(1), (sensor.position_std[:, :2] ** 2).sum(1), rtol=1e-9)
+    np.testing.assert_allclose(
+        (traj.position_std[:, :2] ** 2).sum(1), (sensor.position_std[:, :2] ** 2).sum(1), rtol=1e-9
+    )
     np.testing.assert_allclose(traj.position_std[:, 2], sensor.position_std[:, 2])
 
 
@@ -228,8 +232,8 @@ def test_parameters_document_their_units():
 # -- real data ---------------------------------------------------------------------------------------
 @pytest.mark.parametrize("name, bounds", [("azure_fgo", (0.25, 0.12)), ("gaitmap", (0.26, 0.25))])
 def test_real_data_accuracy(shared_data, name, bounds):
-    from footnav.data.datasets import load_dataset
     from footnav.analysis.evaluation import evaluate
+    from footnav.data.datasets import load_dataset
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", DataQualityWarning)

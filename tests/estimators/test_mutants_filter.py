@@ -12,10 +12,10 @@ import pytest
 from test_ins_filter import _reference_forward
 
 import footnav
-from footnav.nav import quaternion as quat
-from footnav.estimators.ekf.smoother import smooth
 from footnav.core.types import StanceResult, stance_intervals
 from footnav.estimators.ekf import EkfEstimator
+from footnav.estimators.ekf.smoother import smooth
+from footnav.nav import quaternion as quat
 
 
 @pytest.fixture(scope="module")
@@ -86,7 +86,9 @@ def _run_with_position_fix(est, imu, stance, stacked: bool, last_swing: bool = F
         filt.update(filt.selection(np.array([o, o + 1])), filt.position(0)[:2] - z, np.array([1e-4, 1e-4]))
     else:
         for axis in (0, 1):
-            filt.update(filt.selection(np.array([o + axis])), np.atleast_1d(filt.position(0)[axis] - z[axis]), np.array([1e-4]))
+            filt.update(
+                filt.selection(np.array([o + axis])), np.atleast_1d(filt.position(0)[axis] - z[axis]), np.array([1e-4])
+            )
     filt.run_until()
     fwd = filt.outputs(0)[2].copy()
     if last_swing:
@@ -125,8 +127,12 @@ def test_step_smoother_carries_a_position_fix_back_the_right_way(walk):
 # (velocities are not chained), with a caller's position fix inside that step
 def test_step_and_whole_smoothers_agree_on_the_last_step_with_a_position_fix(walk):
     imu, stance = walk
-    vel, sm_w, k = _run_with_position_fix(EkfEstimator(smoother="whole", heading="sensor"), imu, stance, True, last_swing=True)
-    _, sm_s, _ = _run_with_position_fix(EkfEstimator(smoother="step", heading="sensor"), imu, stance, True, last_swing=True)
+    vel, sm_w, k = _run_with_position_fix(
+        EkfEstimator(smoother="whole", heading="sensor"), imu, stance, True, last_swing=True
+    )
+    _, sm_s, _ = _run_with_position_fix(
+        EkfEstimator(smoother="step", heading="sensor"), imu, stance, True, last_swing=True
+    )
     start = stance_intervals(stance.mask)[-2, 1]  # the last step starts after its stance's last sample
     np.testing.assert_allclose(sm_s[start:], sm_w[start:], atol=1e-9)
     assert np.abs(sm_w[start:k] - vel[start:k]).max() > 0.01  # the fix moved the velocities before it

@@ -31,13 +31,13 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from reference_ins import nominal_step  # tests/reference_ins.py
 
 import footnav
 from footnav import StanceResult
-from reference_ins import nominal_step  # tests/reference_ins.py
-from footnav.nav import quaternion as quat
 from footnav.estimators.ekf import EkfEstimator
 from footnav.estimators.ekf.smoother import smooth
+from footnav.nav import quaternion as quat
 
 
 def _dense_f(f_n, dt):

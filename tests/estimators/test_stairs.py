@@ -29,7 +29,9 @@ BOUND_M = {"ekf": HALF_RISER_M, "madgwick": 0.06}
 @pytest.fixture(scope="module", params=[RISE_M, -RISE_M], ids=["up", "down"])
 def flight(request):
     return {
-        seed: footnav.simulate("path", seed=seed, segments=[(1.4, 0.0), ("stairs", N_STAIRS, request.param), (1.4, 0.0)])
+        seed: footnav.simulate(
+            "path", seed=seed, segments=[(1.4, 0.0), ("stairs", N_STAIRS, request.param), (1.4, 0.0)]
+        )
         for seed in (0, 1)
     }
 

@@ -153,7 +153,9 @@ def test_the_settled_edges_find_the_feet_rest_in_an_early_stance():
         rec = footnav.simulate("straight", seed=0, rate_hz=200.0, distance_m=50.0, noise=noise)
         truth = rec.truth_left
         early = StanceResult(_early_stance(truth.stance, 8))
-        exact = _z_end_error(EkfEstimator(zupt_edges="detected").estimate(rec.left, StanceResult(truth.stance)), truth.position)
+        exact = _z_end_error(
+            EkfEstimator(zupt_edges="detected").estimate(rec.left, StanceResult(truth.stance)), truth.position
+        )
         settled_traj = EkfEstimator().estimate(rec.left, early)
         assert abs(_z_end_error(settled_traj, truth.position) - exact) < bound
         assert np.array_equal(settled_traj.steps, early.intervals)

@@ -13,8 +13,6 @@ import json
 import os
 from pathlib import Path
 
-import pytest
-
 REPORT_ENV = "FOOTNAV_FAULT_REPORT"
 _HERE = Path(__file__).resolve().parent
 
@@ -50,8 +48,9 @@ def pytest_runtest_logreport(report):
         if report.passed:
             _HANDLED.append(report.nodeid)
     if _ours_report(report):
-        entry = _OUTCOMES.setdefault(report.nodeid, {"file": Path(report.nodeid.split("::")[0]).name, "fault": fault,
-                                                     "outcome": "not run"})
+        entry = _OUTCOMES.setdefault(
+            report.nodeid, {"file": Path(report.nodeid.split("::")[0]).name, "fault": fault, "outcome": "not run"}
+        )
         if report.skipped:
             entry["outcome"] = "skipped"
         elif report.failed:
@@ -68,9 +67,14 @@ def pytest_configure(config):
 def pytest_collection_finish(session):
     for item in session.items:
         if _ours(item):
-            _OUTCOMES.setdefault(item.nodeid, {"file": Path(item.path).name,
-                                               "fault": item.get_closest_marker("fault") is not None,
-                                               "outcome": "not run"})
+            _OUTCOMES.setdefault(
+                item.nodeid,
+                {
+                    "file": Path(item.path).name,
+                    "fault": item.get_closest_marker("fault") is not None,
+                    "outcome": "not run",
+                },
+            )
 
 
 def pytest_sessionfinish(session, exitstatus):

@@ -61,7 +61,10 @@ def test_duplicated_time_stamps_are_an_error_or_dropped_and_recorded(walk):
     with pytest.warns(DataQualityWarning) as caught:
         imu = footnav.ImuData.from_arrays(t, acc, gyr, drop_duplicates=True)
     # the dropped row leaves a double interval, which is reported as a gap too
-    assert [("repeated time stamp" in str(w.message), "gap" in str(w.message)) for w in caught] == [(True, False), (False, True)]
+    assert [("repeated time stamp" in str(w.message), "gap" in str(w.message)) for w in caught] == [
+        (True, False),
+        (False, True),
+    ]
     assert imu.meta["duplicates_dropped"] == {"count": 1, "indices": [101]} and imu.n_samples == len(t) - 1
 
 
@@ -86,7 +89,9 @@ def test_dropped_packets_are_a_warning_and_listed(walk):
     assert result.left.meta["gaps_bridged"] == [(300, pytest.approx(0.11))]
 
 
-@pytest.mark.parametrize("declared, scale, unit", [("gyr", 180 / np.pi, "deg/s"), ("acc", 1 / footnav.GRAVITY_MPS2, "'g'")])
+@pytest.mark.parametrize(
+    "declared, scale, unit", [("gyr", 180 / np.pi, "deg/s"), ("acc", 1 / footnav.GRAVITY_MPS2, "'g'")]
+)
 def test_units_declared_wrong_are_an_error(walk, declared, scale, unit):
     t, acc, gyr = _arrays(walk.left)
     if declared == "gyr":

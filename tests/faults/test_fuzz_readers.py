@@ -26,11 +26,13 @@ HEADERS = [
 ]
 cell = st.one_of(
     st.floats(allow_nan=True, allow_infinity=True).map(repr),
-    st.integers(-10**6, 10**6).map(str),
+    st.integers(-(10**6), 10**6).map(str),
     st.sampled_from(["", "nan", "NaN", "inf", "-", "1e999", "0x1F", "abc", " ", "9.81", "1,5"]),
     st.text(alphabet="0123456789.-eE+ ", max_size=8),
 )
-row = st.lists(cell, min_size=0, max_size=15).flatmap(lambda cells: st.sampled_from([",", "\t", ";"]).map(lambda sep: sep.join(cells)))
+row = st.lists(cell, min_size=0, max_size=15).flatmap(
+    lambda cells: st.sampled_from([",", "\t", ";"]).map(lambda sep: sep.join(cells))
+)
 content = st.tuples(st.sampled_from(HEADERS), st.lists(row, max_size=40), st.booleans()).map(
     lambda h: h[0] + ("\n" if h[0] else "") + "\n".join(h[1]) + ("\n" if h[2] else "")
 )
@@ -117,7 +119,7 @@ def test_mutated_valid_files_give_a_result_or_a_footnav_error(mutations):
             lines[i], lines[i + 1] = lines[i + 1], lines[i]
         elif kind == "truncate":
             lines = lines[: max(1, i)]
-            lines[-1] = lines[-1][: j]
+            lines[-1] = lines[-1][:j]
         elif kind == "insert_text":
             lines.insert(i, value)
     with tempfile.TemporaryDirectory() as tmp:

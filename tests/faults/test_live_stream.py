@@ -40,7 +40,7 @@ def _arrays(imu):
 
 
 def _chunks(t, acc, gyr, size=CHUNK):
-    return [(t[a:a + size], acc[a:a + size], gyr[a:a + size]) for a in range(0, len(t), size)]
+    return [(t[a : a + size], acc[a : a + size], gyr[a : a + size]) for a in range(0, len(t), size)]
 
 
 def _feed(stream, t, acc, gyr, size=CHUNK):
@@ -55,6 +55,7 @@ def _feed(stream, t, acc, gyr, size=CHUNK):
 
 
 # -- the chunk checks give the offline errors --------------------------------------------------------
+
 
 def _nan_acc(t, acc, gyr):
     acc[350, 1] = np.nan
@@ -146,7 +147,7 @@ def test_a_transposed_chunk_is_refused_naming_its_shape_and_the_stream_goes_on(w
     # a later chunk transposed: refused, nothing taken, and the stream goes on as if never pushed
     stream.push(left=(t[:CHUNK], acc[:CHUNK], gyr[:CHUNK]))
     with pytest.raises(InvalidInputError, match=r"expected shape \(N, 3\), got \(3, 200\)") as later:
-        stream.push(left=(t[CHUNK:2 * CHUNK], acc[CHUNK:2 * CHUNK], gyr[CHUNK:2 * CHUNK].T))
+        stream.push(left=(t[CHUNK : 2 * CHUNK], acc[CHUNK : 2 * CHUNK], gyr[CHUNK : 2 * CHUNK].T))
     assert later.value.field == "gyr"
     assert stream.stats()["samples"]["left"] == CHUNK
     for chunk in _chunks(t, acc, gyr)[1:]:
@@ -161,8 +162,9 @@ GAP_WORDS = "sampling gap(s) longer than 1.9 x the median interval"
 
 
 def _gap_warnings(caught) -> list[str]:
-    return [str(w.message) for w in caught
-            if issubclass(w.category, DataQualityWarning) and GAP_WORDS in str(w.message)]
+    return [
+        str(w.message) for w in caught if issubclass(w.category, DataQualityWarning) and GAP_WORDS in str(w.message)
+    ]
 
 
 def test_a_sampling_gap_is_warned_with_the_offline_message_and_recorded(walk):
@@ -196,6 +198,7 @@ def test_a_sampling_gap_is_warned_with_the_offline_message_and_recorded(walk):
 
 
 # -- two feet: a push is atomic --------------------------------------------------------------------
+
 
 @pytest.mark.parametrize("bad_foot", ["left", "right"])
 def test_a_two_foot_push_with_one_bad_chunk_takes_neither_and_can_be_retried(walk, bad_foot):
@@ -236,6 +239,7 @@ def test_a_two_foot_push_error_names_the_bad_foot(walk):
 
 
 # -- a stream that cannot end whole ------------------------------------------------------------------
+
 
 def test_close_without_the_right_foot_raises_with_the_left_foots_whole_walk(walk):
     t, acc, gyr = _arrays(walk.left)
@@ -399,6 +403,7 @@ def test_a_normal_close_is_complete_and_closing_again_returns_it(walk):
 
 # -- a single absurd sample in a recording --------------------------------------------------------------
 
+
 @pytest.mark.parametrize("field, value", [("acc", [1e30, 0.0, 0.0]), ("gyr", [0.0, 0.0, 1e3])])
 def test_a_single_absurd_sample_is_refused_offline_naming_it(walk, field, value):
     t, acc, gyr = _arrays(walk.left)
@@ -429,8 +434,9 @@ def _follow(*args: str, **kwargs) -> subprocess.CompletedProcess:
     """``footnav follow``: in this process on files (a second of interpreter start and import
     less per case), in a child process on standard input (it reads the real descriptor)."""
     if "input" in kwargs:
-        return subprocess.run(_cli("follow", *args), capture_output=True, text=True, timeout=120, check=False,
-                              env=os.environ, **kwargs)
+        return subprocess.run(
+            _cli("follow", *args), capture_output=True, text=True, timeout=120, check=False, env=os.environ, **kwargs
+        )
     import contextlib
     import io
     import warnings
@@ -446,8 +452,13 @@ def _follow(*args: str, **kwargs) -> subprocess.CompletedProcess:
 @pytest.fixture(scope="module")
 def walk_csv(tmp_path_factory) -> Path:
     folder = tmp_path_factory.mktemp("live") / "sim"
-    subprocess.run(_cli("simulate", "straight", "--set", "distance_m=8", "--out", str(folder)), check=True,
-                   capture_output=True, env=os.environ, timeout=120)
+    subprocess.run(
+        _cli("simulate", "straight", "--set", "distance_m=8", "--out", str(folder)),
+        check=True,
+        capture_output=True,
+        env=os.environ,
+        timeout=120,
+    )
     return folder
 
 
@@ -490,8 +501,13 @@ def _assert_steps_in_result(steps: list[list[str]], saved) -> None:
 @pytest.mark.parametrize("sig", ["SIGTERM", "SIGHUP"])
 def test_a_stop_signal_writes_everything_so_far_and_exits_0(walk_csv, tmp_path, sig):
     left, out = tmp_path / "left.csv", tmp_path / "res"
-    follow = subprocess.Popen(_cli("follow", "--left", str(left), "--idle-s", "60", "--out", str(out)),
-                              stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=os.environ)
+    follow = subprocess.Popen(
+        _cli("follow", "--left", str(left), "--idle-s", "60", "--out", str(out)),
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        env=os.environ,
+    )
     writer = subprocess.Popen([sys.executable, str(WRITER), str(walk_csv / "left.csv"), str(left)])
     try:
         printed = []
@@ -534,11 +550,9 @@ def _bad_file(walk_csv, tmp_path, kind: str) -> tuple[Path, float]:
     return path, float(lines[BAD - 1].split(",")[0])
 
 
-@pytest.mark.parametrize("kind, names", [
-    ("garbled", "line 601"),
-    ("nan cell", "index 598"),
-    ("time backwards", "index 598"),
-])
+@pytest.mark.parametrize(
+    "kind, names", [("garbled", "line 601"), ("nan cell", "index 598"), ("time backwards", "index 598")]
+)
 def test_a_bad_row_ends_follow_with_the_walk_up_to_it(walk_csv, tmp_path, kind, names):
     path, t_before = _bad_file(walk_csv, tmp_path, kind)
     out = tmp_path / "res"
@@ -569,7 +583,9 @@ def test_headerless_standard_input_with_a_foot_column(walk_csv, tmp_path):
     assert _summary(out)["complete"] is True
     saved = np.load(out / "trajectories.npz")
     # follow runs the default pipeline
-    off = footnav.make_pipeline().run(footnav.load(str(walk_csv / "left.csv")).left, footnav.load(str(walk_csv / "right.csv")).left)
+    off = footnav.make_pipeline().run(
+        footnav.load(str(walk_csv / "left.csv")).left, footnav.load(str(walk_csv / "right.csv")).left
+    )
     for foot in ("left", "right"):
         np.testing.assert_allclose(saved[f"{foot}_position"], getattr(off, foot).position, atol=1e-9, rtol=0)
 
@@ -634,8 +650,9 @@ def test_a_huge_line_gives_a_short_error(walk_csv, tmp_path, kind):
 def test_a_deeply_nested_pipeline_toml_is_a_one_line_error(walk_csv, tmp_path):
     toml = tmp_path / "deep.toml"
     toml.write_text("a = " + "[" * 100_000 + "]" * 100_000 + "\n")
-    done = _follow("--left", str(walk_csv / "left.csv"), "--pipeline", str(toml), "--idle-s", "0.3",
-                   "--out", str(tmp_path / "res"))
+    done = _follow(
+        "--left", str(walk_csv / "left.csv"), "--pipeline", str(toml), "--idle-s", "0.3", "--out", str(tmp_path / "res")
+    )
     assert done.returncode == 2, done.stderr[-2000:]
     assert "RecursionError" not in done.stderr and "Traceback" not in done.stderr
     lines = [line for line in done.stderr.splitlines() if line.strip() and not line.startswith("footnav: compil")]
@@ -684,8 +701,9 @@ def test_a_stop_signal_before_any_row_exits_0_with_a_summary(tmp_path):
     last sample read"; the docstring: signals end it incomplete with exit 0 (the user stopped it)."""
     out = tmp_path / "res"
     args = ("--left", str(tmp_path / "not-yet.csv"), "--idle-s", "60", "--out", str(out))
-    follow = subprocess.Popen(_cli("follow", *args),
-                              stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=os.environ)
+    follow = subprocess.Popen(
+        _cli("follow", *args), stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=os.environ
+    )
     try:
         assert "stride_m" in follow.stdout.readline()  # printed once the stop handlers are in place
         follow.send_signal(signal.SIGTERM)
@@ -706,29 +724,36 @@ def test_a_units_line_after_rows_is_not_applied_silently(walk_csv, tmp_path):
     must not re-scale the rows with it (here: gyr in deg/s from 6 s on, a silently wrong walk)."""
     lines = (walk_csv / "left.csv").read_text().splitlines(keepends=True)
     path, out = tmp_path / "left.csv", tmp_path / "res"
-    path.write_text("".join(lines[:BAD + 2]))
+    path.write_text("".join(lines[: BAD + 2]))
     # threshold: its steps are printed from the first seconds on (adaptive's wait for 10 s of walk)
-    follow = subprocess.Popen(_cli("follow", "--left", str(path), "--detector", "threshold", "--idle-s", "1", "--out", str(out)),
-                              stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=os.environ)
+    follow = subprocess.Popen(
+        _cli("follow", "--left", str(path), "--detector", "threshold", "--idle-s", "1", "--out", str(out)),
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        env=os.environ,
+    )
     try:
         for line in iter(follow.stdout.readline, ""):  # the first rows are read and pushed
             if _step_lines(line) and float(line.split()[0]) > 4.0:
                 break
         with path.open("a") as f:
             f.write("# units: t s, acc m/s^2, gyr deg/s\n")
-            f.writelines(lines[BAD + 2:])
+            f.writelines(lines[BAD + 2 :])
         rest, err = follow.communicate(timeout=60)
     finally:
         if follow.poll() is None:
             follow.kill()
             follow.wait(timeout=10)
     args = ("--left", str(path), "--detector", "threshold", "--out", str(tmp_path / "off"))
-    offline = subprocess.run(_cli("run", *args),
-                             capture_output=True, text=True, timeout=120, check=False, env=os.environ)
+    offline = subprocess.run(
+        _cli("run", *args), capture_output=True, text=True, timeout=120, check=False, env=os.environ
+    )
     assert offline.returncode == 2 and f"line {BAD + 3}" in offline.stderr
     summary = _summary(out)
     assert not (follow.returncode == 0 and summary["complete"]), (
-        f"follow took the units line and finished 'complete' (left path {summary.get('left_path_length_m')} m)")
+        f"follow took the units line and finished 'complete' (left path {summary.get('left_path_length_m')} m)"
+    )
     assert follow.returncode == 2 and summary["ended_by"].startswith("bad input")
 
 
@@ -743,8 +768,14 @@ def test_a_line_that_is_not_utf8_is_a_bad_row_with_the_rows_before_kept(walk_csv
         args, kwargs = ("--left", str(tmp_path / "bad.csv"), "--idle-s", "0.5"), {}
     else:
         args, kwargs = ("--left", "-"), {"input": data}
-    done = subprocess.run(_cli("follow", *args, "--out", str(out)), capture_output=True, timeout=120, check=False,
-                          env=os.environ, **kwargs)
+    done = subprocess.run(
+        _cli("follow", *args, "--out", str(out)),
+        capture_output=True,
+        timeout=120,
+        check=False,
+        env=os.environ,
+        **kwargs,
+    )
     stderr = done.stderr.decode("utf-8", errors="replace")
     assert done.returncode == 2, stderr
     errors = _error_lines(stderr)
@@ -773,8 +804,13 @@ def test_an_endless_line_is_a_bad_row_not_a_wait(walk_csv, tmp_path):
 def test_a_closed_standard_output_ends_follow_with_the_result_written(walk_csv, tmp_path):
     """``footnav follow ... | head``: the reader goes away; follow stops as at a signal, exit 0."""
     left, out = tmp_path / "left.csv", tmp_path / "res"
-    follow = subprocess.Popen(_cli("follow", "--left", str(left), "--idle-s", "60", "--out", str(out)),
-                              stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=os.environ)
+    follow = subprocess.Popen(
+        _cli("follow", "--left", str(left), "--idle-s", "60", "--out", str(out)),
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        env=os.environ,
+    )
     try:
         assert "stride_m" in follow.stdout.readline()
         follow.stdout.close()
@@ -799,8 +835,13 @@ def test_an_endless_line_on_standard_input_is_a_bad_row_not_a_wait(walk_csv, tmp
     lines = _lines(walk_csv)
     out = tmp_path / "res"
     with open(tmp_path / "stdout", "w") as so, open(tmp_path / "stderr", "w") as se:
-        follow = subprocess.Popen(_cli("follow", "--left", "-", "--idle-s", "60", "--out", str(out)),
-                                  stdin=subprocess.PIPE, stdout=so, stderr=se, env=os.environ)
+        follow = subprocess.Popen(
+            _cli("follow", "--left", "-", "--idle-s", "60", "--out", str(out)),
+            stdin=subprocess.PIPE,
+            stdout=so,
+            stderr=se,
+            env=os.environ,
+        )
         try:
             follow.stdin.write(("\n".join(lines[:BAD]) + "\n1," + "9" * (3 << 20)).encode())
             follow.stdin.flush()

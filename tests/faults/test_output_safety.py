@@ -114,7 +114,18 @@ def test_results_follow_the_umask(workspace):
 
 
 def test_two_concurrent_runs_never_both_succeed(workspace):
-    cmd = [sys.executable, "-m", "footnav.cli", "run", "--left", "data/left.csv", "--right", "data/right.csv", "--out", "res"]
+    cmd = [
+        sys.executable,
+        "-m",
+        "footnav.cli",
+        "run",
+        "--left",
+        "data/left.csv",
+        "--right",
+        "data/right.csv",
+        "--out",
+        "res",
+    ]
     procs = [subprocess.Popen(cmd, cwd=workspace, stdout=subprocess.PIPE, stderr=subprocess.PIPE) for _ in range(2)]
     codes = [p.wait(timeout=300) for p in procs]
     assert sorted(codes) == [0, 2], [p.stderr.read()[-300:] for p in procs]
@@ -243,7 +254,16 @@ def test_sigkill_at_any_moment_of_a_replacement_leaves_one_whole_result(workspac
     mine = {".res.v2.partial.md", ".res.backup.partial", ".res.x.old"}
     users = _snapshot(workspace)
     assert subprocess.run(cmd, cwd=workspace, capture_output=True).returncode == 0
-    whole = {"left.csv", "path.csv", "strides.csv", "trajectories.npz", "summary.json", "pipeline.toml", "report.html", MARKER}
+    whole = {
+        "left.csv",
+        "path.csv",
+        "strides.csv",
+        "trajectories.npz",
+        "summary.json",
+        "pipeline.toml",
+        "report.html",
+        MARKER,
+    }
     start = time.perf_counter()
     subprocess.run(cmd, cwd=workspace, capture_output=True)
     duration = time.perf_counter() - start

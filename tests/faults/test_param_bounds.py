@@ -10,7 +10,6 @@ checked by name. Parametrised over the registry: a new component is covered when
 
 from __future__ import annotations
 
-
 import numpy as np
 import pytest
 
@@ -19,13 +18,16 @@ from footnav import InvalidParameterError
 
 pytestmark = pytest.mark.fault
 
-_MAKERS = {"detector": footnav.make_detector, "estimator": footnav.make_estimator, "fusion": footnav.make_fusion,
-           "heading_aid": footnav.make_heading_aid}
+_MAKERS = {
+    "detector": footnav.make_detector,
+    "estimator": footnav.make_estimator,
+    "fusion": footnav.make_fusion,
+    "heading_aid": footnav.make_heading_aid,
+}
 
 #: (kind, name, parameter, value) that are valid and cheap, so the run must simply succeed.
-_HARMLESS = {
-    ("fusion", "particle", "seed", 10**12): "any integer >= 0 seeds numpy's generator",
-}
+_HARMLESS = {("fusion", "particle", "seed", 10**12): "any integer >= 0 seeds numpy's generator"}
+
 
 def _refused_before_work(info) -> bool:
     """The refusal was raised by a component's ``validate_params`` (what every action method
@@ -69,7 +71,9 @@ def _act(component, walk, stances):
     if component.kind == "estimator":
         return component.estimate(walk.left, stances[0])
     if component.kind == "heading_aid":
-        fused = footnav.make_fusion("independent").fuse(footnav.make_estimator("ekf"), walk.left, stances[0], walk.right, stances[1])
+        fused = footnav.make_fusion("independent").fuse(
+            footnav.make_estimator("ekf"), walk.left, stances[0], walk.right, stances[1]
+        )
         return component.correct(fused, walk.left, walk.right)
     return component.fuse(footnav.make_estimator("ekf"), walk.left, stances[0], walk.right, stances[1])
 
@@ -113,11 +117,7 @@ def test_absurd_simulate_option_is_refused_by_name(option, value):
 
 @pytest.mark.parametrize(
     "options",
-    [
-        {"mounting_rpy_deg": (0.0, 1e308, 0.0)},
-        {"segments": [(1e308, 0.0)]},
-        {"segments": [(5.0, 1e308)]},
-    ],
+    [{"mounting_rpy_deg": (0.0, 1e308, 0.0)}, {"segments": [(1e308, 0.0)]}, {"segments": [(5.0, 1e308)]}],
     ids=["mounting", "segment-length", "segment-turn"],
 )
 def test_absurd_simulate_sequences_are_refused(options):
@@ -157,9 +157,6 @@ def test_dtw_at_a_megahertz_is_refused(walk, stances):
 
 def test_the_bounds_admit_the_defaults_and_the_upper_values(walk, stances):
     """The ranges are inclusive: the largest allowed value still runs (finite output)."""
-    for kind, name, params in [
-        ("fusion", "particle", {"n_particles": 2000}),
-        ("fusion", "dtw", {"dtw_rate_hz": 50.0}),
-    ]:
+    for kind, name, params in [("fusion", "particle", {"n_particles": 2000}), ("fusion", "dtw", {"dtw_rate_hz": 50.0})]:
         result = _act(_MAKERS[kind](name, **params), walk, stances)
         assert np.isfinite(result.path.position).all()

@@ -83,7 +83,9 @@ def test_a_detector_breaking_its_contract_is_named(plugins, walk, behaviour, mes
 
 
 def test_non_finite_positions_from_a_plugin_are_never_returned(plugins, walk):
-    with pytest.raises(PluginError, match=r"estimator 'nan-estimator' from <direct> returned non-finite positions .*sample 123"):
+    with pytest.raises(
+        PluginError, match=r"estimator 'nan-estimator' from <direct> returned non-finite positions .*sample 123"
+    ):
         footnav.make_pipeline("adaptive", "nan-estimator").run(walk.left)
 
 
@@ -92,7 +94,15 @@ def test_a_plugin_calling_sys_exit_does_not_end_the_cli_with_success(plugins, wa
     from footnav.data.io.footnav_csv import write_footnav_csv
 
     write_footnav_csv(walk.left, tmp_path / "l.csv")
-    argv = ["run", "--left", str(tmp_path / "l.csv"), "--pipeline", str(tmp_path / "p.toml"), "--out", str(tmp_path / "o")]
+    argv = [
+        "run",
+        "--left",
+        str(tmp_path / "l.csv"),
+        "--pipeline",
+        str(tmp_path / "p.toml"),
+        "--out",
+        str(tmp_path / "o"),
+    ]
     (tmp_path / "p.toml").write_text('[detector]\nname = "bad-detector"\nbehaviour = "exit"\n')
     assert main(argv) == EXIT_INTERNAL
     assert "SystemExit" in capsys.readouterr().err and not (tmp_path / "o").exists()
@@ -121,6 +131,11 @@ def test_the_inputs_provenance_cannot_be_rewritten(walk):
     assert json.loads(json.dumps(imu.meta)) == {"source": "walk.csv"}
     changed = {**imu.meta, "source": "other.csv"}
     assert changed["source"] == "other.csv" and imu.meta.copy() == {"source": "walk.csv"}
-    for mutate in (lambda m: m.update(a=1), lambda m: m.pop("source"), lambda m: m.clear(), lambda m: m.setdefault("b", 2)):
+    for mutate in (
+        lambda m: m.update(a=1),
+        lambda m: m.pop("source"),
+        lambda m: m.clear(),
+        lambda m: m.setdefault("b", 2),
+    ):
         with pytest.raises(TypeError, match="read-only"):
             mutate(imu.meta)

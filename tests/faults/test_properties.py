@@ -12,7 +12,11 @@ from footnav.nav import quaternion as quat
 from footnav.nav.kalman import update3 as _update3
 
 finite = st.floats(-10.0, 10.0, allow_nan=False, allow_infinity=False)
-unit_q = arrays(np.float64, 4, elements=finite).filter(lambda q: np.linalg.norm(q) > 1e-3).map(lambda q: q / np.linalg.norm(q))
+unit_q = (
+    arrays(np.float64, 4, elements=finite)
+    .filter(lambda q: np.linalg.norm(q) > 1e-3)
+    .map(lambda q: q / np.linalg.norm(q))
+)
 
 
 @given(unit_q, unit_q, arrays(np.float64, 3, elements=finite))
@@ -60,7 +64,9 @@ def test_kalman_update_keeps_the_covariance_symmetric_positive_definite(seed, n,
     rng = np.random.default_rng(seed)
     cov = _spd(rng, n)
     o = int(rng.integers(0, n - 2))
-    ok = _update3(cov, np.zeros(n), o, *rng.standard_normal(3), r, np.inf, np.zeros((n, 3)), np.zeros(3), np.zeros((3, n)))
+    ok = _update3(
+        cov, np.zeros(n), o, *rng.standard_normal(3), r, np.inf, np.zeros((n, 3)), np.zeros(3), np.zeros((3, n))
+    )
     assert ok
     assert np.array_equal(cov, cov.T)
     assert np.linalg.eigvalsh(cov).min() > -1e-12 * np.abs(cov).max()
@@ -86,7 +92,9 @@ def test_written_out_update_equals_the_dense_one(seed, n, r):
 def test_update_refuses_a_singular_innovation_covariance():
     cov = np.zeros((9, 9))
     before = cov.copy()
-    assert not _update3(cov, np.zeros(9), 3, 1.0, 0.0, 0.0, 0.0, np.inf, np.zeros((9, 3)), np.zeros(3), np.zeros((3, 9)))
+    assert not _update3(
+        cov, np.zeros(9), 3, 1.0, 0.0, 0.0, 0.0, np.inf, np.zeros((9, 3)), np.zeros(3), np.zeros((3, 9))
+    )
     assert np.array_equal(cov, before)
 
 
@@ -103,5 +111,8 @@ def test_metrics_are_invariant_to_a_rigid_motion_of_the_estimate(seed, angle, sh
     assert abs(metrics.ate_rmse(moved, ref, dims=2) - metrics.ate_rmse(est, ref, dims=2)) < 1e-7
     # distances between the feet and path lengths do not depend on the frame
     other = est[::-1]
-    assert abs(metrics.final_separation(moved, other @ rot.T + np.r_[shift, 0.0]) - metrics.final_separation(est, other)) < 1e-9
+    assert (
+        abs(metrics.final_separation(moved, other @ rot.T + np.r_[shift, 0.0]) - metrics.final_separation(est, other))
+        < 1e-9
+    )
     assert abs(metrics.travelled_distance(moved, dims=2) - metrics.travelled_distance(est, dims=2)) < 1e-7

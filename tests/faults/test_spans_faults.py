@@ -49,7 +49,9 @@ def test_independent_runs_with_a_3_hour_clock_offset_and_says_so():
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         res = footnav.make_pipeline("adaptive", "ekf", "independent").run(rec)
-    marked = [str(w.message) for w in caught if issubclass(w.category, DataQualityWarning) and "markedly" in str(w.message)]
+    marked = [
+        str(w.message) for w in caught if issubclass(w.category, DataQualityWarning) and "markedly" in str(w.message)
+    ]
     assert len(marked) == 1 and "+1.08e+04 s" in marked[0] and "sync='data'" in marked[0]
     assert res.meta["pipeline"]["fusion"]["name"] == "independent"
     assert any("markedly" in w for w in res.meta["warnings"])

@@ -12,9 +12,9 @@ import pytest
 
 import footnav
 from footnav import DataQualityWarning, InvalidInputError
+from footnav.core.types import GRAVITY_MPS2, ImuData
 from footnav.data.io import load, read_footnav_csv
 from footnav.data.io.footnav_csv import write_footnav_csv
-from footnav.core.types import GRAVITY_MPS2, ImuData
 
 pytestmark = pytest.mark.fault
 
@@ -78,7 +78,9 @@ def test_datetime_column_is_converted_to_seconds_since_the_first_sample(walk):
 def test_time_zone_aware_datetime_index_is_converted(walk):
     t, acc, gyr = _arrays(walk.left)
     index = pd.DatetimeIndex(pd.Timestamp("2024-05-01 12:00", tz="Europe/Paris") + pd.to_timedelta(t, unit="s"))
-    frame = pd.DataFrame(np.hstack([acc, gyr]), columns=[f"{s}_{a}" for s in ("acc", "gyr") for a in "xyz"], index=index)
+    frame = pd.DataFrame(
+        np.hstack([acc, gyr]), columns=[f"{s}_{a}" for s in ("acc", "gyr") for a in "xyz"], index=index
+    )
     imu = _quiet(ImuData.from_dataframe, frame, time_column=None)
     np.testing.assert_allclose(imu.t, t - t[0], atol=1e-9)
     assert imu.meta["t0_datetime"].startswith("2024-05-01T10:00")  # UTC

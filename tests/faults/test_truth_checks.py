@@ -15,10 +15,10 @@ import footnav
 from footnav.analysis.batch import evaluate_many
 from footnav.analysis.evaluation import evaluate
 from footnav.cli import main
-from footnav.data.io.footnav_csv import write_footnav_csv, write_footnav_truth
 from footnav.core.errors import DataQualityWarning, InvalidInputError
 from footnav.core.types import FootTruth, Recording
 from footnav.core.warning_log import recording as recorded_warnings
+from footnav.data.io.footnav_csv import write_footnav_csv, write_footnav_truth
 
 pytestmark = pytest.mark.fault
 
@@ -79,20 +79,26 @@ def test_truth_in_mm_or_cm_is_an_error_naming_the_ratio_and_the_conversion(walk,
 
 def test_truth_times_in_ms_are_an_error_naming_the_unit(walk, pipe):
     bad = with_left_truth(walk, t=walk.truth_left.t * 1000.0)
-    with pytest.raises(InvalidInputError, match=r"1000 times the recording's .* its times look like ms .*divide by 1000"):
+    with pytest.raises(
+        InvalidInputError, match=r"1000 times the recording's .* its times look like ms .*divide by 1000"
+    ):
         evaluate(pipe, bad)
 
 
 def test_truth_on_another_clock_is_an_error(walk, pipe):
     bad = with_left_truth(walk, t=walk.truth_left.t + 1000.0)
-    with pytest.raises(InvalidInputError, match=r"covers 0\.000 s .* with 0 truth point\(s\) inside the recording: nothing to score"):
+    with pytest.raises(
+        InvalidInputError, match=r"covers 0\.000 s .* with 0 truth point\(s\) inside the recording: nothing to score"
+    ):
         evaluate(pipe, bad)
 
 
 def test_truth_of_half_the_walk_warns_and_is_recorded(walk, pipe):
     tr = walk.truth_left
     bad = left_truth_part(walk, tr.t <= tr.t[0] + 0.5 * (tr.t[-1] - tr.t[0]))
-    with pytest.warns(DataQualityWarning, match=r"covers .* % of the estimate's distance .*the errors are of that part only"):
+    with pytest.warns(
+        DataQualityWarning, match=r"covers .* % of the estimate's distance .*the errors are of that part only"
+    ):
         report = evaluate(pipe, bad, pipeline_name="p")
     (warned,) = report.warnings
     assert (warned.foot, warned.name, warned.status) == ("left", "coverage", "warning")
@@ -144,7 +150,12 @@ def test_footprint_truth_is_checked_like_with_like(walk, pipe):
     fp = FootTruth(t=tr.t[idx], position=tr.position[idx] * [1.0, 1.0, 0.0], frame="footprints")
     report = evaluate(pipe, Recording(left=walk.left, truth_left=fp, name="fp"))
     assert report.warnings == ()
-    assert [c.name for c in report.checks] == ["time_span", "coverage", "scale", "mirror_2d"]  # no 3-D fit for footprints
+    assert [c.name for c in report.checks] == [
+        "time_span",
+        "coverage",
+        "scale",
+        "mirror_2d",
+    ]  # no 3-D fit for footprints
     with pytest.raises(InvalidInputError, match="it looks like mm"):
         evaluate(pipe, Recording(left=walk.left, truth_left=replace(fp, position=fp.position * 1000.0), name="fp"))
 
@@ -158,7 +169,9 @@ def test_batch_records_the_bad_truth_and_scores_the_others(walk, pipe):
     (failure,) = report.failures
     assert (failure.recording, failure.error_type) == ("bad", "InvalidInputError")
     assert "it looks like mm" in failure.message
-    assert np.isfinite(report.value("ate_2d", recording=walk.name)) and np.isfinite(report.value("ate_2d", recording="half"))
+    assert np.isfinite(report.value("ate_2d", recording=walk.name)) and np.isfinite(
+        report.value("ate_2d", recording="half")
+    )
     assert [(c.recording, c.name) for c in report.warnings] == [("half", "coverage")]  # kept without results
 
 
@@ -167,7 +180,9 @@ def test_cli_evaluate_lists_the_bad_truth_as_a_failure(walk, tmp_path, capsys):
     for folder, scale in ((good, 1.0), (bad, 1000.0)):
         folder.mkdir()
         write_footnav_csv(walk.left, folder / "left.csv")
-        write_footnav_truth(replace(walk.truth_left, position=walk.truth_left.position * scale), folder / "left_truth.csv")
+        write_footnav_truth(
+            replace(walk.truth_left, position=walk.truth_left.position * scale), folder / "left_truth.csv"
+        )
     code = main(["evaluate", str(good), str(bad), "--out", str(tmp_path / "report")])
     out = capsys.readouterr().out
     assert code != 0
@@ -177,13 +192,17 @@ def test_cli_evaluate_lists_the_bad_truth_as_a_failure(walk, tmp_path, capsys):
     assert float(line.split("ratio ")[1].split(",")[0]) == pytest.approx(1000.0, rel=0.05)
     assert "ate_2d" in out  # the good recording is scored
     doc = json.loads((tmp_path / "report" / "report.json").read_text())
-    assert [(c["recording"], c["name"], c["status"]) for c in doc["truth_checks"]] == [("good", n, "ok") for n in CHECKS]
+    assert [(c["recording"], c["name"], c["status"]) for c in doc["truth_checks"]] == [
+        ("good", n, "ok") for n in CHECKS
+    ]
 
 
 def test_non_finite_truth_is_an_error_naming_the_sample(walk, pipe):
     pos = walk.truth_left.position.copy()
     pos[500] = np.nan
-    with pytest.raises(InvalidInputError, match=r"index 500: the left foot's truth of 'bad': non-finite truth position") as exc:
+    with pytest.raises(
+        InvalidInputError, match=r"index 500: the left foot's truth of 'bad': non-finite truth position"
+    ) as exc:
         evaluate(pipe, with_left_truth(walk, position=pos))
     assert exc.value.field == "truth_left"
 

@@ -17,9 +17,9 @@ from pathlib import Path
 import pytest
 
 from footnav.cli import main
+from footnav.core.errors import DataQualityWarning, InvalidInputError
 from footnav.data import output
 from footnav.data.output import MARKER, claim_output
-from footnav.core.errors import DataQualityWarning, InvalidInputError
 
 pytestmark = pytest.mark.fault
 
@@ -150,8 +150,15 @@ def test_a_users_folder_where_footnav_wrote_a_file_is_foreign(tmp_path):
 
 def test_a_marker_without_a_list_allows_only_footnavs_file_names(tmp_path):
     target = tmp_path / "res"
-    _plant(target, {MARKER: '{"written_by": "footnav"}\n', "left.csv": "x\n", "summary.json": "{}\n",
-                    "pipeline-default.toml": "x\n"})
+    _plant(
+        target,
+        {
+            MARKER: '{"written_by": "footnav"}\n',
+            "left.csv": "x\n",
+            "summary.json": "{}\n",
+            "pipeline-default.toml": "x\n",
+        },
+    )
     claim_output(target, force=True).release()
     _plant(target, {"plot.png": "mine\n"})
     with pytest.raises(InvalidInputError, match="plot.png"):
@@ -171,14 +178,30 @@ def _dead_lock(folder: Path, target: str, *entries: tuple[str, str]) -> None:
 def test_a_killed_runs_named_entries_are_cleaned_and_nothing_else(ws, capsys):
     partial = ".res.footnav-999999999-0badc0de.partial"
     doomed = ".res.footnav-999999999-0badc0de.partial-old"
-    _plant(ws, {f"{partial}/left.csv": "half\n", f"{doomed}/path.csv": "half\n",
-                f"{doomed}/{MARKER}": json.dumps({"files": ["path.csv"], "folders": []})})
+    _plant(
+        ws,
+        {
+            f"{partial}/left.csv": "half\n",
+            f"{doomed}/path.csv": "half\n",
+            f"{doomed}/{MARKER}": json.dumps({"files": ["path.csv"], "folders": []}),
+        },
+    )
     # names that are not footnav's temporary spelling: a lock never makes footnav touch them
-    _dead_lock(ws, "res", (partial, "partial"), (doomed, "doomed"), ("notes.txt", "partial"),
-               ("../ws/notes.txt", "partial"), (".res.v2.partial.md", "partial"))
+    _dead_lock(
+        ws,
+        "res",
+        (partial, "partial"),
+        (doomed, "doomed"),
+        ("notes.txt", "partial"),
+        ("../ws/notes.txt", "partial"),
+        (".res.v2.partial.md", "partial"),
+    )
     before = _hashes(ws, skip="res")
-    before = {k: v for k, v in before.items()  # footnav's, and to go
-              if k.split("/")[0] not in (partial, doomed, ".res.footnav-lock")}
+    before = {
+        k: v
+        for k, v in before.items()  # footnav's, and to go
+        if k.split("/")[0] not in (partial, doomed, ".res.footnav-lock")
+    }
     assert main(COMMANDS["run"]) == 0
     said = capsys.readouterr().err  # the command line prints footnav's warnings
     assert f"removed {partial}" in said and f"removed {doomed}" in said

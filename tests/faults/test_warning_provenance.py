@@ -48,8 +48,11 @@ def test_concurrent_runs_record_only_their_own_warnings(rec):
 
     def run(tag: str) -> None:
         try:
-            pipe = footnav.Pipeline(_ChattyDetector(tag=tag, pause_s=0.05), footnav.make_estimator("ekf"),
-                                    footnav.make_fusion("independent"))
+            pipe = footnav.Pipeline(
+                _ChattyDetector(tag=tag, pause_s=0.05),
+                footnav.make_estimator("ekf"),
+                footnav.make_fusion("independent"),
+            )
             barrier.wait()
             results[tag] = pipe.run(rec.left)
         except BaseException as exc:  # pragma: no cover - reported below

@@ -4,11 +4,11 @@ import numpy as np
 import pytest
 
 import footnav
-from footnav.nav.dtw import dtw_align
 from footnav.estimators.ekf import EkfEstimator
 from footnav.fusion.dtw import DtwFusion, feet_heading_mismatch, feet_timeless_average
 from footnav.fusion.independent import IndependentFusion
 from footnav.fusion.joint import start_joint
+from footnav.nav.dtw import dtw_align
 
 DRIFTY = {"gyr_bias_walk_radps2_sqrthz": 1e-4}
 
@@ -63,9 +63,17 @@ def test_heading_is_never_worse_than_the_best_coarse_angle():
 
 def test_timeless_average_lies_on_the_centre_line():
     rec = footnav.simulate("rectangle", seed=0, width_m=20.0, height_m=10.0, noise=False)
-    as_traj = [footnav.FootTrajectory(t=tr.t, position=tr.position, velocity=tr.velocity, quaternion=tr.quaternion,
-                                      position_std=np.zeros_like(tr.position), steps=np.empty((0, 2)))
-               for tr in (rec.truth_left, rec.truth_right)]
+    as_traj = [
+        footnav.FootTrajectory(
+            t=tr.t,
+            position=tr.position,
+            velocity=tr.velocity,
+            quaternion=tr.quaternion,
+            position_std=np.zeros_like(tr.position),
+            steps=np.empty((0, 2)),
+        )
+        for tr in (rec.truth_left, rec.truth_right)
+    ]
     path = feet_timeless_average(*as_traj, band_s=2.0, rate_hz=10.0)
     assert np.all(np.diff(path.t) >= 0)
     # the feet resampled to 10 Hz over the common span, 2 s = 20 samples of band, matched in 3-D
@@ -89,7 +97,10 @@ def test_dtw_fusion_ties_the_feet_and_keeps_the_walk_on_course():
         ind, fused = _fuse(IndependentFusion(), rec), _fuse(DtwFusion(), rec)
         for res, es, ep in ((ind, es_i, ep_i), (fused, es_d, ep_d)):
             es.append(np.linalg.norm(res.left.position[-1, :2] - res.right.position[-1, :2]))
-            ep += [np.linalg.norm(tr.position[-1, :2] - t.position[-1, :2]) for tr, t in ((res.left, rec.truth_left), (res.right, rec.truth_right))]
+            ep += [
+                np.linalg.norm(tr.position[-1, :2] - t.position[-1, :2])
+                for tr, t in ((res.left, rec.truth_left), (res.right, rec.truth_right))
+            ]
         assert fused.meta["midswing_updates"] > 400 and fused.meta["skipped_other_foot_moving"] < 10
         assert fused.path.meta["path"] == "DTW pairing (timeless)"
     # measured (3 seeds): E_s 13.4 -> 0.10 m, E_p 9.4 -> 6.3 m

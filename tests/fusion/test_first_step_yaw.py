@@ -14,8 +14,8 @@ import numpy as np
 import pytest
 
 import footnav
-from footnav.fusion.joint import first_step_yaw, forward_only
 from footnav.core.types import StanceResult
+from footnav.fusion.joint import first_step_yaw, forward_only
 
 
 class _Counting:

@@ -164,7 +164,9 @@ def test_range_moving_projection_hand_computed(monkeypatch):
     np.testing.assert_allclose(z, [1.0, 0.0, 0.0], atol=1e-12)
 
 
-@pytest.mark.parametrize("projection, standing", [("symmetric", (True, False)), ("moving", (True, True)), ("moving", (False, False))])
+@pytest.mark.parametrize(
+    "projection, standing", [("symmetric", (True, False)), ("moving", (True, True)), ("moving", (False, False))]
+)
 def test_range_symmetric_projection_hand_computed(monkeypatch, projection, standing):
     # both feet move about their centroid (1.5, 2, 0) to 0.5 m each side, along the line joining them
     (f1, z1), (f2, z2) = _project(monkeypatch, projection, [3, 4, 0], [0, 0, 0], *standing)
@@ -231,8 +233,12 @@ def test_dtw_timeless_average_uses_exactly_band_s_against_dtaidistance():
     def traj(pos):
         n = len(pos)
         return footnav.FootTrajectory(
-            t=t, position=pos, velocity=np.zeros((n, 3)), quaternion=np.tile([1.0, 0, 0, 0], (n, 1)),
-            position_std=np.zeros((n, 3)), steps=np.zeros((0, 2), dtype=np.int64),
+            t=t,
+            position=pos,
+            velocity=np.zeros((n, 3)),
+            quaternion=np.tile([1.0, 0, 0, 0], (n, 1)),
+            position_std=np.zeros((n, 3)),
+            steps=np.zeros((0, 2), dtype=np.int64),
         )
 
     # the fusion resamples to its rate on [t0, t1): the samples the pairing sees
@@ -263,7 +269,7 @@ def test_dtw_heading_search_band_is_band_s_at_the_dtw_rate(monkeypatch):
     rec = footnav.simulate("straight", seed=0, distance_m=8.0)
     stances = [StanceResult(rec.truth_left.stance), StanceResult(rec.truth_right.stance)]
     dtw_fusion.DtwFusion(band_s=1.5, dtw_rate_hz=10.0).fuse(EkfEstimator(), rec.left, stances[0], rec.right, stances[1])
-    (n, m, band), = seen
+    ((n, m, band),) = seen
     # the paper's maximum index difference: band_s x rate samples (15), widened only to |N - M|
     assert band == max(15, abs(n - m))
     assert abs(n - m) < 15
@@ -274,5 +280,11 @@ if __name__ == "__main__":  # print the measured values the comments quote
         for scenario in sorted(WALKS):
             for seed in range(3):
                 rec, res = _run(fusion, scenario, seed)
-                print(fusion, scenario, seed, "side final/mean %.3f %.3f" % _signed_separation(rec, res),
-                      "err xy/z", [(round(a, 3), round(b, 3)) for a, b in _final_errors(rec, res)])
+                print(
+                    fusion,
+                    scenario,
+                    seed,
+                    "side final/mean %.3f %.3f" % _signed_separation(rec, res),
+                    "err xy/z",
+                    [(round(a, 3), round(b, 3)) for a, b in _final_errors(rec, res)],
+                )

@@ -64,7 +64,10 @@ def test_alone_part_continues_in_the_walking_direction(yawed_walk, case):
     alone = np.concatenate([np.arange(lo, hi) for lo, hi in span["alone_samples"]])
     assert len(alone) == k
     # the case is what it should be: the sensor's heading is 60 deg off the first step
-    r_sensor, _ = _fit_2d(pipe.estimator.estimate(getattr(rec, foot), StanceResult(getattr(rec, f"truth_{foot}").stance)).position[:, :2], truth)
+    r_sensor, _ = _fit_2d(
+        pipe.estimator.estimate(getattr(rec, foot), StanceResult(getattr(rec, f"truth_{foot}").stance)).position[:, :2],
+        truth,
+    )
     assert abs(abs(np.degrees(np.arctan2(r_sensor[1, 0], r_sensor[0, 0]))) - 60.0) < 2.0
     r, t = _fit_2d(traj.position[a:b, :2], truth[a:b])
     err = np.linalg.norm(traj.position[:, :2] @ r.T + t - truth, axis=1)

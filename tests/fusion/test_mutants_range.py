@@ -24,7 +24,9 @@ def landed():
     rec = footnav.simulate("straight", seed=2, distance_m=6.0)
     stances = [StanceResult(rec.truth_left.stance), StanceResult(rec.truth_right.stance)]
     pipe = footnav.make_pipeline(
-        "threshold", "ekf", "range",
+        "threshold",
+        "ekf",
+        "range",
         estimator_params={"smoother": "none"},  # the forward filter: each sample is the estimate then
         fusion_params={"max_separation_m": BOUND_M, "check_interval_s": 60.0, "constraint_std_m": STD_M},
     )

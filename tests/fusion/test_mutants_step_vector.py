@@ -21,8 +21,8 @@ import numpy as np
 import pytest
 
 from footnav.core.types import FootTrajectory, ImuData, StanceResult
-from footnav.estimators.ekf.filter import InsFilter
 from footnav.estimators.ekf._records import POS, FilterNoise
+from footnav.estimators.ekf.filter import InsFilter
 from footnav.fusion.joint import FeetView
 from footnav.fusion.step_vector import StepVectorFusion
 
@@ -85,8 +85,17 @@ class _HandFilter(InsFilter):
     def __init__(self, t, q_out, q0, p0, cov0_diag):
         z3 = np.zeros((len(t), 3))
         super().__init__(
-            [t, t], [z3, z3], [z3, z3], [np.ones(len(t), bool)] * 2, [0, 0], q0, p0, [np.zeros(3)] * 2,
-            cov0_diag, FilterNoise(acc_mps2_sqrthz=0.1, gyr_radps_sqrthz=0.01, zupt_std_mps=0.01), N_STATES,
+            [t, t],
+            [z3, z3],
+            [z3, z3],
+            [np.ones(len(t), bool)] * 2,
+            [0, 0],
+            q0,
+            p0,
+            [np.zeros(3)] * 2,
+            cov0_diag,
+            FilterNoise(acc_mps2_sqrthz=0.1, gyr_radps_sqrthz=0.01, zupt_std_mps=0.01),
+            N_STATES,
         )
         self.q_out = q_out
         self.t_hand = t
@@ -103,9 +112,17 @@ class _HandFilter(InsFilter):
     def update(self, h, innovation, r, *, gate=None):
         cov_before = self.covariance
         dx = super().update(h, innovation, r, gate=gate)
-        self.updates.append({"h": np.array(h), "y": np.array(innovation), "r": np.array(r), "dx": dx,
-                             "cov_before": cov_before, "cov_after": self.covariance,
-                             "p_after": [self.position(LEFT), self.position(RIGHT)]})
+        self.updates.append(
+            {
+                "h": np.array(h),
+                "y": np.array(innovation),
+                "r": np.array(r),
+                "dx": dx,
+                "cov_before": cov_before,
+                "cov_after": self.covariance,
+                "p_after": [self.position(LEFT), self.position(RIGHT)],
+            }
+        )
         return dx
 
 
@@ -129,8 +146,15 @@ class _HandEstimator:
     def estimate(self, imu, stance):
         n = len(imu.t)
         quat = np.tile([1.0, 0.0, 0.0, 0.0], (n, 1))
-        return FootTrajectory(imu.t, np.zeros((n, 3)), np.zeros((n, 3)), quat, np.zeros((n, 3)), stance.intervals,
-                              meta={"heading_rotation_rad": 0.0})
+        return FootTrajectory(
+            imu.t,
+            np.zeros((n, 3)),
+            np.zeros((n, 3)),
+            quat,
+            np.zeros((n, 3)),
+            stance.intervals,
+            meta={"heading_rotation_rad": 0.0},
+        )
 
     def start(self, imus, stances, *, initial_yaw_rad=None, initial_position_m=None):
         return self.filt
@@ -149,11 +173,18 @@ def _run_hand_step():
     filt = _HandFilter(t, [q_front, q_rear], q0, [P_FRONT, P_REAR], cov0)
     imu = ImuData(t, np.tile([0.0, 0.0, 9.80665], (N, 1)), np.zeros((N, 3)))
     fusion = StepVectorFusion(
-        step_length="pendulum", leg_length_m=LEG_M, relative_frame="heading", step_width_m=STEP_WIDTH_M,
-        step_elevation_m=STEP_ELEVATION_M, step_length_std_m=STD_M[0], step_width_std_m=STD_M[1],
+        step_length="pendulum",
+        leg_length_m=LEG_M,
+        relative_frame="heading",
+        step_width_m=STEP_WIDTH_M,
+        step_elevation_m=STEP_ELEVATION_M,
+        step_length_std_m=STD_M[0],
+        step_width_std_m=STD_M[1],
         step_elevation_std_m=STD_M[2],
     )
-    res = fusion.fuse(_HandEstimator(filt), imu, _stance(LEFT_STANCE, [HS_LEFT]), imu, _stance(RIGHT_STANCE, [HS_RIGHT]))
+    res = fusion.fuse(
+        _HandEstimator(filt), imu, _stance(LEFT_STANCE, [HS_LEFT]), imu, _stance(RIGHT_STANCE, [HS_RIGHT])
+    )
     return filt, res, t
 
 
@@ -213,7 +244,9 @@ def test_step_vector_kalman_update_in_the_rear_foot_frame_by_hand():
     np.testing.assert_allclose(u["dx"], dx, rtol=0, atol=1e-12)
     np.testing.assert_allclose(u["cov_after"], cov, rtol=0, atol=1e-12)
     np.testing.assert_allclose(u["p_after"][LEFT], P_FRONT - dx[POS : POS + 3], rtol=0, atol=1e-12)
-    np.testing.assert_allclose(u["p_after"][RIGHT], P_REAR - dx[N_STATES + POS : N_STATES + POS + 3], rtol=0, atol=1e-12)
+    np.testing.assert_allclose(
+        u["p_after"][RIGHT], P_REAR - dx[N_STATES + POS : N_STATES + POS + 3], rtol=0, atol=1e-12
+    )
     # the frame matters here: with R unrotated the correction differs by centimetres
     r_wrong = np.diag(STD_M**2)
     dx_wrong = p @ h.T @ np.linalg.solve(h @ p @ h.T + r_wrong, y)
@@ -232,5 +265,7 @@ def test_landing_and_support_at_heel_strikes_on_the_stance_start():
     # one sample later is outside the run's past: the fallback 0.1 s before the stance start
     assert fusion._heel_strikes(FeetView.of([imu], [_stance(RIGHT_STANCE, [121])]), 0, [120]).tolist() == [110]
     # unsorted heel strikes, one too early (0.5 s window), none at all
-    assert fusion._heel_strikes(FeetView.of([imu], [_stance(RIGHT_STANCE, [118, 60, 115])]), 0, [120, 116, 200]).tolist() == [118, 115, 190]
+    assert fusion._heel_strikes(
+        FeetView.of([imu], [_stance(RIGHT_STANCE, [118, 60, 115])]), 0, [120, 116, 200]
+    ).tolist() == [118, 115, 190]
     assert fusion._heel_strikes(FeetView.of([imu], [_stance(RIGHT_STANCE, [])]), 0, [120, 5]).tolist() == [110, 0]

@@ -180,8 +180,11 @@ def _es_ep(res, rec):
 
 @pytest.mark.parametrize(
     "scenario, opts",
-    [("straight", {"distance_m": 100.0}), ("rectangle", {"width_m": 105.0, "height_m": 68.0, "direction": "cw"}),
-     ("rectangle", {"width_m": 105.0, "height_m": 68.0, "direction": "ccw"})],
+    [
+        ("straight", {"distance_m": 100.0}),
+        ("rectangle", {"width_m": 105.0, "height_m": 68.0, "direction": "cw"}),
+        ("rectangle", {"width_m": 105.0, "height_m": 68.0, "direction": "ccw"}),
+    ],
 )
 def test_particle_fusion_keeps_the_feet_together_and_the_walk_on_course(scenario, opts):
     # 20 seeds: E_s drops in every seed, but E_p only on average. The feet's heading drifts are
@@ -236,8 +239,12 @@ def test_an_estimator_without_a_stepable_filter_is_a_composition_error():
 
 def test_bad_parameters_are_named():
     rec = footnav.simulate("straight", distance_m=5.0)
-    for params, name in (({"n_particles": 1}, "n_particles"), ({"n_particles": 10.0}, "n_particles"),
-                         ({"sigma_sys_m": -0.1}, "sigma_sys_m"), ({"step_width_m": -0.2}, "step_width_m"),
-                         ({"seed": 1.5}, "seed")):
+    for params, name in (
+        ({"n_particles": 1}, "n_particles"),
+        ({"n_particles": 10.0}, "n_particles"),
+        ({"sigma_sys_m": -0.1}, "sigma_sys_m"),
+        ({"step_width_m": -0.2}, "step_width_m"),
+        ({"seed": 1.5}, "seed"),
+    ):
         with pytest.raises(footnav.InvalidParameterError, match=name):
             _fuse(ParticleFusion(**params), rec)

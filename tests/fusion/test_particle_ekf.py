@@ -16,12 +16,12 @@ import numpy as np
 import pytest
 
 import footnav
+from footnav.core.types import StanceResult
 from footnav.estimators.ekf import EkfEstimator
 from footnav.fusion.particle import ParticleFusion
 from footnav.fusion.particle_ekf import N_STATES, PaperFoot
 from footnav.nav import quaternion as quat
 from footnav.nav.mechanization import strapdown_step
-from footnav.core.types import StanceResult
 
 
 def _skew(f):
@@ -81,8 +81,22 @@ def test_paper_foot_ekf_matches_a_dense_reference(stairs_walk):
     q0 = quat.multiply(quat.from_rotvec(np.array([0.02, -0.015, 0.0])), truth.quaternion[start])
     bg = np.array([1e-3, -2e-3, 5e-4])
     zeros = np.zeros(n)
-    foot = PaperFoot(imu.t, imu.acc, imu.gyr, mask, start, q0, np.array([0.0, 0.0, 0.1]), bg, cov0, noise,
-                     np.zeros((4, 2)), 1.0, zeros, zeros)
+    foot = PaperFoot(
+        imu.t,
+        imu.acc,
+        imu.gyr,
+        mask,
+        start,
+        q0,
+        np.array([0.0, 0.0, 0.1]),
+        bg,
+        cov0,
+        noise,
+        np.zeros((4, 2)),
+        1.0,
+        zeros,
+        zeros,
+    )
     foot.run_until(n - 1, np.random.default_rng(0))
     ref = reference_ekf(imu.t, imu.acc, imu.gyr, mask, start, q0, [0.0, 0.0, 0.1], bg, cov0, noise, n - 1)
     ks = np.arange(start + 1, n)

@@ -8,17 +8,21 @@ import pytest
 from scipy import stats
 
 import footnav
-from footnav.nav.quaternion import yaw
 from footnav.estimators.ekf import EkfEstimator
 from footnav.fusion.independent import IndependentFusion
 from footnav.fusion.particle import ParticleFusion
 from footnav.fusion.particle_cloud import _moments, gaussian_sum, offset_rayleigh
 from footnav.fusion.particle_ekf import drift_scales
+from footnav.nav.quaternion import yaw
 
 SIDE_M = 93.0 / 4  # Sec. 4: a square about 93 m round
 # the paper's MTw (Table 1) with a consumer-grade gyro bias walk, 5 s standstill (Sec. 4)
-PAPER_SENSOR = {"standstill_s": 5.0, "gyr_noise_density_radps_sqrthz": 8.7e-4, "acc_noise_density_mps2_sqrthz": 3e-3,
-                "gyr_bias_walk_radps2_sqrthz": 5e-5}
+PAPER_SENSOR = {
+    "standstill_s": 5.0,
+    "gyr_noise_density_radps_sqrthz": 8.7e-4,
+    "acc_noise_density_mps2_sqrthz": 3e-3,
+    "gyr_bias_walk_radps2_sqrthz": 5e-5,
+}
 
 
 def square(seed, laps=1, turn_sign=1.0, **options):
@@ -114,7 +118,11 @@ def test_paper_mode_on_the_square_against_independent_feet():
     ind, paper, ours = [], [], []
     for seed in range(3):
         rec = square(seed)
-        for fusion, out in ((IndependentFusion(), ind), (ParticleFusion(mode="paper"), paper), (ParticleFusion(), ours)):
+        for fusion, out in (
+            (IndependentFusion(), ind),
+            (ParticleFusion(mode="paper"), paper),
+            (ParticleFusion(), ours),
+        ):
             res = _fuse(fusion, rec)
             out += [cross_track(res.left, rec.truth_left), cross_track(res.right, rec.truth_right)]
     ind, paper, ours = (np.array(x) for x in (ind, paper, ours))

@@ -21,13 +21,26 @@ from footnav.fusion.particle_ekf import drift_scales
 #: 3-min walk (9.7e-5 rad/s / sqrt(180 s)), 5 s standstill, and the symmetric drift of Sec. 2.1
 #: (+b on the left foot's yaw rate, -b on the right's) that gives the standalone errors of
 #: Tables 2-3 (0.86 / 0.85 m total on the straight / square against the paper's 0.75 / 0.89 m).
-PAPER_DRIFT = {"standstill_s": 5.0, "gyr_noise_density_radps_sqrthz": math.radians(0.05),
-               "acc_noise_density_mps2_sqrthz": 3e-3, "gyr_bias_walk_radps2_sqrthz": 7e-6,
-               "mirrored_yaw_rate_radps": 6e-4}
+PAPER_DRIFT = {
+    "standstill_s": 5.0,
+    "gyr_noise_density_radps_sqrthz": math.radians(0.05),
+    "acc_noise_density_mps2_sqrthz": 3e-3,
+    "gyr_bias_walk_radps2_sqrthz": 7e-6,
+    "mirrored_yaw_rate_radps": 6e-4,
+}
 #: The paper mode of docs/papers.md: sigma_sys is not given by the paper (fitted to Fig. 2).
 PAPER_MODE = {"mode": "paper", "sigma_sys_m": 0.1}
-NOISE_FREE = {k: 0.0 for k in ("gyr_noise_density_radps_sqrthz", "acc_noise_density_mps2_sqrthz", "gyr_bias_std_radps",
-                               "acc_bias_std_mps2", "gyr_bias_walk_radps2_sqrthz", "acc_bias_walk_mps3_sqrthz")}
+NOISE_FREE = {
+    k: 0.0
+    for k in (
+        "gyr_noise_density_radps_sqrthz",
+        "acc_noise_density_mps2_sqrthz",
+        "gyr_bias_std_radps",
+        "acc_bias_std_mps2",
+        "gyr_bias_walk_radps2_sqrthz",
+        "acc_bias_walk_mps3_sqrthz",
+    )
+}
 SIDE_M = 93.0 / 4
 
 
@@ -35,7 +48,9 @@ def _fuse(fusion, rec):
     det = footnav.make_detector("threshold")
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        return fusion.fuse(EkfEstimator(smoother="none"), rec.left, det.detect(rec.left), rec.right, det.detect(rec.right))
+        return fusion.fuse(
+            EkfEstimator(smoother="none"), rec.left, det.detect(rec.left), rec.right, det.detect(rec.right)
+        )
 
 
 def _errors(res, rec):
@@ -44,8 +59,12 @@ def _errors(res, rec):
     for traj, truth in ((res.left, rec.truth_left), (res.right, rec.truth_right)):
         aligned = metrics.align_on_first_steps(traj.position, truth.position, truth.events["heel_strike"]).aligned
         wp = truth.meta["waypoints_m"]
-        out.append((metrics.waypoint_errors(aligned, truth.position, wp).mean_m,
-                    float(np.linalg.norm(aligned[-1, :2] - truth.position[-1, :2]))))
+        out.append(
+            (
+                metrics.waypoint_errors(aligned, truth.position, wp).mean_m,
+                float(np.linalg.norm(aligned[-1, :2] - truth.position[-1, :2])),
+            )
+        )
     return np.array(out)
 
 
@@ -90,7 +109,9 @@ def test_lateral_likelihood_ignores_the_walking_direction_and_shifts_by_half_the
     np.testing.assert_allclose(w_r, [1.0, math.exp(-0.5)])
 
 
-@pytest.mark.parametrize("name, value", [("likelihood_cov", "mixture"), ("likelihood_axes", "3d"), ("drift_mean", "mean")])
+@pytest.mark.parametrize(
+    "name, value", [("likelihood_cov", "mixture"), ("likelihood_axes", "3d"), ("drift_mean", "mean")]
+)
 def test_unknown_readings_are_refused_by_name(name, value):
     with pytest.raises(footnav.InvalidParameterError, match=name):
         ParticleFusion(mode="paper", **{name: value}).validate_params()
@@ -99,8 +120,15 @@ def test_unknown_readings_are_refused_by_name(name, value):
 # -- against the simulator's truth -------------------------------------------------------------
 
 
-@pytest.mark.parametrize("drift", [{}, {"drift_mean": "offset"}, {"drift_mean": "offset", "drift_offset_m": -0.5},
-                                   {"drift_mean": "offset", "drift_offset_m": 1.0}])
+@pytest.mark.parametrize(
+    "drift",
+    [
+        {},
+        {"drift_mean": "offset"},
+        {"drift_mean": "offset", "drift_offset_m": -0.5},
+        {"drift_mean": "offset", "drift_offset_m": 1.0},
+    ],
+)
 def test_no_rayleigh_scale_keeps_the_feet_on_their_lateral_truth(drift):
     # issue 36: with sigma_sys_m=0 the default offset alone pushed each foot 5 cm per step
     # (2.3 / 2.6 m off after 70 m); noise-free sensors, so any lateral error is the fusion's

@@ -18,8 +18,8 @@ import pytest
 
 import footnav
 from footnav.core.component import JOINT_FILTER_MEMBERS
-from footnav.estimators.ekf import EkfEstimator
 from footnav.core.types import StanceResult
+from footnav.estimators.ekf import EkfEstimator
 
 
 class _PythonChecks:
@@ -82,7 +82,10 @@ def test_replayed_segments_equal_kept_ones_to_the_bit(walk, bias_states, monkeyp
 
     monkeypatch.setattr(ekf_filter.InsFilter, "_add_checkpoint", counted)
     fusion = footnav.make_fusion("range", max_separation_m=0.35, projection="symmetric")
-    runs = [fusion.fuse(footnav.make_estimator("ekf", bias_states=bias_states, smoother_cache_mb=mb), *walk) for mb in (0.0, 1e3)]
+    runs = [
+        fusion.fuse(footnav.make_estimator("ekf", bias_states=bias_states, smoother_cache_mb=mb), *walk)
+        for mb in (0.0, 1e3)
+    ]
     assert runs[0].meta["constraint_updates"] > 20
     for foot in ("left", "right"):
         np.testing.assert_array_equal(getattr(runs[0], foot).position, getattr(runs[1], foot).position)

@@ -29,7 +29,9 @@ def _run(fusion, left, right):
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         res = footnav.make_pipeline("adaptive", "ekf", fusion).run(left, right)
-    spans = [str(w.message) for w in caught if issubclass(w.category, DataQualityWarning) and "time span" in str(w.message)]
+    spans = [
+        str(w.message) for w in caught if issubclass(w.category, DataQualityWarning) and "time span" in str(w.message)
+    ]
     return res, spans
 
 

@@ -22,7 +22,10 @@ def _fuse(fusion, rec):
 
 def _es_ep(res, rec):
     es = float(np.linalg.norm(res.left.position[-1, :2] - res.right.position[-1, :2]))
-    ep = [float(np.linalg.norm(tr.position[-1, :2] - truth.position[-1, :2])) for tr, truth in ((res.left, rec.truth_left), (res.right, rec.truth_right))]
+    ep = [
+        float(np.linalg.norm(tr.position[-1, :2] - truth.position[-1, :2]))
+        for tr, truth in ((res.left, rec.truth_left), (res.right, rec.truth_right))
+    ]
     return es, ep
 
 
@@ -36,8 +39,11 @@ def test_pendulum_step_length_hand_computed():
 
 @pytest.mark.parametrize(
     "scenario, opts",
-    [("straight", {"distance_m": 100.0}), ("rectangle", {"width_m": 105.0, "height_m": 68.0, "direction": "cw"}),
-     ("rectangle", {"width_m": 105.0, "height_m": 68.0, "direction": "ccw"})],
+    [
+        ("straight", {"distance_m": 100.0}),
+        ("rectangle", {"width_m": 105.0, "height_m": 68.0, "direction": "cw"}),
+        ("rectangle", {"width_m": 105.0, "height_m": 68.0, "direction": "ccw"}),
+    ],
 )
 def test_step_vector_keeps_the_feet_together_and_the_walk_on_course(scenario, opts):
     es_ind, es_sv, ep_ind, ep_sv = [], [], [], []

@@ -19,11 +19,11 @@ import pytest
 import footnav
 from footnav import DataQualityWarning, InvalidInputError
 from footnav.cli import main
-from footnav.nav import quaternion as quat
-from footnav.nav.calibration import calibrate_at_rest
 from footnav.estimators.ekf import EkfEstimator
 from footnav.fusion.independent import IndependentFusion
 from footnav.fusion.step_vector import StepVectorFusion, leg_length_from_height, pendulum_step_length
+from footnav.nav import quaternion as quat
+from footnav.nav.calibration import calibrate_at_rest
 
 # a consumer-grade gyro (bias walk 10x the simulator's default): the feet drift apart as in the
 # paper's experiments
@@ -41,13 +41,18 @@ def _fuse(fusion, rec):
 def _es_ep(res, rec) -> tuple[float, float]:
     """Eq. 8: final foot separation E_s and the feet's mean final position error E_p (m, 2-D)."""
     es = float(np.linalg.norm(res.left.position[-1, :2] - res.right.position[-1, :2]))
-    ep = [float(np.linalg.norm(tr.position[-1, :2] - truth.position[-1, :2])) for tr, truth in ((res.left, rec.truth_left), (res.right, rec.truth_right))]
+    ep = [
+        float(np.linalg.norm(tr.position[-1, :2] - truth.position[-1, :2]))
+        for tr, truth in ((res.left, rec.truth_left), (res.right, rec.truth_right))
+    ]
     return es, float(np.mean(ep))
 
 
 def _scaled(rec, scale: float):
     """``rec`` with both accelerometers reading ``scale`` times the specific force."""
-    return replace(rec, left=replace(rec.left, acc=rec.left.acc * scale), right=replace(rec.right, acc=rec.right.acc * scale))
+    return replace(
+        rec, left=replace(rec.left, acc=rec.left.acc * scale), right=replace(rec.right, acc=rec.right.acc * scale)
+    )
 
 
 # -- eq. 4-6 by hand ------------------------------------------------------------------------------
@@ -62,7 +67,9 @@ def test_pendulum_step_length_on_hand_computed_quaternions():
         assert pendulum_step_length(q1, q2, 0.9) == pytest.approx(0.3125667198, abs=1e-9)
         assert pendulum_step_length(q1, -q2, 0.9) == pytest.approx(0.3125667198, abs=1e-9)  # q and -q
     # a 90 deg swing: S = 2 l sin(45 deg) = sqrt(2) l
-    assert pendulum_step_length(quat.from_euler(0.0, np.radians(45.0), 0.0), quat.from_euler(0.0, np.radians(-45.0), 0.0), 1.0) == pytest.approx(np.sqrt(2.0))
+    assert pendulum_step_length(
+        quat.from_euler(0.0, np.radians(45.0), 0.0), quat.from_euler(0.0, np.radians(-45.0), 0.0), 1.0
+    ) == pytest.approx(np.sqrt(2.0))
 
 
 def test_leg_length_from_height_is_winters_ratio():
@@ -98,7 +105,9 @@ def test_simulator_foot_turns_only_by_its_heel_strike_pitch():
     # at 100 Hz the first foot-flat sample may lie up to 10 ms after the heel strike
     assert np.median(s) == pytest.approx(2 * 0.9 * np.sin(np.radians(10.0)), abs=1e-9)
     np.testing.assert_allclose(s, 2 * 0.9 * np.sin(np.radians(10.0)), atol=0.02)
-    rec = footnav.simulate("straight", distance_m=10.0, noise=False, heel_strike_pitch_deg=np.degrees(2 * np.arcsin(0.7 / 1.8)))
+    rec = footnav.simulate(
+        "straight", distance_m=10.0, noise=False, heel_strike_pitch_deg=np.degrees(2 * np.arcsin(0.7 / 1.8))
+    )
     assert np.median(_truth_pendulum(rec, 0.9)) == pytest.approx(0.7, abs=1e-6)
     assert rec.meta["step_length_m"] == pytest.approx(0.7, abs=0.02)
 
@@ -115,13 +124,19 @@ def test_fusion_measures_theta_as_the_truth_does():
 
 @pytest.mark.parametrize(
     "scenario, opts, ep_gain",
-    [("straight", {"distance_m": 100.0}, 1.0), ("rectangle", {"width_m": 105.0, "height_m": 68.0, "direction": "cw"}, 0.8)],
+    [
+        ("straight", {"distance_m": 100.0}, 1.0),
+        ("rectangle", {"width_m": 105.0, "height_m": 68.0, "direction": "cw"}, 0.8),
+    ],
 )
 def test_paper_mode_reduces_es_and_ep_against_independent_fusion(scenario, opts, ep_gain):
     es_ind, ep_ind, es_pap, ep_pap = [], [], [], []
     for seed in range(5):
         rec = footnav.simulate(scenario, seed=seed, **DRIFTY, **opts)
-        for fusion, es_list, ep_list in ((IndependentFusion(), es_ind, ep_ind), (StepVectorFusion(**PAPER), es_pap, ep_pap)):
+        for fusion, es_list, ep_list in (
+            (IndependentFusion(), es_ind, ep_ind),
+            (StepVectorFusion(**PAPER), es_pap, ep_pap),
+        ):
             es, ep = _es_ep(_fuse(fusion, rec), rec)
             es_list.append(es)
             ep_list.append(ep)
@@ -194,7 +209,16 @@ def test_fusion_calibration_warns_without_a_standstill():
     assert res.meta["calibration"]["left"] is None
 
 
-@pytest.mark.parametrize("param, value", [("step_length", "guess"), ("relative_frame", "yaw"), ("calibration", True), ("leg_length_m", None), ("leg_length_m", 0.0)])
+@pytest.mark.parametrize(
+    "param, value",
+    [
+        ("step_length", "guess"),
+        ("relative_frame", "yaw"),
+        ("calibration", True),
+        ("leg_length_m", None),
+        ("leg_length_m", 0.0),
+    ],
+)
 def test_bad_choices_are_refused(param, value):
     rec = footnav.simulate("straight", distance_m=5.0)
     with pytest.raises(footnav.InvalidParameterError, match=param):
@@ -254,9 +278,11 @@ def _measure(n_seeds: int = 5) -> None:  # pragma: no cover - run by hand
         print(f"## {walk}: |E_s - 0.2| / E_p (m), median S (m)")
         for m, v in rows.items():
             v = np.array(v)
-            print(f"  {m:22s} {np.mean(np.abs(v[:, 0] - 0.2)):.3f} / {v[:, 1].mean():.3f}   S {np.nanmean(v[:, 2]):.3f}")
-    from footnav.data.datasets import load_dataset
+            print(
+                f"  {m:22s} {np.mean(np.abs(v[:, 0] - 0.2)):.3f} / {v[:, 1].mean():.3f}   S {np.nanmean(v[:, 2]):.3f}"
+            )
     from footnav.analysis.evaluation import evaluate
+    from footnav.data.datasets import load_dataset
 
     for name in ("azure_fgo", "gaitmap"):
         try:
@@ -269,7 +295,9 @@ def _measure(n_seeds: int = 5) -> None:  # pragma: no cover - run by hand
                 if p is None:
                     continue
                 rep = evaluate(footnav.make_pipeline(det, "ekf", "step-vector", fusion_params=p), rec)
-                print(f"{name} {det:9s} {m:22s} ATE {rep.value('ate_2d', 'left'):.3f} / {rep.value('ate_2d', 'right'):.3f}")
+                print(
+                    f"{name} {det:9s} {m:22s} ATE {rep.value('ate_2d', 'left'):.3f} / {rep.value('ate_2d', 'right'):.3f}"
+                )
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -125,7 +125,9 @@ def test_a_protocol_estimator_gives_the_ekfs_results_with_every_coupled_fusion()
     leaves its heights as they are, the ekf's ``vertical="free"``.)"""
     rec = footnav.simulate("straight", seed=1, distance_m=8.0)
     for fusion in COUPLED:
-        ours = footnav.Pipeline(footnav.make_detector("threshold"), ProtocolEstimator(), footnav.make_fusion(fusion)).run(rec)
+        ours = footnav.Pipeline(
+            footnav.make_detector("threshold"), ProtocolEstimator(), footnav.make_fusion(fusion)
+        ).run(rec)
         ref = footnav.make_pipeline("threshold", "ekf", fusion, estimator_params={"vertical": "free"}).run(rec)
         for foot in ("left", "right"):
             np.testing.assert_array_equal(getattr(ours, foot).position, getattr(ref, foot).position, err_msg=fusion)

@@ -9,16 +9,22 @@ import pytest
 
 import footnav
 from footnav.core.errors import CompositionError, InvalidParameterError
+from footnav.core.types import FootTrajectory, StanceResult
 from footnav.nav.dominant_directions import dominant_direction_correction
 from footnav.nav.heading import turn_by
-from footnav.core.types import FootTrajectory, StanceResult
 
 
 def _truth_trajectory(rec, foot="left"):
     truth = getattr(rec, f"truth_{foot}")
     steps = StanceResult(truth.stance).intervals
-    return FootTrajectory(t=truth.t, position=truth.position - truth.position[0], velocity=truth.velocity,
-                          quaternion=truth.quaternion, position_std=np.zeros_like(truth.position), steps=steps)
+    return FootTrajectory(
+        t=truth.t,
+        position=truth.position - truth.position[0],
+        velocity=truth.velocity,
+        quaternion=truth.quaternion,
+        position_std=np.zeros_like(truth.position),
+        steps=steps,
+    )
 
 
 def test_a_linear_heading_drift_on_a_rectangle_is_taken_off():
@@ -62,8 +68,12 @@ def test_turn_by_turns_increments_velocity_and_attitude_and_keeps_the_start():
     truth = _truth_trajectory(rec)
     turned = turn_by(truth, np.full(len(truth.t), np.pi / 2))  # -90 deg: +x becomes -y
     assert np.allclose(turned.position[0], truth.position[0])
-    assert np.allclose(turned.position[:, 0], truth.position[:, 1] - truth.position[0, 1] + turned.position[0, 0], atol=1e-9)
-    assert np.allclose(turned.position[:, 1], -(truth.position[:, 0] - truth.position[0, 0]) + turned.position[0, 1], atol=1e-9)
+    assert np.allclose(
+        turned.position[:, 0], truth.position[:, 1] - truth.position[0, 1] + turned.position[0, 0], atol=1e-9
+    )
+    assert np.allclose(
+        turned.position[:, 1], -(truth.position[:, 0] - truth.position[0, 0]) + turned.position[0, 1], atol=1e-9
+    )
     assert np.allclose(turned.velocity[:, 1], -truth.velocity[:, 0], atol=1e-12)
     assert np.allclose(turned.position[:, 2], truth.position[:, 2])
     yaw = lambda q: np.arctan2(2 * (q[:, 0] * q[:, 3] + q[:, 1] * q[:, 2]), 1 - 2 * (q[:, 2] ** 2 + q[:, 3] ** 2))
@@ -84,7 +94,9 @@ def test_the_pipeline_stage_records_what_it_did_and_is_refused_online():
     assert meta["name"] == "dominant-directions" and meta["applied"] and meta["strength"] > 0.9
     assert aided.heading_aid.online is False
     with pytest.raises(CompositionError, match="heading aid 'dominant-directions' is offline only"):
-        footnav.make_pipeline("threshold", estimator_params={"smoother": "step"}, heading_aid="dominant-directions").online(feet=1)
+        footnav.make_pipeline(
+            "threshold", estimator_params={"smoother": "step"}, heading_aid="dominant-directions"
+        ).online(feet=1)
     with pytest.raises(InvalidParameterError, match="n_directions"):
         footnav.make_pipeline(heading_aid="dominant-directions", heading_aid_params={"n_directions": 0}).run(rec.left)
     none = footnav.make_pipeline(heading_aid="none").run(rec.left)
@@ -104,7 +116,9 @@ def test_gaitdriven_hallway_walks_footprints_closer_with_the_aid(shared_data):
         for name in names:
             rec = load_dataset(name, shared_data)
             for aid, values in rmse.items():
-                values.append(footnav.evaluate(footnav.make_pipeline(heading_aid=aid), rec).value("footprint_rmse", "left"))
+                values.append(
+                    footnav.evaluate(footnav.make_pipeline(heading_aid=aid), rec).value("footprint_rmse", "left")
+                )
     before, after = np.median(rmse[None]), np.median(rmse["dominant-directions"])
     assert after < 0.85 * before, (before, after)
     assert max(rmse["dominant-directions"]) <= max(rmse[None]) + 1e-9

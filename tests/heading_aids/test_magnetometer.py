@@ -30,8 +30,10 @@ def runs(block):
 
 
 def _ate(result, rec):
-    return [metrics.ate_rmse(tr.position, truth.position, dims=2) for tr, truth in
-            ((result.left, rec.truth_left), (result.right, rec.truth_right))]
+    return [
+        metrics.ate_rmse(tr.position, truth.position, dims=2)
+        for tr, truth in ((result.left, rec.truth_left), (result.right, rec.truth_right))
+    ]
 
 
 def test_heading_drift_is_removed_despite_hard_iron_and_a_steel_zone(block, runs):
@@ -108,4 +110,6 @@ def test_magnetometer_signals_leave_the_others_unchanged():
     assert a.left.mag is None and b.right.mag is not None
     # at rest, level, heading 0: the reading is the nav field (hard iron and noise aside)
     noise_free = footnav.simulate("straight", seed=5, distance_m=6.0, magnetometer=True, noise=False)
-    np.testing.assert_allclose(noise_free.left.mag[0], noise_free.truth_left.meta["magnetometer"]["field_nav_ut"], atol=1e-9)
+    np.testing.assert_allclose(
+        noise_free.left.mag[0], noise_free.truth_left.meta["magnetometer"]["field_nav_ut"], atol=1e-9
+    )

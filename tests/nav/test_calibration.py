@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 
 from footnav.core.errors import InvalidInputError
-from footnav.nav.calibration import calibrate_at_rest
 from footnav.core.types import GRAVITY_MPS2, ImuData
+from footnav.nav.calibration import calibrate_at_rest
 
 
 def _still(n=20000, scale=1.02, sigma=1.5, bias=(0.01, -0.02, 0.03), seed=3, tilt=(0.3, 0.2)):

@@ -7,9 +7,9 @@ import pytest
 
 import footnav
 from footnav import DataQualityWarning, InvalidInputError, InvalidParameterError
+from footnav.core.types import ImuData
 from footnav.nav.clock_from_data import align_from_data
 from footnav.nav.clock_sync import ClockMap, apply_clock, fit_clock
-from footnav.core.types import ImuData
 
 # -- seed 002's linear programs --------------------------------------------------------------------
 
@@ -241,8 +241,12 @@ def test_bad_parameters_are_named():
     with pytest.raises(InvalidParameterError, match="delay_s"):
         fit_clock(HAND["tm1"], HAND["ti"], HAND["tm2"], delay_s=float("nan"))
     rec = footnav.simulate("straight", seed=0, distance_m=10.0)
-    for kwargs, name in (({"rate_hz": 0.0}, "rate_hz"), ({"smooth_s": -1.0}, "smooth_s"),
-                         ({"max_offset_s": float("inf")}, "max_offset_s"), ({"leading_foot": "left"}, "leading_foot")):
+    for kwargs, name in (
+        ({"rate_hz": 0.0}, "rate_hz"),
+        ({"smooth_s": -1.0}, "smooth_s"),
+        ({"max_offset_s": float("inf")}, "max_offset_s"),
+        ({"leading_foot": "left"}, "leading_foot"),
+    ):
         with pytest.raises(InvalidParameterError, match=name):
             align_from_data(rec.left, rec.right, **kwargs)
     with pytest.raises(InvalidInputError, match="feasible interval"):

@@ -10,8 +10,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from footnav.nav.dominant_directions import dominant_direction_correction
 from footnav.core.types import FootTrajectory
+from footnav.nav.dominant_directions import dominant_direction_correction
 
 
 def _walk(headings_deg, lengths=None):
@@ -21,8 +21,14 @@ def _walk(headings_deg, lengths=None):
     pos = np.repeat(np.column_stack([fp, np.zeros(len(fp))]), 3, axis=0)  # 3 stance samples per footprint
     n = len(pos)
     steps = np.column_stack([np.arange(0, n, 3), np.arange(3, n + 1, 3)])
-    return FootTrajectory(t=np.arange(n) * 0.1, position=pos, velocity=np.zeros((n, 3)),
-                          quaternion=np.tile([1.0, 0, 0, 0], (n, 1)), position_std=np.zeros((n, 3)), steps=steps)
+    return FootTrajectory(
+        t=np.arange(n) * 0.1,
+        position=pos,
+        velocity=np.zeros((n, 3)),
+        quaternion=np.tile([1.0, 0, 0, 0], (n, 1)),
+        position_std=np.zeros((n, 3)),
+        steps=steps,
+    )
 
 
 def test_too_few_straight_strides_alone_is_no_dominant_direction():

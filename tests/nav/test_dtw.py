@@ -16,10 +16,10 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import footnav
+from footnav.core.errors import InvalidInputError, InvalidParameterError
 from footnav.nav.dtw import dtw_align
 from footnav.nav.dtw_average import AveragedPath, timed_average, timeless_average
 from footnav.nav.dtw_heading import heading_mismatch
-from footnav.core.errors import InvalidInputError, InvalidParameterError
 
 EXACT = 1e-12
 
@@ -333,7 +333,9 @@ def test_heading_coarse_grid_is_exhaustive(rect):
     angles = np.linspace(-np.pi, np.pi, 36, endpoint=False)
     costs = np.array([cost(x) for x in angles])
     best = float(angles[int(np.argmin(costs))])
-    res = minimize_scalar(cost, bounds=(best - np.pi / 18, best + np.pi / 18), method="bounded", options={"xatol": 1e-4})
+    res = minimize_scalar(
+        cost, bounds=(best - np.pi / 18, best + np.pi / 18), method="bounded", options={"xatol": 1e-4}
+    )
     h = heading_mismatch(a, b, band=20, translation="start")
     assert (h.angle_rad, h.distance_m) == (float(res.x), float(res.fun))
 

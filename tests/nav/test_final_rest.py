@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 
 from footnav.core.errors import InvalidInputError
-from footnav.nav.final_rest import final_rest
 from footnav.core.types import StanceResult
+from footnav.nav.final_rest import final_rest
 
 RATE = 100.0
 

@@ -7,9 +7,12 @@ footnav.nav.floors on hand-built walks: level strides held, stairs kept, floors 
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
+from footnav.core.types import FootTrajectory
 from footnav.nav.floors import (
     FLOOR_MIN_RISE_M,
     LANDING_STRIDES,
@@ -22,9 +25,6 @@ from footnav.nav.floors import (
     swing_offsets,
     swing_rises,
 )
-from dataclasses import replace
-
-from footnav.core.types import FootTrajectory
 
 
 def test_stance_height_is_the_median_of_its_samples():
@@ -125,7 +125,9 @@ def _walk(rises, stance_n=40, swing_n=60):
     vel[:, 0] = 1.0
     vel[:, 2] = vz
     q = np.tile([1.0, 0.0, 0.0, 0.0], (n, 1))
-    return FootTrajectory(t=t, position=pos, velocity=vel, quaternion=q, position_std=np.zeros((n, 3)), steps=np.array(steps))
+    return FootTrajectory(
+        t=t, position=pos, velocity=vel, quaternion=q, position_std=np.zeros((n, 3)), steps=np.array(steps)
+    )
 
 
 def _vertical(traj):
@@ -195,7 +197,11 @@ def test_the_holder_fed_in_chunks_gives_the_whole_walk_s_numbers(chunk):
     for i in range(0, n, chunk):
         j = min(n, i + chunk)
         closed = j < n and s[j - 1] and not s[j]  # what the stream knows: the stance has ended
-        got.append(holder.push(walk.t[i:j], walk.position[i:j], walk.velocity[i:j], walk.quaternion[i:j], s[i:j], closed=closed))
+        got.append(
+            holder.push(
+                walk.t[i:j], walk.position[i:j], walk.velocity[i:j], walk.quaternion[i:j], s[i:j], closed=closed
+            )
+        )
     got.append(holder.flush())
     t, p, v, q, stance = (np.concatenate(x) for x in zip(*got))
     assert np.array_equal(t, walk.t) and np.array_equal(stance, s) and np.array_equal(q, walk.quaternion)
@@ -213,9 +219,18 @@ def test_a_stance_is_not_released_before_it_is_known_to_have_ended():
     a1, b1 = walk.steps[1]
     # up to the middle of the second stance: the first stance is closed by the swing after it,
     # the swing waits for the second stance's height
-    out = holder.push(walk.t[: a1 + 5], walk.position[: a1 + 5], walk.velocity[: a1 + 5], walk.quaternion[: a1 + 5], s[: a1 + 5])
+    out = holder.push(
+        walk.t[: a1 + 5], walk.position[: a1 + 5], walk.velocity[: a1 + 5], walk.quaternion[: a1 + 5], s[: a1 + 5]
+    )
     assert len(out[0]) == walk.steps[0, 1]  # the first stance (closed by the swing after it)
-    out = holder.push(walk.t[a1 + 5 : b1], walk.position[a1 + 5 : b1], walk.velocity[a1 + 5 : b1], walk.quaternion[a1 + 5 : b1], s[a1 + 5 : b1], closed=True)
+    out = holder.push(
+        walk.t[a1 + 5 : b1],
+        walk.position[a1 + 5 : b1],
+        walk.velocity[a1 + 5 : b1],
+        walk.quaternion[a1 + 5 : b1],
+        s[a1 + 5 : b1],
+        closed=True,
+    )
     assert len(out[0]) == b1 - walk.steps[0, 1]  # the swing and the second stance, now held
     assert np.allclose(out[1][-1, 2], 0.0, atol=1e-12)
     assert holder.held_at(float(walk.t[walk.steps[0, 1] - 1]) - 0.5) is None  # no stance ended there
@@ -243,8 +258,14 @@ def test_an_endless_stream_keeps_no_stride_records():
 
 def test_fewer_than_two_stances_change_nothing():
     walk = _walk([0.03])
-    one = FootTrajectory(t=walk.t, position=walk.position, velocity=walk.velocity, quaternion=walk.quaternion,
-                         position_std=walk.position_std, steps=walk.steps[:1])
+    one = FootTrajectory(
+        t=walk.t,
+        position=walk.position,
+        velocity=walk.velocity,
+        quaternion=walk.quaternion,
+        position_std=walk.position_std,
+        steps=walk.steps[:1],
+    )
     held = hold_floors(one)
     assert np.array_equal(held.position, walk.position)
     assert _vertical(held)["level_strides"] == 0 and _vertical(held)["floors_changed"] == 0
@@ -263,7 +284,9 @@ def test_the_swing_rise_is_the_height_before_the_update_less_the_last_update_s()
     np.testing.assert_allclose(rise[[4, 8]], [1.5 - 1.0, 1.2 - 1.3], atol=1e-15)
     assert carry == (0.9, True, 0.9)
     # the stances' values: the first finite one within each
-    np.testing.assert_allclose(stance_swing_rises(rise, np.array([[0, 2], [3, 6], [8, 9]])), [np.nan, 0.5, -0.1], atol=1e-15)
+    np.testing.assert_allclose(
+        stance_swing_rises(rise, np.array([[0, 2], [3, 6], [8, 9]])), [np.nan, 0.5, -0.1], atol=1e-15
+    )
 
 
 @pytest.mark.parametrize("chunk", [1, 2, 3, 5])
@@ -318,8 +341,17 @@ def test_the_holder_with_swing_rises_in_chunks_gives_the_whole_walk_s(chunk):
     for i in range(0, n, chunk):
         j = min(n, i + chunk)
         closed = j < n and s[j - 1] and not s[j]
-        got.append(holder.push(walk.t[i:j], walk.position[i:j], walk.velocity[i:j], walk.quaternion[i:j], s[i:j],
-                               closed=closed, swing_rise=sw[i:j]))
+        got.append(
+            holder.push(
+                walk.t[i:j],
+                walk.position[i:j],
+                walk.velocity[i:j],
+                walk.quaternion[i:j],
+                s[i:j],
+                closed=closed,
+                swing_rise=sw[i:j],
+            )
+        )
     got.append(holder.flush())
     p = np.concatenate([g[1] for g in got])
     assert np.array_equal(p, whole.position)
@@ -343,7 +375,9 @@ def test_a_strapdown_that_loses_height_at_every_stride_keeps_the_stairs():
     held = hold_floors(_with_swing(_walk(rises), swing))
     v = _vertical(held)
     assert v["stair_strides"] == 2 and v["swing_held_strides"] == 0
-    np.testing.assert_allclose(swing_offsets(np.array(rises), np.array(swing))[0], [0.0, 0.14, 0.145, 0.14, 0.14, 0.14], atol=1e-12)
+    np.testing.assert_allclose(
+        swing_offsets(np.array(rises), np.array(swing))[0], [0.0, 0.14, 0.145, 0.14, 0.14, 0.14], atol=1e-12
+    )
     # with no level stride before it, the same stride has nothing to correct it: held
     first = hold_floors(_with_swing(_walk(rises[3:]), swing[3:]))
     assert _vertical(first)["swing_held_strides"] == 1 and _vertical(first)["stair_strides"] == 1

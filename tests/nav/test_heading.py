@@ -59,6 +59,8 @@ def test_no_step_leaves_the_solution_as_it_is():
     pos = np.zeros((20, 3))
     meta = {}
     pos_cov = np.tile([4.0, 0, 1.0, 9.0], (20, 1))
-    _, _, _, std = turn_to_first_step(pos, np.zeros((20, 3)), np.tile([1.0, 0, 0, 0], (20, 1)), pos_cov, np.array([[0, 5], [10, 15]]), meta)
+    _, _, _, std = turn_to_first_step(
+        pos, np.zeros((20, 3)), np.tile([1.0, 0, 0, 0], (20, 1)), pos_cov, np.array([[0, 5], [10, 15]]), meta
+    )
     assert "heading_rotation_rad" not in meta
     np.testing.assert_allclose(std, np.tile([2.0, 1.0, 3.0], (20, 1)))

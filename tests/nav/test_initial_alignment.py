@@ -1,9 +1,9 @@
 import numpy as np
 import pytest
 
+from footnav.core.types import GRAVITY_MPS2
 from footnav.nav import quaternion as quat
 from footnav.nav.initial_alignment import align_at_rest
-from footnav.core.types import GRAVITY_MPS2
 
 
 def test_roll_pitch_from_gravity_and_bias_from_still_samples():

@@ -9,9 +9,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from footnav.core.types import ImuData, StanceResult
 from footnav.nav import quaternion as quat
 from footnav.nav.mechanization import strapdown
-from footnav.core.types import ImuData, StanceResult
 
 G = 9.80665  # m/s^2, written out: not read from the library
 
@@ -68,7 +68,14 @@ def test_strapdown_integrates_a_linear_force_exactly():
 # win-length-round: the window is the odd number of samples nearest window_s * rate_hz, ties upward
 @pytest.mark.parametrize(
     ("window_s", "rate_hz", "expected"),
-    [(0.079, 100.0, 7), (0.08, 100.0, 9), (0.069, 100.0, 7), (0.04, 1 / 0.01, 5), (0.05, 200.0, 11), (0.059, 200.0, 11)],
+    [
+        (0.079, 100.0, 7),
+        (0.08, 100.0, 9),
+        (0.069, 100.0, 7),
+        (0.04, 1 / 0.01, 5),
+        (0.05, 200.0, 11),
+        (0.059, 200.0, 11),
+    ],
 )
 def test_window_is_the_nearest_odd_sample_count(window_s, rate_hz, expected):
     from footnav.nav.windows import window_samples
@@ -147,7 +154,9 @@ def test_two_bad_cycles_of_ten_are_suspicious_and_one_is_not():
     from footnav.nav.stance_check import StanceCheck
 
     def check(missed):
-        return StanceCheck(n_cycles=10, n_stances=10, missed_s=np.array(missed), over_swing_s=np.array([]), stride_s=1.0)
+        return StanceCheck(
+            n_cycles=10, n_stances=10, missed_s=np.array(missed), over_swing_s=np.array([]), stride_s=1.0
+        )
 
     assert check([1.5, 2.5]).suspicious
     assert not check([1.5]).suspicious
@@ -178,13 +187,19 @@ def test_a_second_bump_within_a_stride_is_not_a_swing():
 # strides-dt-prepend: sample k's share of the time is t[k+1] - t[k]; with uneven sampling the swing
 # of samples 2 and 3 lasts from t[2] to t[4] (the first stance sample after it)
 def test_swing_time_with_uneven_sampling():
-    from footnav.nav.strides import stride_parameters
     from footnav.core.types import FootTrajectory
+    from footnav.nav.strides import stride_parameters
 
     t = np.array([0.0, 0.1, 0.3, 0.6, 1.0, 1.5])
     n = len(t)
-    traj = FootTrajectory(t=t, position=np.zeros((n, 3)), velocity=np.zeros((n, 3)), quaternion=np.tile([1.0, 0, 0, 0], (n, 1)),
-                          position_std=np.zeros((n, 3)), steps=np.empty((0, 2)))
+    traj = FootTrajectory(
+        t=t,
+        position=np.zeros((n, 3)),
+        velocity=np.zeros((n, 3)),
+        quaternion=np.tile([1.0, 0, 0, 0], (n, 1)),
+        position_std=np.zeros((n, 3)),
+        steps=np.empty((0, 2)),
+    )
     mask = np.array([True, True, False, False, True, True])
     out = stride_parameters(traj, mask, mid_stance=[0, 5])
     assert out["swing_s"][0] == pytest.approx(0.7)
@@ -223,8 +238,8 @@ def test_deviation_ratio_includes_the_minimum_distance():
 
 # metrics-interp-duplicates: times must increase strictly
 def test_interpolation_refuses_repeated_times():
-    from footnav.core.errors import InvalidInputError
     from footnav.analysis.metrics import interpolate_positions
+    from footnav.core.errors import InvalidInputError
 
     with pytest.raises(InvalidInputError):
         interpolate_positions([0.0, 1.0, 1.0, 2.0], np.zeros((4, 3)), [0.5])

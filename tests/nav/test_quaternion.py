@@ -28,7 +28,9 @@ def test_from_matrix_round_trip(rotations):
 
 def test_multiply_composes_like_scipy(rotations):
     a, b = rotations[:25], rotations[25:]
-    np.testing.assert_allclose(quat.multiply(_wxyz(a), _wxyz(b)) * np.sign(quat.multiply(_wxyz(a), _wxyz(b))[:, :1]), _wxyz(a * b), atol=1e-12)
+    np.testing.assert_allclose(
+        quat.multiply(_wxyz(a), _wxyz(b)) * np.sign(quat.multiply(_wxyz(a), _wxyz(b))[:, :1]), _wxyz(a * b), atol=1e-12
+    )
 
 
 def test_rotate_and_rotvec(rotations):

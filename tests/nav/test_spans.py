@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 from footnav.core.errors import InvalidInputError
-from footnav.nav.spans import common_bounds, common_span, span_difference
 from footnav.core.types import ImuData
+from footnav.nav.spans import common_bounds, common_span, span_difference
 
 
 def _imu(t0, t1, rate=10.0):

@@ -15,11 +15,11 @@ import numpy as np
 import pytest
 
 import footnav
+from footnav.core.errors import DataNotFoundError, DataQualityWarning
+from footnav.core.types import GRAVITY_MPS2, ImuData, StanceResult
 from footnav.detectors.adaptive import AdaptiveDetector
 from footnav.detectors.threshold import ThresholdDetector
-from footnav.core.errors import DataNotFoundError, DataQualityWarning
 from footnav.nav.stance_check import check_stances
-from footnav.core.types import GRAVITY_MPS2, ImuData, StanceResult
 
 RATE = 100.0
 

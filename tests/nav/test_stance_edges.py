@@ -5,8 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from footnav.nav.stance_edges import settled_mask
 from footnav.core.types import GRAVITY_MPS2
+from footnav.nav.stance_edges import settled_mask
 
 RATE_HZ = 200.0
 
@@ -96,4 +96,3 @@ def test_the_estimators_rows_keep_the_first_stance_whole(edges):
     assert np.flatnonzero(rows[60:])[0] + 60 == 116
     later = est.zupt_rows(t, acc, stance, first_whole=False)  # as a stream's later chunk: trimmed
     assert not later[:15].any() and later[15:60].all()  # at 16 by its speed, 15 by the cap (a quarter)
-

@@ -14,9 +14,9 @@ import pytest
 
 import footnav
 from footnav.core.errors import InvalidInputError
+from footnav.core.types import FootTrajectory
 from footnav.nav import quaternion as quat
 from footnav.nav.strides import STRIDE_COLUMNS, mid_stances, stride_parameters
-from footnav.core.types import FootTrajectory
 
 
 def _strides(stances, n):
@@ -69,13 +69,25 @@ def test_a_stride_from_a_two_sample_stance_after_a_long_one_is_not_a_standstill_
 
 def _trajectory(t, pos, q) -> FootTrajectory:
     n = len(t)
-    return FootTrajectory(t=t, position=pos, velocity=np.zeros((n, 3)), quaternion=q,
-                          position_std=np.zeros((n, 3)), steps=np.empty((0, 2)))
+    return FootTrajectory(
+        t=t,
+        position=pos,
+        velocity=np.zeros((n, 3)),
+        quaternion=q,
+        position_std=np.zeros((n, 3)),
+        steps=np.empty((0, 2)),
+    )
 
 
 def _truth_trajectory(truth) -> FootTrajectory:
-    return FootTrajectory(t=truth.t, position=truth.position, velocity=truth.velocity, quaternion=truth.quaternion,
-                          position_std=np.zeros_like(truth.position), steps=np.empty((0, 2)))
+    return FootTrajectory(
+        t=truth.t,
+        position=truth.position,
+        velocity=truth.velocity,
+        quaternion=truth.quaternion,
+        position_std=np.zeros_like(truth.position),
+        steps=np.empty((0, 2)),
+    )
 
 
 def test_hand_computed_walk():
@@ -113,7 +125,9 @@ def test_turn_is_wrapped_to_minus_pi_exclusive():
     from footnav.nav.strides import _turn
 
     q0 = quat.from_yaw(np.zeros(3))
-    np.testing.assert_allclose(_turn(q0, quat.from_yaw(np.array([np.pi, -np.pi, 3 * np.pi / 2]))), [np.pi, np.pi, -np.pi / 2])
+    np.testing.assert_allclose(
+        _turn(q0, quat.from_yaw(np.array([np.pi, -np.pi, 3 * np.pi / 2]))), [np.pi, np.pi, -np.pi / 2]
+    )
 
 
 def test_fewer_than_two_stances_give_no_strides_and_bad_input_is_named():
@@ -162,8 +176,13 @@ def test_estimated_strides_match_the_truth(straight):
 def test_turns_round_the_rectangle_sum_to_a_full_turn(direction, sign):
     rec = footnav.simulate("rectangle", seed=1, width_m=8.0, height_m=5.0, direction=direction)
     res = footnav.make_pipeline().run(rec.left, rec.right)
-    for truth, traj, stance in ((rec.truth_left, res.left, res.stance_left), (rec.truth_right, res.right, res.stance_right)):
-        assert stride_parameters(_truth_trajectory(truth), truth.stance)["turn_rad"].sum() == pytest.approx(sign * 2 * np.pi, abs=0.05)
+    for truth, traj, stance in (
+        (rec.truth_left, res.left, res.stance_left),
+        (rec.truth_right, res.right, res.stance_right),
+    ):
+        assert stride_parameters(_truth_trajectory(truth), truth.stance)["turn_rad"].sum() == pytest.approx(
+            sign * 2 * np.pi, abs=0.05
+        )
         assert stride_parameters(traj, stance)["turn_rad"].sum() == pytest.approx(sign * 2 * np.pi, abs=0.15)
 
 
@@ -172,7 +191,10 @@ def test_strides_is_a_dataframe_and_to_dataframe_has_every_sample(straight):
 
     _, res = straight
     frame = res.to_dataframe()
-    assert len(frame) == len(res.left.t) + len(res.right.t) and frame["stance"].sum() == res.stance_left.mask.sum() + res.stance_right.mask.sum()
+    assert (
+        len(frame) == len(res.left.t) + len(res.right.t)
+        and frame["stance"].sum() == res.stance_left.mask.sum() + res.stance_right.mask.sum()
+    )
     np.testing.assert_array_equal(frame.loc[frame["foot"] == "right", "pos_x_m"], res.right.position[:, 0])
     table = res.strides()
     assert isinstance(table, pd.DataFrame) and tuple(table.columns) == STRIDE_COLUMNS
@@ -203,7 +225,9 @@ def test_write_results_writes_strides_csv(straight, tmp_path):
 
     back = pd.read_csv(out / "strides.csv")
     assert tuple(back.columns) == STRIDE_COLUMNS and back["first"].dtype == bool and back["first"].iloc[0]
-    steady = back[~back["first"] & ~back["last"] & ~back["standstill"] & (back["turn_deg"].abs() < 20) & (back["kind"] == "level")]
+    steady = back[
+        ~back["first"] & ~back["last"] & ~back["standstill"] & (back["turn_deg"].abs() < 20) & (back["kind"] == "level")
+    ]
     assert 0 < len(steady) < len(back)
 
 
@@ -256,7 +280,7 @@ def test_stair_strides_are_marked_and_the_floor_index_follows_the_storey():
         kind = np.asarray(rows["kind"])
         stair = kind == "stair"
         # a foot on the simulator's stairs climbs two risers a stride (0.34 m; one at either end of
-    # the flight), the rest is level
+        # the flight), the rest is level
         assert np.all(np.abs(np.asarray(rows["elevation_m"])[stair]) > 0.15), rows
         assert np.all(np.abs(np.asarray(rows["elevation_m"])[~stair]) < 0.075)
         assert 10 <= stair.sum() <= 14 and set(kind) == {"level", "stair"}
@@ -276,6 +300,13 @@ def test_the_level_bound_of_the_trajectory_classifies_its_strides():
         mask[a : a + 50] = True
     traj = _trajectory(t, pos, np.tile([1.0, 0, 0, 0], (len(t), 1)))
     assert list(stride_parameters(traj, mask)["kind"]) == ["level", "level", "level"]
-    strict = FootTrajectory(t=t, position=pos, velocity=traj.velocity, quaternion=traj.quaternion,
-                            position_std=traj.position_std, steps=traj.steps, meta={"vertical": {"level_rise_max_m": 0.04}})
+    strict = FootTrajectory(
+        t=t,
+        position=pos,
+        velocity=traj.velocity,
+        quaternion=traj.quaternion,
+        position_std=traj.position_std,
+        steps=traj.steps,
+        meta={"vertical": {"level_rise_max_m": 0.04}},
+    )
     assert list(stride_parameters(strict, mask)["kind"]) == ["level", "stair", "level"]

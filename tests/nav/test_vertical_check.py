@@ -26,9 +26,9 @@ import pytest
 
 import footnav
 from footnav import DataQualityWarning
+from footnav.core.types import FootTrajectory
 from footnav.nav.floors import LEVEL_RISE_MAX_M
 from footnav.nav.vertical_check import WARN_RATE_M_PER_100M, WARN_STEADY_FRACTION, check_vertical
-from footnav.core.types import FootTrajectory
 
 
 def _walk(rises, stride_m=1.5, stance_n=10, swing_n=10):
@@ -43,8 +43,14 @@ def _walk(rises, stride_m=1.5, stance_n=10, swing_n=10):
             u = np.arange(1, swing_n + 1)[:, None] / (swing_n + 1)
             pos[k : k + swing_n] = [x, 0.0, h] + u * [stride_m, 0.0, rises[i]]
             h, x, k = h + rises[i], x + stride_m, k + swing_n
-    return FootTrajectory(t=np.arange(n) / 100.0, position=pos, velocity=np.zeros((n, 3)),
-                          quaternion=np.tile([1.0, 0, 0, 0], (n, 1)), position_std=np.zeros((n, 3)), steps=np.array(steps))
+    return FootTrajectory(
+        t=np.arange(n) / 100.0,
+        position=pos,
+        velocity=np.zeros((n, 3)),
+        quaternion=np.tile([1.0, 0, 0, 0], (n, 1)),
+        position_std=np.zeros((n, 3)),
+        steps=np.array(steps),
+    )
 
 
 def test_a_steady_sinking_is_as_suspicious_as_a_steady_climb():

@@ -98,14 +98,17 @@ def test_what_the_fusion_computed_comes_back_with_the_run(walk, fusion, tmp_path
     pipe = footnav.make_pipeline("threshold", "ekf", fusion)
     res = pipe.run(walk.left, walk.right)
     det = footnav.make_detector("threshold")
-    direct = footnav.make_fusion(fusion).fuse(
-        footnav.make_estimator("ekf"), walk.left, det.detect(walk.left), walk.right, det.detect(walk.right)
-    ).meta
+    direct = (
+        footnav.make_fusion(fusion)
+        .fuse(footnav.make_estimator("ekf"), walk.left, det.detect(walk.left), walk.right, det.detect(walk.right))
+        .meta
+    )
     assert res.meta["fusion"] == direct
     counts = {"range": "checks", "step-vector": "updates"}[fusion]
     assert res.meta["fusion"][counts] > 0  # a 10 m walk has steps to check or update at
-    from footnav.data.results import write_results
     import json
+
+    from footnav.data.results import write_results
 
     out = write_results(res, tmp_path / "out")
     doc = json.loads((out / "summary.json").read_text())

@@ -9,12 +9,12 @@ from scipy.ndimage import maximum_filter1d, minimum_filter1d, uniform_filter1d
 from scipy.signal import find_peaks
 
 import footnav
-from footnav.nav.interpolation import interp_columns
-from footnav.nav.peaks import peak_candidates
-from footnav.nav.windows import centred, centred_acc_magnitude_rms, centred_gyr_rms
 from footnav.core.types import GRAVITY_MPS2, REST_ACC_REL_STD, REST_GYR_RADPS, REST_WINDOW_S
 from footnav.core.types._derived import row_norms, shared, sharing
 from footnav.core.types.imu_checks import _at_rest, _count_beyond, _held_peak
+from footnav.nav.interpolation import interp_columns
+from footnav.nav.peaks import peak_candidates
+from footnav.nav.windows import centred, centred_acc_magnitude_rms, centred_gyr_rms
 
 RNG = np.random.default_rng(20)
 
@@ -77,7 +77,9 @@ def test_unit_check_kernels_are_the_filters_they_replaced():
             mean_a = uniform_filter1d(a, k, mode="nearest")
             std_a = np.sqrt(np.maximum(uniform_filter1d(a * a, k, mode="nearest") - mean_a * mean_a, 0.0))
             ok = (std_a < REST_ACC_REL_STD * median) & (uniform_filter1d(gyr, k, mode="nearest") < REST_GYR_RADPS)
-            expected = maximum_filter1d(ok.astype(np.uint8), k, mode="constant", cval=0, origin=-1 if k % 2 == 0 else 0) > 0
+            expected = (
+                maximum_filter1d(ok.astype(np.uint8), k, mode="constant", cval=0, origin=-1 if k % 2 == 0 else 0) > 0
+            )
         np.testing.assert_array_equal(_at_rest(acc, gyr, rate, median), expected)
 
 
@@ -90,7 +92,9 @@ def test_interp_columns_on_the_same_grid_copies_the_samples(start, stop):
     expected = np.column_stack([np.interp(t[start:stop], t, values[:, k]) for k in range(3)])
     assert got.flags.c_contiguous and np.array_equal(got.view(np.int64), expected.view(np.int64))
     shifted = t[start:stop] + 1e-3  # off the grid: interpolated as before
-    assert np.array_equal(interp_columns(shifted, t, values), np.column_stack([np.interp(shifted, t, values[:, k]) for k in range(4)]))
+    assert np.array_equal(
+        interp_columns(shifted, t, values), np.column_stack([np.interp(shifted, t, values[:, k]) for k in range(4)])
+    )
 
 
 def test_shared_values_live_for_one_block_and_only_for_read_only_arrays():

@@ -7,12 +7,12 @@ import warnings
 
 import numpy as np
 import pytest
+from online_replay import STEP, _check_equal, _chunks, _replay, shared_recordings  # tests/online_replay.py
 
 import footnav
-from footnav.pipeline import online_foot, online_steps
 from footnav.core.errors import CompositionError, InvalidInputError
 from footnav.core.types import ImuData
-from online_replay import STEP, _check_equal, _chunks, _replay, shared_recordings  # tests/online_replay.py
+from footnav.pipeline import online_foot, online_steps
 
 
 @pytest.fixture(scope="module")
@@ -22,7 +22,9 @@ def walk():
         return footnav.simulate("rectangle", seed=3, width_m=12, height_m=6)
 
 
-@pytest.mark.parametrize("size, detector", [(1, "threshold"), (7, "threshold"), (1000, "threshold"), (7, "glrt"), (1000, "glrt")])
+@pytest.mark.parametrize(
+    "size, detector", [(1, "threshold"), (7, "threshold"), (1000, "threshold"), (7, "glrt"), (1000, "glrt")]
+)
 def test_chunks_give_the_offline_causal_run(walk, size, detector):
     pipe = footnav.make_pipeline(detector, "ekf", "independent", estimator_params=STEP)
     off = pipe.run(walk.left, walk.right)
@@ -73,7 +75,9 @@ def test_a_clock_map_from_exchanges_puts_the_right_foot_on_the_master_clock():
     from footnav.nav.clock_sync import fit_clock
     from footnav.pipeline.sync import ClockSync
 
-    rec = footnav.simulate("straight", seed=2, distance_m=15.0, clock_offset_s=40.0, clock_drift_ppm=300.0, clock_exchanges=40)
+    rec = footnav.simulate(
+        "straight", seed=2, distance_m=15.0, clock_offset_s=40.0, clock_drift_ppm=300.0, clock_exchanges=40
+    )
     ex = rec.meta["clock_exchanges"]
     clock = fit_clock(ex["tm1"], ex["ti"], ex["tm2"])
     pipe = footnav.make_pipeline("threshold", "ekf", "independent", estimator_params=STEP)
@@ -186,8 +190,13 @@ def test_forward_estimate_and_inputs(walk):
     pipe = footnav.make_pipeline("threshold", "ekf", "independent", estimator_params=STEP)
     stream = pipe.online(feet=1)
     pd = pytest.importorskip("pandas")
-    frame = pd.DataFrame({"t": walk.left.t[:400], **{f"acc_{a}": walk.left.acc[:400, i] for i, a in enumerate("xyz")},
-                          **{f"gyr_{a}": walk.left.gyr[:400, i] for i, a in enumerate("xyz")}})
+    frame = pd.DataFrame(
+        {
+            "t": walk.left.t[:400],
+            **{f"acc_{a}": walk.left.acc[:400, i] for i, a in enumerate("xyz")},
+            **{f"gyr_{a}": walk.left.gyr[:400, i] for i, a in enumerate("xyz")},
+        }
+    )
     stream.push(left=frame)
     update = stream.push(left={"t": walk.left.t[400], "acc": walk.left.acc[400], "gyr": walk.left.gyr[400]})
     fwd = update.left.forward
@@ -257,7 +266,7 @@ def test_close_records_the_offline_runs_checks_of_the_whole_walk(walk):
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         for a in range(0, len(t), 250):
-            stream.push(left=(t[a:a + 250], acc[a:a + 250], gyr[a:a + 250]))
+            stream.push(left=(t[a : a + 250], acc[a : a + 250], gyr[a : a + 250]))
         result = stream.close()
     assert result.meta["input"]["left"]["clipped"] == clipped.meta["clipped"]
     # said once, when the saturated samples arrived (not only at close: a stream without keep says it too)

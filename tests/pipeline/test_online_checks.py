@@ -82,7 +82,9 @@ def test_the_window_check_is_tried_at_most_once_per_second_of_data():
 def _push_until_unit_warning(imu, gyr, stops) -> int | None:
     """The index of the push (chunks ending at ``stops``) at which a one-foot stream first warns
     that the angular rate looks like deg/s, or None."""
-    stream = footnav.make_pipeline("threshold", "ekf", "independent", estimator_params={"smoother": "step"}).online(feet=1)
+    stream = footnav.make_pipeline("threshold", "ekf", "independent", estimator_params={"smoother": "step"}).online(
+        feet=1
+    )
     start = 0
     for i, stop in enumerate(stops):
         with warnings.catch_warnings(record=True) as caught:

@@ -8,9 +8,9 @@ from dataclasses import replace
 import numpy as np
 
 import footnav
-from footnav.pipeline.online_checks import _ExtremeTally
 from footnav.core.types.imu_checks import ACC_FULL_SCALES_G, CLIP_MIN_ACC_MPS2, GRAVITY_MPS2
 from footnav.core.warning_log import recording
+from footnav.pipeline.online_checks import _ExtremeTally
 
 
 def test_a_plateau_split_across_chunks_is_one_plateau():
@@ -37,7 +37,7 @@ def test_stream_without_keep_warns_about_late_clipping_by_index():
     stream = footnav.make_pipeline("threshold", estimator_params={"smoother": "step"}).online(feet=1, keep=False)
     with recording() as caught:
         for a in range(0, left.n_samples, 50):
-            stream.push(left=(left.t[a:a + 50], left.acc[a:a + 50], left.gyr[a:a + 50]))
+            stream.push(left=(left.t[a : a + 50], left.acc[a : a + 50], left.gyr[a : a + 50]))
             if a == 2050:
                 assert any("first at index 2000" in w.message and "clipping" in w.message for w in caught)
         stream.close()

@@ -20,7 +20,12 @@ ONE_BY_ONE = ("gaitmap", "ipol_1-1", "ipol_2-4")
 #: with other edges), m: docs/online.md.
 LIVE_DIFFERENCE_M = 0.125
 #: The pyshoe running trials.
-RUNNING = ("pyshoe_2017-11-27-11-11-53", "pyshoe_2017-11-27-11-13-41", "pyshoe_2017-11-27-11-18-11", "pyshoe_2017-11-27-11-24-07")
+RUNNING = (
+    "pyshoe_2017-11-27-11-11-53",
+    "pyshoe_2017-11-27-11-13-41",
+    "pyshoe_2017-11-27-11-18-11",
+    "pyshoe_2017-11-27-11-24-07",
+)
 
 
 @pytest.fixture(scope="module")
@@ -41,7 +46,9 @@ def _offline(rec):
 def _check_close(off, result, feet):
     for foot in feet:
         np.testing.assert_allclose(getattr(result, foot).position, getattr(off, foot).position, atol=1e-9, rtol=0)
-        np.testing.assert_allclose(getattr(result, foot).position_std, getattr(off, foot).position_std, atol=1e-9, rtol=0)
+        np.testing.assert_allclose(
+            getattr(result, foot).position_std, getattr(off, foot).position_std, atol=1e-9, rtol=0
+        )
         np.testing.assert_array_equal(getattr(result, f"stance_{foot}").mask, getattr(off, f"stance_{foot}").mask)
     np.testing.assert_allclose(result.path.position, off.path.position, atol=1e-9, rtol=0)
     for key in ("stance_check", "vertical_check", "pipeline", "fusion"):
@@ -90,8 +97,9 @@ def test_default_pipeline_on_shared_two_foot_recordings(shared_data):
         off, step = _offline(rec)
         first = None
         for size in (1, 7, 1000) if rec.name in ONE_BY_ONE else (7, 1000):
-            got, _, result, _ = _replay(footnav.make_pipeline(), rec.left, rec.right, size, max_wait_s=1e9,
-                                             rate_hz=rec.left.rate_hz)
+            got, _, result, _ = _replay(
+                footnav.make_pipeline(), rec.left, rec.right, size, max_wait_s=1e9, rate_hz=rec.left.rate_hz
+            )
             _check_close(off, result, ("left", "right"))
             for foot in ("left", "right"):
                 ref = getattr(step, foot).position
@@ -118,14 +126,14 @@ def test_running_misses_no_stance_after_the_start_up(shared_data):
         for a in range(0, rec.left.n_samples, 25):
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")
-                update = stream.push(left=(rec.left.t[a:a + 25], rec.left.acc[a:a + 25], rec.left.gyr[a:a + 25]))
+                update = stream.push(left=(rec.left.t[a : a + 25], rec.left.acc[a : a + 25], rec.left.gyr[a : a + 25]))
             live.append(update.left.stance)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             stream.close()
         live.append(stream.last_update.left.stance)
         mask = np.concatenate(live)
-        ref = off.stance_left.mask[-len(mask):]
+        ref = off.stance_left.mask[-len(mask) :]
         foot = stream.feet[0]
         after = foot.startup - (len(off.stance_left.mask) - len(mask))
         wanted = [tuple(r) for r in stance_intervals(ref).tolist() if r[0] >= after]

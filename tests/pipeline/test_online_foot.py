@@ -28,7 +28,12 @@ def turned_walk():
 def test_forward_covariance_is_the_offline_filters_at_the_same_sample(turned_walk):
     # mutant: online-forward-cov-turned-back, online-forward-cov-transposed
     rec = turned_walk
-    pipe = footnav.make_pipeline("threshold", "ekf", "independent", estimator_params={"smoother": "none", "vertical": "free", "heading_drift_in_std": False})
+    pipe = footnav.make_pipeline(
+        "threshold",
+        "ekf",
+        "independent",
+        estimator_params={"smoother": "none", "vertical": "free", "heading_drift_in_std": False},
+    )
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         off = pipe.run(rec.left).left

@@ -34,7 +34,9 @@ def walk():
 
 
 def _pipe(smoother="step", fusion="range", detector="threshold"):
-    return footnav.make_pipeline(detector, "ekf", fusion, estimator_params={"smoother": smoother}, fusion_params=FUSIONS[fusion])
+    return footnav.make_pipeline(
+        detector, "ekf", fusion, estimator_params={"smoother": smoother}, fusion_params=FUSIONS[fusion]
+    )
 
 
 def _offline(pipe, left, right):
@@ -46,7 +48,16 @@ def _offline(pipe, left, right):
 def _check_fusion(off, result, got):
     _check_equal(off, got, result)
     np.testing.assert_allclose(result.path.position, off.path.position, atol=1e-9, rtol=0)
-    for key in ("constraint_updates", "checks", "updates", "suspended_turning", "skipped_rear_foot_moving", "step_length_m", "pf_updates", "span"):
+    for key in (
+        "constraint_updates",
+        "checks",
+        "updates",
+        "suspended_turning",
+        "skipped_rear_foot_moving",
+        "step_length_m",
+        "pf_updates",
+        "span",
+    ):
         assert result.meta["fusion"].get(key) == off.meta["fusion"].get(key)
 
 
@@ -94,7 +105,9 @@ def test_segments_restart_where_the_filter_stands(walk, monkeypatch, fusion):
     monkeypatch.setattr(online_joint, "SEGMENT_SAMPLES", 300)
     restarts = []
     original = online_joint.JointStream._restart
-    monkeypatch.setattr(online_joint.JointStream, "_restart", lambda self, need: (restarts.append(need), original(self, need)))
+    monkeypatch.setattr(
+        online_joint.JointStream, "_restart", lambda self, need: (restarts.append(need), original(self, need))
+    )
     pipe = _pipe(fusion=fusion)
     off = _offline(pipe, walk.left, walk.right)
     got, _, result, stream = _replay(pipe, walk.left, walk.right, 7, 5)
@@ -167,9 +180,7 @@ def test_shared_recordings(shared_data, fusion):
 def test_what_cannot_run_online_is_refused(walk):
     with pytest.raises(CompositionError, match="needs both feet"):
         _pipe().online(feet=1)
-    for fusion, params, what in (
-        ("particle", {"mode": "paper"}, "mode='paper' is offline only"),
-    ):
+    for fusion, params, what in (("particle", {"mode": "paper"}, "mode='paper' is offline only"),):
         pipe = footnav.make_pipeline("threshold", "ekf", fusion, estimator_params=STEP, fusion_params=params)
         with pytest.raises(CompositionError, match=what):
             pipe.online(feet=2)
@@ -186,12 +197,21 @@ def test_step_vector_calibrated_at_the_first_standstill_online_is_the_offline_fu
     """calibration="standstill" online: each foot's accelerometer scale from its first stance,
     applied to what its filters take (detection reads the samples as given, as offline): the
     offline fusion, its calibration records and all, assembled from the stream (no rerun)."""
-    pipe = footnav.make_pipeline("threshold", "ekf", "step-vector", estimator_params=STEP,
-                                 fusion_params={"step_length": "pendulum", "calibration": "standstill"})
-    scaled = [footnav.ImuData(t=imu.t, acc=imu.acc * k, gyr=imu.gyr) for imu, k in ((walk.left, 1.02), (walk.right, 0.99))]
+    pipe = footnav.make_pipeline(
+        "threshold",
+        "ekf",
+        "step-vector",
+        estimator_params=STEP,
+        fusion_params={"step_length": "pendulum", "calibration": "standstill"},
+    )
+    scaled = [
+        footnav.ImuData(t=imu.t, acc=imu.acc * k, gyr=imu.gyr) for imu, k in ((walk.left, 1.02), (walk.right, 0.99))
+    ]
     off = _offline(pipe, *scaled)
     cal = off.meta["fusion"]["calibration"]
-    assert cal["left"]["acc_scale"] == pytest.approx(1 / 1.02, rel=2e-3) and cal["right"]["acc_scale"] == pytest.approx(1 / 0.99, rel=2e-3)
+    assert cal["left"]["acc_scale"] == pytest.approx(1 / 1.02, rel=2e-3) and cal["right"]["acc_scale"] == pytest.approx(
+        1 / 0.99, rel=2e-3
+    )
     got, _, result, stream = _replay(pipe, *scaled, size_left, size_right)
     assert not stream.rerun  # the stream's own samples: exact
     _check_fusion(off, result, got)
@@ -227,7 +247,9 @@ def test_step_vector_fits_the_leg_length_online_on_the_steps_so_far(walk):
     # the reference: the offline fusion's own ratios on its single-foot runs
     fusion = pipe.fusion
     stances = (off.stance_left, off.stance_right)
-    _, singles = start_joint(pipe.estimator, walk.left, stances[0], walk.right, stances[1], fusion.step_width_m, return_singles=True)
+    _, singles = start_joint(
+        pipe.estimator, walk.left, stances[0], walk.right, stances[1], fusion.step_width_m, return_singles=True
+    )
     ratios = fusion.step_ratios(FeetView.of((walk.left, walk.right), stances), singles)
     first = [r for t, r in ratios if t <= per["t_s"][0]]
     assert len(first) >= LEG_FIT_MIN_STEPS
@@ -262,7 +284,9 @@ def small_walk():
         return footnav.simulate("rectangle", seed=3, width_m=8, height_m=4)
 
 
-@pytest.mark.parametrize("fusion, params", [("range", {"max_separation_m": 0.6}), ("step-vector", {"step_length": "pendulum"})])
+@pytest.mark.parametrize(
+    "fusion, params", [("range", {"max_separation_m": 0.6}), ("step-vector", {"step_length": "pendulum"})]
+)
 def test_joint_forward_covariance_is_the_offline_filters_at_the_same_sample(small_walk, fusion, params):
     # mutant: online-joint-forward-cov-block
     pipe = footnav.make_pipeline("threshold", "ekf", fusion, estimator_params=EST, fusion_params=params)

@@ -24,7 +24,9 @@ DRIFT_PPM = 80.0
 def walks():
     common = {"distance_m": 25.0, "seed": 3}
     on_time = footnav.simulate("straight", **common)
-    offset = footnav.simulate("straight", clock_offset_s=OFFSET_S, clock_drift_ppm=DRIFT_PPM, clock_exchanges=60, **common)
+    offset = footnav.simulate(
+        "straight", clock_offset_s=OFFSET_S, clock_drift_ppm=DRIFT_PPM, clock_exchanges=60, **common
+    )
     return on_time, offset
 
 
@@ -102,7 +104,10 @@ def test_sync_table_round_trips_through_toml(tmp_path):
 
 def test_cli_run_sync_data(walks, tmp_path, capsys):
     _, offset = walks
-    left, right = write_footnav_csv(offset.left, tmp_path / "l.csv"), write_footnav_csv(offset.right, tmp_path / "r.csv")
+    left, right = (
+        write_footnav_csv(offset.left, tmp_path / "l.csv"),
+        write_footnav_csv(offset.right, tmp_path / "r.csv"),
+    )
     out = tmp_path / "res"
     args = ["run", "--left", str(left), "--right", str(right), "--sync", "data", "--out", str(out)]
     assert main(args) == 0

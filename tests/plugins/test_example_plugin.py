@@ -23,8 +23,19 @@ def test_example_plugin_installs_lists_and_runs(tmp_path):
     # install the example alone into its own folder; footnav and its dependencies are the ones
     # of this environment, so no package index is needed
     _run(
-        [sys.executable, "-m", "pip", "install", "--quiet", "--no-deps", "--no-build-isolation", "--no-index",
-         "--target", str(site), str(EXAMPLE)]
+        [
+            sys.executable,
+            "-m",
+            "pip",
+            "install",
+            "--quiet",
+            "--no-deps",
+            "--no-build-isolation",
+            "--no-index",
+            "--target",
+            str(site),
+            str(EXAMPLE),
+        ]
     )
     env = {k: v for k, v in os.environ.items() if k != "FOOTNAV_DISABLE_PLUGIN_AUTOLOAD"}
     env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(site), env.get("PYTHONPATH")]))

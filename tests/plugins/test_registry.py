@@ -197,9 +197,20 @@ def test_parameter_info_has_units_and_descriptions():
     # every numeric built-in parameter names its unit, except these dimensionless ones
     dimensionless = {"gamma", "max_iter", "tol", "min_std", "seed", "n_particles"}
     # the adaptive detector's ratios (of bounds, peaks and strides)
-    dimensionless |= {"stance_factor", "swing_fraction", "min_scale", "swing_prominence", "stride_fraction", "pivot_yaw_share"}
+    dimensionless |= {
+        "stance_factor",
+        "swing_fraction",
+        "min_scale",
+        "swing_prominence",
+        "stride_fraction",
+        "pivot_yaw_share",
+    }
     dimensionless |= {"zupt_edge_max_fraction"}  # the EKF's: of a stance's samples
-    dimensionless |= {"n_directions", "min_stretch_strides", "min_strength"}  # dominant-directions: counts, a resultant length
+    dimensionless |= {
+        "n_directions",
+        "min_stretch_strides",
+        "min_strength",
+    }  # dominant-directions: counts, a resultant length
     dimensionless |= {"magnitude_tol", "min_stances", "min_fraction"}  # magnetometer: a fraction, a count, a share
     for kind, names in footnav.list_components().items():
         for name in names:
@@ -225,15 +236,18 @@ def test_plugin_component_raising_during_run_is_reported_by_name_and_the_rest_ke
         footnav.make_pipeline("broken").run(rec)
     assert isinstance(err.value.__cause__, ZeroDivisionError)
     assert footnav.make_pipeline("threshold").run(rec).left.path_length_m > 4.0  # the rest work
-    from footnav.cli import EXIT_INTERNAL, main
+    import pathlib
+    import tempfile
 
     # the CLI says so in one line, exit code 1 (not the user's fault)
     import footnav.data.io.footnav_csv as fc
-    import tempfile, pathlib
+    from footnav.cli import EXIT_INTERNAL, main
 
     tmp = pathlib.Path(tempfile.mkdtemp())
     fc.write_footnav_csv(rec.left, tmp / "l.csv")
-    assert main(["run", "--left", str(tmp / "l.csv"), "--detector", "broken", "--out", str(tmp / "out")]) == EXIT_INTERNAL
+    assert (
+        main(["run", "--left", str(tmp / "l.csv"), "--detector", "broken", "--out", str(tmp / "out")]) == EXIT_INTERNAL
+    )
     assert not (tmp / "out").exists()
 
 
@@ -255,13 +269,26 @@ def test_the_default_pipeline_imports_only_its_components():
     import subprocess
     import sys
 
-    code = ("import footnav, sys, json; footnav.make_pipeline(); "
-            "print(json.dumps(sorted(m for m in sys.modules if m.startswith('footnav.'))))")
-    loaded = set(json.loads(subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
-                                           check=True).stdout.splitlines()[-1]))
+    code = (
+        "import footnav, sys, json; footnav.make_pipeline(); "
+        "print(json.dumps(sorted(m for m in sys.modules if m.startswith('footnav.'))))"
+    )
+    loaded = set(
+        json.loads(
+            subprocess.run(
+                [sys.executable, "-c", code], capture_output=True, text=True, check=True
+            ).stdout.splitlines()[-1]
+        )
+    )
     assert {"footnav.detectors.adaptive", "footnav.estimators.ekf", "footnav.fusion.independent"} <= loaded
-    assert not loaded & {"footnav.detectors.hmm", "footnav.detectors.glrt", "footnav.estimators.madgwick",
-                         "footnav.fusion.dtw", "footnav.fusion.particle", "footnav.fusion.step_vector"}
+    assert not loaded & {
+        "footnav.detectors.hmm",
+        "footnav.detectors.glrt",
+        "footnav.estimators.madgwick",
+        "footnav.fusion.dtw",
+        "footnav.fusion.particle",
+        "footnav.fusion.step_vector",
+    }
 
 
 def test_a_reference_without_a_name_or_to_a_wrong_class_is_a_plugin_error():

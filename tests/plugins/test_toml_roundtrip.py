@@ -12,7 +12,11 @@ BASE = {"detector": "threshold", "estimator": "ekf", "fusion": "independent"}
 
 
 def _components():
-    return [pytest.param(kind, name, id=f"{kind}-{name}") for kind, names in footnav.list_components().items() for name in names]
+    return [
+        pytest.param(kind, name, id=f"{kind}-{name}")
+        for kind, names in footnav.list_components().items()
+        for name in names
+    ]
 
 
 @pytest.mark.parametrize("kind, name", _components())

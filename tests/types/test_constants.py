@@ -31,7 +31,14 @@ def test_gravity_constant_is_standard_gravity():
 
 @pytest.mark.parametrize(
     "field, unit, factor",
-    [("acc", "g", 9.80665), ("gyr", "deg/s", np.pi / 180.0), ("t", "ms", 1e-3), ("t", "us", 1e-6), ("mag", "gauss", 100.0), ("mag", "T", 1e6)],
+    [
+        ("acc", "g", 9.80665),
+        ("gyr", "deg/s", np.pi / 180.0),
+        ("t", "ms", 1e-3),
+        ("t", "us", 1e-6),
+        ("mag", "gauss", 100.0),
+        ("mag", "T", 1e6),
+    ],
 )
 def test_unit_factors_are_the_defined_ones(field, unit, factor):
     n = 200

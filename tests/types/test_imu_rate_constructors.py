@@ -23,20 +23,24 @@ def _frame(imu, acc_scale=1.0, gyr_scale=1.0):
 
 
 def test_from_arrays_with_rate_hz_makes_time_row_over_rate(walk):
-    imu = ImuData.from_arrays(acc=walk.acc / GRAVITY_MPS2, gyr=np.degrees(walk.gyr), rate_hz=100.0,
-                              acc_unit="g", gyr_unit="deg/s")
+    imu = ImuData.from_arrays(
+        acc=walk.acc / GRAVITY_MPS2, gyr=np.degrees(walk.gyr), rate_hz=100.0, acc_unit="g", gyr_unit="deg/s"
+    )
     np.testing.assert_allclose(imu.t, np.arange(len(walk)) / 100.0)
     np.testing.assert_allclose(imu.acc, walk.acc, atol=1e-12)
     np.testing.assert_allclose(imu.gyr, walk.gyr, atol=1e-12)
     assert imu.rate_hz == pytest.approx(100.0) and "100 Hz" in imu.meta["time_source"]
 
 
-@pytest.mark.parametrize("kwargs,match", [
-    ({"t": "given", "rate_hz": 100.0}, "not both"),
-    ({"rate_hz": 0.0}, "finite number > 0"),
-    ({"rate_hz": 100.0, "t_unit": "ms"}, "no time stamps"),
-    ({}, "no time: pass t"),
-])
+@pytest.mark.parametrize(
+    "kwargs,match",
+    [
+        ({"t": "given", "rate_hz": 100.0}, "not both"),
+        ({"rate_hz": 0.0}, "finite number > 0"),
+        ({"rate_hz": 100.0, "t_unit": "ms"}, "no time stamps"),
+        ({}, "no time: pass t"),
+    ],
+)
 def test_from_arrays_time_or_rate_errors(walk, kwargs, match):
     if kwargs.get("t") == "given":
         kwargs["t"] = walk.t
@@ -85,6 +89,7 @@ def test_unit_hint_only_names_a_unit_with_a_plausible_rate(walk):
 
     from footnav.core.types.imu_checks import RATE_BOUNDS_HZ, _unit_hint
     from footnav.core.types.units import _T_SCALE
+
     for raw_dt in (0.5, 3.0, 7e4, 1e7, 2.5e-6):
         hint = _unit_hint(raw_dt)
         for unit, rate in re.findall(r"t_unit='(\w+)' \(([\d.e+]+) Hz\)", hint):

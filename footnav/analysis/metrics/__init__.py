@@ -54,16 +54,21 @@ from footnav.analysis.metrics._stance import (
     step_detection_from_events,
     step_detection_from_swings,
 )
-from footnav.analysis.metrics._strides import FootprintErrors, StrideLengthErrors, footprint_errors, stride_length_errors
+from footnav.analysis.metrics._strides import (
+    FootprintErrors,
+    StrideLengthErrors,
+    footprint_errors,
+    stride_length_errors,
+)
 from footnav.analysis.metrics._trajectory import (
     DistanceError,
     EndpointError,
     WaypointErrors,
     ate_rmse,
-    height_rmse,
     end_to_end_error,
     final_position_error,
     final_separation,
+    height_rmse,
     loop_closure_error,
     travelled_distance,
     travelled_distance_error,

@@ -10,8 +10,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from footnav.core.errors import InvalidInputError, InvalidParameterError
 from footnav.analysis.metrics._checks import _check_dims, _points, _readonly, _same_length
+from footnav.core.errors import InvalidInputError, InvalidParameterError
 
 
 @dataclass(frozen=True, eq=False)
@@ -53,7 +53,9 @@ class RigidAlignment:
         return out + self.translation
 
 
-def _umeyama(src: NDArray, dst: NDArray, with_scale: bool, *, reflection: bool = False) -> tuple[NDArray, NDArray, float]:
+def _umeyama(
+    src: NDArray, dst: NDArray, with_scale: bool, *, reflection: bool = False
+) -> tuple[NDArray, NDArray, float]:
     """Least-squares ``dst ~ s R src + t`` (Umeyama 1991, eq. 40-42), R a proper rotation; with
     ``reflection``, R the best improper one (det R = -1: a rotation and a mirror), which the truth
     checks compare against the proper fit to tell a mirrored reference."""
@@ -161,7 +163,9 @@ def align_at_start(estimate: ArrayLike, reference: ArrayLike, *, distance_m: flo
     s = np.concatenate(([0.0], np.cumsum(np.linalg.norm(np.diff(ref[:, :2], axis=0), axis=1))))
     k = max(2, int(np.searchsorted(s, distance_m, side="right")))
     a, b = est[:k, :2] - est[0, :2], ref[:k, :2] - ref[0, :2]
-    yaw = float(np.arctan2(np.sum(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]), np.sum(a[:, 0] * b[:, 0] + a[:, 1] * b[:, 1])))
+    yaw = float(
+        np.arctan2(np.sum(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]), np.sum(a[:, 0] * b[:, 0] + a[:, 1] * b[:, 1]))
+    )
     c, sn = np.cos(yaw), np.sin(yaw)
     ncol = est.shape[1]
     rot = np.eye(ncol)

@@ -7,12 +7,12 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from footnav.core.errors import InvalidInputError, InvalidParameterError
-from footnav.core.types._arrays import _readonly  # the one copy: a read-only, C-contiguous view
 
 #: Percent per unit fraction.
 _PERCENT = 100.0
 
 _VALID_DIMS = (2, 3)
+
 
 def _check_dims(dims: int) -> int:
     if dims not in _VALID_DIMS:
@@ -108,4 +108,3 @@ def _mask(value: ArrayLike, name: str) -> NDArray[np.bool_]:
 def _percent(num: float, den: float) -> float:
     # nan, not inf or an error, when the denominator is zero: the metric is undefined there
     return float(_PERCENT * num / den) if den > 0 else float("nan")
-

@@ -10,9 +10,9 @@ from typing import Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from footnav.nav.dtw import DtwAlignment, dtw_align
-from footnav.core.errors import InvalidInputError, InvalidParameterError
 from footnav.analysis.metrics._checks import _check_dims, _events, _percent, _points, _same_length
+from footnav.core.errors import InvalidInputError, InvalidParameterError
+from footnav.nav.dtw import DtwAlignment, dtw_align
 from footnav.nav.interpolation import interp_columns
 
 #: Minimum reference distance travelled (m) before the deviation / distance ratio of
@@ -162,11 +162,7 @@ class MaxDeviation:
 
 
 def max_deviation(
-    estimate: ArrayLike,
-    reference: ArrayLike,
-    *,
-    dims: int = 2,
-    min_distance_m: float = DEFAULT_RATIO_MIN_DISTANCE_M,
+    estimate: ArrayLike, reference: ArrayLike, *, dims: int = 2, min_distance_m: float = DEFAULT_RATIO_MIN_DISTANCE_M
 ) -> MaxDeviation:
     """Maximum deviation from the reference and its maximum ratio to the distance travelled ([Chistyakov2021] Table 2).
 
@@ -207,4 +203,3 @@ def max_deviation(
         k_ratio, max_ratio = -1, float("nan")
     total = float(s[-1])
     return MaxDeviation(float(dev[k_dev]), k_dev, max_ratio, k_ratio, total, _percent(float(dev[k_dev]), total))
-

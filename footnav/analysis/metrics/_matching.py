@@ -10,8 +10,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.optimize import linear_sum_assignment
 
-from footnav.core.errors import InvalidParameterError
 from footnav.analysis.metrics._checks import _events, _readonly
+from footnav.core.errors import InvalidParameterError
 
 
 class EventMatches(NamedTuple):

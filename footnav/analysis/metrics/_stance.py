@@ -11,9 +11,9 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.optimize import linear_sum_assignment
 
-from footnav.core.errors import InvalidInputError, InvalidParameterError
 from footnav.analysis.metrics._checks import _events, _finite, _float64, _mask, _percent, _readonly, _same_length
 from footnav.analysis.metrics._matching import EventMatches, match_events
+from footnav.core.errors import InvalidInputError, InvalidParameterError
 from footnav.core.types import stance_intervals
 
 
@@ -147,10 +147,7 @@ def step_detection(
 
 
 def step_detection_from_events(
-    detected_mask: ArrayLike,
-    reference_events: ArrayLike,
-    *,
-    tolerance_samples: float = 0.0,
+    detected_mask: ArrayLike, reference_events: ArrayLike, *, tolerance_samples: float = 0.0
 ) -> StepDetection:
     """Steps found / missed / false against one reference event per stance ([Li2018] Table 1).
 
@@ -183,7 +180,11 @@ def step_detection_from_events(
     pairs: list[tuple[int, int]] = []
     used_ref: set[int] = set()
     for j, (a, b) in enumerate(runs):
-        hits = [i for i in np.flatnonzero((ref >= a - tolerance_samples) & (ref <= b - 1 + tolerance_samples)) if i not in used_ref]
+        hits = [
+            i
+            for i in np.flatnonzero((ref >= a - tolerance_samples) & (ref <= b - 1 + tolerance_samples))
+            if i not in used_ref
+        ]
         if hits:
             centre = 0.5 * (a + b - 1)
             r = int(min(hits, key=lambda i: abs(ref[i] - centre)))
@@ -202,7 +203,9 @@ def _swing_pairs(value: ArrayLike, n: int) -> NDArray[np.int64]:
     if arr.size == 0:
         return np.empty((0, 2), dtype=np.int64)
     if arr.ndim != 2 or arr.shape[1] != 2:
-        raise InvalidInputError(f"expected (K, 2) [toe_off, heel_strike] sample indices, got {arr.shape}", field="swings")
+        raise InvalidInputError(
+            f"expected (K, 2) [toe_off, heel_strike] sample indices, got {arr.shape}", field="swings"
+        )
     _finite(arr, "swings")
     bad = (arr != np.round(arr)).any(axis=1) | (arr < 0).any(axis=1) | (arr > n).any(axis=1) | (arr[:, 0] >= arr[:, 1])
     if bad.any():
@@ -220,7 +223,9 @@ def _match_inside(anchors: NDArray[np.float64], ref_runs: NDArray[np.int64], tol
     centres = (ref_runs[:, 0] + ref_runs[:, 1] - 1) / 2.0 if len(ref_runs) else np.empty(0)
     pairs: list[tuple[int, int]] = []
     if len(anchors) and len(ref_runs):
-        allowed = (anchors[:, None] >= ref_runs[None, :, 0] - tol) & (anchors[:, None] <= ref_runs[None, :, 1] - 1 + tol)
+        allowed = (anchors[:, None] >= ref_runs[None, :, 0] - tol) & (
+            anchors[:, None] <= ref_runs[None, :, 1] - 1 + tol
+        )
         cost = np.abs(anchors[:, None] - centres[None, :])
         # a forbidden pair costs more than any set of allowed ones: most pairs first, then closest
         big = (float(cost.max()) + 1.0) * (min(cost.shape) + 1)
@@ -300,7 +305,9 @@ def step_detection_from_swings(
     sw = _swing_pairs(swings, n)
     b = _float64(boundaries, "boundaries").reshape(-1)
     if len(b) != 2 or not np.isfinite(b).all() or (b != np.round(b)).any() or not 0 <= b[0] < b[1] <= n:
-        raise InvalidInputError(f"expected (start, end) sample indices with 0 <= start < end <= {n}, got {b.tolist()}", field="boundaries")
+        raise InvalidInputError(
+            f"expected (start, end) sample indices with 0 <= start < end <= {n}, got {b.tolist()}", field="boundaries"
+        )
     start, end = int(b[0]), int(b[1])
     tol = float(tolerance_samples)
     if not np.isfinite(tol) or tol < 0:

@@ -8,9 +8,9 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from footnav.core.errors import DataQualityWarning, InvalidInputError
 from footnav.analysis.metrics._alignment import RigidAlignment, rigid_align
 from footnav.analysis.metrics._checks import _check_dims, _events, _points, _readonly, _same_length
+from footnav.core.errors import DataQualityWarning, InvalidInputError
 from footnav.core.warning_log import warn
 
 
@@ -115,11 +115,7 @@ class FootprintErrors:
     alignment: RigidAlignment
 
 
-def footprint_errors(
-    estimate: ArrayLike,
-    footprints: ArrayLike,
-    index: ArrayLike | None = None,
-) -> FootprintErrors:
+def footprint_errors(estimate: ArrayLike, footprints: ArrayLike, index: ArrayLike | None = None) -> FootprintErrors:
     """Footprint RMSE and final-footprint error after one rigid 2-D fit ([GD]).
 
     For a reference that knows only where each footprint lies (hand-marked on a floor-tile grid
@@ -166,7 +162,9 @@ def footprint_errors(
         if bad.any():
             i = int(np.argmax(bad))
             raise InvalidInputError(
-                f"footprint index {idx[i]!r} is not a sample of the estimate (0..{len(est) - 1})", field="index", index=i
+                f"footprint index {idx[i]!r} is not a sample of the estimate (0..{len(est) - 1})",
+                field="index",
+                index=i,
             )
         _same_length(fp, idx, "footprints", "index")
         est = est[idx.astype(np.int64)]

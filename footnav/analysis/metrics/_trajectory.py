@@ -9,9 +9,18 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from footnav.core.errors import InvalidInputError
 from footnav.analysis.metrics._alignment import rigid_align
-from footnav.analysis.metrics._checks import _check_dims, _finite, _float64, _percent, _point, _points, _readonly, _same_length
+from footnav.analysis.metrics._checks import (
+    _check_dims,
+    _finite,
+    _float64,
+    _percent,
+    _point,
+    _points,
+    _readonly,
+    _same_length,
+)
+from footnav.core.errors import InvalidInputError
 
 
 @dataclass(frozen=True)
@@ -76,8 +85,11 @@ def waypoint_errors(
             which.append(j)
     e = np.asarray(errors, dtype=float)
     return WaypointErrors(
-        errors_m=_readonly(e), index=_readonly(np.asarray(index, dtype=np.int64)), waypoint=_readonly(np.asarray(which, dtype=np.int64)),
-        mean_m=float(e.mean()) if len(e) else float("nan"), max_m=float(e.max()) if len(e) else float("nan"),
+        errors_m=_readonly(e),
+        index=_readonly(np.asarray(index, dtype=np.int64)),
+        waypoint=_readonly(np.asarray(which, dtype=np.int64)),
+        mean_m=float(e.mean()) if len(e) else float("nan"),
+        max_m=float(e.max()) if len(e) else float("nan"),
     )
 
 
@@ -288,11 +300,7 @@ def _reference_distance(reference: ArrayLike | float, dims: int, name: str = "re
 
 
 def end_to_end_error(
-    pos: ArrayLike,
-    reference: ArrayLike | None = None,
-    *,
-    dims: int = 2,
-    reference_distance_m: float | None = None,
+    pos: ArrayLike, reference: ArrayLike | None = None, *, dims: int = 2, reference_distance_m: float | None = None
 ) -> EndpointError:
     """End-to-end error of [Li2018] Table 2 ("End-to-End Error (m)" and "Positioning Accuracy (%)").
 

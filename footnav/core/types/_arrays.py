@@ -37,7 +37,8 @@ def _as_float_array(
     elif arr.ndim != 2 or arr.shape[1] != ncols:
         transposed = arr.ndim == 2 and arr.shape[0] == ncols and arr.shape[1] != ncols
         raise InvalidInputError(
-            f"expected shape (N, {ncols}), got {arr.shape}" + ("; transposed? one row per sample" if transposed else ""),
+            f"expected shape (N, {ncols}), got {arr.shape}"
+            + ("; transposed? one row per sample" if transposed else ""),
             field=name,
             path=path,
         )

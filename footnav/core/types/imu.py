@@ -34,7 +34,7 @@ class ReadOnlyMeta(dict):
 
     __setitem__ = __delitem__ = clear = pop = popitem = setdefault = update = _refuse  # type: ignore[assignment]
 
-    def __ior__(self, other: Any) -> "ReadOnlyMeta":
+    def __ior__(self, other: Any) -> ReadOnlyMeta:
         self._refuse()
         return self
 
@@ -192,7 +192,12 @@ class ImuData:
         acc_arr = _as_float_array(acc, "acc", 3, path) * scales["acc_unit"]
         gyr_arr = _as_float_array(gyr, "gyr", 3, path) * scales["gyr_unit"]
         mag_arr = None if mag is None else _as_float_array(mag, "mag", 3, path) * scales["mag_unit"]
-        meta["units_in"] = {"t": t_unit, "acc": acc_unit, "gyr": gyr_unit, **({"mag": mag_unit} if mag is not None else {})}
+        meta["units_in"] = {
+            "t": t_unit,
+            "acc": acc_unit,
+            "gyr": gyr_unit,
+            **({"mag": mag_unit} if mag is not None else {}),
+        }
         if drop_duplicates and len(t_arr) > 1:
             dup = np.flatnonzero(np.diff(t_arr) == 0) + 1
             if len(dup):
@@ -259,7 +264,8 @@ class ImuData:
             raise InvalidInputError(
                 f"rate_hz={rate_hz!r} given, but the DataFrame has a time column {time_column!r}; give one of them "
                 "(time_column=None and rate_hz for data without time)",
-                field="rate_hz", path=path,
+                field="rate_hz",
+                path=path,
             )
         if rate_hz is None and not has_t and _is_sample_numbers(getattr(frame, "index", None)):
             index = frame.index
@@ -267,23 +273,32 @@ class ImuData:
                 f"the DataFrame has no time column{f' {time_column!r}' if time_column else ''} and its index holds "
                 f"sample numbers ({type(index).__name__} {index[0]!r}..{index[-1]!r}, step 1), not times; pass the "
                 "sampling rate: ImuData.from_dataframe(frame, rate_hz=100.0) (t = row / rate_hz)",
-                field="rate_hz", path=path,
+                field="rate_hz",
+                path=path,
             )
-        needed = [f"{s}_{a}" for s in ("acc", "gyr") for a in "xyz"] + ([time_column] if time_column and rate_hz is None else [])
+        needed = [f"{s}_{a}" for s in ("acc", "gyr") for a in "xyz"] + (
+            [time_column] if time_column and rate_hz is None else []
+        )
         missing = [c for c in needed if c not in columns]
         if missing:
             raise InvalidInputError(
                 f"DataFrame lacks column(s) {missing}; it has {columns}. Expected {time_column or '(index)'}, "
                 "acc_x, acc_y, acc_z, gyr_x, gyr_y, gyr_z (optional mag_x..mag_z); without time stamps pass "
                 "rate_hz=...",
-                field=missing[0], path=path,
+                field=missing[0],
+                path=path,
             )
         t = None if rate_hz is not None else (frame[time_column] if time_column else frame.index)
         mag_cols = [f"mag_{a}" for a in "xyz"]
         mag = frame[mag_cols] if all(c in columns for c in mag_cols) else None
         return cls.from_arrays(
-            t, frame[[f"acc_{a}" for a in "xyz"]], frame[[f"gyr_{a}" for a in "xyz"]], mag,
-            rate_hz=rate_hz, meta={"source": source}, **units,
+            t,
+            frame[[f"acc_{a}" for a in "xyz"]],
+            frame[[f"gyr_{a}" for a in "xyz"]],
+            mag,
+            rate_hz=rate_hz,
+            meta={"source": source},
+            **units,
         )
 
     # -- views --------------------------------------------------------------------------------
@@ -342,9 +357,7 @@ class ImuData:
         src = self.meta.get("source")
         return (
             f"ImuData(n={self.n_samples}, rate={self.rate_hz:.4g} Hz, duration={self.duration_s:.4g} s, "
-            f"mag={'yes' if self.has_mag else 'no'}, frame={self.frame!r}"
-            + (f", source={src!r}" if src else "")
-            + ")"
+            f"mag={'yes' if self.has_mag else 'no'}, frame={self.frame!r}" + (f", source={src!r}" if src else "") + ")"
         )
 
 
@@ -368,7 +381,8 @@ def _time_from_rate(t: Any, acc: Any, gyr: Any, rate_hz: float | None, t_unit: s
         if t is None:
             raise InvalidInputError(
                 "no time: pass t (its unit as t_unit) or, for data without time stamps, the sampling rate rate_hz=...",
-                field="t", path=path,
+                field="t",
+                path=path,
             )
         return t
     if t is not None:
@@ -380,7 +394,9 @@ def _time_from_rate(t: Any, acc: Any, gyr: Any, rate_hz: float | None, t_unit: s
     if not (np.isfinite(rate) and rate > 0):
         raise InvalidInputError(f"rate_hz={rate_hz!r} is not a finite number > 0", field="rate_hz", path=path)
     if t_unit != "s":
-        raise InvalidInputError(f"t_unit={t_unit!r} with rate_hz: there are no time stamps to have a unit", field="t_unit", path=path)
+        raise InvalidInputError(
+            f"t_unit={t_unit!r} with rate_hz: there are no time stamps to have a unit", field="t_unit", path=path
+        )
     n = np.shape(acc)[0] if np.ndim(acc) >= 1 else 0
     meta["time_source"] = f"sample index / {rate:g} Hz (no time stamps given)"
     return np.arange(n) / rate

@@ -216,7 +216,11 @@ def _running_mean(x: NDArray[np.float64], k: int) -> NDArray[np.float64]:
 
 @njit(cache=True)
 def _rest_mask(
-    acc_norm: NDArray[np.float64], gyr_norm: NDArray[np.float64], median: float, k: int, acc_std_max: float,
+    acc_norm: NDArray[np.float64],
+    gyr_norm: NDArray[np.float64],
+    median: float,
+    k: int,
+    acc_std_max: float,
     gyr_max: float,
 ) -> NDArray[np.bool_]:
     # O(N) running moments of the centred windows (no k x N window views: this runs on every
@@ -249,7 +253,9 @@ def _full_scale_of(value: float, scales: tuple[float, ...], unit_si: float) -> f
     return None
 
 
-def _plateau(x: NDArray[np.float64], floor: float, scales: tuple[float, ...], unit_si: float) -> tuple[NDArray[np.bool_], float | None]:
+def _plateau(
+    x: NDArray[np.float64], floor: float, scales: tuple[float, ...], unit_si: float
+) -> tuple[NDArray[np.bool_], float | None]:
     """The plateau rule of :func:`detect_clipping` on one sensor's (N, 3) samples: the samples
     held at an axis' extreme, and the common full scale the first plateau sits at (or None)."""
     hit = np.zeros(x.shape, dtype=bool)
@@ -378,15 +384,18 @@ def check_time_base(median_dt: float, meta: Mapping[str, Any]) -> list[tuple[str
     lo, hi = RATE_BOUNDS_HZ
     if lo <= rate <= hi:
         return []
-    return [(
-        "rate_check",
-        {"rate_hz": rate, "bounds_hz": [lo, hi]},
+    return [
         (
-            f"{data_label(meta)}: sampling rate {rate:.4g} Hz is {'below' if rate < lo else 'above'} the "
-            f"{lo:g}-{hi:g} Hz footnav's detectors and filters are made for; results may be wrong"
-            + _unit_hint(raw_dt) + "; recorded in meta['rate_check']"
-        ),
-    )]
+            "rate_check",
+            {"rate_hz": rate, "bounds_hz": [lo, hi]},
+            (
+                f"{data_label(meta)}: sampling rate {rate:.4g} Hz is {'below' if rate < lo else 'above'} the "
+                f"{lo:g}-{hi:g} Hz footnav's detectors and filters are made for; results may be wrong"
+                + _unit_hint(raw_dt)
+                + "; recorded in meta['rate_check']"
+            ),
+        )
+    ]
 
 
 def _check_data(
@@ -430,17 +439,19 @@ def _check_data(
     moving = n_moving / len(acc_norm)
     # at least a swing's worth (0.2 s) of motion: a few rows of a test file are no walk
     if moving >= ACC_MOVING_FRACTION and n_moving >= max(10, 0.2 * rate) and w_peak < GYR_PEAK_MIN_RADPS:
-        findings.append((
-            "gyr_unit_check",
-            {"gyr_peak_radps": w_peak, "acc_moving_fraction": moving},
+        findings.append(
             (
-                f"{label}: the foot moves (|acc| is more than 0.5 g off its median in {moving * 100:.0f} % of the "
-                f"samples) but turns at most {w_peak:.3g} rad/s "
-                f"({np.degrees(w_peak):.3g} deg/s); a walking foot turns at 5-12 rad/s in swing: the gyroscope looks "
-                f"like rad/s read as deg/s (declared {(meta.get('units_in') or {}).get('gyr', 'rad/s')!r}); "
-                "recorded in meta['gyr_unit_check']"
-            ),
-        ))
+                "gyr_unit_check",
+                {"gyr_peak_radps": w_peak, "acc_moving_fraction": moving},
+                (
+                    f"{label}: the foot moves (|acc| is more than 0.5 g off its median in {moving * 100:.0f} % of the "
+                    f"samples) but turns at most {w_peak:.3g} rad/s "
+                    f"({np.degrees(w_peak):.3g} deg/s); a walking foot turns at 5-12 rad/s in swing: the gyroscope looks "
+                    f"like rad/s read as deg/s (declared {(meta.get('units_in') or {}).get('gyr', 'rad/s')!r}); "
+                    "recorded in meta['gyr_unit_check']"
+                ),
+            )
+        )
 
     # -- the accelerometer at rest ----------------------------------------------------------------
     rest = _at_rest(acc_norm, gyr_norm, rate, f)
@@ -458,15 +469,17 @@ def _check_data(
                 path=path,
             )
         if abs(off) > ACC_REST_WARN_FRACTION:
-            findings.append((
-                "acc_at_rest",
-                {"magnitude_mps2": g_rest, "off_g_fraction": off, "samples": int(rest.sum()), "first_index": first},
+            findings.append(
                 (
-                    f"{label}: the accelerometer reads {g_rest:.4g} m/s^2 at rest, {off * 100:+.1f} % off g "
-                    f"({GRAVITY_MPS2:g} m/s^2; median over {int(rest.sum())} still samples): an uncalibrated or "
-                    "mis-scaled sensor; tilt and distances carry that error; recorded in meta['acc_at_rest']"
-                ),
-            ))
+                    "acc_at_rest",
+                    {"magnitude_mps2": g_rest, "off_g_fraction": off, "samples": int(rest.sum()), "first_index": first},
+                    (
+                        f"{label}: the accelerometer reads {g_rest:.4g} m/s^2 at rest, {off * 100:+.1f} % off g "
+                        f"({GRAVITY_MPS2:g} m/s^2; median over {int(rest.sum())} still samples): an uncalibrated or "
+                        "mis-scaled sensor; tilt and distances carry that error; recorded in meta['acc_at_rest']"
+                    ),
+                )
+            )
 
     # -- saturation ------------------------------------------------------------------------------
     clipped = detect_clipping(acc, gyr, acc_full_scale_mps2=acc_full_scale_mps2) if clipping else None
@@ -478,12 +491,14 @@ def _check_data(
         if clipped["gyr"]:
             fs = f", full scale {clipped['gyr_full_scale']}" if clipped["gyr_full_scale"] else ""
             parts.append(f"{clipped['gyr']} gyroscope sample(s) (first at index {clipped['gyr_first_index']}{fs})")
-        findings.append((
-            "clipped",
-            clipped,
+        findings.append(
             (
-                f"{label}: {' and '.join(parts)} at the sensor's full scale: the true value is unknown there "
-                "(clipping, saturation); recorded in meta['clipped']"
-            ),
-        ))
+                "clipped",
+                clipped,
+                (
+                    f"{label}: {' and '.join(parts)} at the sensor's full scale: the true value is unknown there "
+                    "(clipping, saturation); recorded in meta['clipped']"
+                ),
+            )
+        )
     return findings

@@ -7,7 +7,6 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
-from footnav.core.types.stance import StanceResult
 from footnav.core.types.trajectory import FootTrajectory, Path
 
 __all__ = ["FusionResult"]

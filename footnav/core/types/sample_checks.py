@@ -45,6 +45,7 @@ GYR_MAX_RADPS = 100.0
 #: of 2.0; logger jitter without loss stays below ~1.75 x (pyshoe VICON trials: 8.6 ms at 5 ms).
 GAP_FACTOR = 1.9
 
+
 def check_same_rows(n: int, arrays: dict[str, NDArray | None], path: str | None = None) -> None:
     """Refuse arrays (by field name; None skipped) whose row count is not ``n``, the samples of ``t``."""
     for name, arr in arrays.items():
@@ -76,11 +77,15 @@ def check_time_order(
         j = int(np.argmax(~(dt > 0)))
         i = first + j + 1
         if dt[j] == 0:
-            message = (f"duplicate time stamp t={full[j + 1]!r} s (same as sample {i - 1}); "
-                       "drop duplicate rows explicitly (drop_duplicates=True)")
+            message = (
+                f"duplicate time stamp t={full[j + 1]!r} s (same as sample {i - 1}); "
+                "drop duplicate rows explicitly (drop_duplicates=True)"
+            )
         else:
-            message = (f"time goes backwards: t[{i}]={full[j + 1]!r} s < t[{i - 1}]={full[j]!r} s; "
-                       "t must be strictly increasing")
+            message = (
+                f"time goes backwards: t[{i}]={full[j + 1]!r} s < t[{i - 1}]={full[j]!r} s; "
+                "t must be strictly increasing"
+            )
         raise InvalidInputError(message, field="t", index=i, path=path)
     return dt
 
@@ -102,8 +107,11 @@ def gap_message(label: str, gaps: list[tuple[int, float]], median_dt: float) -> 
 
 def _acc_median_error(f: float, path: str | None) -> InvalidInputError:
     lo_a = ACC_MEDIAN_BOUNDS_MPS2[0]
-    hint = "the data look like g: read them with acc_unit='g'" if 0.5 <= f < lo_a else (
-        "is the accelerometer in another unit, or is its column mapping wrong?")
+    hint = (
+        "the data look like g: read them with acc_unit='g'"
+        if 0.5 <= f < lo_a
+        else ("is the accelerometer in another unit, or is its column mapping wrong?")
+    )
     return InvalidInputError(
         f"implausible specific force: median |acc| = {f:.3g} m/s^2, but a foot-mounted IMU reads gravity "
         f"({GRAVITY_MPS2:g} m/s^2) whenever the foot stands still; {hint}",

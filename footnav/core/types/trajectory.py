@@ -64,7 +64,9 @@ class FootTrajectory:
         if self.swing_rise_m is not None:
             rise = np.asarray(self.swing_rise_m, dtype=np.float64)
             if rise.shape != (len(steps),):
-                raise InvalidInputError(f"expected shape ({len(steps)},) (one per step), got {rise.shape}", field="swing_rise_m")
+                raise InvalidInputError(
+                    f"expected shape ({len(steps)},) (one per step), got {rise.shape}", field="swing_rise_m"
+                )
             object.__setattr__(self, "swing_rise_m", _readonly(rise))
         object.__setattr__(self, "meta", dict(self.meta))
 

@@ -69,8 +69,12 @@ def _time_seconds(t: Any, t_unit: str, path: str | None) -> tuple[Any, dict[str,
         # seconds since the first sample: absolute epoch seconds (~1.7e9) would lose the
         # microseconds in float64, and the nav solution only needs elapsed time
         secs = (arr - arr[0]) / np.timedelta64(1, "s")
-        record = {"time_converted": f"datetime64 -> s since the first sample ({np.datetime_as_string(arr[0])}"
-                  + (f" {tz}" if tz is not None else "") + ")", "t0_datetime": str(np.datetime_as_string(arr[0]))}
+        record = {
+            "time_converted": f"datetime64 -> s since the first sample ({np.datetime_as_string(arr[0])}"
+            + (f" {tz}" if tz is not None else "")
+            + ")",
+            "t0_datetime": str(np.datetime_as_string(arr[0])),
+        }
     else:
         secs = arr / np.timedelta64(1, "s")
         record = {"time_converted": "timedelta64 -> s"}

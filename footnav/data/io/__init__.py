@@ -38,9 +38,9 @@ from footnav.data.io.ipol import read_ipol
 from footnav.data.io.load import READERS, guess_format, load
 from footnav.data.io.openshoe import read_openshoe
 from footnav.data.io.pyshoe import read_pyshoe
+from footnav.data.io.ximu import read_ximu_cal
 from footnav.data.io.xio import read_xio
 from footnav.data.io.xsens import read_xsens
-from footnav.data.io.ximu import read_ximu_cal
 
 __all__ = [
     "read_footnav_csv",

@@ -28,7 +28,9 @@ def read_mat(path: Any, *, what: str, required: tuple[str, ...]) -> tuple[dict, 
     for name in required:
         if name not in mat:
             raise InvalidInputError(
-                f"no variable {name!r}; found {sorted(k for k in mat if not k.startswith('__'))}", path=str(p), field=name
+                f"no variable {name!r}; found {sorted(k for k in mat if not k.startswith('__'))}",
+                path=str(p),
+                field=name,
             )
     return mat, p
 

@@ -54,6 +54,7 @@ __all__ = [
 #: z-up one without mirroring (a z flip alone would be a reflection, det = -1).
 ROTATE_180_ABOUT_X = np.diag([1.0, -1.0, -1.0])
 
+
 @dataclass(frozen=True)
 class TextFile:
     """A text file split into lines.
@@ -108,8 +109,11 @@ def check_file(path: Any, *, what: str = "file") -> FilePath:
         raise InvalidInputError(f"is a folder; expected a {what}", path=str(p))
     st = p.stat()
     if not stat.S_ISREG(st.st_mode):
-        kind = "a FIFO (named pipe)" if stat.S_ISFIFO(st.st_mode) else (
-            "a device" if stat.S_ISCHR(st.st_mode) or stat.S_ISBLK(st.st_mode) else "not a regular file")
+        kind = (
+            "a FIFO (named pipe)"
+            if stat.S_ISFIFO(st.st_mode)
+            else ("a device" if stat.S_ISCHR(st.st_mode) or stat.S_ISBLK(st.st_mode) else "not a regular file")
+        )
         raise InvalidInputError(
             f"is {kind}; expected a {what} (footnav reads regular files only: a device or pipe may never end)",
             path=str(p),
@@ -355,7 +359,8 @@ def build_imu(
             i = int(dup[np.argmax(~exact)])
             warn(
                 f"{label}: {int((~exact).sum())} dropped row(s) repeat the previous time stamp with different "
-                f"values (first at index {i}" + (f", line {line_of(i)}" if line_numbers is not None else "")
+                f"values (first at index {i}"
+                + (f", line {line_of(i)}" if line_numbers is not None else "")
                 + "); the first row of each time stamp was kept",
                 DataQualityWarning,
                 stacklevel=3,

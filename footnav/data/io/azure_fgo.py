@@ -30,15 +30,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from footnav.core.errors import DataNotFoundError, InvalidInputError
-from footnav.data.io._text import (
-    ROTATE_180_ABOUT_X,
-    build_imu,
-    changes_of,
-    parse_table,
-    read_text,
-    split_header,
-)
 from footnav.core.types import FootTruth, Recording
+from footnav.data.io._text import ROTATE_180_ABOUT_X, build_imu, changes_of, parse_table, read_text, split_header
 
 __all__ = ["read_azure_fgo", "AZURE_FGO_RATE_HZ", "AZURE_FGO_FILES"]
 
@@ -192,7 +185,8 @@ def read_azure_fgo(
             "rate_hz": rate_hz,
             "units_converted": {},
             "truth_rotation": _TRUTH_ROTATION_NOTE if truths["left"] is not None else None,
-            "changes": changes_of("left", feet["left"]) + changes_of("right", feet["right"])
+            "changes": changes_of("left", feet["left"])
+            + changes_of("right", feet["right"])
             + (["truth: " + _TRUTH_ROTATION_NOTE] if truths["left"] is not None else []),
         },
     )

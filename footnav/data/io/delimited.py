@@ -38,9 +38,9 @@ from typing import Any
 import numpy as np
 
 from footnav.core.errors import DataQualityWarning, InvalidInputError
-from footnav.data.io._text import TextFile, build_imu, changes_of, parse_table, read_text, split_header
 from footnav.core.types import Recording
 from footnav.core.warning_log import warn
+from footnav.data.io._text import TextFile, build_imu, changes_of, parse_table, read_text, split_header
 
 __all__ = [
     "read_delimited",
@@ -74,8 +74,24 @@ _AXIS_PREFIX = {
 }
 _TIME = re.compile(r"^(t|time|timestamp|timestamps|ts|sampletime|elapsedtime)(?:[ _\-.]?(s|sec|ms|us|ns))?$")
 _COUNTER = {
-    "packetnumber", "packetcounter", "packet", "packetno", "counter", "count", "sample", "samplenumber",
-    "samplecounter", "sampleindex", "sampleno", "index", "idx", "frame", "framenumber", "n", "seq", "sequence",
+    "packetnumber",
+    "packetcounter",
+    "packet",
+    "packetno",
+    "counter",
+    "count",
+    "sample",
+    "samplenumber",
+    "samplecounter",
+    "sampleindex",
+    "sampleno",
+    "index",
+    "idx",
+    "frame",
+    "framenumber",
+    "n",
+    "seq",
+    "sequence",
     "seqno",
 }
 _UNIT_IN_NAME = re.compile(r"^(.*?)\s*[(\[]([^)\]]*)[)\]]\s*$")
@@ -170,17 +186,23 @@ def _spec_items(spec: str | Mapping[str, Any]) -> list[tuple[str, list[Any]]]:
         elif items:
             items[-1][1].append(token)
         else:
-            raise InvalidInputError(f"column spec {spec!r} must start with GROUP=...: e.g. t=0,acc=1:4,gyr=4:7", field="columns")
+            raise InvalidInputError(
+                f"column spec {spec!r} must start with GROUP=...: e.g. t=0,acc=1:4,gyr=4:7", field="columns"
+            )
     return items
 
 
-def parse_columns(spec: str | Mapping[str, Any], header: Sequence[str] | None, ncols: int, path: str) -> dict[str, list[int]]:
+def parse_columns(
+    spec: str | Mapping[str, Any], header: Sequence[str] | None, ncols: int, path: str
+) -> dict[str, list[int]]:
     """``"t=0,acc=1:4,gyr=4:7"`` or ``"acc=AccX,AccY,AccZ,..."`` (or a dict) -> {group: column indices}."""
     out: dict[str, list[int]] = {}
     for group, values in _spec_items(spec):
         if group not in DELIMITED_GROUPS:
             raise InvalidInputError(
-                f"unknown column group {group!r} in {spec!r}; groups: {', '.join(DELIMITED_GROUPS)}", field="columns", path=path
+                f"unknown column group {group!r} in {spec!r}; groups: {', '.join(DELIMITED_GROUPS)}",
+                field="columns",
+                path=path,
             )
         idx: list[int] = []
         for v in values:
@@ -196,17 +218,26 @@ def parse_columns(spec: str | Mapping[str, Any], header: Sequence[str] | None, n
             elif header is not None and text in header:
                 idx.append(list(header).index(text))
             else:
-                where = f"the header's columns are {list(header)}" if header is not None else "the file has no header: use indices"
-                raise InvalidInputError(f"column {text!r} of group {group!r} not found; {where}", field="columns", path=path)
+                where = (
+                    f"the header's columns are {list(header)}"
+                    if header is not None
+                    else "the file has no header: use indices"
+                )
+                raise InvalidInputError(
+                    f"column {text!r} of group {group!r} not found; {where}", field="columns", path=path
+                )
         if len(idx) != DELIMITED_GROUPS[group]:
             raise InvalidInputError(
-                f"group {group!r} needs {DELIMITED_GROUPS[group]} column(s), got {len(idx)} ({values})", field="columns", path=path
+                f"group {group!r} needs {DELIMITED_GROUPS[group]} column(s), got {len(idx)} ({values})",
+                field="columns",
+                path=path,
             )
         bad = [i for i in idx if not 0 <= i < ncols]
         if bad:
             raise InvalidInputError(
                 f"column index {bad[0]} of group {group!r} outside the table's {ncols} columns (0..{ncols - 1})",
-                field="columns", path=path,
+                field="columns",
+                path=path,
             )
         out[group] = idx
     return out
@@ -215,7 +246,7 @@ def parse_columns(spec: str | Mapping[str, Any], header: Sequence[str] | None, n
 def example_command(path: str, header: Sequence[str] | None, ncols: int) -> str:
     """A one-line ``footnav run`` for a file of this header, to adapt (shown in errors)."""
     names = list(header) if header is not None else [str(j) for j in range(ncols)]
-    q = (lambda s: s if re.fullmatch(r"[\w.]+", s) else f'"{s}"')  # noqa: E731
+    q = lambda s: s if re.fullmatch(r"[\w.]+", s) else f'"{s}"'  # noqa: E731
     if len(names) >= 7:
         spec = f"t={names[0]},acc={','.join(names[1:4])},gyr={','.join(names[4:7])}"
         rate = ""
@@ -224,8 +255,10 @@ def example_command(path: str, header: Sequence[str] | None, ncols: int) -> str:
         rate = " --rate-hz 100"
     if header is None:
         spec = "t=0,acc=1:4,gyr=4:7" if len(names) >= 7 else "acc=0:3,gyr=3:6"
-    return (f"footnav run --left {q(str(path))} --format delimited --columns {q(spec)}{rate} "
-            "--acc-unit g --gyr-unit deg/s --out results/x")
+    return (
+        f"footnav run --left {q(str(path))} --format delimited --columns {q(spec)}{rate} "
+        "--acc-unit g --gyr-unit deg/s --out results/x"
+    )
 
 
 def _counter_check(counter: np.ndarray, lines: np.ndarray, path: str, column: str) -> dict[str, Any] | None:
@@ -237,8 +270,13 @@ def _counter_check(counter: np.ndarray, lines: np.ndarray, path: str, column: st
     if not len(odd):
         return None
     i = int(odd[0]) + 1
-    record = {"column": column, "median_step": step, "irregular_steps": int(len(odd)), "first_index": i,
-              "first_line": int(lines[i])}
+    record = {
+        "column": column,
+        "median_step": step,
+        "irregular_steps": int(len(odd)),
+        "first_index": i,
+        "first_line": int(lines[i]),
+    }
     warn(
         f"{path}: counter column {column!r} steps by {step:g} but {len(odd)} time(s) by something else (first at "
         f"index {i}, line {int(lines[i])}: lost packets or a wrap); time = row / rate ignores them; recorded in "
@@ -298,11 +336,17 @@ def read_delimited(
     tf = read_text(path)
     src = tf.path
     # comment lines become blank lines: skipped, line numbers kept
-    tf = TextFile(path=src, lines=["" if _is_comment(s) else s for s in tf.lines], ends_with_newline=tf.ends_with_newline)
+    tf = TextFile(
+        path=src, lines=["" if _is_comment(s) else s for s in tf.lines], ends_with_newline=tf.ends_with_newline
+    )
     first = header_line(tf.lines)
     if first is None:
         raise InvalidInputError("no data: only comment lines", path=src, line=1)
-    delim = (None if delimiter in (" ", "whitespace") else delimiter) if delimiter is not None else sniff_delimiter(tf.lines[first])
+    delim = (
+        (None if delimiter in (" ", "whitespace") else delimiter)
+        if delimiter is not None
+        else sniff_delimiter(tf.lines[first])
+    )
     cells = split_header(tf.lines[first], delim)
     header = None if _numeric(cells) else cells
     start = first if header is None else first + 1
@@ -330,7 +374,9 @@ def read_delimited(
         raise InvalidInputError(
             f"cannot tell which columns hold {' and '.join(missing)} ({how}; columns: "
             f"{header if header is not None else ncols}); map them, e.g.: {example_command(src, header, ncols)}",
-            path=src, line=first + 1, field="columns",
+            path=src,
+            line=first + 1,
+            field="columns",
         )
     # units: argument, else the header's, else SI (recorded as assumed)
     given = {"t": t_unit, "acc": acc_unit, "gyr": gyr_unit, "mag": mag_unit}
@@ -343,13 +389,18 @@ def read_delimited(
             if head is None:
                 raise InvalidInputError(
                     f"unknown {group} unit {stated[group]!r} in the header; known: {sorted(set(_HEADER_UNITS[group].values()))}",
-                    path=src, line=first + 1, field=group,
+                    path=src,
+                    line=first + 1,
+                    field=group,
                 )
         if given[group] is not None:
             units[group] = given[group]
             if head is not None and head != given[group]:
-                warn(f"{src}: the header says {group} is in {head}, {_UNIT_ARG[group]}={given[group]!r} overrides it",
-                     DataQualityWarning, stacklevel=2)
+                warn(
+                    f"{src}: the header says {group} is in {head}, {_UNIT_ARG[group]}={given[group]!r} overrides it",
+                    DataQualityWarning,
+                    stacklevel=2,
+                )
         elif head is not None:
             units[group] = head
         else:
@@ -366,16 +417,20 @@ def read_delimited(
             raise InvalidInputError(
                 f"rate_hz={rate_hz:g} given, but the file has a time column ({names[cols['t'][0]]!r}); drop rate_hz "
                 "(--rate-hz), or map the time column as counter=... to use the rate",
-                path=src, field="rate_hz",
+                path=src,
+                field="rate_hz",
             )
         t = data[:, cols["t"][0]]
     else:
         if rate_hz is None:
-            counter = f" (column {names[cols['counter'][0]]!r} is a packet counter, not a time)" if "counter" in cols else ""
+            counter = (
+                f" (column {names[cols['counter'][0]]!r} is a packet counter, not a time)" if "counter" in cols else ""
+            )
             raise InvalidInputError(
                 f"no time column{counter}: the sampling rate is needed, and a wrong rate scales every distance; pass "
                 f"it: load(path, rate_hz=100.0) (command line: --rate-hz 100)",
-                path=src, field="rate_hz",
+                path=src,
+                field="rate_hz",
             )
         if not (np.isfinite(rate_hz) and rate_hz > 0):
             raise InvalidInputError(f"rate_hz={rate_hz!r} is not a finite number > 0", path=src, field="rate_hz")
@@ -396,17 +451,26 @@ def read_delimited(
             data[:, cols["acc"]],
             data[:, cols["gyr"]],
             data[:, cols["mag"]] if "mag" in cols else None,
-            path=src, fmt=_format, line_numbers=lines,
-            acc_unit=units["acc"], gyr_unit=units["gyr"], t_unit=units["t"], mag_unit=units["mag"],
-            drop_duplicates=drop_duplicates, acc_full_scale_mps2=acc_full_scale_mps2, meta=meta,
+            path=src,
+            fmt=_format,
+            line_numbers=lines,
+            acc_unit=units["acc"],
+            gyr_unit=units["gyr"],
+            t_unit=units["t"],
+            mag_unit=units["mag"],
+            drop_duplicates=drop_duplicates,
+            acc_full_scale_mps2=acc_full_scale_mps2,
+            meta=meta,
         )
     except InvalidInputError as exc:
         group = exc.field if exc.field in assumed else None
         if group is None:
             raise
         new = InvalidInputError("", field=exc.field, index=exc.index, path=exc.path, line=exc.line)
-        new.args = (f"{exc} (the file does not state the {group} unit: {assumed[group]} was assumed; give "
-                    f"{_UNIT_ARG[group]}=... (command line: {_UNIT_FLAG[group]}))",)
+        new.args = (
+            f"{exc} (the file does not state the {group} unit: {assumed[group]} was assumed; give "
+            f"{_UNIT_ARG[group]}=... (command line: {_UNIT_FLAG[group]}))",
+        )
         raise new from None
     return Recording(
         left=imu,
@@ -420,4 +484,3 @@ def read_delimited(
             "changes": changes_of("foot", imu),
         },
     )
-

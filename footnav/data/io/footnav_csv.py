@@ -21,8 +21,8 @@ from typing import Any
 import numpy as np
 
 from footnav.core.errors import InvalidInputError
-from footnav.data.io._text import build_imu, changes_of, parse_table, read_text, split_header
 from footnav.core.types import FootTruth, ImuData, Recording
+from footnav.data.io._text import build_imu, changes_of, parse_table, read_text, split_header
 
 __all__ = [
     "read_footnav_csv",
@@ -47,7 +47,7 @@ _UNITS_PREFIX = "units:"
 
 def _parse_units_comment(text: str, path: str, line: int) -> dict[str, str]:
     """``# units: t s, acc m/s^2, gyr rad/s`` -> {"t": "s", "acc": "m/s^2", "gyr": "rad/s"}."""
-    body = text.lstrip("#").strip()[len(_UNITS_PREFIX):]
+    body = text.lstrip("#").strip()[len(_UNITS_PREFIX) :]
     units = {}
     for part in body.split(","):
         words = part.split(None, 1)
@@ -238,7 +238,8 @@ def write_footnav_truth(truth: FootTruth, path: Any) -> FilePath:
         path,
         np.column_stack([truth.t, truth.position, quat, stance]),
         delimiter=",",
-        header=f"frame: {truth.frame} (z up)\nclosed_loop: {str(bool(truth.closed_loop)).lower()}\n" + ",".join(TRUTH_COLUMNS),
+        header=f"frame: {truth.frame} (z up)\nclosed_loop: {str(bool(truth.closed_loop)).lower()}\n"
+        + ",".join(TRUTH_COLUMNS),
         fmt="%.17g",
     )
     return path
@@ -246,15 +247,24 @@ def write_footnav_truth(truth: FootTruth, path: Any) -> FilePath:
 
 def _read_truth(path: FilePath) -> FootTruth:
     text = path.read_text(encoding="utf-8")
-    closed = any(line.strip().lstrip("#").strip() == "closed_loop: true" for line in text.splitlines() if line.startswith("#"))
+    closed = any(
+        line.strip().lstrip("#").strip() == "closed_loop: true" for line in text.splitlines() if line.startswith("#")
+    )
     data = np.loadtxt(path, delimiter=",", comments="#", ndmin=2)
     if data.shape[1] != len(TRUTH_COLUMNS):
         raise InvalidInputError(
-            f"truth file has {data.shape[1]} columns; expected {len(TRUTH_COLUMNS)}: {','.join(TRUTH_COLUMNS)}", path=str(path)
+            f"truth file has {data.shape[1]} columns; expected {len(TRUTH_COLUMNS)}: {','.join(TRUTH_COLUMNS)}",
+            path=str(path),
         )
     quat = None if np.isnan(data[:, 4:8]).any() else data[:, 4:8]
-    return FootTruth(t=data[:, 0], position=data[:, 1:4], quaternion=quat, stance=data[:, 8] > 0.5, closed_loop=closed,
-                     meta={"source": str(path), "stance_source": "file"})
+    return FootTruth(
+        t=data[:, 0],
+        position=data[:, 1:4],
+        quaternion=quat,
+        stance=data[:, 8] > 0.5,
+        closed_loop=closed,
+        meta={"source": str(path), "stance_source": "file"},
+    )
 
 
 def read_footnav_folder(path: Any, **options: Any) -> Recording:
@@ -265,6 +275,14 @@ def read_footnav_folder(path: Any, **options: Any) -> Recording:
     if not left.exists():
         raise InvalidInputError("footnav folder has no left.csv", path=str(folder))
     rec = read_footnav_recording(left, right if right.exists() else None, **options)
-    truths = {foot: _read_truth(folder / f"{foot}_truth.csv") if (folder / f"{foot}_truth.csv").exists() else None for foot in ("left", "right")}
-    return replace(rec, truth_left=truths["left"], truth_right=truths["right"] if rec.right is not None else None, name=folder.name,
-                   meta={**rec.meta, "format": "footnav_folder", "source": str(folder)})
+    truths = {
+        foot: _read_truth(folder / f"{foot}_truth.csv") if (folder / f"{foot}_truth.csv").exists() else None
+        for foot in ("left", "right")
+    }
+    return replace(
+        rec,
+        truth_left=truths["left"],
+        truth_right=truths["right"] if rec.right is not None else None,
+        name=folder.name,
+        meta={**rec.meta, "format": "footnav_folder", "source": str(folder)},
+    )

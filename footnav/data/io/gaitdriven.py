@@ -48,9 +48,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from footnav.core.errors import InvalidInputError
+from footnav.core.types import FootTruth, Recording
 from footnav.data.io._mat import mat_imu, mat_vector, read_mat
 from footnav.data.io._text import build_imu, changes_of, remap_indices
-from footnav.core.types import FootTruth, Recording
 
 __all__ = ["GAITDRIVEN_VARIABLES", "read_gaitdriven"]
 
@@ -128,12 +128,16 @@ def _index_of_times(stride_ts: NDArray[np.float64], ts: NDArray[np.float64], src
         i = int(np.argmax(off))
         raise InvalidInputError(
             f"stride time {stride_ts[i]!r} s is no sample time of timestamps_all ({ts[0]!r} .. {ts[-1]!r} s)",
-            path=src, field="timestamps", index=i,
+            path=src,
+            field="timestamps",
+            index=i,
         )
     return j.astype(np.int64)
 
 
-def _check_stride_times(stride_ts: NDArray[np.float64], ts: NDArray[np.float64], idx: NDArray[np.int64], src: str) -> None:
+def _check_stride_times(
+    stride_ts: NDArray[np.float64], ts: NDArray[np.float64], idx: NDArray[np.int64], src: str
+) -> None:
     """Per-stride times must be the times of the footprint samples (one per strideIndex)."""
     if len(stride_ts) != len(idx):
         raise InvalidInputError(
@@ -146,16 +150,13 @@ def _check_stride_times(stride_ts: NDArray[np.float64], ts: NDArray[np.float64],
         raise InvalidInputError(
             f"stride time {stride_ts[i]!r} s differs from timestamps_all[strideIndex[{i}]] = {ts[idx[i]]!r} s by more "
             "than half a sampling interval",
-            path=src, field="timestamps", index=i,
+            path=src,
+            field="timestamps",
+            index=i,
         )
 
 
-def read_gaitdriven(
-    path: Any,
-    *,
-    drop_duplicates: bool = False,
-    acc_full_scale_mps2: float | None = None,
-) -> Recording:
+def read_gaitdriven(path: Any, *, drop_duplicates: bool = False, acc_full_scale_mps2: float | None = None) -> Recording:
     """Read one trial of the gait-driven mini-data set (Cetin & Koroglu, Turk. J. EE&CS 2026).
 
     Parameters
@@ -243,7 +244,8 @@ def read_gaitdriven(
             },
             "stride_index_base": 0,
             "stride_index_source": index_source,
-            "time_layout": "timestamps per stride, timestamps_all per sample" if stride_ts is not None
+            "time_layout": "timestamps per stride, timestamps_all per sample"
+            if stride_ts is not None
             else "timestamps per sample",
             "stride_index_file": idx_file,
             "gcp_as_stored": gcp,
@@ -276,10 +278,5 @@ def read_gaitdriven(
         left=imu,
         truth_left=truth,
         name=p.stem,
-        meta={
-            "format": FORMAT,
-            "source": src,
-            "units_converted": imu.meta["units_converted"],
-            "changes": changes,
-        },
+        meta={"format": FORMAT, "source": src, "units_converted": imu.meta["units_converted"], "changes": changes},
     )

@@ -34,17 +34,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from footnav.core.errors import DataQualityWarning, InvalidInputError, InvalidParameterError
-from footnav.data.io._text import (
-    TextFile,
-    build_imu,
-    changes_of,
-    parse_table,
-    read_text,
-    remap_indices,
-    split_header,
-)
 from footnav.core.types import GRAVITY_MPS2, FootTruth, Recording
 from footnav.core.warning_log import warn
+from footnav.data.io._text import TextFile, build_imu, changes_of, parse_table, read_text, remap_indices, split_header
 
 __all__ = ["read_gaitmap", "GAITMAP_RATE_HZ", "GAITMAP_MOCAP_RATE_HZ", "GAITMAP_EVENT_NAMES"]
 
@@ -192,9 +184,7 @@ def _read_events(path: Any) -> dict[str, dict[str, Any]]:
                     f"non-numeric value {cell!r} in column {c!r}", path=tf.path, line=k, field=c
                 ) from None
             if np.isfinite(v) and v != round(v):
-                raise InvalidInputError(
-                    f"event {c}={v!r} is not a whole sample index", path=tf.path, line=k, field=c
-                )
+                raise InvalidInputError(f"event {c}={v!r} is not a whole sample index", path=tf.path, line=k, field=c)
             per_foot[foot][c].append(v)
     out = {}
     for foot, cols in per_foot.items():
@@ -333,7 +323,7 @@ def read_gaitmap(
         t_ref, pos = mocap[foot] if mocap is not None else (np.empty(0), np.empty((0, 3)))
         ev = {} if events is None else {k: remap_indices(v, keeps[foot]) for k, v in events[foot]["events"].items()}
         meta: dict[str, Any] = {
-            "time_alignment": "mocap frame / mocap_rate_hz on the IMU clock, assuming both start together",
+            "time_alignment": "mocap frame / mocap_rate_hz on the IMU clock, assuming both start together"
         }
         if mocap is not None:
             meta.update(
@@ -348,12 +338,7 @@ def read_gaitmap(
         if events is not None:
             meta.update(
                 events_source="gaitmap stride events (mocap-derived), " + events[foot]["source"],
-                event_mapping={
-                    "ic": "heel_strike",
-                    "pre_ic": "heel_strike",
-                    "tc": "toe_off",
-                    "min_vel": "mid_stance",
-                },
+                event_mapping={"ic": "heel_strike", "pre_ic": "heel_strike", "tc": "toe_off", "min_vel": "mid_stance"},
                 strides=remap_indices(events[foot]["strides"].astype(np.int64), keeps[foot]),
                 missing_events=events[foot]["missing_events"],
             )

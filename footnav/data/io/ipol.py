@@ -63,10 +63,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from footnav.core.errors import DataNotFoundError, DataQualityWarning, InvalidInputError
-from footnav.data.io._text import changes_of
-from footnav.data.io.xsens import read_xsens
 from footnav.core.types import FootTruth, ImuData, Recording
 from footnav.core.warning_log import warn
+from footnav.data.io._text import changes_of
+from footnav.data.io.xsens import read_xsens
 
 __all__ = ["ipol_trial_files", "read_ipol"]
 
@@ -122,13 +122,18 @@ def _swings(value: Any, src: str, field: str) -> NDArray[np.int64]:
     try:
         arr = np.asarray(value, dtype=np.float64).reshape(-1, 2) if len(value) else np.empty((0, 2))
     except (TypeError, ValueError):
-        raise InvalidInputError("expected a list of [toe_off, heel_strike] counter pairs", path=src, field=field) from None
+        raise InvalidInputError(
+            "expected a list of [toe_off, heel_strike] counter pairs", path=src, field=field
+        ) from None
     bad = ~np.isfinite(arr).all(axis=1) | (arr != np.round(arr)).any(axis=1) | (arr < 0).any(axis=1)
     bad |= arr[:, 0] >= arr[:, 1]
     if bad.any():
         i = int(np.argmax(bad))
         raise InvalidInputError(
-            f"swing {arr[i].tolist()} is not a pair of counters with toe_off < heel_strike", path=src, field=field, index=i
+            f"swing {arr[i].tolist()} is not a pair of counters with toe_off < heel_strike",
+            path=src,
+            field=field,
+            index=i,
         )
     # a swing must end before the next one starts (touching is allowed: a zero-length stance
     # would only be a labelling slip, not an overlap of two swings)
@@ -145,9 +150,7 @@ def _swings(value: Any, src: str, field: str) -> NDArray[np.int64]:
     return arr.astype(np.int64)
 
 
-def _foot_truth(
-    foot: str, imu: ImuData, rate: float, info: dict[str, Any], src: str
-) -> tuple[FootTruth, list[str]]:
+def _foot_truth(foot: str, imu: ImuData, rate: float, info: dict[str, Any], src: str) -> tuple[FootTruth, list[str]]:
     counter = _counters(imu, rate)
     n = len(counter)
     notes: list[str] = []
@@ -218,12 +221,7 @@ def _subject(info: dict[str, Any]) -> dict[str, Any]:
     return out
 
 
-def read_ipol(
-    path: Any,
-    *,
-    drop_duplicates: bool = False,
-    acc_full_scale_mps2: float | None = None,
-) -> Recording:
+def read_ipol(path: Any, *, drop_duplicates: bool = False, acc_full_scale_mps2: float | None = None) -> Recording:
     """Read one trial of the IPOL gait data set (Voisard et al., IPOL 2023, art. 497): both feet.
 
     Parameters
@@ -279,7 +277,9 @@ def read_ipol(
         except (UnicodeDecodeError, json.JSONDecodeError) as exc:
             raise InvalidInputError(f"not a JSON file ({exc})", path=src) from None
         if not isinstance(info, dict) or "TrialBoundaries" not in info:
-            raise InvalidInputError("no 'TrialBoundaries'; expected an IPOL trial description", path=src, field="TrialBoundaries")
+            raise InvalidInputError(
+                "no 'TrialBoundaries'; expected an IPOL trial description", path=src, field="TrialBoundaries"
+            )
         for foot in ("left", "right"):
             truths[foot], notes = _foot_truth(foot, feet[foot], rate, info, src)
             changes += notes
@@ -288,9 +288,7 @@ def read_ipol(
         if "UTurnBoundaries" in info:
             meta["uturn_boundaries_counter"] = _pair(info["UTurnBoundaries"], src, "UTurnBoundaries")
     else:
-        warn(
-            f"IPOL trial {stem!r}: {str(js)!r} not found; read without truth", DataQualityWarning, stacklevel=2
-        )
+        warn(f"IPOL trial {stem!r}: {str(js)!r} not found; read without truth", DataQualityWarning, stacklevel=2)
     changes = changes_of("left", feet["left"]) + changes_of("right", feet["right"]) + changes
     meta.update(
         {

@@ -24,11 +24,14 @@ from __future__ import annotations
 
 import json
 import logging
+from collections.abc import Callable
 from dataclasses import replace
 from pathlib import Path as FilePath
-from typing import Any, Callable
+from typing import Any
 
 from footnav.core.errors import DataNotFoundError, InvalidInputError
+from footnav.core.types import ImuData, Recording
+from footnav.core.warning_log import recording
 from footnav.data.io._text import check_file, split_header
 from footnav.data.io.azure_fgo import AZURE_FGO_FILES, read_azure_fgo
 from footnav.data.io.delimited import auto_columns, example_command, read_delimited, sniff_delimiter
@@ -38,11 +41,9 @@ from footnav.data.io.gaitmap import read_gaitmap
 from footnav.data.io.ipol import ipol_trial_files, read_ipol
 from footnav.data.io.openshoe import OPENSHOE_RATE_HZ, read_openshoe
 from footnav.data.io.pyshoe import read_pyshoe
+from footnav.data.io.ximu import is_ximu_cal_header, read_ximu_cal
 from footnav.data.io.xio import read_xio
 from footnav.data.io.xsens import read_xsens
-from footnav.data.io.ximu import is_ximu_cal_header, read_ximu_cal
-from footnav.core.types import ImuData, Recording
-from footnav.core.warning_log import recording
 
 __all__ = ["load", "guess_format", "reader_options", "READERS"]
 
@@ -188,9 +189,11 @@ def guess_format(path: Any) -> tuple[str, str, dict[str, Any]]:
     numeric = _is_numeric_row(first, 6)
     if not numeric and {"acc", "gyr"} <= set(auto_columns(cells)[0]):
         found = auto_columns(cells)[0]
-        return "delimited", (
-            f"header names give acc and gyr columns ({', '.join(cells[j] for j in found['acc'] + found['gyr'])})"
-        ), {}
+        return (
+            "delimited",
+            (f"header names give acc and gyr columns ({', '.join(cells[j] for j in found['acc'] + found['gyr'])})"),
+            {},
+        )
     if numeric:
         # No header and no time column: the layout fits OpenShoe, but nothing in the file gives the
         # rate, and a wrong rate scales every distance (a 100 Hz file read at 820 Hz: 20 m -> 0.2 m).
@@ -218,7 +221,9 @@ def reader_options(format: str) -> tuple[str, ...]:
     if format in ("footnav_csv", "footnav_folder"):  # options pass through to read_footnav_csv
         reader = read_footnav_csv
     params = list(inspect.signature(reader).parameters.values())[1:]  # after the path
-    return tuple(p.name for p in params if p.kind in (p.KEYWORD_ONLY, p.POSITIONAL_OR_KEYWORD) and not p.name.startswith("_"))
+    return tuple(
+        p.name for p in params if p.kind in (p.KEYWORD_ONLY, p.POSITIONAL_OR_KEYWORD) and not p.name.startswith("_")
+    )
 
 
 def load(path: Any, format: str | None = None, **options: Any) -> Recording:

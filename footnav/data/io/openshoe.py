@@ -12,8 +12,8 @@ from typing import Any
 
 import numpy as np
 
-from footnav.data.io._text import build_imu, changes_of, parse_table, read_text
 from footnav.core.types import Recording
+from footnav.data.io._text import build_imu, changes_of, parse_table, read_text
 
 __all__ = ["read_openshoe", "OPENSHOE_RATE_HZ", "OPENSHOE_COLUMNS"]
 

@@ -38,10 +38,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from footnav.core.errors import DataQualityWarning, InvalidInputError, InvalidParameterError
-from footnav.data.io._mat import mat_imu, mat_vector, read_mat
-from footnav.data.io._text import ROTATE_180_ABOUT_X, build_imu, changes_of
 from footnav.core.types import GRAVITY_MPS2, FootTruth, Recording
 from footnav.core.warning_log import warn
+from footnav.data.io._mat import mat_imu, mat_vector, read_mat
+from footnav.data.io._text import ROTATE_180_ABOUT_X, build_imu, changes_of
 
 __all__ = ["read_pyshoe", "PYSHOE_DETECTORS"]
 

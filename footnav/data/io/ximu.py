@@ -22,9 +22,9 @@ from __future__ import annotations
 from typing import Any
 
 from footnav.core.errors import InvalidInputError
+from footnav.core.types import Recording
 from footnav.data.io._text import read_text, split_header
 from footnav.data.io.delimited import header_line, read_delimited, sniff_delimiter
-from footnav.core.types import Recording
 
 __all__ = ["read_ximu_cal", "XIMU_CAL_HEADER", "XIMU_RATE_HZ", "is_ximu_cal_header"]
 
@@ -33,9 +33,15 @@ FORMAT = "ximu_cal"
 XIMU_RATE_HZ = 256.0
 XIMU_CAL_HEADER = (
     "Packet number",
-    "Gyroscope X (deg/s)", "Gyroscope Y (deg/s)", "Gyroscope Z (deg/s)",
-    "Accelerometer X (g)", "Accelerometer Y (g)", "Accelerometer Z (g)",
-    "Magnetometer X (G)", "Magnetometer Y (G)", "Magnetometer Z (G)",
+    "Gyroscope X (deg/s)",
+    "Gyroscope Y (deg/s)",
+    "Gyroscope Z (deg/s)",
+    "Accelerometer X (g)",
+    "Accelerometer Y (g)",
+    "Accelerometer Z (g)",
+    "Magnetometer X (G)",
+    "Magnetometer Y (G)",
+    "Magnetometer Z (G)",
 )
 _REQUIRED = XIMU_CAL_HEADER[:7]
 
@@ -46,11 +52,7 @@ def is_ximu_cal_header(cells: list[str]) -> bool:
 
 
 def read_ximu_cal(
-    path: Any,
-    rate_hz: float = XIMU_RATE_HZ,
-    *,
-    drop_duplicates: bool = False,
-    acc_full_scale_mps2: float | None = None,
+    path: Any, rate_hz: float = XIMU_RATE_HZ, *, drop_duplicates: bool = False, acc_full_scale_mps2: float | None = None
 ) -> Recording:
     """Read an x-IMU CalInertialAndMag CSV export (one sensor).
 
@@ -77,7 +79,8 @@ def read_ximu_cal(
     if not is_ximu_cal_header(cells):
         raise InvalidInputError(
             f"not an x-IMU CalInertialAndMag header: expected {', '.join(XIMU_CAL_HEADER)}; found {cells}",
-            path=tf.path, line=(first or 0) + 1,
+            path=tf.path,
+            line=(first or 0) + 1,
         )
     has_mag = tuple(cells[7:10]) == XIMU_CAL_HEADER[7:10]
     columns = {"counter": [0], "gyr": [1, 2, 3], "acc": [4, 5, 6], **({"mag": [7, 8, 9]} if has_mag else {})}

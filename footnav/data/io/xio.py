@@ -23,8 +23,8 @@ from typing import Any
 import numpy as np
 
 from footnav.core.errors import InvalidInputError
-from footnav.data.io._text import build_imu, changes_of, parse_table, read_text, split_header
 from footnav.core.types import FootTruth, Recording
+from footnav.data.io._text import build_imu, changes_of, parse_table, read_text, split_header
 
 __all__ = ["read_xio", "XIO_HEADER"]
 
@@ -59,9 +59,7 @@ _UNITS = {
 }
 
 
-def read_xio(
-    path: Any, *, drop_duplicates: bool = False, acc_full_scale_mps2: float | None = None
-) -> Recording:
+def read_xio(path: Any, *, drop_duplicates: bool = False, acc_full_scale_mps2: float | None = None) -> Recording:
     """Read an x-io Gait-Tracking CSV file (one foot).
 
     Parameters

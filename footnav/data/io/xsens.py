@@ -34,9 +34,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from footnav.core.errors import DataQualityWarning, InvalidInputError
-from footnav.data.io._text import build_imu, changes_of, parse_table, read_text, split_header
 from footnav.core.types import Recording
 from footnav.core.warning_log import warn
+from footnav.data.io._text import build_imu, changes_of, parse_table, read_text, split_header
 
 __all__ = ["read_xsens", "XSENS_COUNTER_MODULUS", "unwrap_counter"]
 
@@ -65,11 +65,7 @@ def unwrap_counter(counter: NDArray[np.float64]) -> NDArray[np.int64]:
 
 
 def read_xsens(
-    path: Any,
-    *,
-    rate_hz: float | None = None,
-    drop_duplicates: bool = False,
-    acc_full_scale_mps2: float | None = None,
+    path: Any, *, rate_hz: float | None = None, drop_duplicates: bool = False, acc_full_scale_mps2: float | None = None
 ) -> Recording:
     """Read an Xsens MTw ASCII export (one sensor).
 
@@ -111,8 +107,7 @@ def read_xsens(
             rate_label = "Update Rate" if m.group(1).lower().startswith("update") else "Acquisition frequency"
     if rate_hz is None and file_rate is None:
         raise InvalidInputError(
-            "no 'Update Rate: <r>Hz' (or 'Acquisition frequency: <r> Hz') line before the column header; "
-            "pass rate_hz",
+            "no 'Update Rate: <r>Hz' (or 'Acquisition frequency: <r> Hz') line before the column header; pass rate_hz",
             path=tf.path,
             line=hk + 1,
         )

@@ -31,7 +31,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from footnav.nav import quaternion as quat
+from footnav.core.types import FootTruth, ImuData, Recording
 from footnav.data.simulate.foot import _HEEL_B, _SENSOR_HEIGHT_M, _TOE_B, _foot_motion, _heel_strike_impact
 from footnav.data.simulate.gait import _STANCE, PHASE_NAMES, _plan
 from footnav.data.simulate.magnetometer import magnetometer
@@ -40,7 +40,7 @@ from footnav.data.simulate.options import _NOISE_KEYS, SCENARIOS, _fail, _resolv
 from footnav.data.simulate.options import _SCENARIO_DEFAULTS as _SCENARIO_DEFAULTS  # read by tests/faults
 from footnav.data.simulate.path import _centre_line
 from footnav.data.simulate.sensor import _mirrored_yaw_rate, _sensor_clock, _sensor_errors
-from footnav.core.types import FootTruth, ImuData, Recording
+from footnav.nav import quaternion as quat
 
 __all__ = ["simulate", "SCENARIOS", "PHASE_NAMES"]
 
@@ -50,7 +50,6 @@ _CLOSED_LOOP_TOL_M = 1e-6
 
 def _nearest_index(times: NDArray, rate_hz: float, n: int) -> NDArray[np.int64]:
     return np.clip(np.rint(times * rate_hz), 0, n - 1).astype(np.int64)
-
 
 
 def simulate(scenario: str = "straight", *, seed: int = 0, rate_hz: float = 100.0, **options: Any) -> Recording:
@@ -275,7 +274,8 @@ def simulate(scenario: str = "straight", *, seed: int = 0, rate_hz: float = 100.
 
     end_xy, _ = line(np.array([line.length_m]))
     closed = scenario == "rectangle" or bool(
-        np.linalg.norm(end_xy[0]) < _CLOSED_LOOP_TOL_M and abs(plan_info.get("height_change_m", 0.0)) < _CLOSED_LOOP_TOL_M
+        np.linalg.norm(end_xy[0]) < _CLOSED_LOOP_TOL_M
+        and abs(plan_info.get("height_change_m", 0.0)) < _CLOSED_LOOP_TOL_M
     )
     mount_q = quat.from_euler(*np.radians(opts["mounting_rpy_deg"]))
     mount_t = quat.as_matrix(mount_q).T  # foot -> sensor
@@ -301,14 +301,18 @@ def simulate(scenario: str = "straight", *, seed: int = 0, rate_hz: float = 100.
         gyr_true = motion.gyr @ mount_t.T
         acc_true = (motion.acc + impact_foot) @ mount_t.T
         gyr = gyr_true + errors["gyr_radps"] + errors["gyr_white"]
-        mirrored = _mirrored_yaw_rate(motion, opts["mirrored_yaw_rate_radps"] * (1.0 if foot == "left" else -1.0)) @ mount_t.T
+        mirrored = (
+            _mirrored_yaw_rate(motion, opts["mirrored_yaw_rate_radps"] * (1.0 if foot == "left" else -1.0)) @ mount_t.T
+        )
         if opts["mirrored_yaw_rate_radps"] != 0.0:  # off: the signals stay bit-identical
             gyr = gyr + mirrored
         acc = acc_true + errors["acc_mps2"] + errors["acc_white"]
         biases = {k: errors[k] for k in ("gyr_turn_on_radps", "acc_turn_on_mps2", "gyr_radps", "acc_mps2")}
         biases_all[foot] = {k: biases[k] for k in ("gyr_turn_on_radps", "acc_turn_on_mps2")}
         q_sensor = quat.multiply(motion.quaternion, mount_q)
-        mag, mag_meta = magnetometer(rng_mag[foot], motion.position, q_sensor, opts) if opts["magnetometer"] else (None, {})
+        mag, mag_meta = (
+            magnetometer(rng_mag[foot], motion.position, q_sensor, opts) if opts["magnetometer"] else (None, {})
+        )
         imus[foot] = ImuData(
             t=t,
             acc=acc,

@@ -13,10 +13,10 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from footnav.nav import quaternion as quat
+from footnav.core.types import GRAVITY_MPS2
 from footnav.data.simulate.gait import _FOOT_FLAT, _HEEL_OFF, _STANCE, _SWING, _Swings
 from footnav.data.simulate.profiles import _bump, _polyval, _quintic_coefficients, _smoothstep
-from footnav.core.types import GRAVITY_MPS2
+from footnav.nav import quaternion as quat
 
 # Foot geometry in the foot frame (origin at the sensor on the instep, x forward, z up): the heel
 # contact point and the toe pivot (metatarsal heads), about 0.22 m apart as on an adult foot.
@@ -95,9 +95,7 @@ def _moving_motion(
     """
     n = len(t)
     t_start = np.select(
-        [phase == _HEEL_OFF, phase == _SWING],
-        [sw.t_heel_off[k], sw.t_toe_off[k]],
-        default=sw.t_heel_strike[k],
+        [phase == _HEEL_OFF, phase == _SWING], [sw.t_heel_off[k], sw.t_toe_off[k]], default=sw.t_heel_strike[k]
     )
     durations = np.array([1.0, opts["heel_off_s"], opts["swing_s"], opts["foot_flat_s"]])
     dur = durations[phase]
@@ -166,9 +164,7 @@ def _moving_motion(
     cmat = quat.as_matrix(q)
     s_th, c_th = np.sin(th), np.cos(th)
     omega = np.stack([-s_th * psi_d, th_d, c_th * psi_d], axis=-1)
-    omega_d = np.stack(
-        [-c_th * th_d * psi_d - s_th * psi_dd, th_dd, -s_th * th_d * psi_d + c_th * psi_dd], axis=-1
-    )
+    omega_d = np.stack([-c_th * th_d * psi_d - s_th * psi_dd, th_dd, -s_th * th_d * psi_d + c_th * psi_dd], axis=-1)
 
     # p = X - C c:  v = X' - C (w x c + c'),  a = X'' - C (w' x c + w x (w x c) + 2 w x c' + c'').
     w_c = np.cross(omega, c)

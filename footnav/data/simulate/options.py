@@ -4,8 +4,9 @@ from __future__ import annotations
 
 import difflib
 import math
+from collections.abc import Mapping
 from numbers import Real
-from typing import Any, Mapping
+from typing import Any
 
 import numpy as np
 
@@ -89,8 +90,6 @@ _SCENARIO_DEFAULTS: dict[str, dict[str, Any]] = {
 _DIRECTIONS = ("ccw", "cw")
 
 
-
-
 # Upper bounds of the options (docs/reliability.md): far above any walk or sensor that makes sense,
 # far below where a value exhausts memory or time or overflows. The simulator holds about 1 KB
 # per sample of both feet at its peak (truth, sensor errors and their intermediates), so
@@ -162,8 +161,11 @@ def _magnetometer_options(opts: dict[str, Any]) -> None:
     except (TypeError, ValueError):
         zones = ((),)
     if not all(len(z) == 6 and all(math.isfinite(v) and abs(v) <= 1e6 for v in z) and z[2] > 0 for z in zones):
-        raise _fail("mag_disturbances", opts["mag_disturbances"],
-                    "a sequence of (x_m, y_m, radius_m > 0, bx_ut, by_ut, bz_ut) zones, finite numbers")
+        raise _fail(
+            "mag_disturbances",
+            opts["mag_disturbances"],
+            "a sequence of (x_m, y_m, radius_m > 0, bx_ut, by_ut, bz_ut) zones, finite numbers",
+        )
     opts["mag_disturbances"] = zones
 
 
@@ -251,7 +253,9 @@ def _resolve_options(scenario: Any, rate_hz: Any, options: Mapping[str, Any]) ->
             f"swing_s + max(heel_off_s, foot_flat_s) <= stride_period_s / 2 = {half:g} s so that one foot is "
             "flat while the other swings",
         )
-    if opts["heel_strike_impact_mps2"] > 0 and _IMPACT_CUT * opts["heel_strike_impact_s"] > min(opts["swing_s"], opts["foot_flat_s"]):
+    if opts["heel_strike_impact_mps2"] > 0 and _IMPACT_CUT * opts["heel_strike_impact_s"] > min(
+        opts["swing_s"], opts["foot_flat_s"]
+    ):
         raise _fail(
             "heel_strike_impact_s",
             opts["heel_strike_impact_s"],
@@ -294,15 +298,17 @@ def _check_segments(segments: Any) -> list[tuple[Any, ...]]:
         f"[, tread_m in [{_TREAD_RANGE_M[0]:g}, {_TREAD_RANGE_M[1]:g}]])"
     )
     if segments is None:
-        raise InvalidParameterError(
-            "simulate(): scenario 'path' needs option segments=[(distance_m, turn_deg), ...]"
-        )
+        raise InvalidParameterError("simulate(): scenario 'path' needs option segments=[(distance_m, turn_deg), ...]")
     out: list[tuple[Any, ...]] = []
     try:
         for seg in segments:
             if isinstance(seg, (tuple, list)) and len(seg) in (3, 4) and isinstance(seg[0], str) and seg[0] == "stairs":
                 n_steps = seg[1]
-                if isinstance(n_steps, bool) or not isinstance(n_steps, (int, np.integer)) or not 1 <= n_steps <= _MAX_STAIRS:
+                if (
+                    isinstance(n_steps, bool)
+                    or not isinstance(n_steps, (int, np.integer))
+                    or not 1 <= n_steps <= _MAX_STAIRS
+                ):
                     raise ValueError
                 rise = float(seg[2])
                 tread = float(seg[3]) if len(seg) == 4 else _TREAD_DEFAULT_M

@@ -3,8 +3,9 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any, Sequence
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -25,7 +26,7 @@ class _CentreLine:
     length_m: float
 
     @classmethod
-    def build(cls, pieces: Sequence[tuple[float, float]]) -> "_CentreLine":
+    def build(cls, pieces: Sequence[tuple[float, float]]) -> _CentreLine:
         """From ``(length_m, curvature_per_m)`` pieces; zero-length pieces are dropped."""
         pieces = [(l, k) for l, k in pieces if l > 0]
         start, xy, heading, curvature = [], [], [], []

@@ -37,11 +37,7 @@ def _polyval(c: NDArray, u: NDArray, duration: NDArray) -> tuple[NDArray, NDArra
 def _smoothstep(u: NDArray, duration: float) -> tuple[NDArray, NDArray, NDArray]:
     """Minimum-jerk 0 -> 1 blend and its time derivatives; rest (zero rate and acceleration) at both ends."""
     w = 1.0 - u
-    return (
-        u**3 * (10.0 - 15.0 * u + 6.0 * u**2),
-        30.0 * u**2 * w**2 / duration,
-        60.0 * u * w * (w - u) / duration**2,
-    )
+    return (u**3 * (10.0 - 15.0 * u + 6.0 * u**2), 30.0 * u**2 * w**2 / duration, 60.0 * u * w * (w - u) / duration**2)
 
 
 def _bump(u: NDArray, duration: float) -> tuple[NDArray, NDArray, NDArray]:

@@ -9,9 +9,9 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from footnav.nav import quaternion as quat
 from footnav.data.simulate.foot import _FootMotion
 from footnav.data.simulate.gait import _STANCE
+from footnav.nav import quaternion as quat
 
 
 def _mirrored_yaw_rate(motion: _FootMotion, rate_radps: float) -> NDArray[np.float64]:
@@ -19,7 +19,6 @@ def _mirrored_yaw_rate(motion: _FootMotion, rate_radps: float) -> NDArray[np.flo
     is off the ground (zero in stance): the mirrored drift of ``mirrored_yaw_rate_radps``."""
     up_foot = quat.as_matrix(motion.quaternion)[:, 2, :]  # row 2 of C (foot -> nav) = C^T e_z
     return np.where((motion.phase != _STANCE)[:, None], rate_radps * up_foot, 0.0)
-
 
 
 def _sensor_errors(
@@ -79,8 +78,12 @@ def _sensor_clock(
         rng_ex = np.random.default_rng(seed).spawn(3)[2]
         half = n_ex // 2
         duration = float(t[-1])
-        tm1 = np.concatenate([np.linspace(0.0, min(10.0, duration / 3), half),
-                              np.linspace(max(duration - 10.0, 2 * duration / 3), duration, n_ex - half)])
+        tm1 = np.concatenate(
+            [
+                np.linspace(0.0, min(10.0, duration / 3), half),
+                np.linspace(max(duration - 10.0, 2 * duration / 3), duration, n_ex - half),
+            ]
+        )
         delay, jitter = opts["exchange_delay_s"], opts["exchange_jitter_s"]
         d_up = delay + rng_ex.exponential(jitter, n_ex)
         d_down = delay + rng_ex.exponential(jitter, n_ex)

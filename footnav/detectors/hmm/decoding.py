@@ -22,8 +22,15 @@ from footnav._numba import njit  # numba.njit that survives a read-only install
 from footnav.detectors.hmm.features import ModelGrid
 from footnav.detectors.hmm.model import EVENTS, N_STATES, STANCE
 
-__all__ = ["MIN_STANCE_S", "Decoded", "decode_offline", "min_stance_samples", "on_samples", "transition_events",
-           "viterbi_min_stance"]
+__all__ = [
+    "MIN_STANCE_S",
+    "Decoded",
+    "decode_offline",
+    "min_stance_samples",
+    "on_samples",
+    "transition_events",
+    "viterbi_min_stance",
+]
 
 #: Shortest stance the detector may return, s: the learning check's micro-stance limit
 #: (:data:`~footnav.detectors.hmm.learning.MICRO_STANCE_S`).
@@ -100,8 +107,9 @@ def viterbi_min_stance(model, features: NDArray[np.float64], min_stance: int) ->
     from scipy.stats import multivariate_normal
 
     x = np.asarray(features, dtype=np.float64)
-    log_b = np.column_stack([multivariate_normal(model.means_[k], model.covars_[k], allow_singular=True).logpdf(x)
-                             for k in range(N_STATES)]).reshape(len(x), N_STATES)
+    log_b = np.column_stack(
+        [multivariate_normal(model.means_[k], model.covars_[k], allow_singular=True).logpdf(x) for k in range(N_STATES)]
+    ).reshape(len(x), N_STATES)
     log_a, log_pi = _log(model.transmat_), _log(model.startprob_)
     states = np.empty(len(x), dtype=np.int64)
     score = _viterbi_chain(log_b, log_a, log_pi, int(min_stance), states)
@@ -175,7 +183,4 @@ def transition_events(phases: NDArray[np.int64]) -> dict[str, NDArray[np.int64]]
     """Gait events of :data:`~footnav.detectors.hmm.model.EVENTS`: the first sample of each new
     phase, by the transition that enters it."""
     change = np.flatnonzero(phases[1:] != phases[:-1]) + 1
-    return {
-        name: change[(phases[change - 1] == a) & (phases[change] == b)].astype(np.int64)
-        for name, a, b in EVENTS
-    }
+    return {name: change[(phases[change - 1] == a) & (phases[change] == b)].astype(np.int64) for name, a, b in EVENTS}

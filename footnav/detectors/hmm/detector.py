@@ -22,7 +22,13 @@ from footnav.core.component import MAX_DURATION_S, StanceDetector, require, requ
 from footnav.core.errors import GaitModelError, HmmNotFittedError, InvalidInputError, InvalidParameterError
 from footnav.core.types import ImuData, StanceResult, stance_intervals
 from footnav.core.warning_log import recording
-from footnav.detectors.hmm.decoding import MIN_STANCE_S, decode_offline, min_stance_samples, on_samples, transition_events
+from footnav.detectors.hmm.decoding import (
+    MIN_STANCE_S,
+    decode_offline,
+    min_stance_samples,
+    on_samples,
+    transition_events,
+)
 from footnav.detectors.hmm.features import FEATURES, model_grid
 from footnav.detectors.hmm.learning import learn
 from footnav.detectors.hmm.model import N_STATES, PHASE_NAMES, STANCE, build_hmm, is_cyclic_left_right
@@ -176,8 +182,12 @@ class HmmDetector(StanceDetector):
 
     # -- parameters ---------------------------------------------------------------------------
     def validate_params(self) -> None:
-        require(isinstance(self.features, str) and self.features in FEATURES, self, "features",
-                " or ".join(repr(f) for f in FEATURES))
+        require(
+            isinstance(self.features, str) and self.features in FEATURES,
+            self,
+            "features",
+            " or ".join(repr(f) for f in FEATURES),
+        )
         # Upper bounds: the signal is resampled to model_rate_hz (samples, so time and memory of
         # the fit grow with it; 1 kHz is above any foot IMU's useful band) and the fit runs up to
         # max_iter EM iterations; tol and min_std (of standardised features) are harmless when
@@ -188,8 +198,12 @@ class HmmDetector(StanceDetector):
         require_positive(self, "tol", "min_std", high=1e6)
         # a stance longer than 2 s is not a step's: every step of a walk would be lost
         require_in_range(self, "min_stance_s", low=0.0, high=2.0)
-        require(self.lowpass_cutoff_hz < 0.5 * self.model_rate_hz, self, "lowpass_cutoff_hz",
-                f"below the Nyquist frequency of the model rate ({0.5 * self.model_rate_hz:g} Hz)")
+        require(
+            self.lowpass_cutoff_hz < 0.5 * self.model_rate_hz,
+            self,
+            "lowpass_cutoff_hz",
+            f"below the Nyquist frequency of the model rate ({0.5 * self.model_rate_hz:g} Hz)",
+        )
         require_in_range(self, "max_iter", low=1, high=10_000, integer=True)
         require(_is_int(self.seed) and 0 <= self.seed < 2**32, self, "seed", "an integer in 0 .. 2**32 - 1")
 
@@ -244,8 +258,9 @@ class HmmDetector(StanceDetector):
                 f"detector 'hmm' was fitted with features={self.features_!r}, model_rate_hz={self.model_rate_hz_!r} "
                 f"but now has features={self.features!r}, model_rate_hz={self.model_rate_hz!r}; fit again"
             )
-        return {k: getattr(self, k) for k in ("startprob_", "transmat_", "means_", "covars_", "features_",
-                                               "model_rate_hz_")}
+        return {
+            k: getattr(self, k) for k in ("startprob_", "transmat_", "means_", "covars_", "features_", "model_rate_hz_")
+        }
 
     # -- detection ----------------------------------------------------------------------------
     def detect(self, imu: ImuData) -> StanceResult:
@@ -282,8 +297,9 @@ class HmmDetector(StanceDetector):
         fitted_here = not self.is_fitted
         learned = self._learn([imu]) if fitted_here else self._fitted_model()
         grid = model_grid(imu, learned["features_"], learned["model_rate_hz_"])
-        model = build_hmm(learned["startprob_"], learned["transmat_"], learned["means_"], learned["covars_"],
-                          seed=self.seed)
+        model = build_hmm(
+            learned["startprob_"], learned["transmat_"], learned["means_"], learned["covars_"], seed=self.seed
+        )
         # every stance at least min_stance_s: the stance chain of decoding.viterbi_min_stance
         decoded = decode_offline(model, grid.features, min_stance_samples(learned["model_rate_hz_"], self.min_stance_s))
         phases, score = on_samples(decoded, grid, imu.t)
@@ -371,12 +387,17 @@ class HmmDetector(StanceDetector):
             model_rate = float(doc["model_rate_hz_"])
         except (KeyError, TypeError, ValueError, InvalidParameterError) as exc:
             raise InvalidInputError(f"malformed saved HMM detector ({exc})", path=path_s) from None
-        shapes = {"startprob_": (N_STATES,), "transmat_": (N_STATES, N_STATES), "means_": (N_STATES, n_feat),
-                  "covars_": (N_STATES, n_feat, n_feat)}
+        shapes = {
+            "startprob_": (N_STATES,),
+            "transmat_": (N_STATES, N_STATES),
+            "means_": (N_STATES, n_feat),
+            "covars_": (N_STATES, n_feat, n_feat),
+        }
         for key, shape in shapes.items():
             if arrays[key].shape != shape or not np.all(np.isfinite(arrays[key])):
-                raise InvalidInputError(f"expected finite values of shape {shape}, got {arrays[key].shape}",
-                                        field=key, path=path_s)
+                raise InvalidInputError(
+                    f"expected finite values of shape {shape}, got {arrays[key].shape}", field=key, path=path_s
+                )
         a = arrays["transmat_"]
         if not is_cyclic_left_right(a):
             raise InvalidInputError(

@@ -16,8 +16,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from footnav.core.errors import InvalidInputError
-from footnav.nav.interpolation import interp_columns
 from footnav.core.types import GRAVITY_MPS2, ImuData
+from footnav.nav.interpolation import interp_columns
 
 __all__ = ["FEATURES", "ModelGrid", "lowpass", "model_grid", "significant_axis"]
 

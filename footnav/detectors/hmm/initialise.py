@@ -147,9 +147,7 @@ def initial_guess(
     km = KMeans(n_clusters=N_STATES, n_init=KMEANS_N_INIT, random_state=seed).fit(x)
     labels = km.labels_.astype(np.int64)
     counts = np.bincount(labels, minlength=N_STATES)
-    median_rate = np.array(
-        [np.median(gyr_norm[labels == k]) if counts[k] else np.inf for k in range(N_STATES)]
-    )
+    median_rate = np.array([np.median(gyr_norm[labels == k]) if counts[k] else np.inf for k in range(N_STATES)])
     stance_label = int(np.argmin(median_rate))
     fastest = float(np.max(median_rate[np.isfinite(median_rate)]))
     if fastest < STANDSTILL_MAX_RADPS:
@@ -176,8 +174,7 @@ def initial_guess(
     if len(km_run_s):
         min_stance_s = min(min_stance_s, REORDER_STANCE_FRACTION * float(np.quantile(km_run_s, 0.9)))
     order = cyclic_order_votes(
-        labels, axis_signal, rate, stance_label=stance_label, min_stance_s=min_stance_s,
-        lengths=lengths,
+        labels, axis_signal, rate, stance_label=stance_label, min_stance_s=min_stance_s, lengths=lengths
     )
     if order.n_movements < MIN_GAIT_CYCLES:
         raise InvalidInputError(

@@ -105,8 +105,10 @@ def baum_welch(
             model.covars_ = model.covars_ + reg
             log_prob = float(model.monitor_.history[-1])
             if history and log_prob - history[-1] < -EM_DECREASE_TOL:
-                handler.messages.append(f"footnav: log-likelihood decreased from {history[-1]} to {log_prob} "
-                                        f"(delta {log_prob - history[-1]})")
+                handler.messages.append(
+                    f"footnav: log-likelihood decreased from {history[-1]} to {log_prob} "
+                    f"(delta {log_prob - history[-1]})"
+                )
             history.append(log_prob)
             if len(history) >= 2 and history[-1] - history[-2] < tol:
                 break
@@ -127,8 +129,12 @@ def check_model(model, x: NDArray, lengths: Sequence[int], gyr_norm: NDArray, ra
       movement and the stance state is visited for one or two samples at zero crossings of the
       swing's rate: false steps); a single one is tolerated.
     """
-    states = np.concatenate([model.decode(x[a:b], algorithm="viterbi")[1]
-                             for a, b in zip(np.cumsum([0, *lengths[:-1]]), np.cumsum(lengths))])
+    states = np.concatenate(
+        [
+            model.decode(x[a:b], algorithm="viterbi")[1]
+            for a, b in zip(np.cumsum([0, *lengths[:-1]]), np.cumsum(lengths))
+        ]
+    )
     med = [float(np.median(gyr_norm[states == k])) if np.any(states == k) else float("inf") for k in range(N_STATES)]
     stillest = bool(np.argmin(med) == STANCE and med[STANCE] < STANDSTILL_MAX_RADPS)
     runs = stance_intervals(states == STANCE)
@@ -171,8 +177,15 @@ def learn(
     x = np.concatenate([g.features for g in grids])
     lengths = [len(g.features) for g in grids]
     total_s = sum(imu.duration_s for imu in recordings)
-    guess = initial_guess(x, lengths, rate, total_s=total_s, lowpass_cutoff_hz=lowpass_cutoff_hz,
-                          reorder_min_stance_s=reorder_min_stance_s, seed=seed)
+    guess = initial_guess(
+        x,
+        lengths,
+        rate,
+        total_s=total_s,
+        lowpass_cutoff_hz=lowpass_cutoff_hz,
+        reorder_min_stance_s=reorder_min_stance_s,
+        seed=seed,
+    )
     z0, startprob, transmat, order = guess.z0, guess.startprob, guess.transmat, guess.order
     gyr_norm = np.linalg.norm(x[:, :3], axis=1)
     em_params = {"seed": seed, "max_iter": int(max_iter), "tol": float(tol)}
@@ -201,7 +214,8 @@ def learn(
             )
         warn(
             f"HmmDetector: the learned model failed the check after decoding ({first['problem']}); "
-            f"{fallback['action']}" + ("" if check["ok"] else f", still: {check['problem']}")
+            f"{fallback['action']}"
+            + ("" if check["ok"] else f", still: {check['problem']}")
             + "; recorded in fit_info_['fallback']",
             DataQualityWarning,
             stacklevel=3,

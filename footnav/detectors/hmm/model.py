@@ -36,7 +36,7 @@ STANCE, PUSH_UP, SWING, STEP_DOWN = range(len(PHASE_NAMES))
 N_STATES = len(PHASE_NAMES)
 
 #: Allowed transitions of eq. (1): state k stays or moves to k+1, step-down returns to stance.
-STRUCTURE = (np.eye(N_STATES, dtype=bool) | np.roll(np.eye(N_STATES, dtype=bool), 1, axis=1))
+STRUCTURE = np.eye(N_STATES, dtype=bool) | np.roll(np.eye(N_STATES, dtype=bool), 1, axis=1)
 STRUCTURE.setflags(write=False)
 
 #: Gait events marked at each transition (name, from state, to state), at the first sample of the new state.
@@ -65,8 +65,7 @@ def initial_emissions(
 
 
 def build_hmm(
-    startprob: NDArray, transmat: NDArray, means: NDArray, covars: NDArray, *, seed: int,
-    implementation: str = "log",
+    startprob: NDArray, transmat: NDArray, means: NDArray, covars: NDArray, *, seed: int, implementation: str = "log"
 ):
     """hmmlearn's ``GaussianHMM`` of eq. (1)-(2) with these values.
 

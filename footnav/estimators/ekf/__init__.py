@@ -27,6 +27,15 @@ from footnav.estimators.ekf.online import OnlineInsFilter
 from footnav.estimators.ekf.smoother import SMOOTHERS, SegmentRecords, StepSmoother, smooth
 
 __all__ = [
-    "MAX_SEGMENT_EVENTS", "SMOOTHERS", "Checkpoint", "EkfEstimator", "FilterNoise", "FilterState", "InsFilter", "OnlineInsFilter",
-    "SegmentRecords", "StepSmoother", "smooth",
+    "MAX_SEGMENT_EVENTS",
+    "SMOOTHERS",
+    "Checkpoint",
+    "EkfEstimator",
+    "FilterNoise",
+    "FilterState",
+    "InsFilter",
+    "OnlineInsFilter",
+    "SegmentRecords",
+    "StepSmoother",
+    "smooth",
 ]

@@ -75,8 +75,28 @@ def _chain_steps(ev_foot, ev_k, ev_kind, used, n, n_feet, d, out_p, sm_p, offset
 
 
 @njit(cache=True, error_model="numpy")
-def smooth_back(fill, chain, cov, mu, d, n, n_feet, q_diag, clip_row, clip_q, rec, out_q, out_v, out_p, sm, kt, dq, q_tmp,
-                offset, seen):
+def smooth_back(
+    fill,
+    chain,
+    cov,
+    mu,
+    d,
+    n,
+    n_feet,
+    q_diag,
+    clip_row,
+    clip_q,
+    rec,
+    out_q,
+    out_v,
+    out_p,
+    sm,
+    kt,
+    dq,
+    q_tmp,
+    offset,
+    seen,
+):
     """Bryson-Frazier backward pass over the recorded events ``fill[0] - 1`` down to 0 (and
     their ``fill[1]`` update rows) of the event log ``rec``
     (:class:`~footnav.estimators.ekf._records.Record`, read by its named fields and kinds).

@@ -26,7 +26,9 @@ _LINE = 64
 _STAGGER = 7 * _LINE
 
 
-def staggered(specs: Sequence[tuple[tuple[int, ...], DTypeLike]], *, zero: bool = False, first: int = 0) -> list[NDArray]:
+def staggered(
+    specs: Sequence[tuple[tuple[int, ...], DTypeLike]], *, zero: bool = False, first: int = 0
+) -> list[NDArray]:
     """C-contiguous, writable arrays of the given (shape, dtype), each starting at a different
     offset within a memory page and aligned to a cache line, all views of one buffer.
 

@@ -37,8 +37,27 @@ from footnav.nav.mechanization import strapdown_step
 from footnav.nav.quaternion import as_matrix_nb
 
 __all__ = [
-    "APART", "DONE", "FULL", "MODE_BACK", "MODE_CLOSE", "MODE_FILTER", "MODE_RECORD", "MODE_STEP", "MODE_WHOLE", "NOT_PD",
-    "STEP_END", "ZARU_GATE", "Buffers", "Mode", "Model", "Replay", "Span", "Stop", "Watch", "clip_rows", "run",
+    "APART",
+    "DONE",
+    "FULL",
+    "MODE_BACK",
+    "MODE_CLOSE",
+    "MODE_FILTER",
+    "MODE_RECORD",
+    "MODE_STEP",
+    "MODE_WHOLE",
+    "NOT_PD",
+    "STEP_END",
+    "ZARU_GATE",
+    "Buffers",
+    "Mode",
+    "Model",
+    "Replay",
+    "Span",
+    "Stop",
+    "Watch",
+    "clip_rows",
+    "run",
 ]
 
 #: Chi-square gate of the zero-angular-rate update: 3 degrees of freedom, 99.9 %.
@@ -282,8 +301,28 @@ def _replay_log(replay, event, state, n, ws, record, rec, fill):
 def _cut(bufs, step, cov, model, n_feet, out, ws):
     """The backward pass over what is recorded (a step, a full buffer or a segment); the
     record starts again."""
-    smooth_back(bufs.fill, step, cov, bufs.mu, bufs.d, model.n, n_feet, model.q_diag, model.clip_row, model.clip_q, bufs.rec,
-                out.q, out.v, out.p, bufs.sm, ws.kt, ws.dq, ws.q_tmp, ws.offset, ws.seen)
+    smooth_back(
+        bufs.fill,
+        step,
+        cov,
+        bufs.mu,
+        bufs.d,
+        model.n,
+        n_feet,
+        model.q_diag,
+        model.clip_row,
+        model.clip_q,
+        bufs.rec,
+        out.q,
+        out.v,
+        out.p,
+        bufs.sm,
+        ws.kt,
+        ws.dq,
+        ws.q_tmp,
+        ws.offset,
+        ws.seen,
+    )
     bufs.fill[0] = 0
     bufs.fill[1] = 0
 
@@ -386,7 +425,23 @@ def run(samples, span, state, model, out, mode, bufs, ws, watch, replay):
                 # at or before each is processed now
                 t_next = t[k[f] + 1] if f >= 0 else np.inf
                 if _apart(w_times, w_index, w_bound, p, t_next, t_stop):
-                    status = _watched(watch, replay, stance, k, state, model, ws, record, step, bufs, t_next, t_stop, r_before + events, n_feet, out)
+                    status = _watched(
+                        watch,
+                        replay,
+                        stance,
+                        k,
+                        state,
+                        model,
+                        ws,
+                        record,
+                        step,
+                        bufs,
+                        t_next,
+                        t_stop,
+                        r_before + events,
+                        n_feet,
+                        out,
+                    )
                     if status >= 0:
                         return status, events
         if f < 0:
@@ -414,8 +469,11 @@ def run(samples, span, state, model, out, mode, bufs, ws, watch, replay):
             u = 0
             for i in range(3):
                 for m in range(i, 3):
-                    qv = (c_next[i, 0] * c_next[m, 0] * clip_var[j, 0] + c_next[i, 1] * c_next[m, 1] * clip_var[j, 1]
-                          + c_next[i, 2] * c_next[m, 2] * clip_var[j, 2])
+                    qv = (
+                        c_next[i, 0] * c_next[m, 0] * clip_var[j, 0]
+                        + c_next[i, 1] * c_next[m, 1] * clip_var[j, 1]
+                        + c_next[i, 2] * c_next[m, 2] * clip_var[j, 2]
+                    )
                     clip_q[j, u] = qv
                     u += 1
                     cov[o + VEL + i, o + VEL + m] += qv

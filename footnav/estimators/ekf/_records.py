@@ -215,7 +215,11 @@ class EventKind(IntEnum):
 
 
 #: :class:`EventKind` as plain ints, which the compiled code compares with.
-EV_SAMPLE, EV_OWN_UPDATE, EV_CALLER_UPDATE = int(EventKind.SAMPLE), int(EventKind.OWN_UPDATE), int(EventKind.CALLER_UPDATE)
+EV_SAMPLE, EV_OWN_UPDATE, EV_CALLER_UPDATE = (
+    int(EventKind.SAMPLE),
+    int(EventKind.OWN_UPDATE),
+    int(EventKind.CALLER_UPDATE),
+)
 
 #: Update rows an event of each kind takes (a sample: one when it has updates, else none).
 CALLER_UPDATE_ROWS = 2
@@ -301,7 +305,7 @@ SMOOTHED_PLACE = RECORD_PLACE + 11
 
 
 def empty_record(
-    big: int, n: int = 0, columns: int = 6, *, rows: int | None = None, zero: bool = True, bias_states: bool = True,
+    big: int, n: int = 0, columns: int = 6, *, rows: int | None = None, zero: bool = True, bias_states: bool = True
 ) -> Record:
     """Buffers of the compiled loop's :class:`Record` for ``n`` events and ``rows`` update rows
     (default ``n``) of a filter with ``big`` error states and ``columns`` gain columns: 3 per
@@ -313,19 +317,25 @@ def empty_record(
     i8, f8 = np.int64, np.float64
     cols = max(3, columns)
     r = n if rows is None else int(rows)
-    return Record(*staggered([
-        ((n,), i8),  # foot
-        ((n,), i8),  # global sample index
-        ((n, 3), f8),  # f^n dt at the start of the interval
-        ((n,), f8),  # dt
-        ((n if bias_states else 0, 3, 3), f8),  # C at the start of the interval (bias states only)
-        ((n,), np.int32),  # kind (EventKind)
-        ((n,), np.int32),  # width: gain columns of its update rows
-        ((r, 2), i8),  # per update row: first error state of each update's 3-block
-        ((r, big, cols), f8),  # K, three columns per update; a caller's: K, then H' in the next row
-        ((r, cols), f8),  # S^-1 y (two updates of 3 at a sample, or a caller's)
-        ((r, cols), f8),  # y
-    ], zero=zero, first=RECORD_PLACE))
+    return Record(
+        *staggered(
+            [
+                ((n,), i8),  # foot
+                ((n,), i8),  # global sample index
+                ((n, 3), f8),  # f^n dt at the start of the interval
+                ((n,), f8),  # dt
+                ((n if bias_states else 0, 3, 3), f8),  # C at the start of the interval (bias states only)
+                ((n,), np.int32),  # kind (EventKind)
+                ((n,), np.int32),  # width: gain columns of its update rows
+                ((r, 2), i8),  # per update row: first error state of each update's 3-block
+                ((r, big, cols), f8),  # K, three columns per update; a caller's: K, then H' in the next row
+                ((r, cols), f8),  # S^-1 y (two updates of 3 at a sample, or a caller's)
+                ((r, cols), f8),  # y
+            ],
+            zero=zero,
+            first=RECORD_PLACE,
+        )
+    )
 
 
 class UpdateLog(NamedTuple):
@@ -377,6 +387,23 @@ def work(big: int, n_feet: int, rows: int = 6) -> Work:
     to ``rows`` rows."""
     z = np.zeros
     return Work(
-        z((3, 3)), z((3, 3)), z(4), z(4), z(3), z(3), z(3), z(3), z(3), z(6), z(3), z(3),
-        z(big), z((big, 3)), z((big, 3)), z((3, big)), z(max(rows, 6)), z((n_feet, 3)), z(n_feet),
+        z((3, 3)),
+        z((3, 3)),
+        z(4),
+        z(4),
+        z(3),
+        z(3),
+        z(3),
+        z(3),
+        z(3),
+        z(6),
+        z(3),
+        z(3),
+        z(big),
+        z((big, 3)),
+        z((big, 3)),
+        z((3, big)),
+        z(max(rows, 6)),
+        z((n_feet, 3)),
+        z(n_feet),
     )

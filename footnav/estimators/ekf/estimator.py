@@ -31,6 +31,7 @@ from footnav.core.component import (
     require_positive,
 )
 from footnav.core.errors import InvalidParameterError
+from footnav.core.types import FULL_SCALE_RATIO, FootTrajectory, ImuData, StanceResult, clipped_acc, stance_intervals
 from footnav.estimators.ekf._records import FilterNoise
 from footnav.estimators.ekf.filter import InsFilter
 from footnav.estimators.ekf.online import OnlineInsFilter
@@ -41,7 +42,6 @@ from footnav.nav.heading import turn_to_first_step
 from footnav.nav.heading_drift import TURN_ON_BIAS_STD_RADPS, heading_drift_cov, standstill_rate_std
 from footnav.nav.initial_alignment import align_first_stance
 from footnav.nav.stance_edges import settled_mask
-from footnav.core.types import FULL_SCALE_RATIO, FootTrajectory, ImuData, StanceResult, clipped_acc, stance_intervals
 
 __all__ = ["EkfEstimator", "GYRO_BIAS_STD_FLOOR_RADPS"]
 
@@ -241,13 +241,11 @@ class EkfEstimator(FootEstimator):
     def validate_params(self) -> None:
         # Upper bounds (footnav.core.component): every std and noise density is squared into the
         # filter's covariance, where 1e308 overflows to inf and turns the estimate into NaN.
-        require_positive(self, "acc_noise_mps2_sqrthz", "acc_bias_walk_mps3_sqrthz", "init_acc_bias_std_mps2", high=MAX_ACC_MPS2)
         require_positive(
-            self,
-            "gyr_noise_radps_sqrthz",
-            "still_gyr_max_radps",
-            "gyr_bias_walk_radps2_sqrthz",
-            high=MAX_RATE_RADPS,
+            self, "acc_noise_mps2_sqrthz", "acc_bias_walk_mps3_sqrthz", "init_acc_bias_std_mps2", high=MAX_ACC_MPS2
+        )
+        require_positive(
+            self, "gyr_noise_radps_sqrthz", "still_gyr_max_radps", "gyr_bias_walk_radps2_sqrthz", high=MAX_RATE_RADPS
         )
         if self.init_gyr_bias_std_radps is not None:
             require_positive(self, "init_gyr_bias_std_radps", high=MAX_RATE_RADPS)
@@ -315,7 +313,9 @@ class EkfEstimator(FootEstimator):
         self.validate_params()
         n_feet = len(imus)
         yaws = [0.0] * n_feet if initial_yaw_rad is None else list(initial_yaw_rad)
-        p0 = [np.zeros(3)] * n_feet if initial_position_m is None else [np.asarray(x, float) for x in initial_position_m]
+        p0 = (
+            [np.zeros(3)] * n_feet if initial_position_m is None else [np.asarray(x, float) for x in initial_position_m]
+        )
         starts, q0, bg0, metas = [], [], [], []
         for imu, stance, yaw in zip(imus, stances, yaws):
             s0, align, meta = self._align(imu, stance)
@@ -338,9 +338,18 @@ class EkfEstimator(FootEstimator):
             zaru_std_radps=float(self.zaru_std_radps),
         )
         filt = OnlineInsFilter(
-            [imu.t for imu in imus], [imu.acc for imu in imus], [imu.gyr for imu in imus],
-            [np.asarray(st.mask, dtype=bool) for st in stances], starts, q0, p0, bg0,
-            np.array(cov0), noise, self.n_states, clip_var=[self._clip_var(imu, m) for imu, m in zip(imus, metas)],
+            [imu.t for imu in imus],
+            [imu.acc for imu in imus],
+            [imu.gyr for imu in imus],
+            [np.asarray(st.mask, dtype=bool) for st in stances],
+            starts,
+            q0,
+            p0,
+            bg0,
+            np.array(cov0),
+            noise,
+            self.n_states,
+            clip_var=[self._clip_var(imu, m) for imu, m in zip(imus, metas)],
             zupt=[self._zupt(imu, st) for imu, st in zip(imus, stances)],
         )
         filt.meta = metas
@@ -422,7 +431,9 @@ class EkfEstimator(FootEstimator):
         if self.gyro_bias == "initial-standstill":
             meta["gyro_bias_radps"] = align.gyro_bias_radps.tolist()
             # the bias estimate's standard error: the yaw-rate error the 9-state filter keeps
-            meta["gyro_bias_sem_radps"] = standstill_rate_std(imu.gyr, align.start, align.stop, self.still_gyr_max_radps)
+            meta["gyro_bias_sem_radps"] = standstill_rate_std(
+                imu.gyr, align.start, align.stop, self.still_gyr_max_radps
+            )
         return s0, align, meta
 
     def finish(self, filt: InsFilter, stances: Sequence[StanceResult]) -> list[FootTrajectory]:
@@ -433,7 +444,14 @@ class EkfEstimator(FootEstimator):
         return [self.trajectory(filt, foot, stance, smoothed) for foot, stance in enumerate(stances)]
 
     def trajectory(
-        self, filt: InsFilter, foot: int, stance: StanceResult, smoothed=None, *, copy: bool = True, heading: bool = False
+        self,
+        filt: InsFilter,
+        foot: int,
+        stance: StanceResult,
+        smoothed=None,
+        *,
+        copy: bool = True,
+        heading: bool = False,
     ) -> FootTrajectory:
         """Foot ``foot``'s result of a finished filter run.
 
@@ -455,8 +473,18 @@ class EkfEstimator(FootEstimator):
             pos, vel, q_out = pos.copy(), vel.copy(), q_out.copy()
             pos_cov = pos_cov if self.heading_drift_in_std and self.n_states == 9 else pos_cov.copy()
         return self.package(
-            fed.t, q_out, vel, pos, pos_cov, filt.start_index(foot), filt.meta[foot], stance.intervals,
-            smoothed=smoothed is not None, heading=heading, biases=self.final_biases(filt, foot), swing_rise=swing,
+            fed.t,
+            q_out,
+            vel,
+            pos,
+            pos_cov,
+            filt.start_index(foot),
+            filt.meta[foot],
+            stance.intervals,
+            smoothed=smoothed is not None,
+            heading=heading,
+            biases=self.final_biases(filt, foot),
+            swing_rise=swing,
         )
 
     def final_biases(self, filt: InsFilter, foot: int) -> tuple | None:
@@ -465,7 +493,11 @@ class EkfEstimator(FootEstimator):
         if not self.bias_states:
             return None
         cov = np.diag(filt.covariance)
-        return (*filt.biases(foot), np.sqrt(cov[filt.block(foot, "acc_bias")]), np.sqrt(cov[filt.block(foot, "gyr_bias")]))
+        return (
+            *filt.biases(foot),
+            np.sqrt(cov[filt.block(foot, "acc_bias")]),
+            np.sqrt(cov[filt.block(foot, "gyr_bias")]),
+        )
 
     def package(
         self,
@@ -494,19 +526,34 @@ class EkfEstimator(FootEstimator):
         if biases is not None:
             ba, bg, ba_std, bg_std = biases
             meta["acc_bias_mps2"], meta["gyr_bias_radps"] = np.asarray(ba).tolist(), np.asarray(bg).tolist()
-            meta["acc_bias_std_mps2"], meta["gyr_bias_std_radps"] = np.asarray(ba_std).tolist(), np.asarray(bg_std).tolist()
+            meta["acc_bias_std_mps2"], meta["gyr_bias_std_radps"] = (
+                np.asarray(ba_std).tolist(),
+                np.asarray(bg_std).tolist(),
+            )
         # the smoothed covariance is at most the filtered one: std is the forward filter's, plus
         # the heading drift it does not model (a new array: the filter's own stays as it is)
         if self.heading_drift_in_std and self.n_states == 9:
             rate_std = filter_meta.get("gyro_bias_sem_radps", self.init_gyr_bias_std_radps or TURN_ON_BIAS_STD_RADPS)
             drift = heading_drift_cov(t, vel, start_index, rate_std, self.yaw_bias_walk_radps2_sqrthz)
             pos_cov = np.concatenate([pos_cov[:, :3] + drift, pos_cov[:, 3:]], axis=1)
-            meta["heading_drift"] = {"yaw_rate_std_radps": float(rate_std), "yaw_bias_walk_radps2_sqrthz": float(self.yaw_bias_walk_radps2_sqrthz)}
+            meta["heading_drift"] = {
+                "yaw_rate_std_radps": float(rate_std),
+                "yaw_bias_walk_radps2_sqrthz": float(self.yaw_bias_walk_radps2_sqrthz),
+            }
         if heading:
             pos, vel, q, std = turn_to_first_step(pos, vel, q, pos_cov, steps, meta)
         else:
             std = np.sqrt(np.maximum(pos_cov[:, [0, 2, 3]], 0.0))
-        return FootTrajectory(t=t, position=pos, velocity=vel, quaternion=q, position_std=std, steps=steps, meta=meta, swing_rise_m=swing_rise)
+        return FootTrajectory(
+            t=t,
+            position=pos,
+            velocity=vel,
+            quaternion=q,
+            position_std=std,
+            steps=steps,
+            meta=meta,
+            swing_rise_m=swing_rise,
+        )
 
     # -- the estimator ---------------------------------------------------------------------------
     def estimate(self, imu: ImuData, stance: StanceResult) -> FootTrajectory:

@@ -25,12 +25,43 @@ from footnav.core.errors import InvalidInputError
 from footnav.estimators.ekf._buffers import staggered
 from footnav.estimators.ekf._kernels import feedback_all
 from footnav.estimators.ekf._loop import (
-    APART, DONE, FULL, MODE_BACK, MODE_CLOSE, MODE_FILTER, MODE_RECORD, MODE_STEP, NOT_PD, STEP_END, Buffers, Model, Replay, Span,
-    Watch, clip_rows, run,
+    APART,
+    DONE,
+    FULL,
+    MODE_BACK,
+    MODE_CLOSE,
+    MODE_FILTER,
+    MODE_RECORD,
+    MODE_STEP,
+    NOT_PD,
+    STEP_END,
+    Buffers,
+    Model,
+    Replay,
+    Span,
+    Watch,
+    clip_rows,
+    run,
 )
 from footnav.estimators.ekf._records import (
-    ACC_BIAS, ATT, GYR_BIAS, POS, VEL, CallerUpdate, Checkpoint, FilterNoise, FilterState, Outputs, Record, Samples, Smoothed,
-    UpdateLog, Work, empty_log, empty_record, work,
+    ACC_BIAS,
+    ATT,
+    GYR_BIAS,
+    POS,
+    VEL,
+    CallerUpdate,
+    Checkpoint,
+    FilterNoise,
+    FilterState,
+    Outputs,
+    Record,
+    Samples,
+    Smoothed,
+    UpdateLog,
+    Work,
+    empty_log,
+    empty_record,
+    work,
 )
 from footnav.nav.kalman import DENSE_BAD_INPUT, DENSE_NOT_PD, update_dense
 from footnav.nav.quaternion import as_matrix
@@ -38,10 +69,19 @@ from footnav.nav.quaternion import as_matrix
 __all__ = ["MAX_SEGMENT_EVENTS", "InsFilter"]
 
 
-def _watch(times: NDArray[np.float64], bound_m: float = 0.0, var_m2: float = 0.0, symmetric: bool = False, start: int = 0) -> Watch:
+def _watch(
+    times: NDArray[np.float64], bound_m: float = 0.0, var_m2: float = 0.0, symmetric: bool = False, start: int = 0
+) -> Watch:
     """The loop's :class:`~footnav.estimators.ekf._loop.Watch` (typed alike for every call: one
     compilation)."""
-    return Watch(times, float(bound_m), float(var_m2), bool(symmetric), np.array([start], dtype=np.int64), np.zeros(1, dtype=np.int64))
+    return Watch(
+        times,
+        float(bound_m),
+        float(var_m2),
+        bool(symmetric),
+        np.array([start], dtype=np.int64),
+        np.zeros(1, dtype=np.int64),
+    )
 
 
 #: Largest number of samples between two checkpoints (and in a step-wise smoother's buffer):
@@ -138,9 +178,28 @@ class InsFilter:
         # smoother 0.42 -> 0.50 us/sample (10-min walk)
         total = int(self._offsets[-1])
         f8 = np.float64
-        self._t, self._acc, self._gyr, self._stance, self._zupt, self._out_q, self._out_v, self._out_p, self._out_pcov = staggered(
-            [((total,), f8), ((total, 3), f8), ((total, 3), f8), ((total,), np.bool_), ((total,), np.bool_),
-             ((total, 4), f8), ((total, 3), f8), ((total, 3), f8), ((total, 4), f8)]
+        (
+            self._t,
+            self._acc,
+            self._gyr,
+            self._stance,
+            self._zupt,
+            self._out_q,
+            self._out_v,
+            self._out_p,
+            self._out_pcov,
+        ) = staggered(
+            [
+                ((total,), f8),
+                ((total, 3), f8),
+                ((total, 3), f8),
+                ((total,), np.bool_),
+                ((total,), np.bool_),
+                ((total, 4), f8),
+                ((total, 3), f8),
+                ((total, 3), f8),
+                ((total, 4), f8),
+            ]
         )
         zupt = stance if zupt is None else zupt
         for dst, src in ((self._t, t), (self._acc, acc), (self._gyr, gyr), (self._stance, stance), (self._zupt, zupt)):
@@ -177,7 +236,12 @@ class InsFilter:
             self._out_v[a : k + 1] = 0.0
             self._out_p[a : k + 1] = self._p[f]
             o = f * n_states + POS
-            self._out_pcov[a : k + 1] = [self._cov[o, o], self._cov[o, o + 1], self._cov[o + 1, o + 1], self._cov[o + 2, o + 2]]
+            self._out_pcov[a : k + 1] = [
+                self._cov[o, o],
+                self._cov[o, o + 1],
+                self._cov[o + 1, o + 1],
+                self._cov[o + 2, o + 2],
+            ]
         self._n_events = 0
         self._since_checkpoint = 0
         # the loop's own updates (run_range_constrained), for replays; entries so far
@@ -188,7 +252,15 @@ class InsFilter:
         self._no_sm = Smoothed(np.zeros((0, 4)), np.zeros((0, 3)), np.zeros((0, 3)))
         self._no_vec = np.zeros(big)
         self._no_bufs = Buffers(empty_record(big), self._no_sm, np.zeros(2, dtype=np.int64), self._no_vec, self._no_vec)
-        self._model = Model(n_states, self._q_diag, float(noise.zupt_std_mps**2), float(noise.zaru_std_radps**2), self._clip_row, rows_var, np.zeros((len(rows_var), 6)))
+        self._model = Model(
+            n_states,
+            self._q_diag,
+            float(noise.zupt_std_mps**2),
+            float(noise.zaru_std_radps**2),
+            self._clip_row,
+            rows_var,
+            np.zeros((len(rows_var), 6)),
+        )
         self._work = work(big, nf)
         self._fast = EntryPoints(run)
         self._dense: dict[int, tuple] = {}  # update's scratch by rows
@@ -260,8 +332,14 @@ class InsFilter:
 
     # -- growing and restarting ----------------------------------------------------------------
     def extend(
-        self, t: NDArray[np.float64], acc: NDArray[np.float64], gyr: NDArray[np.float64], stance: NDArray[np.bool_],
-        *, foot: int = 0, zupt: NDArray[np.bool_] | None = None,
+        self,
+        t: NDArray[np.float64],
+        acc: NDArray[np.float64],
+        gyr: NDArray[np.float64],
+        stance: NDArray[np.bool_],
+        *,
+        foot: int = 0,
+        zupt: NDArray[np.bool_] | None = None,
     ) -> None:
         """Give the filter the foot's next samples, after those it has (a stream's new samples);
         ``zupt``: those that get a zero-velocity update (default: the stance).
@@ -312,7 +390,15 @@ class InsFilter:
             self.segment_records = type(self.segment_records)(self, self.segment_records.budget_bytes / 1e6)
 
     # -- acting --------------------------------------------------------------------------------
-    def _call(self, mode: int, span: Span, state: FilterState, bufs: Buffers, watch: Watch | None = None, replay: Replay | None = None):
+    def _call(
+        self,
+        mode: int,
+        span: Span,
+        state: FilterState,
+        bufs: Buffers,
+        watch: Watch | None = None,
+        replay: Replay | None = None,
+    ):
         """One call of the compiled loop from ``state`` (a :class:`FilterState`); ``replay``
         default the forward run's (nothing to replay; new entries after the filter's), ``watch``
         default none."""
@@ -329,7 +415,9 @@ class InsFilter:
         ws = self._scratch(bufs.rec)
         args = (self._in, span, state, self._model, self._out, mode, bufs, ws, watch, replay)
         if state is self._state:  # the filter's own arrays: the loop's entry point, typed once
-            out = self._fast(args, held=(self._in, state, self._model, self._out, *bufs, ws), fresh=(span, mode, watch, replay))
+            out = self._fast(
+                args, held=(self._in, state, self._model, self._out, *bufs, ws), fresh=(span, mode, watch, replay)
+            )
         else:
             out = run(*args)
         if forward and replay is not None:
@@ -378,7 +466,7 @@ class InsFilter:
         return None
 
     def run_range_constrained(
-        self, times: NDArray[np.float64], bound_m: float, std_m: float, symmetric: bool = False, start: int = 0,
+        self, times: NDArray[np.float64], bound_m: float, std_m: float, symmetric: bool = False, start: int = 0
     ) -> tuple[int | None, int]:
         """Run through ``times`` (s, increasing) from index ``start``, enforcing a range
         constraint at each: where the feet are more than ``bound_m`` apart, their positions are
@@ -435,7 +523,13 @@ class InsFilter:
             else:
                 mode, bufs = MODE_FILTER, self._no_bufs
             # a checkpoint at least every MAX_SEGMENT_EVENTS: the smoother re-runs one at a time
-            span = Span(self._stop_at, self._k, float(t_stop), MAX_SEGMENT_EVENTS - self._since_checkpoint, bool(self.step_stops))
+            span = Span(
+                self._stop_at,
+                self._k,
+                float(t_stop),
+                MAX_SEGMENT_EVENTS - self._since_checkpoint,
+                bool(self.step_stops),
+            )
             reason, events = self._call(mode, span, self._state, bufs, watch)
             self._n_events += events
             self._since_checkpoint += events
@@ -450,7 +544,11 @@ class InsFilter:
         """A checkpoint here; ``state=False`` leaves its state to the caller (an update sets it
         after changing the state: a copy now would be thrown away); ``full``: the loop stopped
         for room (the record's chunk closes here)."""
-        cp = self._checkpoint(step_end=step_end) if state else Checkpoint(self._n_events, self._k.copy(), None, step_end=step_end, n_log=self._n_log)
+        cp = (
+            self._checkpoint(step_end=step_end)
+            if state
+            else Checkpoint(self._n_events, self._k.copy(), None, step_end=step_end, n_log=self._n_log)
+        )
         self.checkpoints.append(cp)
         self._since_checkpoint = 0
         if self.segment_records is not None:  # before any update at this instant changes P
@@ -547,7 +645,9 @@ class InsFilter:
         h[np.arange(len(idx)), idx] = 1.0
         return h
 
-    def update_position(self, foot: int, z: NDArray[np.float64], std_m: float | NDArray[np.float64], axes: int = 3) -> NDArray[np.float64]:
+    def update_position(
+        self, foot: int, z: NDArray[np.float64], std_m: float | NDArray[np.float64], axes: int = 3
+    ) -> NDArray[np.float64]:
         """Position measurement ``z`` (m, nav) of ``foot``'s first ``axes`` axes (2: horizontal)."""
         sl = self.block(foot, "pos")
         h = self.selection(np.arange(sl.start, sl.start + axes))
@@ -569,19 +669,25 @@ class InsFilter:
         run's (the loop is deterministic)."""
         ca, cb = self.checkpoints[a], self.checkpoints[b]
         n_ev = cb.n_events - ca.n_events
-        replay = Replay(self._log, ca.n_events, np.array([ca.n_log], dtype=np.int64), cb.n_log)  # the loop's own updates again
+        replay = Replay(
+            self._log, ca.n_events, np.array([ca.n_log], dtype=np.int64), cb.n_log
+        )  # the loop's own updates again
         span = Span(cb.k.copy(), ca.k.copy(), np.inf, n_ev, False)
         _, events = self._call(mode, span, ca.state.copy(), Buffers(record, smoothed, fill, mu, d), replay=replay)
         if events != n_ev:  # pragma: no cover - the checkpoints come from this very loop
             raise RuntimeError("replay did not reproduce the forward run")
 
-    def smooth_kept(self, record: Record, fill: NDArray[np.int64], cov: NDArray[np.float64], smoothed: Smoothed, mu, d) -> None:
+    def smooth_kept(
+        self, record: Record, fill: NDArray[np.int64], cov: NDArray[np.float64], smoothed: Smoothed, mu, d
+    ) -> None:
         """The whole-walk smoother's backward pass over a chunk of segments (``MODE_BACK``;
         :class:`~footnav.estimators.ekf.smoother.SegmentRecords`): the ``fill`` (events, update
         rows) of ``record``, ``cov`` the covariance after its last event."""
         fill = np.array(fill, dtype=np.int64)
         state = self._state._replace(cov=cov)  # only cov is read
-        self._call(MODE_BACK, Span(self._stop_at, self._k, -np.inf, 0, False), state, Buffers(record, smoothed, fill, mu, d))
+        self._call(
+            MODE_BACK, Span(self._stop_at, self._k, -np.inf, 0, False), state, Buffers(record, smoothed, fill, mu, d)
+        )
 
     def outputs(self, foot: int | None = None) -> Outputs:
         """Per-sample attitude, velocity, position and position covariance (xx, xy, yy, zz) of

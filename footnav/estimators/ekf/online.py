@@ -59,7 +59,12 @@ class OnlineInsFilter(InsFilter):
         return q, v, p, pcov
 
     def rebase(
-        self, keep_from: Sequence[int], capacity: Sequence[int], *, at: int | None = None, step_smoother: bool | None = None,
+        self,
+        keep_from: Sequence[int],
+        capacity: Sequence[int],
+        *,
+        at: int | None = None,
+        step_smoother: bool | None = None,
     ) -> OnlineInsFilter:
         """The next segment: a filter holding each foot's samples from ``keep_from[f]`` on (those
         given so far), with room for ``capacity[f]``, a checkpoint at every step end.
@@ -95,14 +100,26 @@ class OnlineInsFilter(InsFilter):
         new.meta = self.meta
         return new
 
-    def _segment(self, keep: list[int], capacity: Sequence[int], base: list[int], step_smoother: bool) -> OnlineInsFilter:
+    def _segment(
+        self, keep: list[int], capacity: Sequence[int], base: list[int], step_smoother: bool
+    ) -> OnlineInsFilter:
         """A filter over the kept samples (its noise and initial covariance this one's)."""
         n, feet = self.n_states, range(self.n_feet)
         samples = [tuple(x[keep[f] :] for x in self.samples(f)) for f in feet]
         new = OnlineInsFilter(
-            [x[0] for x in samples], [x[1] for x in samples], [x[2] for x in samples], [x[3] for x in samples], list(base),
-            [self.quaternion(f) for f in feet], [self.position(f) for f in feet], [self.biases(f)[1] for f in feet],
-            np.diag(self.covariance)[:n], self.noise, n, capacity=[int(c) for c in capacity], zupt=[x[4] for x in samples],
+            [x[0] for x in samples],
+            [x[1] for x in samples],
+            [x[2] for x in samples],
+            [x[3] for x in samples],
+            list(base),
+            [self.quaternion(f) for f in feet],
+            [self.position(f) for f in feet],
+            [self.biases(f)[1] for f in feet],
+            np.diag(self.covariance)[:n],
+            self.noise,
+            n,
+            capacity=[int(c) for c in capacity],
+            zupt=[x[4] for x in samples],
         )
         new.step_stops = True
         if step_smoother:

@@ -131,7 +131,9 @@ class SegmentRecords:
         if full or self.fill[0] >= self.capacity:
             self._close()
 
-    def add_update(self, checkpoint: int, h: NDArray, gain: NDArray, sy: NDArray, y: NDArray, cov: NDArray[np.float64]) -> None:
+    def add_update(
+        self, checkpoint: int, h: NDArray, gain: NDArray, sy: NDArray, y: NDArray, cov: NDArray[np.float64]
+    ) -> None:
         """Record a caller's update at ``checkpoint``'s instant (``cov``: the covariance after
         it) in the open chunk when that chunk ends at ``checkpoint`` and has room; else the chunk
         closes there."""
@@ -202,7 +204,9 @@ def has_room(record: Record, fill: NDArray[np.int64]) -> bool:
     return events_left >= 1 and len(record.gain) - int(fill[1]) - 2 >= events_left - 1
 
 
-def write_caller_update(record: Record, fill: NDArray[np.int64], h: NDArray, gain: NDArray, sy: NDArray, y: NDArray) -> None:
+def write_caller_update(
+    record: Record, fill: NDArray[np.int64], h: NDArray, gain: NDArray, sy: NDArray, y: NDArray
+) -> None:
     """Record a caller's update of m rows as the ``EV_CALLER_UPDATE`` event at ``fill[0]`` (its
     ``width`` m): K, S^-1 y and y in update row ``fill[1]``, H' in the next
     (:func:`footnav.estimators.ekf._backward.smooth_back` reads them); ``fill`` is advanced."""
@@ -257,7 +261,9 @@ class StepSmoother:
         if not has_room(self.record, self.fill):
             filt.close_step(self)
         if m > self.record.gain.shape[2]:  # more rows than any update so far: widen the record
-            wide = empty_record(len(self.mu), self.capacity, m, rows=len(self.record.gain), bias_states=self.bias_states)
+            wide = empty_record(
+                len(self.mu), self.capacity, m, rows=len(self.record.gain), bias_states=self.bias_states
+            )
             for old, new in zip(self.record, wide):
                 new[tuple(slice(0, s) for s in old.shape)] = old
             self.record = wide
@@ -317,7 +323,9 @@ def smooth(filt: InsFilter, mode: Literal["whole", "step"] = "whole") -> Smoothe
             mu += h.T @ (sy - gain.T @ mu)
         if chunk is None:  # a filter without chunks: re-run the segment to record it
             if record is None:
-                longest = max(cps[c].n_events - cps[c - 1].n_events + cps[c].n_log - cps[c - 1].n_log for c in range(1, len(cps)))
+                longest = max(
+                    cps[c].n_events - cps[c - 1].n_events + cps[c].n_log - cps[c - 1].n_log for c in range(1, len(cps))
+                )
                 record = empty_record(big, longest, filt.record_columns, bias_states=filt.n_states == 15)
             filt.replay(b - 1, b, MODE_WHOLE, record, sm, fill, mu, d)
             b -= 1

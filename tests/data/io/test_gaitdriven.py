@@ -6,11 +6,11 @@ import numpy as np
 import pytest
 from scipy.io import savemat
 
-from footnav.data.datasets import data_dir
-from footnav.core.errors import DataNotFoundError, InvalidInputError
-from footnav.data.io import guess_format, load, read_gaitdriven
 from footnav.analysis.metrics import ate_rmse
+from footnav.core.errors import DataNotFoundError, InvalidInputError
 from footnav.core.types import GRAVITY_MPS2
+from footnav.data.datasets import data_dir
+from footnav.data.io import guess_format, load, read_gaitdriven
 
 
 def _mat(path, n=400, stride=None, gcp=None):
@@ -133,7 +133,6 @@ def test_real_mountings_differ_but_axes_are_kept(gd_dir):
     assert a.meta["body_rotation"]["applied"] is None
 
 
-
 def _mat_per_stride(path, n=400, with_stride_index=True, shift_s=0.0):
     """The other published layout: ``timestamps`` per stride, ``timestamps_all`` per sample."""
     rng = np.random.default_rng(1)
@@ -142,8 +141,12 @@ def _mat_per_stride(path, n=400, with_stride_index=True, shift_s=0.0):
     t_all = np.arange(n) * 0.005
     stride = np.array([50, 150, 250, n - 1])
     gcp = np.array([[0.0, 0.0], [0.6, 0.1], [1.2, 0.2], [1.8, 0.3]])
-    mat = {"imu_data": np.hstack((acc, gyr)), "timestamps": (t_all[stride] + shift_s)[None, :],
-           "timestamps_all": t_all[None, :], "GCP": gcp}
+    mat = {
+        "imu_data": np.hstack((acc, gyr)),
+        "timestamps": (t_all[stride] + shift_s)[None, :],
+        "timestamps_all": t_all[None, :],
+        "GCP": gcp,
+    }
     if with_stride_index:
         mat["strideIndex"] = stride[None, :]
     savemat(path, mat)

@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from footnav.core.errors import DataNotFoundError, InvalidInputError
-from footnav.data.io import read_azure_fgo
 from footnav.core.types import GRAVITY_MPS2
+from footnav.data.io import read_azure_fgo
 
 IMU_HEADER = "time_index,acc_x,acc_y,acc_z,gyro_x,gyro_y,gyro_z,is_zero_vel"
 GT_HEADER = "time_index,pos_left_x,pos_left_y,pos_left_z,pos_right_x,pos_right_y,pos_right_z"

@@ -10,9 +10,9 @@ import pytest
 
 import footnav
 from footnav.cli import main
-from footnav.data.io import guess_format, load, read_delimited, read_ximu_cal
 from footnav.core.errors import DataQualityWarning, InvalidInputError
 from footnav.core.types import GRAVITY_MPS2
+from footnav.data.io import guess_format, load, read_delimited, read_ximu_cal
 
 G = GRAVITY_MPS2
 D2R = np.pi / 180.0
@@ -61,7 +61,9 @@ def test_defaulted_units_are_recorded_and_named_when_the_data_contradict_them(tm
 def test_delimiters_comments_and_columns_by_index_with_ms_time(tmp_path, sep):
     p = tmp_path / "log.txt"
     rows = [sep.join([repr(5.0 * i), *r.split(",")]) for i, r in enumerate(_g_rows(10))]
-    p.write_text("# logger v2\n# rate 200 Hz\n" + "\n".join(rows[:4]) + "\n# pause marker\n" + "\n".join(rows[4:]) + "\n")
+    p.write_text(
+        "# logger v2\n# rate 200 Hz\n" + "\n".join(rows[:4]) + "\n# pause marker\n" + "\n".join(rows[4:]) + "\n"
+    )
     rec = load(p, format="delimited", columns="t=0,acc=1:4,gyr=4:7", t_unit="ms", acc_unit="g", gyr_unit="deg/s")
     imu = rec.left
     np.testing.assert_allclose(imu.t, np.arange(10) * 0.005)
@@ -71,12 +73,19 @@ def test_delimiters_comments_and_columns_by_index_with_ms_time(tmp_path, sep):
 
 def test_columns_by_header_name_in_any_order_with_header_units(tmp_path):
     p = tmp_path / "odd.csv"
-    p.write_text("w1 [deg/s],w2 [deg/s],w3 [deg/s],f1,f2,f3,stamp\n"
-                 + "\n".join(f"1.5,-3,{0.5 * i!r},0.01,-0.02,{1.0 + 0.001 * i!r},{0.01 * i!r}" for i in range(10)) + "\n")
+    p.write_text(
+        "w1 [deg/s],w2 [deg/s],w3 [deg/s],f1,f2,f3,stamp\n"
+        + "\n".join(f"1.5,-3,{0.5 * i!r},0.01,-0.02,{1.0 + 0.001 * i!r},{0.01 * i!r}" for i in range(10))
+        + "\n"
+    )
     with pytest.raises(InvalidInputError, match=r"cannot tell the format.*--format delimited --columns"):
         guess_format(p)
-    rec = load(p, format="delimited", columns={"t": "stamp", "acc": "f1,f2,f3", "gyr": ["w1 [deg/s]", "w2 [deg/s]", "w3 [deg/s]"]},
-               acc_unit="g")
+    rec = load(
+        p,
+        format="delimited",
+        columns={"t": "stamp", "acc": "f1,f2,f3", "gyr": ["w1 [deg/s]", "w2 [deg/s]", "w3 [deg/s]"]},
+        acc_unit="g",
+    )
     np.testing.assert_allclose(rec.left.gyr[4], [1.5 * D2R, -3 * D2R, 2.0 * D2R])  # deg/s from the header
     np.testing.assert_allclose(rec.left.acc[4, 2], 1.004 * G)
     np.testing.assert_allclose(rec.left.t, np.arange(10) * 0.01)
@@ -87,15 +96,20 @@ def test_unknown_header_error_gives_an_example_from_the_file(tmp_path):
     p.write_text("alpha,beta,gamma,delta,eps,zeta\n" + "\n".join(_g_rows(5)) + "\n")
     with pytest.raises(InvalidInputError) as err:
         load(p)
-    assert "--format delimited --columns" in str(err.value) and "acc=alpha,beta,gamma,gyr=delta,eps,zeta" in str(err.value)
+    assert "--format delimited --columns" in str(err.value) and "acc=alpha,beta,gamma,gyr=delta,eps,zeta" in str(
+        err.value
+    )
     assert "--rate-hz 100" in str(err.value)
 
 
 def test_counter_column_is_not_a_time(tmp_path):
     p = tmp_path / "c.csv"
     counters = [0, 1, 2, 3, 5, 6, 7, 8, 9, 10]  # one packet lost after 3
-    p.write_text("SampleIndex,AccX,AccY,AccZ,GyrX,GyrY,GyrZ\n"
-                 + "\n".join(f"{c}," + r for c, r in zip(counters, _g_rows(10))) + "\n")
+    p.write_text(
+        "SampleIndex,AccX,AccY,AccZ,GyrX,GyrY,GyrZ\n"
+        + "\n".join(f"{c}," + r for c, r in zip(counters, _g_rows(10)))
+        + "\n"
+    )
     with pytest.raises(InvalidInputError, match=r"'SampleIndex' is a packet counter, not a time"):
         load(p, acc_unit="g", gyr_unit="deg/s")
     with pytest.warns(DataQualityWarning, match=r"counter column 'SampleIndex'.*index 4"):
@@ -113,12 +127,20 @@ def test_bad_inputs_are_named(tmp_path):
         load(p, rate_hz=100.0, acc_unit="g", gyr_unit="deg/s")
     assert (err.value.line, err.value.field) == (8, "AccY")
     q = tmp_path / "t.csv"
-    q.write_text("time,AccX,AccY,AccZ,GyrX,GyrY,GyrZ\n" + "\n".join(f"{0.01 * i!r}," + r for i, r in enumerate(_g_rows(10))) + "\n")
+    q.write_text(
+        "time,AccX,AccY,AccZ,GyrX,GyrY,GyrZ\n"
+        + "\n".join(f"{0.01 * i!r}," + r for i, r in enumerate(_g_rows(10)))
+        + "\n"
+    )
     with pytest.raises(InvalidInputError, match="has a time column") as err:
         load(q, rate_hz=100.0)
     assert err.value.field == "rate_hz"
-    for spec, match in (("acc=1:3,gyr=4:7", "needs 3"), ("acc=AccQ,AccY,AccZ,gyr=4:7", "'AccQ'.*not found"),
-                        ("speed=1,acc=1:4,gyr=4:7", "unknown column group"), ("acc=1:4,gyr=5:8", "outside")):
+    for spec, match in (
+        ("acc=1:3,gyr=4:7", "needs 3"),
+        ("acc=AccQ,AccY,AccZ,gyr=4:7", "'AccQ'.*not found"),
+        ("speed=1,acc=1:4,gyr=4:7", "unknown column group"),
+        ("acc=1:4,gyr=5:8", "outside"),
+    ):
         with pytest.raises(InvalidInputError, match=match) as err:
             read_delimited(q, columns=spec)
         assert err.value.field == "columns"
@@ -158,23 +180,77 @@ def test_cli_runs_plain_ximu_and_mapped_tables_with_flags_only(tmp_path, capsys)
     left, acc_g, gyr_dps = _walk_columns()
     n = len(left)
     plain = tmp_path / "plain.csv"
-    np.savetxt(plain, np.column_stack([acc_g, gyr_dps]), delimiter=",", header="AccX,AccY,AccZ,GyrX,GyrY,GyrZ",
-               comments="", fmt="%.10g")
-    assert main(["run", "--left", str(plain), "--rate-hz", "100", "--acc-unit", "g", "--gyr-unit", "deg/s",
-                 "--out", str(tmp_path / "a")]) == 0
+    np.savetxt(
+        plain,
+        np.column_stack([acc_g, gyr_dps]),
+        delimiter=",",
+        header="AccX,AccY,AccZ,GyrX,GyrY,GyrZ",
+        comments="",
+        fmt="%.10g",
+    )
+    assert (
+        main(
+            [
+                "run",
+                "--left",
+                str(plain),
+                "--rate-hz",
+                "100",
+                "--acc-unit",
+                "g",
+                "--gyr-unit",
+                "deg/s",
+                "--out",
+                str(tmp_path / "a"),
+            ]
+        )
+        == 0
+    )
     doc = _summary(tmp_path / "a")
     assert doc["provenance"]["input"]["left"]["format"] == "delimited"
     assert doc["summary"]["left_path_length_m"] == pytest.approx(10.0, abs=0.5)
     ximu = tmp_path / "CalInertialAndMag.csv"
-    np.savetxt(ximu, np.column_stack([np.arange(n) + 1, gyr_dps, acc_g, np.tile([0.3, -0.1, -0.45], (n, 1))]),
-               delimiter=",", header=XIMU_HEADER, comments="", fmt="%.10g")
+    np.savetxt(
+        ximu,
+        np.column_stack([np.arange(n) + 1, gyr_dps, acc_g, np.tile([0.3, -0.1, -0.45], (n, 1))]),
+        delimiter=",",
+        header=XIMU_HEADER,
+        comments="",
+        fmt="%.10g",
+    )
     assert main(["run", "--left", str(ximu), "--rate-hz", "100", "--out", str(tmp_path / "b")]) == 0
     assert _summary(tmp_path / "b")["summary"]["left_path_length_m"] == pytest.approx(10.0, abs=0.5)
     mapped = tmp_path / "log.tsv"
-    np.savetxt(mapped, np.column_stack([gyr_dps, left.t * 1e3, acc_g]), delimiter="\t", fmt="%.10g",
-               header="exported by a logger", comments="# ")
-    assert main(["run", "--left", str(mapped), "--format", "delimited", "--columns", "t=3,acc=4:7,gyr=0:3", "--t-unit", "ms",
-                 "--acc-unit", "g", "--gyr-unit", "deg/s", "--out", str(tmp_path / "c")]) == 0
+    np.savetxt(
+        mapped,
+        np.column_stack([gyr_dps, left.t * 1e3, acc_g]),
+        delimiter="\t",
+        fmt="%.10g",
+        header="exported by a logger",
+        comments="# ",
+    )
+    assert (
+        main(
+            [
+                "run",
+                "--left",
+                str(mapped),
+                "--format",
+                "delimited",
+                "--columns",
+                "t=3,acc=4:7,gyr=0:3",
+                "--t-unit",
+                "ms",
+                "--acc-unit",
+                "g",
+                "--gyr-unit",
+                "deg/s",
+                "--out",
+                str(tmp_path / "c"),
+            ]
+        )
+        == 0
+    )
     assert _summary(tmp_path / "c")["summary"]["left_path_length_m"] == pytest.approx(10.0, abs=0.5)
     capsys.readouterr()
     # --columns does not apply to a named format
@@ -184,8 +260,11 @@ def test_cli_runs_plain_ximu_and_mapped_tables_with_flags_only(tmp_path, capsys)
 
 def test_footnav_columns_in_another_order_stay_footnav_csv_and_headerless_tables_map_by_index(tmp_path):
     p = tmp_path / "reordered.csv"
-    p.write_text("# units: t s, acc g, gyr deg/s\nacc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z,t\n"
-                 + "\n".join(r + f",{0.01 * i!r}" for i, r in enumerate(_g_rows(10))) + "\n")
+    p.write_text(
+        "# units: t s, acc g, gyr deg/s\nacc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z,t\n"
+        + "\n".join(r + f",{0.01 * i!r}" for i, r in enumerate(_g_rows(10)))
+        + "\n"
+    )
     assert guess_format(p)[0] == "footnav_csv"
     np.testing.assert_allclose(load(p).left.gyr[2, 2], 1.0 * D2R)
     q = tmp_path / "bare.txt"

@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from footnav.core.errors import DataNotFoundError, DataQualityWarning, InvalidInputError
-from footnav.data.io import read_footnav_csv, read_footnav_recording, write_footnav_csv
 from footnav.core.types import GRAVITY_MPS2, ImuData
+from footnav.data.io import read_footnav_csv, read_footnav_recording, write_footnav_csv
 
 HEADER = "t,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z"
 

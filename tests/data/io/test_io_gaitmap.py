@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 from footnav.core.errors import DataQualityWarning, InvalidInputError
-from footnav.data.io import read_gaitmap
 from footnav.core.types import GRAVITY_MPS2
+from footnav.data.io import read_gaitmap
 
 AXES = ("acc_x", "acc_y", "acc_z", "gyr_x", "gyr_y", "gyr_z")
 RATE = 204.8

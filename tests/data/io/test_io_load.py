@@ -10,10 +10,23 @@ import pytest
 from scipy.io import savemat
 
 from footnav.core.errors import DataNotFoundError, DataQualityWarning, InvalidInputError
-from footnav.data.io import READERS, load, write_footnav_csv
 from footnav.core.types import GRAVITY_MPS2, ImuData
+from footnav.data.io import READERS, load, write_footnav_csv
 
-KNOWN = {"footnav_folder", "footnav_csv", "gaitmap", "azure_fgo", "xio", "openshoe", "pyshoe", "xsens", "ipol", "gaitdriven", "ximu_cal", "delimited"}
+KNOWN = {
+    "footnav_folder",
+    "footnav_csv",
+    "gaitmap",
+    "azure_fgo",
+    "xio",
+    "openshoe",
+    "pyshoe",
+    "xsens",
+    "ipol",
+    "gaitdriven",
+    "ximu_cal",
+    "delimited",
+}
 
 
 def _rows(n, sep=",", first=lambda i: repr(i * 0.01)):
@@ -44,7 +57,8 @@ def _make(kind, tmp):
         p.write_text(
             "Time (s),Gyroscope X (deg/s),Gyroscope Y (deg/s),Gyroscope Z (deg/s),Accelerometer X (g),"
             "Accelerometer Y (g),Accelerometer Z (g)\n"
-            + "\n".join(f"{i * 0.01!r},0.1,-0.2,0.3,0.01,-0.02,{1.0 + 0.001 * i!r}" for i in range(10)) + "\n"
+            + "\n".join(f"{i * 0.01!r},0.1,-0.2,0.3,0.01,-0.02,{1.0 + 0.001 * i!r}" for i in range(10))
+            + "\n"
         )
         return p
     if kind == "ximu_cal":
@@ -52,7 +66,8 @@ def _make(kind, tmp):
         p.write_text(
             "Packet number,Gyroscope X (deg/s),Gyroscope Y (deg/s),Gyroscope Z (deg/s),Accelerometer X (g),"
             "Accelerometer Y (g),Accelerometer Z (g),Magnetometer X (G),Magnetometer Y (G),Magnetometer Z (G)\n"
-            + "\n".join(f"{i + 1},0.1,-0.2,0.3,0.01,-0.02,{1.0 + 0.001 * i!r},0.3,-0.1,-0.4" for i in range(10)) + "\n"
+            + "\n".join(f"{i + 1},0.1,-0.2,0.3,0.01,-0.02,{1.0 + 0.001 * i!r},0.3,-0.1,-0.4" for i in range(10))
+            + "\n"
         )
         return p
     if kind == "delimited":
@@ -91,8 +106,15 @@ def _make(kind, tmp):
     if kind == "gaitdriven":
         p = tmp / "SensorConnectData_99_LLIO.mat"
         imu = np.tile([0.0, 0.0, -GRAVITY_MPS2, 0, 0, 0], (10, 1)) + 1e-3 * np.arange(60).reshape(10, 6)
-        savemat(p, {"imu_data": imu, "timestamps": (np.arange(10) / 200.0)[None, :],
-                    "strideIndex": np.array([[2, 9]]), "GCP": np.array([[0.0, 0.0], [0.6, 0.1]])})
+        savemat(
+            p,
+            {
+                "imu_data": imu,
+                "timestamps": (np.arange(10) / 200.0)[None, :],
+                "strideIndex": np.array([[2, 9]]),
+                "GCP": np.array([[0.0, 0.0], [0.6, 0.1]]),
+            },
+        )
         return p
     if kind == "ipol":
         header = "Acquisition frequency: 100 Hz\nPacketCounter\tAcc_X\tAcc_Y\tAcc_Z\tGyr_X\tGyr_Y\tGyr_Z\n"

@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 from footnav.core.errors import DataQualityWarning, InvalidInputError
-from footnav.data.io import read_openshoe
 from footnav.core.types import GRAVITY_MPS2
+from footnav.data.io import read_openshoe
 
 
 def _write(path, acc, gyr):

@@ -9,8 +9,8 @@ import pytest
 from scipy.io import savemat
 
 from footnav.core.errors import DataNotFoundError, DataQualityWarning, InvalidInputError
-from footnav.data.io import read_pyshoe
 from footnav.core.types import GRAVITY_MPS2
+from footnav.data.io import read_pyshoe
 
 N = 400
 

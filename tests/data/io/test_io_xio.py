@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 from footnav.core.errors import DataQualityWarning, InvalidInputError
-from footnav.data.io import read_xio
 from footnav.core.types import GRAVITY_MPS2
+from footnav.data.io import read_xio
 
 HEADER = (
     "Time (s),Gyroscope X (deg/s),Gyroscope Y (deg/s),Gyroscope Z (deg/s),"
@@ -85,7 +85,10 @@ def test_shared_walks(shared_file, name, n_rows, n_dup, dup_line, dup_index, max
     assert any(issubclass(w.category, DataQualityWarning) and "dropped" in str(w.message) for w in record)
     imu = rec.left
     assert imu.meta["duplicates_dropped"]["count"] == n_dup
-    assert imu.meta["duplicates_dropped"]["first_line"] == dup_line and imu.meta["duplicates_dropped"]["indices"][0] == dup_index
+    assert (
+        imu.meta["duplicates_dropped"]["first_line"] == dup_line
+        and imu.meta["duplicates_dropped"]["indices"][0] == dup_index
+    )
     assert imu.meta["duplicates_dropped"]["exact_row_copies"] == n_dup  # all exact copies
     assert imu.n_samples == n_rows - n_dup
     assert imu.rate_hz == pytest.approx(398.3, abs=1.0)

@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 from footnav.core.errors import DataQualityWarning, InvalidInputError
-from footnav.data.io import read_xsens
 from footnav.core.types import GRAVITY_MPS2
+from footnav.data.io import read_xsens
 
 PREAMBLE = [
     "// General information:",
@@ -30,9 +30,19 @@ COLUMNS = ["PacketCounter", "SampleTimeFine", "Acc_X", "Acc_Y", "Acc_Z", "Gyr_X"
 def _write(path, counters, *, sep="\t", preamble=PREAMBLE, columns=COLUMNS):
     rows = []
     for k, c in enumerate(counters):
-        vals = {"PacketCounter": str(c), "SampleTimeFine": str(1000 * k), "Acc_X": "0.1", "Acc_Y": "-0.2",
-                "Acc_Z": repr(GRAVITY_MPS2 + 1e-4 * k), "Gyr_X": "0.001", "Gyr_Y": repr(0.002 * k), "Gyr_Z": "0",
-                "Mag_X": "0.5", "Mag_Y": "-0.3", "Mag_Z": "0.8"}
+        vals = {
+            "PacketCounter": str(c),
+            "SampleTimeFine": str(1000 * k),
+            "Acc_X": "0.1",
+            "Acc_Y": "-0.2",
+            "Acc_Z": repr(GRAVITY_MPS2 + 1e-4 * k),
+            "Gyr_X": "0.001",
+            "Gyr_Y": repr(0.002 * k),
+            "Gyr_Z": "0",
+            "Mag_X": "0.5",
+            "Mag_Y": "-0.3",
+            "Mag_Z": "0.8",
+        }
         rows.append(sep.join(vals[c] for c in columns))
     path.write_text("\n".join(list(preamble) + [sep.join(columns)] + rows) + "\n")
 
@@ -122,8 +132,10 @@ def test_acquisition_frequency_preamble(tmp_path):
     # and a float PacketCounter ("0.0"): the rate comes from that line, time from the counter.
     p = tmp_path / "ipol_like.txt"
     cols = ["PacketCounter", "Acc_X", "Acc_Y", "Acc_Z", "Gyr_X", "Gyr_Y", "Gyr_Z", "Mag_X", "Mag_Y", "Mag_Z"]
-    rows = [f"{c:.1f}\t0.1\t-0.2\t{GRAVITY_MPS2 + 1e-4 * k!r}\t0.001\t{0.002 * k!r}\t0\t0.5\t-0.3\t0.8"
-            for k, c in enumerate([0, 1, 2, 4, 5])]
+    rows = [
+        f"{c:.1f}\t0.1\t-0.2\t{GRAVITY_MPS2 + 1e-4 * k!r}\t0.001\t{0.002 * k!r}\t0\t0.5\t-0.3\t0.8"
+        for k, c in enumerate([0, 1, 2, 4, 5])
+    ]
     p.write_text("\n".join(["Acquisition frequency: 50 Hz", "\t".join(cols)] + rows) + "\n")
     with pytest.warns(DataQualityWarning, match="1 lost packet"):
         imu = read_xsens(p).left

@@ -9,10 +9,10 @@ import warnings
 import numpy as np
 import pytest
 
-from footnav.data.datasets import data_dir
 from footnav.core.errors import DataNotFoundError, DataQualityWarning, InvalidInputError
-from footnav.data.io import guess_format, load, read_ipol
 from footnav.core.types import GRAVITY_MPS2, stance_intervals
+from footnav.data.datasets import data_dir
+from footnav.data.io import guess_format, load, read_ipol
 
 COLUMNS = ["PacketCounter", "Acc_X", "Acc_Y", "Acc_Z", "Gyr_X", "Gyr_Y", "Gyr_Z", "Mag_X", "Mag_Y", "Mag_Z"]
 
@@ -36,8 +36,15 @@ def trial(tmp_path):
     _write_foot(tmp_path / "9-1_lf.txt", left, 0)
     _write_foot(tmp_path / "9-1_rf.txt", right, 1)
     info = {
-        "Subject": 9, "Trial": 1, "Filename": "9-1", "Age": 30, "Gender": "M", "Height": 180.0, "Weight": 70.0,
-        "TrialBoundaries": [5, 33], "UTurnBoundaries": [15, 22],
+        "Subject": 9,
+        "Trial": 1,
+        "Filename": "9-1",
+        "Age": 30,
+        "Gender": "M",
+        "Height": 180.0,
+        "Weight": 70.0,
+        "TrialBoundaries": [5, 33],
+        "UTurnBoundaries": [15, 22],
         # left swings: [8, 12], [20, 25]; right: [5, 9], [14, 20] (20 is lost), [26, 33], one after the end
         "LeftFootEvents": [[8, 12], [20, 25]],
         "RightFootEvents": [[5, 9], [14, 20], [26, 33], [34, 36]],
@@ -186,8 +193,11 @@ def test_real_events_inside_file_and_stances_alternate_with_swings(ipol_dir, ste
 def test_real_feet_share_the_counter_clock(ipol_dir):
     # On one clock the two feet's swings do not overlap (walking keeps a double support).
     rec = _read(ipol_dir / "1-1.json")
-    left = np.column_stack((rec.left.t[rec.truth_left.events["toe_off"]], rec.left.t[rec.truth_left.events["heel_strike"]]))
-    right = np.column_stack((rec.right.t[rec.truth_right.events["toe_off"]], rec.right.t[rec.truth_right.events["heel_strike"]]))
+    left = np.column_stack(
+        (rec.left.t[rec.truth_left.events["toe_off"]], rec.left.t[rec.truth_left.events["heel_strike"]])
+    )
+    right = np.column_stack(
+        (rec.right.t[rec.truth_right.events["toe_off"]], rec.right.t[rec.truth_right.events["heel_strike"]])
+    )
     overlaps = sum(1 for a in left for b in right if a[0] < b[1] and b[0] < a[1])
     assert overlaps == 0
-

@@ -5,8 +5,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from footnav.data.io.pyshoe import _gravity_z_sign
 from footnav.core.types import GRAVITY_MPS2
+from footnav.data.io.pyshoe import _gravity_z_sign
 
 
 def test_the_sign_comes_from_the_rest_samples_only():

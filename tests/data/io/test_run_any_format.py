@@ -28,7 +28,10 @@ def test_gaitmap_example_runs_both_feet(shared_file, tmp_path, capsys, as_file):
 
 
 def test_xio_csv_with_its_duplicate_rows_runs(shared_file, tmp_path):
-    assert main(["run", "--left", str(shared_file("xio_gait_tracking", "short_walk.csv")), "--out", str(tmp_path / "o")]) == 0
+    assert (
+        main(["run", "--left", str(shared_file("xio_gait_tracking", "short_walk.csv")), "--out", str(tmp_path / "o")])
+        == 0
+    )
     doc = _ran(tmp_path / "o", 1)
     assert doc["provenance"]["input"]["left"]["duplicates_dropped"]["count"] == 205
 

@@ -6,6 +6,7 @@
 ``_kernels``       compiled covariance prediction and feedback (the update: nav/kalman.py)
 ``_backward``      the compiled backward pass of the RTS smoother over the event log
 ``_loop``          the compiled forward loop, which records and smooths as it runs
+``_measurements``  the filter's updates from outside its ZUPT: a caller's, the range constraint's
 ``filter``         :class:`InsFilter`, the step-able filter a fusion advances, with checkpoints
 ``smoother``       RTS smoothing of a run, step-wise or over the whole walk
 ``online``         :class:`OnlineInsFilter`, the filter a stream runs in segments

@@ -1,7 +1,8 @@
-"""Rauch-Tung-Striebel smoothing of an :class:`~footnav.estimators.ekf.filter.InsFilter` run, step-wise or over the whole walk.
+"""Rauch-Tung-Striebel smoothing of an :class:`~footnav.estimators.ekf.filter.InsFilter` run,
+step-wise or over the whole walk.
 
-Chistyakov et al. (2021), Alg. 1 (Chistyakov et al. 2021) smooths the closed-loop error-state filter backwards
-over the whole recording; OpenShoe's smoothed variant does it step by step. Both are computed
+Chistyakov et al. (2021), Alg. 1, smooths the closed-loop error-state filter backwards over the
+whole recording; OpenShoe's smoothed variant does it step by step. Both are computed
 here in the Bryson-Frazier form of the RTS smoother (Bierman 1977; Simon 2006 sec. 9.4), which
 needs no n x n inversion. With the adjoint ``mu`` (mu = 0 after the last sample) and
 ``d = P mu``, the smoothed minus the filtered error state at each sample::

@@ -14,32 +14,18 @@ PACKAGE = Path(__file__).resolve().parents[1] / "footnav"
 #: Rank of each top-level part of the package: a module may import its own rank or lower.
 #: The contracts layer ``core`` is ranked by its own parts (``core.types``, ...): its data types
 #: and errors below its component bases and Protocols, all of it below the numerics of ``nav``.
+# fmt: off
 LAYERS = {
-    "_version": 0,
-    "_numba": 0,
-    "_lazy": 0,
-    "core.errors": 1,
-    "core.warning_log": 1,
-    "core.types": 1,
-    "errors": 1,
-    "core.component": 2,
-    "core.online_contract": 2,
-    "core": 2,
+    "_version": 0, "_numba": 0, "_lazy": 0,
+    "core.errors": 1, "core.warning_log": 1, "core.types": 1, "errors": 1,
+    "core.parameters": 2, "core.component": 2, "core.online_contract": 2, "core": 2,
     "nav": 3,
-    "detectors": 4,
-    "estimators": 4,
-    "fusion": 4,
-    "heading_aids": 4,
-    "pipeline": 5,
-    "plugins": 5,
-    "analysis": 6,
-    "data": 6,
-    "report": 6,
-    "cli": 7,
-    "demo": 7,
-    "testing": 7,
-    "__init__": 7,
+    "detectors": 4, "estimators": 4, "fusion": 4, "heading_aids": 4,
+    "pipeline": 5, "plugins": 5,
+    "analysis": 6, "data": 6, "report": 6,
+    "cli": 7, "demo": 7, "testing": 7, "__init__": 7,
 }
+# fmt: on
 #: Modules nothing inside imports: the entry points (the console script, ``python -m``, the demo
 #: the CLI runs by name, the contracts third parties import, the built-in registrations pluggy loads).
 ENTRY_POINTS = {"footnav", "footnav.cli.__main__", "footnav.testing", "footnav.plugins.builtin"}

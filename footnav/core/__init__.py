@@ -6,6 +6,7 @@
   warnings that ends in a result's ``meta["warnings"]``;
 * :mod:`footnav.core.types` -- the data objects that flow between the stages, with their frames and
   SI units, and the input checks;
+* :mod:`footnav.core.parameters` -- a component parameter's unit, description and value checks;
 * :mod:`footnav.core.component` -- the component bases (scikit-learn's parameter contract) and the
   offline Protocols of detectors, estimators, fusions and heading aids;
 * :mod:`footnav.core.online_contract` -- the Protocols an estimator implements to run online.

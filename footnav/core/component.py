@@ -11,14 +11,11 @@ method starts (``validate_params``). Parameters carry their unit in their name (
 from __future__ import annotations
 
 import inspect
-import math
-import re
-from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
-from numbers import Integral, Real
+from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any, ClassVar, Protocol, runtime_checkable
 
-from footnav.core.errors import CompositionError, InvalidParameterError
+from footnav.core.errors import CompositionError
+from footnav.core.parameters import ParameterInfo, check_param_names, docstring_parameters, unit_of
 
 if TYPE_CHECKING:
     import numpy as np
@@ -28,7 +25,6 @@ if TYPE_CHECKING:
 
 __all__ = [
     "Component",
-    "ParameterInfo",
     "StanceDetector",
     "FootEstimator",
     "Fusion",
@@ -37,73 +33,7 @@ __all__ = [
     "JointFilter",
     "StepableEstimator",
     "KINDS",
-    "is_number",
-    "require_positive",
-    "require_non_negative",
-    "require_in_range",
 ]
-
-#: Unit suffix of a parameter name -> unit, longest suffix first.
-_UNIT_SUFFIXES = (
-    ("_radps2", "rad/s^2"),
-    ("_mps3", "m/s^3"),
-    ("_mps2", "m/s^2"),
-    ("_radps", "rad/s"),
-    ("_dps", "deg/s"),
-    ("_mps", "m/s"),
-    ("_deg", "deg"),
-    ("_rad", "rad"),
-    ("_hz", "Hz"),
-    ("_mb", "MB"),
-    ("_ms", "ms"),
-    ("_s", "s"),
-    ("_m", "m"),
-    ("_g", "g"),
-)
-_SQRT_HZ = "_sqrthz"
-
-
-def unit_of(name: str) -> str:
-    """Unit named by a parameter's suffix (``sigma_acc_mps2_sqrthz`` -> ``m/s^2/sqrt(Hz)``), or ''."""
-    per_root_hz = name.endswith(_SQRT_HZ)
-    base = name[: -len(_SQRT_HZ)] if per_root_hz else name
-    for suffix, unit in _UNIT_SUFFIXES:
-        if base.endswith(suffix):
-            return unit + ("/sqrt(Hz)" if per_root_hz else "")
-    return ""
-
-
-@dataclass(frozen=True)
-class ParameterInfo:
-    """One constructor parameter of a component: name, default, unit and description."""
-
-    name: str
-    default: Any
-    unit: str
-    description: str
-
-
-def _docstring_parameters(cls: type) -> dict[str, str]:
-    """Descriptions of the numpydoc ``Parameters`` section of ``cls`` (first sentence each)."""
-    doc = inspect.getdoc(cls) or ""
-    match = re.search(r"^Parameters\n-+\n(.*?)(?:\n\n[A-Z][A-Za-z ]+\n-+\n|\Z)", doc, re.S | re.M)
-    if not match:
-        return {}
-    out: dict[str, str] = {}
-    current: list[str] = []
-    names: list[str] = []
-    for line in match.group(1).splitlines():
-        if line and not line.startswith(" "):
-            if names:
-                for n in names:
-                    out[n] = " ".join(current).strip()
-            names = [n.strip() for n in line.split(":")[0].split(",")]
-            current = []
-        elif line.strip():
-            current.append(line.strip())
-    for n in names:
-        out[n] = " ".join(current).strip()
-    return out
 
 
 class Component:
@@ -140,7 +70,7 @@ class Component:
     def parameter_info(cls) -> list[ParameterInfo]:
         """Every constructor parameter with its default, unit (from the name) and description."""
         sig = inspect.signature(cls.__init__)
-        docs = _docstring_parameters(cls)
+        docs = docstring_parameters(cls)
         return [
             ParameterInfo(name=n, default=sig.parameters[n].default, unit=unit_of(n), description=docs.get(n, ""))
             for n in cls._param_names()
@@ -187,31 +117,6 @@ class Component:
     def describe(self) -> dict[str, Any]:
         """Kind, name and parameters: what provenance records and TOML re-creates."""
         return {"kind": self.kind, "name": self.name, "params": self.get_params()}
-
-
-def check_param_names(cls: type[Component], params: Mapping[str, Any]) -> None:
-    """Raise InvalidParameterError for parameter names ``cls`` does not take, listing the valid ones."""
-    valid = cls._param_names()
-    unknown = [k for k in params if k not in valid]
-    if unknown:
-        import difflib
-
-        hints = []
-        for k in unknown:
-            close = difflib.get_close_matches(k, valid, n=1)
-            hints.append(f"{k!r}" + (f" (did you mean {close[0]!r}?)" if close else ""))
-        raise InvalidParameterError(
-            f"{cls.kind} {cls.name!r} has no parameter {', '.join(hints)}; valid parameters: {', '.join(valid) or 'none'}"
-        )
-
-
-def require(condition: bool, component: Component, param: str, expected: str) -> None:
-    """Raise InvalidParameterError unless ``condition``: names component, parameter, value, expectation."""
-    if not condition:
-        raise InvalidParameterError(
-            f"{component.kind} {component.name!r}: parameter {param}={getattr(component, param)!r} is invalid; "
-            f"expected {expected}"
-        )
 
 
 class StanceDetector(Component):
@@ -523,89 +428,3 @@ class HeadingAid(Component):
 
 
 KINDS = {"detector": StanceDetector, "estimator": FootEstimator, "fusion": Fusion, "heading_aid": HeadingAid}
-
-
-def is_number(value: Any) -> bool:
-    """A finite real number (not a bool)."""
-    return isinstance(value, Real) and not isinstance(value, bool) and math.isfinite(value)
-
-
-def require_positive(component: Component, *names: str, high: float = math.inf) -> None:
-    """InvalidParameterError naming the first of ``names`` that is not a number in (0, high]."""
-    require_in_range(component, *names, low=0.0, high=high, low_open=True)
-
-
-def require_non_negative(component: Component, *names: str, high: float = math.inf) -> None:
-    """InvalidParameterError naming the first of ``names`` that is not a number in [0, high]."""
-    require_in_range(component, *names, low=0.0, high=high)
-
-
-# Upper bounds shared by the built-in components' parameters (listed in docs/reliability.md).
-# Each lies far above any value that makes sense and far below where a value would exhaust
-# memory or time (durations and rates multiply into sample counts) or overflow (standard
-# deviations and noise densities are squared, 1e308 ** 2 is inf).
-#: Windows, minimum durations, gait intervals in s: no gait event lasts a minute.
-MAX_DURATION_S = 60.0
-#: Angular rates (thresholds, noise, bias walks) in rad/s: 30x a 2000 deg/s full scale.
-MAX_RATE_RADPS = 1000.0
-#: Accelerations (thresholds, noise, bias walks) in m/s^2: about 100 g.
-MAX_ACC_MPS2 = 1000.0
-#: Lengths and their standard deviations in m (foot separation, step geometry).
-MAX_LENGTH_M = 100.0
-#: Velocity standard deviations in m/s.
-MAX_SPEED_MPS = 100.0
-#: Angle standard deviations in rad: above 2 pi an angle is not known at all.
-MAX_ANGLE_RAD = 10.0
-
-
-def _format_bound(value: float) -> str:
-    return f"{value:g}" if math.isfinite(value) else ("inf" if value > 0 else "-inf")
-
-
-def require_in_range(
-    component: Component,
-    *names: str,
-    low: float,
-    high: float,
-    low_open: bool = False,
-    high_open: bool = False,
-    integer: bool = False,
-) -> None:
-    """InvalidParameterError naming the first of ``names`` outside ``low .. high``.
-
-    The upper bounds of footnav's parameters are where a larger value would exhaust memory or
-    time (windows and rates that multiply into sample counts) or overflow (a standard deviation
-    is squared), set well above any value that makes sense; docs/reliability.md lists them.
-
-    Parameters
-    ----------
-    component
-        The component whose attributes are checked; the message names its kind and name.
-    *names
-        Parameter names sharing the range.
-    low, high
-        The bounds, included unless ``low_open`` / ``high_open``; ``high=math.inf`` for none.
-    low_open, high_open
-        Exclude the bound: ``low=0, low_open=True`` is "positive".
-    integer
-        Require an integer (``int`` or a numpy integer, not a bool) rather than a finite real.
-
-    Raises
-    ------
-    InvalidParameterError
-        Naming the component, the parameter, its value and the range with the parameter's unit,
-        e.g. ``parameter window_s=1e+308 is invalid; expected a number in (0, 60] s``.
-    """
-    left = "(" if low_open else "["
-    right = ")" if high_open or not math.isfinite(high) else "]"
-    for name in names:
-        value = getattr(component, name)
-        kind_ok = (isinstance(value, Integral) and not isinstance(value, bool)) if integer else is_number(value)
-        ok = kind_ok and (value > low if low_open else value >= low) and (value < high if high_open else value <= high)
-        if not ok:  # the message only when needed: online mode checks parameters on every push
-            unit = unit_of(name)
-            expected = (
-                f"{'an integer' if integer else 'a number'} in {left}{_format_bound(low)}, {_format_bound(high)}{right}"
-                + (f" {unit}" if unit else "")
-            )
-            require(ok, component, name, expected)

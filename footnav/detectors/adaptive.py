@@ -53,11 +53,11 @@ from typing import Any
 import numpy as np
 
 from footnav._numba import njit
-from footnav.core.component import (
+from footnav.core.component import StanceDetector
+from footnav.core.parameters import (
     MAX_ACC_MPS2,
     MAX_DURATION_S,
     MAX_RATE_RADPS,
-    StanceDetector,
     require_in_range,
     require_non_negative,
     require_positive,

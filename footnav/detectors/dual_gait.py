@@ -59,16 +59,16 @@ from typing import ClassVar, Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from footnav.core.component import (
+from footnav.core.component import StanceDetector
+from footnav.core.errors import CompositionError, InvalidInputError
+from footnav.core.parameters import (
     MAX_ACC_MPS2,
     MAX_DURATION_S,
     MAX_RATE_RADPS,
-    StanceDetector,
     require,
     require_non_negative,
     require_positive,
 )
-from footnav.core.errors import CompositionError, InvalidInputError
 from footnav.core.types import ImuData, StanceResult, stance_intervals
 from footnav.detectors.threshold import ThresholdDetector
 

@@ -35,11 +35,11 @@ import numpy as np
 from numpy.typing import NDArray
 
 from footnav._numba import njit
-from footnav.core.component import (
+from footnav.core.component import StanceDetector
+from footnav.core.parameters import (
     MAX_ACC_MPS2,
     MAX_DURATION_S,
     MAX_RATE_RADPS,
-    StanceDetector,
     require,
     require_non_negative,
     require_positive,

@@ -36,11 +36,11 @@ from typing import Literal
 import numpy as np
 
 from footnav._numba import njit  # numba.njit that survives a read-only install
-from footnav.core.component import (
+from footnav.core.component import FootEstimator
+from footnav.core.parameters import (
     MAX_ACC_MPS2,
     MAX_RATE_RADPS,
     MAX_SPEED_MPS,
-    FootEstimator,
     require,
     require_non_negative,
     require_positive,

@@ -30,7 +30,8 @@ from typing import ClassVar, Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from footnav.core.component import MAX_LENGTH_M, Fusion, require, require_non_negative, require_positive
+from footnav.core.component import Fusion
+from footnav.core.parameters import MAX_LENGTH_M, require, require_non_negative, require_positive
 from footnav.core.types import FootTrajectory, FusionResult, Path
 from footnav.fusion.joint import LEFT, RIGHT, finish_joint, forward_only, fuse_on_common_span, start_filter, start_joint
 from footnav.nav import dtw_average, dtw_heading

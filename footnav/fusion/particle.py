@@ -92,8 +92,9 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from footnav.core.component import MAX_LENGTH_M, Fusion, require, require_in_range, require_non_negative
+from footnav.core.component import Fusion
 from footnav.core.errors import CompositionError
+from footnav.core.parameters import MAX_LENGTH_M, require, require_in_range, require_non_negative
 from footnav.core.types import FootTrajectory, FusionResult
 from footnav.fusion.independent import midpoint_path
 from footnav.fusion.joint import (

@@ -18,7 +18,8 @@ from typing import Any, ClassVar, Literal
 
 import numpy as np
 
-from footnav.core.component import MAX_DURATION_S, MAX_LENGTH_M, Fusion, is_number, require, require_positive
+from footnav.core.component import Fusion
+from footnav.core.parameters import MAX_DURATION_S, MAX_LENGTH_M, is_number, require, require_positive
 from footnav.core.types import FusionResult
 from footnav.fusion.joint import LEFT, RIGHT, FeetView, closing_time, finish_joint, fuse_on_common_span, start_joint
 

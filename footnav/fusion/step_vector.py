@@ -60,16 +60,16 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from footnav.core.component import (
+from footnav.core.component import Fusion
+from footnav.core.errors import CompositionError, DataQualityWarning, InvalidInputError
+from footnav.core.parameters import (
     MAX_DURATION_S,
     MAX_LENGTH_M,
-    Fusion,
     require,
     require_in_range,
     require_non_negative,
     require_positive,
 )
-from footnav.core.errors import CompositionError, DataQualityWarning, InvalidInputError
 from footnav.core.types import FusionResult, ImuData, StanceResult
 from footnav.core.warning_log import warn
 from footnav.fusion.joint import (

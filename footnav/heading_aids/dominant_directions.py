@@ -5,7 +5,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from footnav.core.component import HeadingAid, require, require_positive
+from footnav.core.component import HeadingAid
+from footnav.core.parameters import require, require_positive
 from footnav.core.types import FusionResult
 from footnav.nav.dominant_directions import dominant_direction_correction
 from footnav.nav.heading import turn_result

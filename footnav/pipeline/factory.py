@@ -16,15 +16,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from footnav.core.component import (
-    Component,
-    FootEstimator,
-    Fusion,
-    HeadingAid,
-    StanceDetector,
-    check_param_names,
-    require_stepable,
-)
+from footnav.core.component import Component, FootEstimator, Fusion, HeadingAid, StanceDetector, require_stepable
 from footnav.core.errors import (
     CompositionError,
     DataNotFoundError,
@@ -34,6 +26,7 @@ from footnav.core.errors import (
     InvalidParameterError,
     PluginError,
 )
+from footnav.core.parameters import check_param_names
 from footnav.core.types import FusionResult, ImuData, Recording, StanceResult
 from footnav.core.types._derived import sharing
 from footnav.core.warning_log import merge_warnings, recording, warn

@@ -14,15 +14,9 @@ from collections.abc import Mapping
 from dataclasses import dataclass, replace
 from typing import Any, ClassVar, Literal
 
-from footnav.core.component import (
-    MAX_DURATION_S,
-    Component,
-    require,
-    require_in_range,
-    require_non_negative,
-    require_positive,
-)
+from footnav.core.component import Component
 from footnav.core.errors import InvalidInputError
+from footnav.core.parameters import MAX_DURATION_S, require, require_in_range, require_non_negative, require_positive
 from footnav.core.types import ImuData, Recording
 from footnav.nav.clock_from_data import align_from_data
 from footnav.nav.clock_sync import ClockMap, apply_clock, fit_clock

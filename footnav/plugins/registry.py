@@ -7,8 +7,9 @@ import importlib
 from collections.abc import Iterator
 from typing import Any
 
-from footnav.core.component import KINDS, Component, check_param_names
+from footnav.core.component import KINDS, Component
 from footnav.core.errors import PluginError, UnknownComponentError
+from footnav.core.parameters import check_param_names
 
 __all__ = ["Entry", "Registry"]
 

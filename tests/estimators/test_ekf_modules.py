@@ -10,7 +10,18 @@ import pytest
 from footnav.estimators import ekf
 
 #: The order of footnav/estimators/ekf/__init__.py: each module may import only those before it.
-ORDER = ["_buffers", "_records", "_kernels", "_backward", "_loop", "_measurements", "filter", "smoother", "online", "estimator"]
+ORDER = [
+    "_buffers",
+    "_records",
+    "_kernels",
+    "_backward",
+    "_loop",
+    "_measurements",
+    "filter",
+    "smoother",
+    "online",
+    "estimator",
+]
 PACKAGE = Path(ekf.__file__).parent
 
 

@@ -7,6 +7,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from footnav.core.errors import InvalidInputError, InvalidParameterError
+
 # the one copy of the read-only, C-contiguous view, re-exported to the metrics
 from footnav.core.types._arrays import _readonly  # noqa: F401
 

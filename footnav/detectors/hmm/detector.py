@@ -18,8 +18,9 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from footnav.core.component import MAX_DURATION_S, StanceDetector, require, require_in_range, require_positive
+from footnav.core.component import StanceDetector
 from footnav.core.errors import GaitModelError, HmmNotFittedError, InvalidInputError, InvalidParameterError
+from footnav.core.parameters import MAX_DURATION_S, require, require_in_range, require_positive
 from footnav.core.types import ImuData, StanceResult, stance_intervals
 from footnav.core.warning_log import recording
 from footnav.detectors.hmm.decoding import (

@@ -18,19 +18,19 @@ from typing import Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from footnav.core.component import (
+from footnav.core.component import FootEstimator
+from footnav.core.errors import InvalidParameterError
+from footnav.core.parameters import (
     MAX_ACC_MPS2,
     MAX_ANGLE_RAD,
     MAX_DURATION_S,
     MAX_LENGTH_M,
     MAX_RATE_RADPS,
     MAX_SPEED_MPS,
-    FootEstimator,
     require,
     require_non_negative,
     require_positive,
 )
-from footnav.core.errors import InvalidParameterError
 from footnav.core.types import FULL_SCALE_RATIO, FootTrajectory, ImuData, StanceResult, clipped_acc, stance_intervals
 from footnav.estimators.ekf._records import FilterNoise
 from footnav.estimators.ekf.filter import InsFilter

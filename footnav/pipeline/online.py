@@ -60,10 +60,8 @@ from __future__ import annotations
 
 import time
 from collections.abc import Mapping
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 from typing import Any
-
-import numpy as np
 
 from footnav.core.errors import DataQualityWarning, InvalidInputError, InvalidParameterError
 from footnav.core.types import FusionResult
@@ -78,6 +76,7 @@ from footnav.pipeline.online_composition import (
     ONLINE_FUSIONS,
     check_online,
 )
+from footnav.pipeline.online_floors import held_step, hold_update
 from footnav.pipeline.online_foot import FootStream
 from footnav.pipeline.online_io import ClosedStep, FootUpdate, ForwardEstimate, as_chunk, empty_update
 from footnav.pipeline.online_joint import JointStream
@@ -320,7 +319,7 @@ class OnlineStream:
             sources = self.joint.feet
             updates = self.joint.take(final)
         if self._floors is not None:
-            updates = [_hold(h, u, src, final) for h, u, src in zip(self._floors, updates, sources)]
+            updates = [hold_update(h, u, src, final) for h, u, src in zip(self._floors, updates, sources)]
         for f in sources:
             self._held.extend(f.steps.pending)
             f.steps.pending.clear()
@@ -351,7 +350,7 @@ class OnlineStream:
                     keep.append(step)
             self._held = keep
         if self._floors is not None:
-            released = [_held_step(self._floors[_FEET.index(s.foot)], s) for s in released]
+            released = [held_step(self._floors[_FEET.index(s.foot)], s) for s in released]
         return OnlineUpdate(updates[0], updates[1] if self.n_feet == 2 else None, released)
 
     def close(self) -> PipelineResult | None:
@@ -589,32 +588,3 @@ class OnlineStream:
             if self.joint is not None and self.joint.session is not None
             else None,
         }
-
-
-def _hold(holder: FloorHolder, update: FootUpdate, source: Any, final: bool) -> FootUpdate:
-    """A foot's final samples with level strides held level (:class:`FloorHolder`): those whose
-    stride's next stance has ended; the rest wait for it (or for the end)."""
-    closed = bool(len(update.t)) and any(s.t == update.t[-1] for s in source.steps.pending)
-    rows = holder.push(
-        update.t,
-        update.position,
-        update.velocity,
-        update.quaternion,
-        update.stance,
-        closed=closed,
-        swing_rise=update.swing_rise,
-    )
-    if final:
-        rows = tuple(np.concatenate([a, b]) for a, b in zip(rows, holder.flush()))
-    t, p, v, q, stance = rows
-    return FootUpdate(t, p, v, q, update.forward, stance)
-
-
-def _held_step(holder: FloorHolder, step: ClosedStep) -> ClosedStep:
-    """The step's footprint at the height its stance was held at."""
-    shift = holder.held_at(float(step.t))
-    if shift is None:
-        return step
-    pos = np.array(step.position, dtype=float)
-    pos[2] += shift
-    return replace(step, position=pos)

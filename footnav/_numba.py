@@ -111,7 +111,8 @@ def njit(*args: Any, **options: Any) -> Any:
     """``numba.njit`` that falls back to a private or no cache when numba has no cache folder.
 
     Used exactly like ``numba.njit`` (``@njit`` or ``@njit(cache=True, ...)``); returns a
-    :class:`LazyKernel` that creates numba's dispatcher on first use. With ``cache=True`` and no writable cache folder, the function is compiled with
+    :class:`LazyKernel` that creates numba's dispatcher on first use. With ``cache=True`` and no
+    writable cache folder, the function is compiled with
     the cache in :func:`fallback_cache_dir`, or without a cache when that is None, and one
     ``logging`` WARNING per process says which.
 

@@ -37,6 +37,8 @@ def demo_recording() -> Recording:
 
 @dataclass(frozen=True)
 class DemoReport:
+    """What :func:`run_demo` gives: the evaluation, its printed table and the figure's path (or None)."""
+
     report: EvaluationReport
     text: str
     figure: str | None
@@ -81,7 +83,8 @@ def _run_demo(claim: OutputClaim | str | None, plot: str | None) -> DemoReport:
     widths = [max(len(h), *(len(r[i]) for r in rows)) for i, h in enumerate(header)]
     lines = [
         f"footnav demo: {pipeline!r}",
-        f"recording: azure_fgo, both feet, {rec.left.rate_hz:.0f} Hz, {rec.left.duration_s:.0f} s (MIT, Azurehappen/Constrained-ZUPT-FGO)",
+        f"recording: azure_fgo, both feet, {rec.left.rate_hz:.0f} Hz, {rec.left.duration_s:.0f} s "
+        "(MIT, Azurehappen/Constrained-ZUPT-FGO)",
         "",
         "  ".join(h.ljust(w) for h, w in zip(header, widths)),
         "  ".join("-" * w for w in widths),

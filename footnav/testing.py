@@ -84,11 +84,15 @@ def contract_walk(seed: int = 0, *, magnetometer: bool = False) -> Recording:
 
 
 class ComponentContract:
+    """The contract every component keeps: a name, keyword-only parameters stored unchanged, clone, repr and parameter
+    info."""
+
     component: ClassVar[type]
     #: Keyword arguments to build the component for the contract (defaults if empty).
     params: ClassVar[dict[str, Any]] = {}
 
     def make(self):
+        """The component under test, built from ``component`` and ``params``."""
         return self.component(**self.params)
 
     def test_declares_a_name(self):

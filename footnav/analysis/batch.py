@@ -91,7 +91,8 @@ def _check_recording(recording: Any) -> Any:
     if isinstance(recording, (Recording, str, os.PathLike)) or callable(recording):
         return recording
     raise InvalidParameterError(
-        f"evaluate_many: a recording must be a Recording, a path or a zero-argument callable; got {type(recording).__name__}"
+        "evaluate_many: a recording must be a Recording, a path or a zero-argument callable; "
+        f"got {type(recording).__name__}"
     )
 
 
@@ -121,7 +122,8 @@ def _materialise(recording: Any) -> Recording:
             )
         return rec
     raise InvalidParameterError(
-        f"evaluate_many: a recording must be a Recording, a path or a zero-argument callable; got {type(recording).__name__}"
+        "evaluate_many: a recording must be a Recording, a path or a zero-argument callable; "
+        f"got {type(recording).__name__}"
     )
 
 
@@ -136,7 +138,7 @@ def _run_one(
             rec = _materialise(recording)
         except Exception as exc:  # KeyboardInterrupt and SystemExit pass by themselves
             if (end := fatal(exc)) is not None:
-                raise end
+                raise end  # noqa: B904 - the exception itself, or the MemoryError it wraps
             return EvaluationReport(
                 (), failures=(EvaluationFailure.from_exception(_label(recording), pipeline_name, exc),)
             )

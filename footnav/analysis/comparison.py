@@ -51,10 +51,12 @@ class DetectorComparison:
     failures: dict[str, str] = field(default_factory=dict)
 
     def to_text(self) -> str:
+        """The metrics table as text, then one line per detector that failed."""
         text = self.report.to_text()
         return text + "".join(f"\n{label} failed: {msg}" for label, msg in self.failures.items())
 
     def to_csv(self) -> str:
+        """The metrics table as CSV (the failures are in :attr:`failures`)."""
         return self.report.to_csv()
 
     def plot(self, path: Any, *, seconds: tuple[float, float] | None = None):

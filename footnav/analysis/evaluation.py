@@ -95,6 +95,7 @@ class EvaluationFailure:
 
     @classmethod
     def from_exception(cls, recording: str, pipeline: str, exc: BaseException) -> EvaluationFailure:
+        """The record of ``exc``, raised by ``pipeline`` on ``recording``, with its traceback."""
         return cls(recording, pipeline, type(exc).__name__, str(exc), "".join(tb.format_exception(exc)))
 
     def __str__(self) -> str:
@@ -492,7 +493,7 @@ def evaluate_or_record(pipeline: Pipeline, recording: Recording, pipeline_name: 
         return _evaluate(pipeline, recording, pipeline_name)
     except Exception as exc:  # KeyboardInterrupt and SystemExit pass by themselves
         if (end := fatal(exc)) is not None:
-            raise end
+            raise end  # noqa: B904 - the exception itself, or the MemoryError it wraps
         return EvaluationReport(
             (), failures=(EvaluationFailure.from_exception(recording_label(recording), pipeline_name, exc),)
         )

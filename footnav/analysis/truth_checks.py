@@ -366,7 +366,8 @@ def check_truth(
     Run in this order, each on what the previous ones passed: finite values, the time span
     (``time_span``), the coverage of the walk (``coverage``), the length unit (``scale``), the
     handedness (``mirror_2d``, with 3 points or more) and, unless the truth is footprints, the
-    tilt of the 3-D fit (``tilt_3d``) and the sign of its heights (``height``, where they vary). The module's constants hold the thresholds and why.
+    tilt of the 3-D fit (``tilt_3d``) and the sign of its heights (``height``, where they vary).
+    The module's constants hold the thresholds and why.
 
     Parameters
     ----------

@@ -261,7 +261,9 @@ MAX_LINE_BYTES = 1 << 20
 _STOP_SIGNALS = ("SIGINT", "SIGTERM", "SIGHUP")
 
 
-def cmd_follow(args: argparse.Namespace) -> int:
+# complexity: the follow loop and its endings (signals, bad rows, units, end of input) in one
+# place, each tested in tests/faults/test_live_stream.py
+def cmd_follow(args: argparse.Namespace) -> int:  # noqa: C901
     """Follow a walk live; see the module docstring and ``footnav follow --help``.
 
     However the stream ends, the result folder holds everything that became final: at the end
@@ -338,7 +340,7 @@ def cmd_follow(args: argparse.Namespace) -> int:
             while len(ended) < len(sources) and stop["signal"] is None:
                 chunks: dict = {}
                 bad = None
-                for i, (foot, name, read, parser) in enumerate(sources):
+                for i, (foot, _name, read, parser) in enumerate(sources):
                     if i in ended:
                         continue
                     lines = read()

@@ -21,7 +21,7 @@ EPILOG_RUN = """examples:
   footnav run --left walk.mat --out results/pyshoe
   footnav run --left L.csv --pipeline pipeline.toml --out results/walk1 --force
   footnav run --left L.csv --right R.csv --fusion step-vector --out results/walk1 --plot walk1.png
-  footnav run --left imu.csv --rate-hz 100 --acc-unit g --gyr-unit deg/s --out results/x   (header AccX,..,GyrZ, no time)
+  footnav run --left imu.csv --rate-hz 100 --acc-unit g --gyr-unit deg/s --out results/x  (AccX,..,GyrZ, no t)
   footnav run --left log.txt --format delimited --columns t=0,acc=1:4,gyr=4:7 --t-unit ms --out results/x
 """
 
@@ -113,7 +113,8 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser(
         "plugins",
         help="list every registered component",
-        description="List every registered component (kind, name, origin package, what it is), or one component's parameters.",
+        description="List every registered component (kind, name, origin package, what it is), "
+        "or one component's parameters.",
         epilog="examples:\n  footnav plugins | grep detector\n  footnav plugins ekf",
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
@@ -164,7 +165,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument(
         "--drop-duplicates",
         action="store_true",
-        help="also drop rows that repeat a time stamp with different values (exact copies are always dropped; recorded)",
+        help="also drop rows that repeat a time stamp with different values "
+        "(exact copies are always dropped; recorded)",
     )
     p.add_argument(
         "--pipeline",
@@ -275,7 +277,8 @@ def build_parser() -> argparse.ArgumentParser:
         help="measure pipelines against the truth of recordings",
         description="Run one or more pipelines on recordings with truth and print every metric each supports.",
         epilog="examples:\n  footnav evaluate --dataset azure_fgo --dataset xio_short\n"
-        "  footnav evaluate --pipeline a.toml --pipeline b.toml --dataset gaitmap --out results/ab --plot results/ab-figs\n"
+        "  footnav evaluate --pipeline a.toml --pipeline b.toml --dataset gaitmap \\\n"
+        "      --out results/ab --plot results/ab-figs\n"
         "  footnav evaluate --dataset gaitmap --jobs 2\n"
         "  footnav evaluate --dataset gaitmap --dask-scheduler tcp://10.0.0.5:8786\n"
         "  footnav evaluate walk/left.csv",
@@ -324,7 +327,8 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser(
         "demo",
         help="run the default pipeline on the bundled real recording",
-        description="Run the default pipeline on the bundled azure_fgo recording (two feet, 60 Hz, with ground truth) and print the accuracy table.",
+        description="Run the default pipeline on the bundled azure_fgo recording (two feet, 60 Hz, "
+        "with ground truth) and print the accuracy table.",
         epilog="examples:\n  footnav demo\n  footnav demo --plot demo.png\n  footnav demo --no-plot",
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )

@@ -145,6 +145,18 @@ class StanceDetector(Component):
         return float(ahead + getattr(self, "min_stance_s", 0.0) + getattr(self, "min_swing_s", 0.0))
 
     def detect(self, imu):  # pragma: no cover - abstract
+        """Stance of one foot.
+
+        Parameters
+        ----------
+        imu
+            The foot's :class:`~footnav.core.types.ImuData` (body frame, SI units).
+
+        Returns
+        -------
+        StanceResult
+            One flag per sample (True: the foot stands still), with the detector's ``meta``.
+        """
         raise NotImplementedError
 
     def detect_pair(self, left, right):
@@ -158,6 +170,21 @@ class FootEstimator(Component):
     kind: ClassVar[str] = "estimator"
 
     def estimate(self, imu, stance):  # pragma: no cover - abstract
+        """One foot's trajectory.
+
+        Parameters
+        ----------
+        imu
+            The foot's :class:`~footnav.core.types.ImuData` (body frame, SI units).
+        stance
+            Its :class:`~footnav.core.types.StanceResult`.
+
+        Returns
+        -------
+        FootTrajectory
+            Position (m), velocity (m/s) and attitude [w, x, y, z] (body to nav) per sample, in
+            the nav frame (z up, x the first step's direction).
+        """
         raise NotImplementedError
 
 
@@ -342,6 +369,22 @@ class Fusion(Component):
     needs_stepable_estimator: ClassVar[bool] = False
 
     def fuse(self, estimator, left, stance_left, right=None, stance_right=None):  # pragma: no cover
+        """Both feet's trajectories, and their path.
+
+        Parameters
+        ----------
+        estimator
+            The per-foot :class:`FootEstimator` the fusion drives.
+        left, right
+            Each foot's :class:`~footnav.core.types.ImuData`; ``right`` None for one foot.
+        stance_left, stance_right
+            Each foot's :class:`~footnav.core.types.StanceResult`.
+
+        Returns
+        -------
+        FusionResult
+            Each foot's :class:`~footnav.core.types.FootTrajectory` and the walk's path, nav frame.
+        """
         raise NotImplementedError
 
     #: A coupled fusion whose work at a time needs no later sample offers :meth:`session`
@@ -424,6 +467,20 @@ class HeadingAid(Component):
     online: ClassVar[bool] = False
 
     def correct(self, result, left, right=None):  # pragma: no cover
+        """The fusion's result with its heading corrected (see the class docstring).
+
+        Parameters
+        ----------
+        result
+            The fusion's :class:`~footnav.core.types.FusionResult`.
+        left, right
+            The feet's :class:`~footnav.core.types.ImuData`; ``right`` None for one foot.
+
+        Returns
+        -------
+        FusionResult
+            The corrected result; each foot's ``meta["heading_aid"]`` says what was done.
+        """
         raise NotImplementedError
 
 

@@ -207,6 +207,8 @@ class AdaptiveDetector(StanceDetector):
         self.max_pivot_s = max_pivot_s
 
     def validate_params(self) -> None:
+        """Check every parameter (:meth:`footnav.core.component.Component.validate_params`); raises
+        InvalidParameterError."""
         # Upper bounds (footnav.core.component): durations multiply into window lengths in
         # samples, rates and accelerations overflow when squared; the unitless factors and
         # fractions are kept at 1000x / 1000 their sensible range, where every sample is still

@@ -256,6 +256,8 @@ class DualGaitDetector(StanceDetector):
 
     # -- parameters ---------------------------------------------------------------------------
     def validate_params(self) -> None:
+        """Check every parameter (:meth:`footnav.core.component.Component.validate_params`); raises
+        InvalidParameterError."""
         # Upper bounds (footnav.core.component): durations multiply into sample counts,
         # thresholds overflow when squared.
         require_positive(self, "window_s", "hs_min_interval_s", "hs_search_s", "standing_s", high=MAX_DURATION_S)

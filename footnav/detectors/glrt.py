@@ -144,7 +144,10 @@ class GlrtDetector(WindowedStanceDetector):
         self.min_swing_s = min_swing_s
 
     def window_statistic(self, imu: ImuData, win: int) -> NDArray[np.float64]:
+        """The SHOE statistic T (Chistyakov et al. 2021, eq. 4) of every full window by start index,
+        shape (N-W+1,)."""
         return glrt_statistic(imu.acc, imu.gyr, win, self.sigma_acc_mps2, self.sigma_gyr_radps)
 
     def window_threshold(self) -> float:
+        """The threshold the statistic is compared with: ``gamma``."""
         return float(self.gamma)

@@ -211,6 +211,8 @@ class WindowedStanceDetector(StanceDetector):
     min_swing_s: float
 
     def validate_params(self) -> None:
+        """Check every parameter (:meth:`footnav.core.component.Component.validate_params`); raises
+        InvalidParameterError."""
         # Upper bounds by unit (footnav.core.component): a longer window exhausts memory, a
         # larger threshold or sigma overflows when squared; unitless is the GLRT's gamma, for
         # which 1e15 already marks every window still.
@@ -312,9 +314,11 @@ class AredDetector(WindowedStanceDetector):
         self.min_swing_s = min_swing_s
 
     def window_statistic(self, imu: ImuData, win: int) -> NDArray[np.float64]:
+        """The window statistic: the RMS angular rate, rad/s, of every full window by start index, shape (N-W+1,)."""
         return gyr_rms(imu.gyr, win)
 
     def window_threshold(self) -> float:
+        """The threshold the statistic is compared with: ``gyr_threshold_radps``."""
         return float(self.gyr_threshold_radps)
 
 
@@ -373,9 +377,11 @@ class AccMagnitudeDetector(WindowedStanceDetector):
         self.min_swing_s = min_swing_s
 
     def window_statistic(self, imu: ImuData, win: int) -> NDArray[np.float64]:
+        """The window statistic: the RMS of |acc| - g, m/s^2, of every full window by start index, shape (N-W+1,)."""
         return acc_magnitude_rms(imu.acc, win)
 
     def window_threshold(self) -> float:
+        """The threshold the statistic is compared with: ``acc_tolerance_mps2``."""
         return float(self.acc_tolerance_mps2)
 
 
@@ -433,9 +439,12 @@ class AccVarianceDetector(WindowedStanceDetector):
         self.min_swing_s = min_swing_s
 
     def window_statistic(self, imu: ImuData, win: int) -> NDArray[np.float64]:
+        """The window statistic: the standard deviation of |acc|, m/s^2, of every full window by start index, shape
+        (N-W+1,)."""
         return acc_moving_std(imu.acc, win)[0]
 
     def window_threshold(self) -> float:
+        """The threshold the statistic is compared with: ``acc_std_threshold_mps2``."""
         return float(self.acc_std_threshold_mps2)
 
 
@@ -518,9 +527,12 @@ class ThresholdDetector(WindowedStanceDetector):
         self.min_swing_s = min_swing_s
 
     def window_statistic(self, imu: ImuData, win: int) -> NDArray[np.float64]:
+        """The window statistic: the larger of the angular rate's and |acc| - g's RMS, each over its threshold, of
+        every full window by start index, shape (N-W+1,)."""
         return np.maximum(
             gyr_rms(imu.gyr, win) / self.gyr_threshold_radps, acc_magnitude_rms(imu.acc, win) / self.acc_tolerance_mps2
         )
 
     def window_threshold(self) -> float:
+        """The threshold the statistic is compared with: 1 (each statistic is already over its own threshold)."""
         return 1.0

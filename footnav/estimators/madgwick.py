@@ -163,7 +163,8 @@ def madgwick_marg_step(q, gx, gy, gz, ax, ay, az, mx, my, mz, beta, dt):
 
 
 @njit(cache=True, error_model="numpy")
-def _loop(
+# complexity: a compiled loop over the samples, one pass
+def _loop(  # noqa: C901
     t,
     acc,
     gyr,
@@ -377,6 +378,8 @@ class MadgwickEstimator(FootEstimator):
         self.yaw_bias_walk_radps2_sqrthz = yaw_bias_walk_radps2_sqrthz
 
     def validate_params(self) -> None:
+        """Check every parameter (:meth:`footnav.core.component.Component.validate_params`); raises
+        InvalidParameterError."""
         # Upper bounds (footnav.core.component): the stds and densities are squared into the
         # velocity filter's covariance (overflow at 1e308); beta is a gyro-error rate.
         require_positive(

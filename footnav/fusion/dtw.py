@@ -187,6 +187,8 @@ class DtwFusion(Fusion):
         self.step_width_m = step_width_m
 
     def validate_params(self) -> None:
+        """Check every parameter (:meth:`footnav.core.component.Component.validate_params`); raises
+        InvalidParameterError."""
         # The DTW kernel holds (duration x dtw_rate_hz) x (2 band_s dtw_rate_hz + 1) int8
         # back-pointers: 50 Hz and 10 s keep a one-hour walk near 180 MB (at 1 MHz one minute
         # needed terabytes). Lengths overflow when squared.

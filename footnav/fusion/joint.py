@@ -4,7 +4,8 @@ A coupled fusion needs both feet in one nav frame. Each foot's IMU starts with i
 heading, so :func:`start_joint` first runs each foot alone (forward filter) over its first steps
 to find the heading of its first step (:func:`first_step_yaw`), then starts the joint filter
 (:class:`~footnav.core.component.JointFilter`) with each foot turned so that its first step points
-along +x and the feet ``step_width_m`` apart across it (left foot at +y). :func:`finish_joint` has the estimator finish the run (its own smoothing) and
+along +x and the feet ``step_width_m`` apart across it (left foot at +y). :func:`finish_joint` has
+the estimator finish the run (its own smoothing) and
 returns both feet and their midpoint path. Fusions use only the members of
 :class:`~footnav.core.component.StepableEstimator` and :class:`~footnav.core.component.JointFilter`,
 so any estimator that implements them runs with every coupled fusion.
@@ -105,6 +106,7 @@ class EventQueue:
         self._closed = False
 
     def add(self, t: float, foot: int) -> None:
+        """Queue ``foot``'s event at time ``t`` (s)."""
         self._pending.append((float(t), foot))
 
     def due(self, until_s: float, everything: bool = False) -> list[tuple[float, int]]:

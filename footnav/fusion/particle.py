@@ -72,7 +72,8 @@ footnav's reading (``mode="footnav"``), where the paper leaves room:
    apart), so the EKF would end with ``(P^-1 + Sigma^-1)^-1``, tighter than either, and its
    mean between its own and the PF's. Instead the EKF's horizontal-position marginal is
    *replaced* by the PF's (Jeffrey's rule, the conditional ``p(x_EKF | x_PF)`` of eq. 8 kept):
-   this is the Kalman update with the equivalent measurement that carries only the information the PF added, ``R^-1 = Sigma^-1 -
+   this is the Kalman update with the equivalent measurement that carries only the information the
+   PF added, ``R^-1 = Sigma^-1 -
    P^-1`` (see :func:`equivalent_measurement`). The other states (velocity, attitude, biases)
    move by their regression on the position, ``P_xp P_pp^-1 (mu - p^)``. Where the cloud is
    wider than the EKF (the drift term, which the EKF does not model), a measurement cannot
@@ -243,6 +244,8 @@ class ParticleFusion(Fusion):
         self.seed = seed
 
     def validate_params(self) -> None:
+        """Check every parameter (:meth:`footnav.core.component.Component.validate_params`); raises
+        InvalidParameterError."""
         # Time and memory grow linearly with n_particles at every stance of the walk: 10**5
         # (1000x the default) is about the largest a one-hour walk finishes with in minutes.
         require_in_range(self, "n_particles", low=2, high=100_000, integer=True)

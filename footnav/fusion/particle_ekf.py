@@ -77,7 +77,8 @@ def drift_scales(
 
 
 @njit(cache=True, error_model="numpy")
-def _advance(
+# complexity: a compiled loop over the samples, one pass
+def _advance(  # noqa: C901
     k0,
     k1,
     t,

@@ -172,6 +172,7 @@ class LegLengthFit:
         return self._leg
 
     def as_meta(self) -> dict[str, Any]:
+        """The fit's record for ``meta``: its limits, the steps fitted and the length used per update."""
         return {
             "min_steps": LEG_FIT_MIN_STEPS,
             "window": LEG_FIT_WINDOW,

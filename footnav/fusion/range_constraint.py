@@ -47,7 +47,8 @@ class RangeConstraintFusion(Fusion):
 
     Examples
     --------
-    >>> pipe = footnav.make_pipeline("threshold", "ekf", "range", fusion_params={"max_separation_m": 1.0})  # doctest: +SKIP
+    >>> params = {"max_separation_m": 1.0}
+    >>> pipe = footnav.make_pipeline("threshold", "ekf", "range", fusion_params=params)  # doctest: +SKIP
     """
 
     name = "range"
@@ -70,6 +71,8 @@ class RangeConstraintFusion(Fusion):
         self.step_width_m = step_width_m
 
     def validate_params(self) -> None:
+        """Check every parameter (:meth:`footnav.core.component.Component.validate_params`); raises
+        InvalidParameterError."""
         # Upper bounds (footnav.core.component): lengths are squared into the update's
         # covariance; a check interval longer than a minute never checks a walk.
         require_positive(self, "max_separation_m", "constraint_std_m", high=MAX_LENGTH_M)

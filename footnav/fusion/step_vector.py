@@ -226,6 +226,8 @@ class StepVectorFusion(Fusion):
         self.heel_strike_before_stance_s = heel_strike_before_stance_s
 
     def validate_params(self) -> None:
+        """Check every parameter (:meth:`footnav.core.component.Component.validate_params`); raises
+        InvalidParameterError."""
         # Upper bounds (footnav.core.component): lengths and their stds are squared into the
         # step update's covariance (overflow at 1e308); a turn threshold above a full turn
         # never fires.
@@ -309,7 +311,7 @@ class StepVectorFusion(Fusion):
         supports = self._supports(
             view, np.array([1 - front for _, front, _, _ in landings]), np.array([t for t, _, _, _ in landings])
         )
-        for (t, front, hs_front, j), support in zip(landings, supports):
+        for (_, front, _, j), support in zip(landings, supports):
             if support is None:
                 continue
             runs_f, traj_f = view.runs(front), singles[front]
@@ -330,15 +332,18 @@ class StepVectorFusion(Fusion):
     # -- the fusion -----------------------------------------------------------------------------
     @property
     def online_exact(self) -> bool:  # type: ignore[override]
+        """Whether the live session gives the offline result: only with the pendulum step length."""
         # online, the fitted leg length is that of the strides so far, not the whole walk's
         return self.step_length == "pendulum"
 
     @property
     def reads_feet_alone(self) -> bool:  # type: ignore[override]
+        """Whether the session reads each foot's own forward solution (the fitted leg length does)."""
         return self.step_length == "fitted"
 
     @property
     def calibrates_feet(self) -> bool:  # type: ignore[override]
+        """Whether each foot is calibrated on its first stance before its filter starts."""
         return self.calibration != "none"
 
     def foot_calibration(self, imu: ImuData, stance: StanceResult, foot: str) -> StandstillCalibration | None:

@@ -62,6 +62,8 @@ class DominantDirectionsAid(HeadingAid):
         self.min_strength = min_strength
 
     def validate_params(self) -> None:
+        """Check every parameter (:meth:`footnav.core.component.Component.validate_params`); raises
+        InvalidParameterError."""
         require(
             isinstance(self.n_directions, (int, np.integer)) and 1 <= self.n_directions <= 16,
             self,

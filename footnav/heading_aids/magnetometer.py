@@ -63,6 +63,8 @@ class MagnetometerAid(HeadingAid):
         self.hard_iron = hard_iron
 
     def validate_params(self) -> None:
+        """Check every parameter (:meth:`footnav.core.component.Component.validate_params`); raises
+        InvalidParameterError."""
         require_in_range(self, "magnitude_tol", low=0.0, high=1.0, low_open=True)
         require_positive(self, "dip_tol_deg", high=90.0)
         require_positive(self, "window_s", high=3600.0)

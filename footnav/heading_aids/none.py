@@ -14,4 +14,5 @@ class NoHeadingAid(HeadingAid):
     online = True
 
     def correct(self, result, left, right=None):
+        """``result`` unchanged, each foot's ``meta["heading_aid"]`` saying so."""
         return result

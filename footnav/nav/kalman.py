@@ -121,7 +121,8 @@ DENSE_OK, DENSE_NOT_PD, DENSE_BAD_INPUT = 0, 1, 2
 
 
 @njit(cache=True, error_model="numpy")
-def update_dense(cov, h, y, r, chol, ph, gain, sy, dx, new_cov):
+# complexity: a compiled kernel whose branches are its input checks and the Cholesky's failure cases
+def update_dense(cov, h, y, r, chol, ph, gain, sy, dx, new_cov):  # noqa: C901
     """Kalman update with a dense measurement ``y = H dx + noise`` (noise variances ``r``), into
     scratch: nothing the caller passes as input changes, so it can still decide (a gate on the
     returned normalised innovation squared) before it takes ``new_cov`` and ``dx``.

@@ -79,6 +79,7 @@ class FootCut:
         return self.start_index > 0 or self.stop_index < self.n_samples
 
     def as_meta(self) -> dict[str, Any]:
+        """The record for ``meta``."""
         return {
             "start_index": self.start_index,
             "stop_index": self.stop_index,
@@ -101,6 +102,7 @@ class CommonSpan:
 
     @property
     def duration_s(self) -> float:
+        """Length of the common span, s."""
         return self.stop_s - self.start_s
 
     @property
@@ -110,6 +112,7 @@ class CommonSpan:
 
     @property
     def largest_cut_s(self) -> float:
+        """The largest part of either foot cut off, s."""
         return max(self.left.cut_before_s, self.left.cut_after_s, self.right.cut_before_s, self.right.cut_after_s)
 
     @property
@@ -118,6 +121,7 @@ class CommonSpan:
         return self.largest_cut_s > CUT_WARN_S
 
     def as_meta(self) -> dict[str, Any]:
+        """The record for ``meta``."""
         return {
             "common_s": [self.start_s, self.stop_s],
             "left_s": list(self.left_span_s),

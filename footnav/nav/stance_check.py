@@ -5,7 +5,8 @@ whose bound is too tight for running finds 3 stances in 30 strides, the ZUPTs ar
 trajectory drifts by metres with nothing said. The gait cycles can be seen without any stance
 detector: one swing peak of the windowed angular rate per stride
 (:func:`footnav.nav.gait_cycles.swing_peaks`). Between two consecutive swing peaks (closer than a
-pause, ``max_stride_s``, and further apart than the shortest stride, ``min_stride_s``) the foot must have stood once; a stance holding a swing peak cannot be a
+pause, ``max_stride_s``, and further apart than the shortest stride, ``min_stride_s``) the foot
+must have stood once; a stance holding a swing peak cannot be a
 stance. :func:`check_stances` counts both and says where (times in s).
 
 :class:`footnav.Pipeline` runs it on every foot of every run: ``result.meta["stance_check"]``

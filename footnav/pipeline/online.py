@@ -26,7 +26,8 @@ How it stays equal to the offline run, per foot (:mod:`footnav.pipeline.online_f
    when the segment is full, a new one starts from the filter's last checkpoint at a step end
    (its state, covariance and the step-wise smoother's chaining value there). The filter is
    deterministic, so the continued run is the offline run, sample for sample.
-3. **Step-wise smoothing** (``smoother="step"``, and live with ``"whole"``) closes each step at its end: every sample up to
+3. **Step-wise smoothing** (``smoother="step"``, and live with ``"whole"``) closes each step at its
+   end: every sample up to
    the last closed step is final, and is returned by the next push. The frame's heading (the
    first step along +x) is known once the first step longer than 0.2 m has closed; samples are
    held until then.
@@ -114,8 +115,8 @@ class OnlineStream:
     ----------
     pipeline
         A pipeline whose components run online: a detector with a bounded ``latency_s``, an
-        estimator with a step-able filter and any ``smoother`` (``"whole"``: step-wise live, the whole walk at close), an online
-        fusion (:data:`ONLINE_FUSIONS`).
+        estimator with a step-able filter and any ``smoother`` (``"whole"``: step-wise live, the
+        whole walk at close), an online fusion (:data:`ONLINE_FUSIONS`).
     feet
         1 (``left`` only) or 2.
     max_wait_s
@@ -237,7 +238,8 @@ class OnlineStream:
 
     def __repr__(self) -> str:
         n = [f.input.end for f in self.feet]
-        return f"OnlineStream(feet={self.n_feet}, samples={n}, final={[f.n_out for f in self.feet]}, latency_s={self.latency_s:.3g})"
+        final = [f.n_out for f in self.feet]
+        return f"OnlineStream(feet={self.n_feet}, samples={n}, final={final}, latency_s={self.latency_s:.3g})"
 
     def push(self, left: Any = None, right: Any = None) -> OnlineUpdate:
         """Add samples of either foot or both; returns what became final since the last push.

@@ -6,7 +6,8 @@ shape (a transposed ``(3, N)`` chunk is refused naming its shape), non-finite va
 does not increase (across chunks too), samples beyond any foot IMU's range and angular rates held
 beyond any gyroscope's (:func:`~footnav.core.types.imu_checks.check_extremes`); the error names the
 sample by its index in the foot's stream, as the offline error names it in the recording, and
-says what the offline check of the whole recording says, however the samples are chunked. Sampling gaps are found per chunk
+says what the offline check of the whole recording says, however the samples are chunked. Sampling
+gaps are found per chunk
 once the median interval is known and warned as offline (``records["gaps"]``).
 
 Checks that need more than a chunk run when their data have arrived, and at the end on what

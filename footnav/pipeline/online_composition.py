@@ -60,8 +60,9 @@ def check_online(pipeline: Any, feet: int) -> float:
     gaps = online_gaps(est)
     if gaps:
         raise CompositionError(
-            f"estimator {est.name!r} has no step-able filter a stream can run (footnav.core.online_contract.OnlineEstimator: "
-            f"start(imus, stances) and the rest); it lacks {', '.join(gaps)}; online mode needs one, such as 'ekf'"
+            f"estimator {est.name!r} has no step-able filter a stream can run "
+            "(footnav.core.online_contract.OnlineEstimator: start(imus, stances) and the rest); "
+            f"it lacks {', '.join(gaps)}; online mode needs one, such as 'ekf'"
         )
     est.validate_params()
     if getattr(est, "smoother", None) not in ("whole", "step", "none"):

@@ -200,10 +200,13 @@ class FootStream:
 
     @property
     def t_last(self) -> float:
+        """Time of the newest sample pushed, s (-inf before any)."""
         return float(self.input.last()) if self.input.n else -math.inf
 
     # -- input and detection --------------------------------------------------------------------
     def push(self, t: NDArray, acc: NDArray, gyr: NDArray) -> None:
+        """Take a chunk of the foot's samples (time s, specific force m/s^2, angular rate rad/s, body) and decide what
+        it can."""
         if len(t) == 0:
             return
         if self.offset_s:
@@ -494,6 +497,7 @@ class FootStream:
 
     # -- what a push returns ------------------------------------------------------------------------
     def take(self) -> FootUpdate:
+        """The samples that became final since the last call, with the forward estimate now."""
         forward = self.forward()
         if self.psi is None or self.emitted >= self.n_out:
             return empty_update(forward)

@@ -73,10 +73,12 @@ class FootUpdate:
 
     @property
     def n_samples(self) -> int:
+        """Number of samples in the update."""
         return len(self.t)
 
 
 def empty_update(forward: ForwardEstimate | None) -> FootUpdate:
+    """An update with no final sample, carrying only the forward estimate."""
     z3 = np.empty((0, 3))
     return FootUpdate(np.empty(0), z3, z3.copy(), np.empty((0, 4)), forward, np.empty(0, dtype=bool))
 

@@ -92,6 +92,7 @@ class JointFoot:
 
     @property
     def t_last(self) -> float:
+        """Time of the newest sample pushed, s (-inf before any)."""
         return self.alone.t_last
 
     def closed_until(self) -> float:
@@ -219,7 +220,8 @@ class JointStream:
         )
         if not isinstance(first, OnlineFilter):
             raise CompositionError(
-                f"online fusion {self.fusion.name!r} needs the estimator's filter in segments (footnav.core.component.OnlineFilter); "
+                f"online fusion {self.fusion.name!r} needs the estimator's filter in segments "
+                "(footnav.core.online_contract.OnlineFilter); "
                 f"estimator {self.estimator.name!r} gives a {type(first).__name__}"
             )
         self.meta = first.meta

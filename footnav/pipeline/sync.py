@@ -116,9 +116,12 @@ class ClockSync(Component):
 
     @property
     def needs_two_feet(self) -> bool:  # type: ignore[override]
+        """Whether the method needs both feet (``data`` does)."""
         return self.method == "data"
 
     def validate_params(self) -> None:
+        """Check every parameter (:meth:`footnav.core.component.Component.validate_params`); raises
+        InvalidParameterError."""
         require(self.method in ("data", "exchanges"), self, "method", "'data' or 'exchanges'")
         require_non_negative(self, "delay_s", high=MAX_DURATION_S)
         require_positive(self, "smooth_s", high=MAX_DURATION_S)

@@ -62,23 +62,27 @@ BUILTINS = {
 
 @hookimpl
 def footnav_register_detectors(register):
+    """Register the built-in stance detectors."""
     for name, ref in BUILTINS["detector"]:
         register(ref, name=name)
 
 
 @hookimpl
 def footnav_register_estimators(register):
+    """Register the built-in per-foot estimators."""
     for name, ref in BUILTINS["estimator"]:
         register(ref, name=name)
 
 
 @hookimpl
 def footnav_register_fusions(register):
+    """Register the built-in fusions."""
     for name, ref in BUILTINS["fusion"]:
         register(ref, name=name)
 
 
 @hookimpl
 def footnav_register_heading_aids(register):
+    """Register the built-in heading aids."""
     for name, ref in BUILTINS["heading_aid"]:
         register(ref, name=name)

@@ -30,6 +30,7 @@ class Entry:
 
     @property
     def cls(self) -> type[Component]:
+        """The component class (imported on first look-up; errors name the plugin)."""
         if isinstance(self._cls, str):
             self._cls = _import_class(self._cls, self.kind, self.plugin, self.origin)
         return self._cls
@@ -113,6 +114,7 @@ class Registry:
         return entry
 
     def names(self, kind: str) -> list[str]:
+        """The registered names of ``kind``, sorted."""
         return sorted(self._entries[kind])
 
     def __iter__(self) -> Iterator[Entry]:

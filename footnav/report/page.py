@@ -25,12 +25,15 @@ PLOT_HINT = "Figures need matplotlib: <code>pip install 'footnav[plot]'</code>, 
 _STYLE = """
 :root{color-scheme:light;--fg:#1d1d1f;--muted:#5f6368;--line:#d9dce1;--soft:#f4f6f8;--warn:#8a4b00;--warnbg:#fff4e0;--ok:#0b6b2e}
 *{box-sizing:border-box}
-body{font:15px/1.45 system-ui,-apple-system,"Segoe UI",Roboto,sans-serif;color:var(--fg);margin:0 auto;max-width:1100px;padding:1rem 1.2rem 3rem}
-h1{font-size:1.5rem;margin:.4rem 0}h2{font-size:1.2rem;margin:2rem 0 .5rem;border-bottom:1px solid var(--line);padding-bottom:.2rem}
+body{font:15px/1.45 system-ui,-apple-system,"Segoe UI",Roboto,sans-serif;color:var(--fg);margin:0 auto;
+max-width:1100px;padding:1rem 1.2rem 3rem}
+h1{font-size:1.5rem;margin:.4rem 0}
+h2{font-size:1.2rem;margin:2rem 0 .5rem;border-bottom:1px solid var(--line);padding-bottom:.2rem}
 h3{font-size:1.05rem;margin:1.2rem 0 .4rem}
 p,li{max-width:75ch}.muted{color:var(--muted)}
 nav{font-size:.9rem;margin:.4rem 0 1rem}nav a{margin-right:.9rem;white-space:nowrap}
-figure{margin:.5rem 0 1rem}figure svg{width:100%;height:auto;display:block}figcaption{color:var(--muted);font-size:.88rem}
+figure{margin:.5rem 0 1rem}figure svg{width:100%;height:auto;display:block}
+figcaption{color:var(--muted);font-size:.88rem}
 .scroll{overflow-x:auto;max-width:100%;-webkit-overflow-scrolling:touch}
 table{border-collapse:collapse;font-size:.85rem;font-variant-numeric:tabular-nums}
 th,td{border-bottom:1px solid var(--line);padding:.25rem .55rem;text-align:right;white-space:nowrap}
@@ -39,7 +42,9 @@ tr.steady td{background:#eef8f0}td.best{font-weight:700;color:var(--ok)}td.best:
 .warn{background:var(--warnbg);border-left:4px solid var(--warn);padding:.5rem .8rem;margin:.5rem 0}
 .ok{border-left:4px solid var(--ok);padding:.3rem .8rem;margin:.5rem 0}
 pre{background:var(--soft);padding:.6rem;overflow-x:auto;font-size:.8rem}
-code{font-size:.9em}dl{display:grid;grid-template-columns:max-content 1fr;gap:.15rem 1rem}dt{color:var(--muted)}dd{margin:0;overflow-wrap:anywhere}
+code{font-size:.9em}
+dl{display:grid;grid-template-columns:max-content 1fr;gap:.15rem 1rem}
+dt{color:var(--muted)}dd{margin:0;overflow-wrap:anywhere}
 @media (max-width:600px){body{font-size:14px;padding:.6rem}figure svg{min-width:560px}th,td{padding:.2rem .35rem}}
 """
 
@@ -63,6 +68,7 @@ def scrub(text: object, places: Iterable[str] = ()) -> str:
 
 
 def section(anchor: str, title: str, body: str) -> str:
+    """An HTML section with its anchor and heading."""
     return f'<section id="{esc(anchor)}"><h2>{esc(title)}</h2>\n{body}\n</section>\n'
 
 
@@ -87,10 +93,8 @@ def table(
     body = []
     for i, row in enumerate(rows):
         rc = f' class="{row_class[i]}"' if row_class and row_class[i] else ""
-        cells = "".join(
-            f'<td class="{" ".join(c for c in ("t" if j in left else "", cls.get((i, j), "")) if c)}">{esc(fmt(v))}</td>'
-            for j, v in enumerate(row)
-        )
+        classes = [" ".join(c for c in ("t" if j in left else "", cls.get((i, j), "")) if c) for j in range(len(row))]
+        cells = "".join(f'<td class="{c}">{esc(fmt(v))}</td>' for c, v in zip(classes, row))
         body.append(f"<tr{rc}>{cells}</tr>")
     return f'<div class="scroll"><table><thead><tr>{head}</tr></thead><tbody>{"".join(body)}</tbody></table></div>'
 
@@ -130,6 +134,7 @@ _VERTICAL_TRY = (
 
 
 def warnings_html(warnings: Sequence[str], places: Iterable[str]) -> str:
+    """The run's warnings as an HTML list, each with where it came from (or a note that there was none)."""
     if not warnings:
         return '<p class="ok">The run issued no warning.</p>'
     items = "".join(f"<li>{esc(scrub(w, places))}</li>" for w in warnings)

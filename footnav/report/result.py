@@ -133,7 +133,8 @@ def _strides_section(strides) -> str:
         table(("foot", "strides", "steady", "length (m)", "cadence", "stance (s)", "clearance (m)"), summary_rows)
     )
     parts.append(
-        '<p class="muted">Cadence in steps per minute. Steady strides (shaded green, mean above): not the first or last of a walk, '
+        '<p class="muted">Cadence in steps per minute. Steady strides (shaded green, mean above): '
+        "not the first or last of a walk, "
         f"no standstill, turning less than {STEADY_TURN_DEG:g}°, level (not on stairs).</p>"
     )
     rows, classes = [], []
@@ -200,12 +201,14 @@ def result_html(
     plan = figure(
         figures.plan_svg(feet, result.path, truths) if ok else None,
         f"Plan view (nav frame, x along the first steps). Lines: each foot; circles: footprints (mid-stance); "
-        f"dashed: the fused path; big circle start, square end{'; wide pale lines: truth, rigidly aligned in 2-D onto each foot' if truths else ''}. "
+        "dashed: the fused path; big circle start, square end"
+        f"{'; wide pale lines: truth, rigidly aligned in 2-D onto each foot' if truths else ''}. "
         f"{esc(lengths)}.",
         figures_ok=ok,
     )
     floors = "; ".join(
-        f"{foot}: climb {abs(v.get('climb_m', 0)):.2f} m, descent {abs(v.get('descent_m', 0)):.2f} m, floors up {v.get('floors_up', 0)}, "
+        f"{foot}: climb {abs(v.get('climb_m', 0)):.2f} m, descent {abs(v.get('descent_m', 0)):.2f} m, "
+        f"floors up {v.get('floors_up', 0)}, "
         f"down {v.get('floors_down', 0)}"
         for foot, v in vertical.items()
     )

@@ -322,6 +322,7 @@ class ImuData:
 
     @property
     def has_mag(self) -> bool:
+        """Whether the recording has a magnetometer (``mag``)."""
         return self.mag is not None
 
     def same_grid(self, t: NDArray[np.float64], acc: NDArray[np.float64], gyr: NDArray[np.float64]) -> ImuData:

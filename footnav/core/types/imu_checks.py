@@ -446,8 +446,9 @@ def _check_data(
                 (
                     f"{label}: the foot moves (|acc| is more than 0.5 g off its median in {moving * 100:.0f} % of the "
                     f"samples) but turns at most {w_peak:.3g} rad/s "
-                    f"({np.degrees(w_peak):.3g} deg/s); a walking foot turns at 5-12 rad/s in swing: the gyroscope looks "
-                    f"like rad/s read as deg/s (declared {(meta.get('units_in') or {}).get('gyr', 'rad/s')!r}); "
+                    f"({np.degrees(w_peak):.3g} deg/s); a walking foot turns at 5-12 rad/s in swing: "
+                    "the gyroscope looks like rad/s read as deg/s "
+                    f"(declared {(meta.get('units_in') or {}).get('gyr', 'rad/s')!r}); "
                     "recorded in meta['gyr_unit_check']"
                 ),
             )

@@ -99,4 +99,5 @@ class Recording:
 
     @property
     def n_feet(self) -> int:
+        """1 or 2: the feet recorded."""
         return 1 if self.right is None else 2

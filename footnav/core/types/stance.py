@@ -76,4 +76,5 @@ class StanceResult:
 
     @property
     def n_stances(self) -> int:
+        """Number of stance intervals."""
         return len(self.intervals)

@@ -287,7 +287,8 @@ def _counter_check(counter: np.ndarray, lines: np.ndarray, path: str, column: st
     return record
 
 
-def read_delimited(
+# complexity: one branch per header and unit convention a user's file may have
+def read_delimited(  # noqa: C901
     path: Any,
     *,
     columns: str | Mapping[str, Any] | None = None,
@@ -388,7 +389,8 @@ def read_delimited(
             head = _HEADER_UNITS[group].get(stated[group]) or _HEADER_UNITS[group].get(stated[group].lower())
             if head is None:
                 raise InvalidInputError(
-                    f"unknown {group} unit {stated[group]!r} in the header; known: {sorted(set(_HEADER_UNITS[group].values()))}",
+                    f"unknown {group} unit {stated[group]!r} in the header; "
+                    f"known: {sorted(set(_HEADER_UNITS[group].values()))}",
                     path=src,
                     line=first + 1,
                     field=group,

@@ -4,7 +4,8 @@ Guessing looks at (in this order) whether the path is a folder (azure_fgo files;
 files), the extension (``.mat``: variable names; ``.json``: an IPOL trial description) and the
 first lines of a text file (column header). An IPOL foot file (first line ``Acquisition
 frequency: ...``, name ``<stem>_lf.txt`` / ``<stem>_rf.txt`` with its other foot beside it) is
-read as the two-foot IPOL trial, not as a one-sensor Xsens export. The guess is logged (``logging`` INFO on ``footnav.data.io.load``) and recorded:
+read as the two-foot IPOL trial, not as a one-sensor Xsens export. The guess is logged (``logging``
+INFO on ``footnav.data.io.load``) and recorded:
 ``meta["format"]`` and ``meta["format_guessed"] = True``. A file matching no known format is an
 InvalidInputError listing the formats.
 
@@ -101,7 +102,8 @@ def _is_float(text: str) -> bool:
     return True
 
 
-def guess_format(path: Any) -> tuple[str, str, dict[str, Any]]:
+# complexity: one branch per known file layout, tried in order
+def guess_format(path: Any) -> tuple[str, str, dict[str, Any]]:  # noqa: C901
     """Guess the format of ``path``.
 
     Returns
@@ -236,8 +238,8 @@ def load(path: Any, format: str | None = None, **options: Any) -> Recording:
         present, ``mocap_sample.csv`` and ``stride_events_sample.csv``).
     format
         One of ``READERS`` (``footnav_csv``, ``gaitmap``, ``azure_fgo``, ``xio``, ``openshoe``,
-        ``pyshoe``, ``xsens``, ``ipol``, ``gaitdriven``, ``ximu_cal``, ``delimited``) to force the reader; None guesses from
-        the file.
+        ``pyshoe``, ``xsens``, ``ipol``, ``gaitdriven``, ``ximu_cal``, ``delimited``) to force the
+        reader; None guesses from the file.
     **options
         Passed to the reader (e.g. ``drop_duplicates=True``, ``rate_hz=...``).
 

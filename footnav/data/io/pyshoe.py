@@ -71,7 +71,8 @@ def _gravity_z_sign(acc: NDArray[np.float64], gyr: NDArray[np.float64]) -> tuple
     return float(np.sign(mean[2])), how
 
 
-def read_pyshoe(
+# complexity: one branch per variant of the published files
+def read_pyshoe(  # noqa: C901
     path: Any,
     *,
     sensor_z: str = "down",

@@ -74,7 +74,8 @@ def read_xsens(
     path
         The text export; see the module docstring.
     rate_hz
-        Sampling rate. Default: the preamble's ``Update Rate`` (or ``Acquisition frequency``). Given when the file has one, the
+        Sampling rate. Default: the preamble's ``Update Rate`` (or ``Acquisition frequency``).
+        Given when the file has one, the
         two must agree (else InvalidInputError: one of them is wrong).
     drop_duplicates
         Drop rows repeating the previous packet counter (recorded); without it they raise.

@@ -169,7 +169,8 @@ def _magnetometer_options(opts: dict[str, Any]) -> None:
     opts["mag_disturbances"] = zones
 
 
-def _resolve_options(scenario: Any, rate_hz: Any, options: Mapping[str, Any]) -> dict[str, Any]:
+# complexity: one check per simulator option
+def _resolve_options(scenario: Any, rate_hz: Any, options: Mapping[str, Any]) -> dict[str, Any]:  # noqa: C901
     """Defaults merged with ``options``, every value checked; raises InvalidParameterError."""
     if scenario not in _SCENARIO_DEFAULTS:
         raise InvalidParameterError(

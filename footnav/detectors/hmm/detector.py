@@ -183,6 +183,8 @@ class HmmDetector(StanceDetector):
 
     # -- parameters ---------------------------------------------------------------------------
     def validate_params(self) -> None:
+        """Check every parameter (:meth:`footnav.core.component.Component.validate_params`); raises
+        InvalidParameterError."""
         require(
             isinstance(self.features, str) and self.features in FEATURES,
             self,

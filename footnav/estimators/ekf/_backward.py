@@ -75,7 +75,8 @@ def _chain_steps(ev_foot, ev_k, ev_kind, used, n, n_feet, d, out_p, sm_p, offset
 
 
 @njit(cache=True, error_model="numpy")
-def smooth_back(
+# complexity: a compiled loop; split into helpers it ran slower (docs/changes.md, issue 38)
+def smooth_back(  # noqa: C901
     fill,
     chain,
     cov,

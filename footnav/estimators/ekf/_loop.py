@@ -350,7 +350,8 @@ def _watched(watch, replay, stance, k, state, model, ws, record, step, bufs, t_n
 
 
 @njit(cache=True, error_model="numpy")
-def run(samples, span, state, model, out, mode, bufs, ws, watch, replay):
+# complexity: a compiled loop; split into helpers it ran 10-25 % slower (docs/changes.md, issue 38)
+def run(samples, span, state, model, out, mode, bufs, ws, watch, replay):  # noqa: C901
     """Advance the feet through the samples of ``span`` (:class:`Span`), in time order.
 
     ``state`` (a :class:`FilterState`) is advanced in place and each sample's result written

@@ -239,6 +239,8 @@ class EkfEstimator(FootEstimator):
         self.clip_excess_mps2 = clip_excess_mps2
 
     def validate_params(self) -> None:
+        """Check every parameter (:meth:`footnav.core.component.Component.validate_params`); raises
+        InvalidParameterError."""
         # Upper bounds (footnav.core.component): every std and noise density is squared into the
         # filter's covariance, where 1e308 overflows to inf and turns the estimate into NaN.
         require_positive(

@@ -3,9 +3,9 @@
 Run:  python benchmarks/bench_batch.py [--recordings 40] [--jobs 2] [--dask]
 
 Each recording is a simulated two-foot walk round a 105 x 68 m rectangle (about 5 minutes at
-100 Hz), simulated by the worker that evaluates it; the pipeline is the default one. Prints the serial and parallel wall times and their
-ratio; the target is >= 1.6x with 2 processes on a 2-core machine. Worker start-up (process
-spawn, numba cache load) counts against the parallel run.
+100 Hz), simulated by the worker that evaluates it; the pipeline is the default one. Prints the
+serial and parallel wall times and their ratio; the target is >= 1.6x with 2 processes on a
+2-core machine. Worker start-up (process spawn, numba cache load) counts against the parallel run.
 """
 
 from __future__ import annotations
@@ -53,7 +53,8 @@ def main() -> None:
     ]
     print(f"machine: {platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()}")
     print(
-        f"{args.recordings} simulated recordings of {simulate_named(0, args.scale).left.duration_s:.0f} s, default pipeline"
+        f"{args.recordings} simulated recordings of {simulate_named(0, args.scale).left.duration_s:.0f} s, "
+        "default pipeline"
     )
     print(
         f"serial: {t_serial:.2f} s; loky n_jobs={args.jobs}: {t_par:.2f} s (speed-up {t_serial / t_par:.2f}x), "

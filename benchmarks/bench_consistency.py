@@ -64,7 +64,8 @@ def main() -> None:
     print(f"machine: {platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()}")
     print("per axis, x and y; consistent: 68.3 % within 1 std, 95.4 % within 2 std, NEES 1")
     print(
-        "| walk | estimator | smoother | walks | within 1 std | per walk | within 2 std | NEES/axis | final error RMS m | final std mean m |"
+        "| walk | estimator | smoother | walks | within 1 std | per walk | within 2 std | NEES/axis "
+        "| final error RMS m | final std mean m |"
     )
     print("|---|---|---|---|---|---|---|---|---|---|")
     t0 = time.perf_counter()

@@ -42,7 +42,8 @@ def main() -> None:
 
     print(f"machine: {platform.machine()} {cpu_name()}, python {platform.python_version()}, numpy {np.__version__}")
     print(
-        f"recording: simulated straight walk, {n} samples per foot ({n / args.rate_hz / 60:.1f} min at {args.rate_hz:g} Hz)"
+        f"recording: simulated straight walk, {n} samples per foot "
+        f"({n / args.rate_hz / 60:.1f} min at {args.rate_hz:g} Hz)"
     )
     per_sample = {}
     for name in ("threshold", "adaptive", "glrt"):

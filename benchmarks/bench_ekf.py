@@ -63,7 +63,8 @@ def main() -> None:
     )
     print(f"recording: {rec.left.duration_s / 60:.1f} min simulated at {args.rate_hz:g} Hz, {n} samples per foot")
     print(
-        f"import footnav: {import_s:.2f} s; first calls of the six ekf variants (cache load or compile): {first_s:.2f} s"
+        f"import footnav: {import_s:.2f} s; "
+        f"first calls of the six ekf variants (cache load or compile): {first_s:.2f} s"
     )
     out_mb = n * (3 + 3 + 4 + 3) * 8 / 1e6
     print(f"output of one foot (position, velocity, attitude, std): {out_mb:.1f} MB")

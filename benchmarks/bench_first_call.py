@@ -112,7 +112,8 @@ def _print_compilations(title: str, found: dict) -> None:
     twice = Counter(name for name, _ in {(r[0], r[3]) for r in rows})  # distinct signatures per kernel
     own = sum(r[1] for r in rows)
     print(
-        f"\n{title}: {found['total']:.2f} s in all (CPU {found['cpu']:.2f} s), {own:.2f} s compiling, {len(rows)} compilations "
+        f"\n{title}: {found['total']:.2f} s in all (CPU {found['cpu']:.2f} s), {own:.2f} s compiling, "
+        f"{len(rows)} compilations "
         f"({sum(1 for n in twice if twice[n] > 1)} kernels for more than one signature: *)"
     )
     print("| kernel | own s | with callees s | arguments |")

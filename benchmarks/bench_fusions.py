@@ -44,7 +44,8 @@ def main() -> None:
     n = rec.left.n_samples
     print(f"machine: {cpu_name()}, {os.cpu_count()} cores, Python {platform.python_version()}")
     print(
-        f"walk: {rec.left.duration_s / 60:.1f} min, {n} samples per foot; detector {args.detector}, estimator {args.estimator}"
+        f"walk: {rec.left.duration_s / 60:.1f} min, {n} samples per foot; "
+        f"detector {args.detector}, estimator {args.estimator}"
     )
     fusions = ["independent"] + [f for f in args.fusions.split(",") if f and f != "independent"]
     pipes = {f: footnav.make_pipeline(args.detector, args.estimator, f) for f in fusions}

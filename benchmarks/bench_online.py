@@ -154,15 +154,19 @@ def main() -> None:
         else ""
     )
     print(
-        f"throughput: {left.duration_s / spent:,.0f}x real time{each} ({spent:.2f} s for {left.duration_s / 60:.1f} min, "
-        f"{spent / (2 * left.n_samples) * 1e6:.2f} us per sample, {spent / pushes * 1e6:.0f} us per push of both feet); CPU time: {left.duration_s / cpu:,.0f}x "
+        f"throughput: {left.duration_s / spent:,.0f}x real time{each} "
+        f"({spent:.2f} s for {left.duration_s / 60:.1f} min, "
+        f"{spent / (2 * left.n_samples) * 1e6:.2f} us per sample, "
+        f"{spent / pushes * 1e6:.0f} us per push of both feet); "
+        f"CPU time: {left.duration_s / cpu:,.0f}x "
         f"({cpu / pushes * 1e6:.0f} us per push)"
     )
     if compared:
         ratios = [r[0] / b for r, b in zip(runs, base_runs)]
         print(
             f"  against {base!r} in this process, replayed in turn: {float(np.median(ratios)):.2f}x its time "
-            f"(rounds: {', '.join(f'{x:.2f}x' for x in ratios)}; it ran {left.duration_s / float(np.median(base_runs)):,.0f}x real time)"
+            f"(rounds: {', '.join(f'{x:.2f}x' for x in ratios)}; "
+            f"it ran {left.duration_s / float(np.median(base_runs)):,.0f}x real time)"
         )
 
     if args.view:

@@ -188,7 +188,8 @@ def paper_speed(repeat: int) -> None:
     fuse()  # compile
     best, _ = best_of(fuse, repeat)
     print(
-        f"machine: {cpu_name()}, {os.cpu_count()} cores, Python {platform.python_version()}, footnav {footnav.__version__}"
+        f"machine: {cpu_name()}, {os.cpu_count()} cores, Python {platform.python_version()}, "
+        f"footnav {footnav.__version__}"
     )
     print(f"paper mode, {rec.left.duration_s / 60:.1f} min two-foot walk: {best:.2f} s (best of {repeat})")
 

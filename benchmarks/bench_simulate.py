@@ -27,7 +27,8 @@ def main() -> None:
     footnav.simulate("straight", distance_m=10.0)  # compile
     best, rec = best_of(lambda: footnav.simulate("straight", distance_m=distance_m), args.repeat)
     print(
-        f"machine: {cpu_name()}, {os.cpu_count()} cores, Python {platform.python_version()}, footnav {footnav.__version__}"
+        f"machine: {cpu_name()}, {os.cpu_count()} cores, Python {platform.python_version()}, "
+        f"footnav {footnav.__version__}"
     )
     print(
         f"simulate straight, {rec.left.duration_s / 60:.1f} min two feet at {rec.left.rate_hz:.0f} Hz: "

@@ -52,7 +52,8 @@ def main() -> None:
     print(f"hold_floors alone: {t_hold / n * 1e6:.4f} us/sample; settled_mask alone: {t_edges / n * 1e6:.4f} us/sample")
     free, detected = best["vertical='free'"], best["zupt_edges='detected'"]
     print(
-        f"ratio default / free: {best['default'] / free:.3f}; default / detected edges: {best['default'] / detected:.3f}"
+        f"ratio default / free: {best['default'] / free:.3f}; "
+        f"default / detected edges: {best['default'] / detected:.3f}"
     )
 
 

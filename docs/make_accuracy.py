@@ -256,7 +256,7 @@ def estimator_section(root, names) -> list[str]:
             warnings.simplefilter("ignore")
             rec = load_dataset(name, root)
             cells = []
-            for label, (est, params) in ESTIMATORS.items():
+            for _label, (est, params) in ESTIMATORS.items():
                 if est not in available or (params.get("closed_loop") and name not in LOOPS):
                     cells.append("")
                     continue
@@ -558,7 +558,8 @@ def gait_section(root, names) -> list[str]:
             report = evaluate(footnav.make_pipeline(det), rec)
             per_det[det].append(report.value("footprint_rmse", "left"))
             cells.append(
-                f"{_fmt(report.value('footprint_rmse', 'left'))} / {_fmt(report.value('footprint_final_error', 'left'))}"
+                f"{_fmt(report.value('footprint_rmse', 'left'))} / "
+                f"{_fmt(report.value('footprint_final_error', 'left'))}"
             )
         truth = rec.truth_left
         theirs = metrics.footprint_errors(

@@ -39,9 +39,10 @@ HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
 sys.path.insert(0, str(ROOT))  # this checkout's footnav
 
-import footnav
-from footnav.analysis import metrics
-from footnav.analysis.evaluation import EvaluationReport, Metric, trajectory_at
+# after the sys.path change above, so that this checkout's footnav is the one imported
+import footnav  # noqa: E402
+from footnav.analysis import metrics  # noqa: E402
+from footnav.analysis.evaluation import EvaluationReport, Metric, trajectory_at  # noqa: E402
 
 sys.path.insert(0, str(HERE))  # papers_inputs, also in joblib workers
 import papers_inputs  # noqa: E402

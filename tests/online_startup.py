@@ -178,8 +178,12 @@ def main_close(names, size):
 
 
 def main_step_vector(names):
+    def f(x):
+        return "-" if x is None else f"{x:.3f}"
+
     print(
-        f"{'recording':28s} leg_first  leg_last  leg_offline  first_update_s  waiting  max_footprint_dist_m  close=offline"
+        f"{'recording':28s} leg_first  leg_last  leg_offline  first_update_s  waiting  "
+        "max_footprint_dist_m  close=offline"
     )
     for name, rec in _recordings(names, two_feet=True):
         try:
@@ -187,9 +191,9 @@ def main_step_vector(names):
         except footnav.FootnavError as exc:
             print(f"{name:28s} {type(exc).__name__}: {exc}", flush=True)
             continue
-        f = lambda x: "-" if x is None else f"{x:.3f}"
         print(
-            f"{name:28s} {f(first):>9s}  {f(last):>8s}  {offline:11.3f}  {f(t0):>14s}  {waiting:7d}  {dist:20.3g}  {same!s}",
+            f"{name:28s} {f(first):>9s}  {f(last):>8s}  {offline:11.3f}  {f(t0):>14s}  "
+            f"{waiting:7d}  {dist:20.3g}  {same!s}",
             flush=True,
         )
 

@@ -65,7 +65,7 @@ def _drop_capabilities() -> None:
 
 def _read_only(*paths: Path) -> None:
     for path in paths:
-        for folder, dirs, files in os.walk(path):
+        for folder, _dirs, files in os.walk(path):
             for name in files:
                 os.chmod(os.path.join(folder, name), 0o444)
             os.chmod(folder, 0o555)
@@ -74,7 +74,7 @@ def _read_only(*paths: Path) -> None:
 def _writable(*paths: Path) -> None:
     """Undo :func:`_read_only` so pytest can remove tmp_path."""
     for path in paths:
-        for folder, dirs, files in os.walk(path):
+        for folder, _dirs, _files in os.walk(path):
             os.chmod(folder, 0o755)
 
 

@@ -26,7 +26,10 @@ _FIRST_RUN = textwrap.dedent(
     with event.install_recorder("numba:compile") as compiled:
         footnav.make_pipeline().run(rec)
         footnav.make_pipeline(estimator="madgwick").run(rec)
-        for pipe in (footnav.make_pipeline(), footnav.make_pipeline("threshold", estimator_params={"smoother": "step"})):
+        for pipe in (
+            footnav.make_pipeline(),
+            footnav.make_pipeline("threshold", estimator_params={"smoother": "step"}),
+        ):
             stream = pipe.online(feet=2)
             stream.push(left=rec.left, right=rec.right)
             stream.close()

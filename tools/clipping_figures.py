@@ -68,7 +68,8 @@ def shared() -> None:
             m = _clip_mask(imu)
             peak = np.abs(imu.acc).max(axis=0) / G
             print(
-                f"{name:32s} {foot:5s} {m.sum():4d} of {imu.n_samples:6d} ({100 * m.mean():.3f} %)  peak |a| per axis {np.round(peak, 2)} g"
+                f"{name:32s} {foot:5s} {m.sum():4d} of {imu.n_samples:6d} ({100 * m.mean():.3f} %)  "
+                f"peak |a| per axis {np.round(peak, 2)} g"
             )
     root = Path(data_dir()) / "gaitmap_example"
     for f in STAIRS:
@@ -94,7 +95,8 @@ def stairs() -> None:
         up, down = dz
         print(
             f"{label:24s} up {up[0]:+.2f} / {up[1]:+.2f}  down {down[0]:+.2f} / {down[1]:+.2f}  feet disagree "
-            f"{_pct(*up):.1f} / {_pct(*down):.1f} %  up vs down {_pct(up[0], -down[0]):.1f} / {_pct(up[1], -down[1]):.1f} %"
+            f"{_pct(*up):.1f} / {_pct(*down):.1f} %  "
+            f"up vs down {_pct(up[0], -down[0]):.1f} / {_pct(up[1], -down[1]):.1f} %"
         )
 
 
@@ -128,10 +130,13 @@ def swings() -> None:
             stair = np.abs(r[:, 0]) > 0.1
             bias, *_ = np.linalg.lstsq(np.concatenate(js), np.concatenate(ys), rcond=None)
             res = np.concatenate(ys) - np.concatenate(js) @ bias
+            unclipped = stair & (r[:, 4] == 0)
             print(
                 f"{f[18:-4]:10s} {foot:5s}: stair strides {stair.sum()}, rise median {np.median(r[stair, 0]):+.3f} m, "
-                f"strapdown {np.median(r[stair, 1]):+.3f} m, v_z at the first ZUPT sample median {np.median(r[stair, 2]):+.2f} m/s "
-                f"(clipped strides {np.median(r[stair & (r[:, 4] > 0), 2]):+.2f}, unclipped {np.median(r[stair & (r[:, 4] == 0), 2]) if (stair & (r[:, 4] == 0)).any() else np.nan:+.2f}); "
+                f"strapdown {np.median(r[stair, 1]):+.3f} m, "
+                f"v_z at the first ZUPT sample median {np.median(r[stair, 2]):+.2f} m/s "
+                f"(clipped strides {np.median(r[stair & (r[:, 4] > 0), 2]):+.2f}, "
+                f"unclipped {np.median(r[unclipped, 2]) if unclipped.any() else np.nan:+.2f}); "
                 f"{int((stair & (r[:, 4] > 0)).sum())} clipped; bias fit {np.round(bias, 2)} m/s^2: rms |v_end| "
                 f"{np.sqrt(np.mean(np.concatenate(ys) ** 2)):.3f} -> {np.sqrt(np.mean(res**2)):.3f} m/s"
             )
@@ -152,8 +157,10 @@ def swings() -> None:
                 res1 = footnav.make_pipeline().run(rec.left, imu)
                 res2 = footnav.make_pipeline().run(rec.left, replace(imu, acc=imu.acc - bias))
                 print(
-                    f"{'':10s} right foot's end height, default pipeline: {res1.right.position[-1, 2] - res1.right.position[0, 2]:+.2f} m, "
-                    f"with that bias removed from its data {res2.right.position[-1, 2] - res2.right.position[0, 2]:+.2f} m"
+                    f"{'':10s} right foot's end height, default pipeline: "
+                    f"{res1.right.position[-1, 2] - res1.right.position[0, 2]:+.2f} m, "
+                    f"with that bias removed from its data "
+                    f"{res2.right.position[-1, 2] - res2.right.position[0, 2]:+.2f} m"
                 )
 
 
@@ -177,7 +184,8 @@ def level() -> None:
 
 def sim() -> None:
     print(
-        "## simulator storey, accelerometer clipped; end height (m, true 0), seeds 0-3 x 2 feet, vertical='free': mean / worst"
+        "## simulator storey, accelerometer clipped; end height (m, true 0), seeds 0-3 x 2 feet, "
+        "vertical='free': mean / worst"
     )
     for rate in (100.0, 400.0):
         sims = [footnav.simulate("path", seed=s, rate_hz=rate, segments=STOREY) for s in range(4)]
@@ -222,7 +230,8 @@ def _decimate(imu: ImuData, m: int, mean: bool) -> ImuData:
 
 def sampling() -> None:
     print(
-        "## simulator storey: end height (m, true 0), default pipeline / vertical='free', seeds 0-5 x 2 feet: mean / worst"
+        "## simulator storey: end height (m, true 0), default pipeline / vertical='free', "
+        "seeds 0-5 x 2 feet: mean / worst"
     )
     for noise in (False, True):
         rows: dict[str, list] = {}

@@ -1,10 +1,11 @@
-"""docs/heading.md's figures: every shared recording with a truth and the simulator's 10-minute
+r"""docs/heading.md's figures: every shared recording with a truth and the simulator's 10-minute
 walk, the default pipeline against the same with a heading aid (an aid that reads the
 magnetometer: the recordings that have one, and simulator walks with hard iron and steel).
 
 Usage::
 
-    FOOTNAV_DATA=../shared/data PYTHONPATH=$PWD python tools/heading_aid_figures.py [--aid dominant-directions] [--seeds 3]
+    FOOTNAV_DATA=../shared/data PYTHONPATH=$PWD python tools/heading_aid_figures.py \
+        [--aid dominant-directions] [--seeds 3]
 
 Per recording: the figure of docs/accuracy.md (footprint RMSE for the gait-driven walks, 2-D ATE,
 the x-io loops' 2-D end-to-start distance), both feet, without / with the aid, and whether the
@@ -85,8 +86,9 @@ def main() -> None:
             rows.append(vals)
         rows = np.array(rows)
         print(
-            f"simulator 2 laps of 150 x 60 m ({rec.left.duration_s / 60:.1f} min), {label}: left ATE 2-D mean {rows[:, 0].mean():.2f} "
-            f"-> {rows[:, 1].mean():.2f} m, worst {rows[:, 0].max():.2f} -> {rows[:, 1].max():.2f} m ({args.seeds} seeds)"
+            f"simulator 2 laps of 150 x 60 m ({rec.left.duration_s / 60:.1f} min), {label}: "
+            f"left ATE 2-D mean {rows[:, 0].mean():.2f} -> {rows[:, 1].mean():.2f} m, "
+            f"worst {rows[:, 0].max():.2f} -> {rows[:, 1].max():.2f} m ({args.seeds} seeds)"
         )
 
 

@@ -301,10 +301,12 @@ def main(argv=None) -> int:
     print(f"gravity used by footnav: GRAVITY_MPS2 = {GRAVITY_MPS2} m/s^2")
     print(
         "pred_g/str: 0.5 (|f_rest| - g) T_swing^2; ins: strapdown alone per swing from the forward filter's state,"
-        " v_z at the first stance sample (m/s), its height change (mm), and -v_z T/2 (mm), the climb a filter makes of that residual"
+        " v_z at the first stance sample (m/s), its height change (mm), and -v_z T/2 (mm),"
+        " the climb a filter makes of that residual"
     )
     print(
-        "rec                          foot  fs_hz |f|rest   dg     T_sw  pred_g/str | variant  dz      d2     vrmse  ate2   dz/str_med dz/str_mean swing   stance"
+        "rec                          foot  fs_hz |f|rest   dg     T_sw  pred_g/str "
+        "| variant  dz      d2     vrmse  ate2   dz/str_med dz/str_mean swing   stance"
     )
     summary: dict[str, list] = {v[0]: [] for v in variants}
     for name in names:
@@ -325,17 +327,20 @@ def main(argv=None) -> int:
             if reg is not None:
                 m, c = reg["mean"] * 1e3, reg["coef"]
                 print(
-                    f"{name[:28]:28s} {foot:5s} per stride (mean, mm): error {m[0]:+.1f} = a x {m[1]:+.1f} (-v_z T/2) + b x {m[2]:+.1f} "
+                    f"{name[:28]:28s} {foot:5s} per stride (mean, mm): "
+                    f"error {m[0]:+.1f} = a x {m[1]:+.1f} (-v_z T/2) + b x {m[2]:+.1f} "
                     f"(v_fwd L/(gT)) + c x {m[3]:+.1f} (strapdown's own) + d: a {c[0]:.2f} b {c[1]:.2f} c {c[2]:.2f} "
                     f"d {c[3] * 1e3:+.1f} mm, R2 {reg['r2']:.2f} ({reg['n']} strides)"
                 )
             print(
-                f"{name[:28]:28s} {foot:5s} ins: v_z {ins['vz']:+.3f} m/s, dz {ins['dz'] * 1e3:+.1f} mm, -v_z T/2 {ins['pred'] * 1e3:+.1f} mm per stride (medians)"
+                f"{name[:28]:28s} {foot:5s} ins: v_z {ins['vz']:+.3f} m/s, dz {ins['dz'] * 1e3:+.1f} mm, "
+                f"-v_z T/2 {ins['pred'] * 1e3:+.1f} mm per stride (medians)"
             )
             tv = truth_vz_at_stance_start(imu, stance, truth)
             if tv is not None:
                 print(
-                    f"{name[:28]:28s} {foot:5s} truth v_z at the detected stance start {OFFSETS_S} s: {np.round(tv, 3)} m/s (medians)"
+                    f"{name[:28]:28s} {foot:5s} truth v_z at the detected stance start {OFFSETS_S} s: "
+                    f"{np.round(tv, 3)} m/s (medians)"
                 )
             first = True
             for vname, spec in variants:
@@ -351,11 +356,15 @@ def main(argv=None) -> int:
                 head = "".ljust(60)
                 if first:
                     tsw = ps.get("t_swing_med", np.nan)
-                    head = f"{name[:28]:28s} {foot:5s} {fs:5.0f} {g_rest:7.4f} {dg:+.4f} {tsw:5.2f} {0.5 * dg * tsw**2 * 1e3:+6.2f}mm"
+                    head = (
+                        f"{name[:28]:28s} {foot:5s} {fs:5.0f} {g_rest:7.4f} {dg:+.4f} {tsw:5.2f} "
+                        f"{0.5 * dg * tsw**2 * 1e3:+6.2f}mm"
+                    )
                     first = False
                 print(
-                    f"{head} | {vname:8s} {dz:+.3f} {d2:6.3f} {vr:6.3f} {a2:6.3f} {ps.get('med', np.nan) * 1e3:+8.1f}mm "
-                    f"{ps.get('mean', np.nan) * 1e3:+8.1f}mm {ps.get('swing', np.nan) * 1e3:+7.1f} {ps.get('stance', np.nan) * 1e3:+7.1f}"
+                    f"{head} | {vname:8s} {dz:+.3f} {d2:6.3f} {vr:6.3f} {a2:6.3f} "
+                    f"{ps.get('med', np.nan) * 1e3:+8.1f}mm {ps.get('mean', np.nan) * 1e3:+8.1f}mm "
+                    f"{ps.get('swing', np.nan) * 1e3:+7.1f} {ps.get('stance', np.nan) * 1e3:+7.1f}"
                 )
                 summary[vname].append((name, foot, dz, d2, vr, a2))
                 if args.per_stride and vname == variants[0][0] and "d" in ps:
@@ -369,7 +378,8 @@ def main(argv=None) -> int:
         az = [by.get(("azure_fgo", f), [np.nan] * 4) for f in ("left", "right")]
         print(
             f"{vname:10s} xio dz {xs[0][0]:+.3f}/{xs[1][0]:+.3f} d2 {xs[0][1]:.3f}/{xs[1][1]:.3f} | pyshoe vrmse "
-            f"{np.median(py) if py else np.nan:.3f}/{np.max(py) if py else np.nan:.3f} | azure vrmse {az[0][2]:.3f}/{az[1][2]:.3f} "
+            f"{np.median(py) if py else np.nan:.3f}/{np.max(py) if py else np.nan:.3f} | "
+            f"azure vrmse {az[0][2]:.3f}/{az[1][2]:.3f} "
             f"ate2 {az[0][3]:.3f}/{az[1][3]:.3f}"
         )
     return 0

@@ -1349,7 +1349,10 @@ MUTANTS: list[Mutant] = [
     M(
         "particle-ekf-zupt-r-dropped",
         PE,
-        ("cov[VEL, VEL] + noise[3],\n                cov[VEL, VEL + 1],", "cov[VEL, VEL],\n                cov[VEL, VEL + 1],"),
+        (
+            "cov[VEL, VEL] + noise[3],\n                cov[VEL, VEL + 1],",
+            "cov[VEL, VEL],\n                cov[VEL, VEL + 1],",
+        ),
         PEKF,
         "missing term",
     ),
@@ -1484,7 +1487,8 @@ MUTANTS: list[Mutant] = [
         "drift-still-unfiltered",
         HD,
         (
-            "    if still.sum() < MIN_STILL_SAMPLES:  # as align_at_rest: then the whole range is used\n        still[:] = True",
+            "    if still.sum() < MIN_STILL_SAMPLES:  # as align_at_rest: then the whole range is used\n"
+            "        still[:] = True",
             "    still[:] = True",
         ),
         NAV_HD,
@@ -2005,7 +2009,8 @@ def main(argv: list[str] | None = None) -> int:
     score = 100.0 * len(detected) / len(results) if results else float("nan")
     print()
     print(
-        f"{len(results)} mutants, {len(detected)} killed ({sum(r['outcome'] == 'timeout' for r in results)} by timeout), "
+        f"{len(results)} mutants, {len(detected)} killed "
+        f"({sum(r['outcome'] == 'timeout' for r in results)} by timeout), "
         f"{len(survivors)} survived: score {score:.1f} % in {(time.monotonic() - t0) / 60:.1f} min"
     )
     for r in survivors:

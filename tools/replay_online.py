@@ -74,7 +74,8 @@ def main() -> None:
             )
             worst, n = max(worst, diff), n + 1
             print(
-                f"{name:32s} chunks {size:5d}  updates {acts:5d}  largest difference {diff:.3g} m  ({time.perf_counter() - t0:.1f} s)",
+                f"{name:32s} chunks {size:5d}  updates {acts:5d}  largest difference {diff:.3g} m  "
+                f"({time.perf_counter() - t0:.1f} s)",
                 flush=True,
             )
     print(f"{n} replays ({args.fusion}); largest difference {worst:.3g} m")

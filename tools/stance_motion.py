@@ -142,11 +142,12 @@ def main(argv=None) -> None:
             if "lever" in parts:
                 one, two = fit_lever(imu, stance, bias, split=False), fit_lever(imu, stance, bias, split=True)
                 print(
-                    f"{tag} lever (cm): whole {np.round(one * 100, 1)} early {np.round(two[:3] * 100, 1)} late {np.round(two[3:] * 100, 1)}"
+                    f"{tag} lever (cm): whole {np.round(one * 100, 1)} "
+                    f"early {np.round(two[:3] * 100, 1)} late {np.round(two[3:] * 100, 1)}"
                 )
             if "tilt" in parts:
                 rows = []
-                for (a0, b0), (a1, b1) in zip(iv[:-1], iv[1:]):
+                for (_a0, b0), (a1, b1) in zip(iv[:-1], iv[1:]):
                     e, m0, m1 = b0 - 1, a1 + (b1 - a1) // 4, a1 + 3 * (b1 - a1) // 4
                     if m1 - m0 < 4:
                         continue
@@ -169,7 +170,8 @@ def main(argv=None) -> None:
                 r = np.array(rows)
                 if len(r):
                     print(
-                        f"{tag} tilt: along {np.median(r[:, 0]) * 1e3:+.1f} mrad (IQR {np.percentile(r[:, 0], 25) * 1e3:+.1f}.."
+                        f"{tag} tilt: along {np.median(r[:, 0]) * 1e3:+.1f} mrad "
+                        f"(IQR {np.percentile(r[:, 0], 25) * 1e3:+.1f}.."
                         f"{np.percentile(r[:, 0], 75) * 1e3:+.1f}), across {np.median(r[:, 1]) * 1e3:+.1f} mrad; "
                         f"x stride {np.median(r[:, 0] * r[:, 2]) * 1e3:+.1f} mm ({len(r)} strides)"
                     )
@@ -181,7 +183,8 @@ def main(argv=None) -> None:
                     start = [(np.argmax(z[a:b]) if z[a:b].any() else b - a) / imu.rate_hz * 1e3 for a, b in iv[1:]]
                     print(
                         f"{tag} edges: of each stance the update leaves out {np.median(lost):.0f} ms (median), "
-                        f"{np.median(start):.0f} ms at its start; stance {np.median(iv[1:, 1] - iv[1:, 0]) / imu.rate_hz * 1e3:.0f} ms"
+                        f"{np.median(start):.0f} ms at its start; "
+                        f"stance {np.median(iv[1:, 1] - iv[1:, 0]) / imu.rate_hz * 1e3:.0f} ms"
                     )
 
 

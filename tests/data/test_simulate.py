@@ -210,7 +210,7 @@ def test_straight_walk_geometry_and_gait():
         np.testing.assert_allclose(strides, 1.4, atol=0.01)
     assert not rec.truth_left.closed_loop
 
-    for foot, _, truth in _feet(rec):
+    for _foot, _, truth in _feet(rec):
         ev = truth.events
         k = len(ev["heel_off"])
         assert k > 60 and all(len(ev[name]) == k for name in ("toe_off", "heel_strike", "foot_flat"))
@@ -256,7 +256,7 @@ def test_foot_motion_is_realistic():
 def test_rectangle_closes_and_traces_the_rectangle(direction, sign):
     rec = simulate("rectangle", direction=direction, noise=False)
     centre = []
-    for foot, _, truth in _feet(rec):
+    for _foot, _, truth in _feet(rec):
         assert truth.closed_loop
         fp = _footprints(truth)
         np.testing.assert_allclose(fp[-1], fp[0], atol=1e-9)
@@ -355,7 +355,7 @@ def test_bias_random_walk_grows_like_sqrt_time():
 def test_recording_structure_and_meta():
     rec = simulate("rectangle", width_m=10.0, height_m=6.0, seed=5)
     assert isinstance(rec, Recording) and rec.name == "sim-rectangle" and rec.n_feet == 2
-    for foot, imu, truth in _feet(rec):
+    for _foot, imu, truth in _feet(rec):
         assert imu.meta["source"] == "simulator" and imu.meta["scenario"] == "rectangle"
         assert imu.rate_hz == pytest.approx(100.0)
         assert truth.frame == "nav" and np.array_equal(truth.t, imu.t)

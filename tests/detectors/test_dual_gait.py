@@ -109,6 +109,7 @@ def test_gaitmap_strides_and_heel_strike_timing(shared_data):
             rate_hz=rec.left.rate_hz,
         )
         assert timing.n_missed == 0 and timing.mean_abs_error_s < 0.04  # measured 28 ms
-    # measured (0.15 s tolerance, as compare_detectors): 57 of 57 found; the one extra is the left foot standing still in the turn, which
-    # the stride file labels as part of one turning stride (mocap heel speed there 0.014 m/s)
+    # measured (0.15 s tolerance, as compare_detectors): 57 of 57 found; the one extra is the left foot
+    # standing still in the turn, which the stride file labels as part of one turning stride (mocap heel
+    # speed there 0.014 m/s)
     assert found == 57 and false <= 1

@@ -255,7 +255,8 @@ def test_joint_filter_of_two_independent_feet_equals_two_single_filters():
 
 @pytest.mark.xfail(
     strict=True,
-    reason="known: the loop's ZUPT feeds back only the updated foot's block of dx (docs/concepts.md, the joint filter's ZUPT feedback); "
+    reason="known: the loop's ZUPT feeds back only the updated foot's block of dx "
+    "(docs/concepts.md, the joint filter's ZUPT feedback); "
     "feeding all of it back made dtw and step-vector 0.002-0.015 m worse on azure_fgo and gaitmap until "
     "their noises are chosen again",
 )

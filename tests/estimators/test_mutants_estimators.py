@@ -48,8 +48,9 @@ def test_madgwick_zupts_stop_the_foot(push_and_stop):
 
 
 # madgwick-output-sign (madgwick-innovation-sign survives it, see docs/reliability.md):
-# a vertical accelerometer bias (0.05 m/s^2) is learnt during a 3 s stance as the acceleration error state; in a 1 s "swing" of the still foot
-# the corrected output then stays put, where the raw integral drifts b T^2 / 2 = 25 mm
+# a vertical accelerometer bias (0.05 m/s^2) is learnt during a 3 s stance as the acceleration error
+# state; in a 1 s "swing" of the still foot the corrected output then stays put, where the raw integral
+# drifts b T^2 / 2 = 25 mm
 def test_madgwick_learns_an_accelerometer_bias_at_standstill():
     rate, bias = 100.0, 0.05
     t = np.arange(401) / rate

@@ -31,7 +31,11 @@ for name in comps["detector"]:
     out["detector:" + name] = digest(left.mask, right.mask, *(np.asarray(v) for v in left.events.values()))
 for name in comps["estimator"]:
     for params in ({}, {"bias_states": True, "zaru_std_radps": 0.005, "smoother": "step"}):
-        traj = footnav.make_estimator(name, **params).estimate(rec.left, footnav.StanceResult(rec.truth_left.stance)) if not params or name == "ekf" else None
+        traj = (
+            footnav.make_estimator(name, **params).estimate(rec.left, footnav.StanceResult(rec.truth_left.stance))
+            if not params or name == "ekf"
+            else None
+        )
         if traj is not None:
             out["estimator:" + name + json.dumps(params)] = digest(traj.position, traj.quaternion, traj.position_std)
 for name in comps["fusion"]:

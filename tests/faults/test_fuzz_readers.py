@@ -15,7 +15,10 @@ from footnav.data.io import load, read_azure_fgo, read_footnav_csv, read_gaitmap
 
 HEADERS = [
     "# units: t s, acc m/s^2, gyr rad/s\nt,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z",
-    "Time (s),Gyroscope X (deg/s),Gyroscope Y (deg/s),Gyroscope Z (deg/s),Accelerometer X (g),Accelerometer Y (g),Accelerometer Z (g)",
+    (
+        "Time (s),Gyroscope X (deg/s),Gyroscope Y (deg/s),Gyroscope Z (deg/s),"
+        "Accelerometer X (g),Accelerometer Y (g),Accelerometer Z (g)"
+    ),
     "// Update Rate: 100.0Hz\nPacketCounter\tAcc_X\tAcc_Y\tAcc_Z\tGyr_X\tGyr_Y\tGyr_Z",
     (
         "sensor,left_sensor,left_sensor,left_sensor,left_sensor,left_sensor,left_sensor,right_sensor,right_sensor,right_sensor,right_sensor,right_sensor,right_sensor\n"

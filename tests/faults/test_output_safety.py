@@ -210,7 +210,7 @@ def test_partial_folders_of_killed_runs_are_removed_and_named(tmp_path):
     (leftover / "left.csv").write_text("half")
     # a writer that no longer exists, and the partial it named
     (tmp_path / ".res.footnav-lock").write_text(
-        '{"footnav": "output-lock", "pid": 999999999}\n{"entry": "%s", "role": "partial"}\n' % leftover.name
+        f'{{"footnav": "output-lock", "pid": 999999999}}\n{{"entry": "{leftover.name}", "role": "partial"}}\n'
     )
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")

@@ -284,7 +284,7 @@ if __name__ == "__main__":  # print the measured values the comments quote
                     fusion,
                     scenario,
                     seed,
-                    "side final/mean %.3f %.3f" % _signed_separation(rec, res),
+                    "side final/mean {:.3f} {:.3f}".format(*_signed_separation(rec, res)),
                     "err xy/z",
                     [(round(a, 3), round(b, 3)) for a, b in _final_errors(rec, res)],
                 )

@@ -296,7 +296,8 @@ def _measure(n_seeds: int = 5) -> None:  # pragma: no cover - run by hand
                     continue
                 rep = evaluate(footnav.make_pipeline(det, "ekf", "step-vector", fusion_params=p), rec)
                 print(
-                    f"{name} {det:9s} {m:22s} ATE {rep.value('ate_2d', 'left'):.3f} / {rep.value('ate_2d', 'right'):.3f}"
+                    f"{name} {det:9s} {m:22s} "
+                    f"ATE {rep.value('ate_2d', 'left'):.3f} / {rep.value('ate_2d', 'right'):.3f}"
                 )
 
 

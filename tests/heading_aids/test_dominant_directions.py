@@ -76,7 +76,10 @@ def test_turn_by_turns_increments_velocity_and_attitude_and_keeps_the_start():
     )
     assert np.allclose(turned.velocity[:, 1], -truth.velocity[:, 0], atol=1e-12)
     assert np.allclose(turned.position[:, 2], truth.position[:, 2])
-    yaw = lambda q: np.arctan2(2 * (q[:, 0] * q[:, 3] + q[:, 1] * q[:, 2]), 1 - 2 * (q[:, 2] ** 2 + q[:, 3] ** 2))
+
+    def yaw(q):
+        return np.arctan2(2 * (q[:, 0] * q[:, 3] + q[:, 1] * q[:, 2]), 1 - 2 * (q[:, 2] ** 2 + q[:, 3] ** 2))
+
     assert np.allclose(np.angle(np.exp(1j * (yaw(turned.quaternion) - yaw(truth.quaternion)))), -np.pi / 2, atol=1e-9)
 
 

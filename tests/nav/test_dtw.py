@@ -1,4 +1,5 @@
-"""footnav.nav.dtw, dtw_heading and dtw_average against hand-computed cases, a textbook full-matrix DTW and dtaidistance.
+"""footnav.nav.dtw, dtw_heading and dtw_average against hand-computed cases, a textbook full-matrix DTW
+and dtaidistance.
 
 dtaidistance conventions (used only here, as an independent reference):
 ``dtw_ndim.distance`` sums *squared* Euclidean point costs and returns the square root of the sum

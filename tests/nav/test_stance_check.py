@@ -26,7 +26,8 @@ RATE = 100.0
 
 def _foot(peaks_s, accelerating, duration_s=None, stances=()):
     """Swing-like bumps at ``peaks_s`` (Gaussian, 6 rad/s, sigma 0.06 s); those flagged in
-    ``accelerating`` also carry an 8 m/s^2 burst along z (|f| - g RMS ~4 m/s^2 over the window). ``stances``: (start_s, stop_s) pairs."""
+    ``accelerating`` also carry an 8 m/s^2 burst along z (|f| - g RMS ~4 m/s^2 over the window).
+    ``stances``: (start_s, stop_s) pairs."""
     duration_s = duration_s or (max(peaks_s) + 1.0)
     t = np.arange(int(duration_s * RATE)) / RATE
     gyr = np.zeros((len(t), 3))

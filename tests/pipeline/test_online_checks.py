@@ -2,8 +2,9 @@
 moved enough, at the push the rule names (a numpy count on the samples pushed so far).
 
 The walk starts with 25 s of standing and its angular rate is divided by 57.3 (as if rad/s data
-had been declared deg/s): the unit check must warn, but only once at least max(10, 0.2 s) samples *and* 5 % of the window have
-|acc| more than 0.5 g off its median (a standing foot cannot tell a unit)."""
+had been declared deg/s): the unit check must warn, but only once at least max(10, 0.2 s) samples
+*and* 5 % of the window have |acc| more than 0.5 g off its median (a standing foot cannot tell a
+unit)."""
 
 from __future__ import annotations
 

@@ -92,5 +92,5 @@ def test_unit_hint_only_names_a_unit_with_a_plausible_rate(walk):
 
     for raw_dt in (0.5, 3.0, 7e4, 1e7, 2.5e-6):
         hint = _unit_hint(raw_dt)
-        for unit, rate in re.findall(r"t_unit='(\w+)' \(([\d.e+]+) Hz\)", hint):
+        for unit, _rate in re.findall(r"t_unit='(\w+)' \(([\d.e+]+) Hz\)", hint):
             assert RATE_BOUNDS_HZ[0] <= 1.0 / (raw_dt * _T_SCALE[unit]) <= RATE_BOUNDS_HZ[1]

@@ -86,7 +86,7 @@ def _path_length(p):
 
 def test_shared_recording(shared_file):
     rec = read_azure_fgo(shared_file("azure_fgo"))
-    for foot, imu, truth, length in (
+    for _foot, imu, truth, length in (
         ("left", rec.left, rec.truth_left, 63.0),
         ("right", rec.right, rec.truth_right, 74.0),
     ):

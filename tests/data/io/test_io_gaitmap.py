@@ -153,7 +153,7 @@ def test_shared_imu_mocap_events(shared_file):
     # Clipping at +-16 g: six single-sample impact peaks per foot.
     assert rec.left.meta["clipped"]["acc"] == 6 and rec.left.meta["clipped"]["first_index"] == 659
     assert rec.right.meta["clipped"]["acc"] == 6 and rec.right.meta["clipped"]["first_index"] == 769
-    for foot, truth, n_strides in (("left", rec.truth_left, 28), ("right", rec.truth_right, 29)):
+    for _foot, truth, n_strides in (("left", rec.truth_left, 28), ("right", rec.truth_right, 29)):
         assert len(truth.t) == 3870 and truth.t[-1] == pytest.approx(38.69)
         z = truth.position[:, 2]
         assert 0.02 < np.median(z) < 0.08  # heel ~5 cm above the floor: metres, z up

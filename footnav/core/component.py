@@ -250,7 +250,7 @@ class JointFilter(Protocol):
         self,
         h: NDArray[np.float64],
         innovation: NDArray[np.float64],
-        r: NDArray[np.float64],
+        r: float | NDArray[np.float64],
         *,
         gate: float | None = None,
     ) -> NDArray[np.float64] | None:

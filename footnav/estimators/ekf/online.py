@@ -16,7 +16,7 @@ from collections.abc import Sequence
 import numpy as np
 from numpy.typing import NDArray
 
-from footnav.estimators.ekf._records import EV_SAMPLE, Record
+from footnav.estimators.ekf._records import EV_SAMPLE, Record, Samples
 from footnav.estimators.ekf.filter import InsFilter
 from footnav.estimators.ekf.smoother import StepSmoother
 
@@ -34,7 +34,7 @@ class OnlineInsFilter(InsFilter):
         smoothed), or None when there is none: a :meth:`rebase` keeps the sample before it."""
         ss = self.step_smoother
         fill = int(ss.fill[0]) if ss is not None else 0
-        if not fill:
+        if not fill or ss is None:
             return None
         rec = ss.record
         mine = (rec.foot[:fill] == foot) & (rec.kind[:fill] == EV_SAMPLE)
@@ -105,7 +105,7 @@ class OnlineInsFilter(InsFilter):
     ) -> OnlineInsFilter:
         """A filter over the kept samples (its noise and initial covariance this one's)."""
         n, feet = self.n_states, range(self.n_feet)
-        samples = [tuple(x[keep[f] :] for x in self.samples(f)) for f in feet]
+        samples = [Samples._make(x[keep[f] :] for x in self.samples(f)) for f in feet]
         new = OnlineInsFilter(
             [x[0] for x in samples],
             [x[1] for x in samples],
@@ -141,9 +141,9 @@ class OnlineInsFilter(InsFilter):
         """The step-wise smoother's open step, its samples re-indexed to ``new``'s."""
         ss, nss = self.step_smoother, new.step_smoother
         fill = int(ss.fill[0]) if ss is not None else 0
-        if not fill or nss is None:
+        if not fill or ss is None or nss is None:
             return
-        rec = Record(*(np.array(x) for x in ss.record))
+        rec = Record._make(np.array(x) for x in ss.record)
         for f in range(self.n_feet):
             mine = (rec.foot[:fill] == f) & (rec.kind[:fill] == EV_SAMPLE)
             rec.k[:fill][mine] += new.global_index(f, 0) - self.global_index(f, 0) - keep[f]

@@ -9,7 +9,7 @@ calls its loop (``_run``), so it is not used alone.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, cast
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -22,8 +22,6 @@ from footnav.nav.kalman import DENSE_BAD_INPUT, DENSE_NOT_PD, update_dense
 
 if TYPE_CHECKING:
     from footnav.estimators.ekf._records import Checkpoint, FilterState, UpdateLog, Work
-    from footnav.estimators.ekf.filter import InsFilter
-    from footnav.estimators.ekf.smoother import SegmentRecords, StepSmoother
 
 __all__ = ["Measurements", "loop_watch"]
 
@@ -63,8 +61,8 @@ class Measurements:
         _log: UpdateLog
         _n_log: int
         checkpoints: list[Checkpoint]
-        step_smoother: StepSmoother | None
-        segment_records: SegmentRecords | None
+        step_smoother: Any  # smoother.py's, which imports filter.py
+        segment_records: Any
 
         def block(self, foot: int, name: str) -> slice: ...
 
@@ -142,7 +140,7 @@ class Measurements:
         # the checkpoint holds the state after every update at this instant
         cp.state = self._state.copy()
         if self.step_smoother is not None:
-            self.step_smoother.add_update(cast("InsFilter", self), hm, gain, sy, y)  # the base of one
+            self.step_smoother.add_update(self, hm, gain, sy, y)
         if self.segment_records is not None:
             self.segment_records.add_update(len(self.checkpoints) - 1, hm, gain, sy, y, self._cov)
         return dx

@@ -16,7 +16,7 @@ from an old one's checkpoint (:meth:`~InsFilter.resume`).
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import TYPE_CHECKING
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -64,9 +64,6 @@ from footnav.estimators.ekf._records import (
     work,
 )
 from footnav.nav.quaternion import as_matrix
-
-if TYPE_CHECKING:
-    from footnav.estimators.ekf.smoother import SegmentRecords, StepSmoother
 
 __all__ = ["MAX_SEGMENT_EVENTS", "InsFilter"]
 
@@ -251,8 +248,9 @@ class InsFilter(Measurements):
         self._work = work(big, nf)
         self._fast = EntryPoints(run)
         self._dense: dict[int, tuple] = {}  # update's scratch by rows
-        self.step_smoother: StepSmoother | None = None
-        self.segment_records: SegmentRecords | None = None
+        # smoother.py's StepSmoother and SegmentRecords, or None (Any: smoother.py imports this module)
+        self.step_smoother: Any = None
+        self.segment_records: Any = None
         self.step_stops = False
         self.meta: list[dict] = [{} for _ in range(self.n_feet)]
         self.checkpoints: list[Checkpoint] = [self._checkpoint(step_end=False)]

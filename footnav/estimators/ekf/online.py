@@ -34,7 +34,7 @@ class OnlineInsFilter(InsFilter):
         smoothed), or None when there is none: a :meth:`rebase` keeps the sample before it."""
         ss = self.step_smoother
         fill = int(ss.fill[0]) if ss is not None else 0
-        if not fill or ss is None:
+        if not fill:
             return None
         rec = ss.record
         mine = (rec.foot[:fill] == foot) & (rec.kind[:fill] == EV_SAMPLE)
@@ -141,9 +141,9 @@ class OnlineInsFilter(InsFilter):
         """The step-wise smoother's open step, its samples re-indexed to ``new``'s."""
         ss, nss = self.step_smoother, new.step_smoother
         fill = int(ss.fill[0]) if ss is not None else 0
-        if not fill or ss is None or nss is None:
+        if not fill or nss is None:
             return
-        rec = Record._make(np.array(x) for x in ss.record)
+        rec = Record(*(np.array(x) for x in ss.record))
         for f in range(self.n_feet):
             mine = (rec.foot[:fill] == f) & (rec.kind[:fill] == EV_SAMPLE)
             rec.k[:fill][mine] += new.global_index(f, 0) - self.global_index(f, 0) - keep[f]

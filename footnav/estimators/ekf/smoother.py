@@ -321,7 +321,7 @@ def smooth(filt: InsFilter, mode: Literal["whole", "step"] = "whole") -> Smoothe
     while b > 0:  # last first: a chunk of segments at once, or (without chunks) one segment
         chunk = None if sr is None else sr.take(b)
         # the caller's updates at the segment's end that its chunk does not hold
-        for h, gain, sy, _ in reversed(cps[b].updates[0 if chunk is None or sr is None else sr.recorded(b) :]):
+        for h, gain, sy, _ in reversed(cps[b].updates[0 if chunk is None else sr.recorded(b) :]):
             mu += h.T @ (sy - gain.T @ mu)
         if chunk is None:  # a filter without chunks: re-run the segment to record it
             if record is None:
@@ -333,7 +333,6 @@ def smooth(filt: InsFilter, mode: Literal["whole", "step"] = "whole") -> Smoothe
             b -= 1
             continue
         first, cov, kept = chunk
-        assert sr is not None  # the chunk is sr's
         if kept is None:  # dropped: re-run its segments and updates into a chunk of the same events
             if record is None or len(record.k) < sr.capacity:
                 record = sr.empty()

@@ -11,7 +11,7 @@ method starts (``validate_params``). Parameters carry their unit in their name (
 from __future__ import annotations
 
 import inspect
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from typing import TYPE_CHECKING, Any, ClassVar, Protocol, runtime_checkable
 
 from footnav.core.errors import CompositionError
@@ -21,7 +21,7 @@ if TYPE_CHECKING:
     import numpy as np
     from numpy.typing import NDArray
 
-    from footnav.core.types import FootTrajectory, ImuData, StanceResult
+    from footnav.core.types import FootTrajectory, FusionResult, ImuData, StanceResult
 
 __all__ = [
     "Component",
@@ -47,6 +47,7 @@ class Component:
     name: ClassVar[str] = ""
     needs_two_feet: ClassVar[bool] = False
     needs_magnetometer: ClassVar[bool] = False
+    _param_names_cache: ClassVar[tuple[Any, tuple[str, ...]]]  # set per class by _param_names
 
     # -- parameters ---------------------------------------------------------------------------
     @classmethod
@@ -144,7 +145,7 @@ class StanceDetector(Component):
         ahead = window / 2 if getattr(self, "combine", "center") == "center" else window
         return float(ahead + getattr(self, "min_stance_s", 0.0) + getattr(self, "min_swing_s", 0.0))
 
-    def detect(self, imu):  # pragma: no cover - abstract
+    def detect(self, imu: ImuData) -> StanceResult:  # pragma: no cover - abstract
         """Stance of one foot.
 
         Parameters
@@ -159,7 +160,7 @@ class StanceDetector(Component):
         """
         raise NotImplementedError
 
-    def detect_pair(self, left, right):
+    def detect_pair(self, left: ImuData, right: ImuData | None) -> tuple[StanceResult, StanceResult | None]:
         """Stance of both feet; ``right`` may be None for one-foot detectors."""
         return self.detect(left), (None if right is None else self.detect(right))
 
@@ -169,7 +170,7 @@ class FootEstimator(Component):
 
     kind: ClassVar[str] = "estimator"
 
-    def estimate(self, imu, stance):  # pragma: no cover - abstract
+    def estimate(self, imu: ImuData, stance: StanceResult) -> FootTrajectory:  # pragma: no cover - abstract
         """One foot's trajectory.
 
         Parameters
@@ -249,7 +250,7 @@ class JointFilter(Protocol):
         self,
         h: NDArray[np.float64],
         innovation: NDArray[np.float64],
-        r: NDArray[np.float64],
+        r: float | NDArray[np.float64],
         *,
         gate: float | None = None,
     ) -> NDArray[np.float64] | None:
@@ -368,7 +369,14 @@ class Fusion(Component):
     #: pipeline before anything runs.
     needs_stepable_estimator: ClassVar[bool] = False
 
-    def fuse(self, estimator, left, stance_left, right=None, stance_right=None):  # pragma: no cover
+    def fuse(  # pragma: no cover
+        self,
+        estimator: FootEstimator,
+        left: ImuData,
+        stance_left: StanceResult,
+        right: ImuData | None = None,
+        stance_right: StanceResult | None = None,
+    ) -> FusionResult:
         """Both feet's trajectories, and their path.
 
         Parameters
@@ -389,7 +397,7 @@ class Fusion(Component):
 
     #: A coupled fusion whose work at a time needs no later sample offers :meth:`session`
     #: (online mode, :mod:`footnav.pipeline.online`); None: offline only.
-    session = None
+    session: ClassVar[Callable[..., FusionSession] | None] = None
     #: Online, the session gives what ``fuse`` gives on the same samples; False when it learns
     #: as it goes what ``fuse`` takes from the whole walk (``close`` then reruns offline).
     online_exact: bool = True
@@ -466,7 +474,9 @@ class HeadingAid(Component):
     #: The aid can run on a live stream (it needs no later sample).
     online: ClassVar[bool] = False
 
-    def correct(self, result, left, right=None):  # pragma: no cover
+    def correct(  # pragma: no cover
+        self, result: FusionResult, left: ImuData, right: ImuData | None = None
+    ) -> FusionResult:
         """The fusion's result with its heading corrected (see the class docstring).
 
         Parameters

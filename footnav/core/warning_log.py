@@ -16,7 +16,7 @@ from __future__ import annotations
 import contextlib
 import contextvars
 import warnings
-from collections.abc import Iterator
+from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
 
 from footnav.core.errors import DataQualityWarning
@@ -84,7 +84,7 @@ def recording(*, quiet: bool = False) -> Iterator[list[RecordedWarning]]:
             outer.extend(log)
 
 
-def merge_warnings(*groups) -> list[str]:
+def merge_warnings(*groups: Iterable[str | RecordedWarning]) -> list[str]:
     """The warnings of several groups (strings or :class:`RecordedWarning`) as one list of
     strings, in order, each once: a run's ``meta["warnings"]`` after what reading its files said."""
     return list(dict.fromkeys(str(w) for group in groups for w in group))

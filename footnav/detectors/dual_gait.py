@@ -54,7 +54,7 @@ on the ground, standing included), ``2`` swing (from toe-off to the next heel st
 
 from __future__ import annotations
 
-from typing import ClassVar, Literal
+from typing import TYPE_CHECKING, ClassVar, Literal, NoReturn
 
 import numpy as np
 from numpy.typing import NDArray
@@ -71,6 +71,9 @@ from footnav.core.parameters import (
 )
 from footnav.core.types import ImuData, StanceResult, stance_intervals
 from footnav.detectors.threshold import ThresholdDetector
+
+if TYPE_CHECKING:
+    from collections.abc import Mapping
 
 __all__ = ["DualGaitDetector", "PHASE_NAMES", "ZUPT_RULES", "support_intervals"]
 
@@ -287,7 +290,7 @@ class DualGaitDetector(StanceDetector):
         return float(reach + self.online_block_s)
 
     # -- action -------------------------------------------------------------------------------
-    def detect(self, imu: ImuData) -> StanceResult:
+    def detect(self, imu: ImuData) -> NoReturn:
         """Not available: the dual-gait rule needs the other foot. Raises CompositionError."""
         raise CompositionError(
             f"detector {self.name!r} needs both feet: a stance ends at the other foot's heel strike "
@@ -377,24 +380,25 @@ class DualGaitDetector(StanceDetector):
         stances are then its own heel strikes' support intervals."""
         return self._rule({"left": left, "right": right})[3]
 
-    def _rule(self, imus: dict[str, ImuData | None]) -> tuple[dict, dict, dict, dict, dict]:
+    def _rule(self, imus: Mapping[str, ImuData | None]) -> tuple[dict, dict, dict, dict, dict]:
         """Steps 1-5 on the feet present in ``imus``: flat zones, heel strikes, support
         intervals, ZUPT masks and standing intervals, per foot."""
-        present = [foot for foot in _FEET if imus[foot] is not None]
-        flats = {foot: self._flat_zone(imus[foot]) for foot in present}
-        hs = {foot: self._heel_strikes(imus[foot], flats[foot]) for foot in present}
+        given = {foot: imu for foot in _FEET if (imu := imus[foot]) is not None}
+        present = list(given)
+        flats = {foot: self._flat_zone(given[foot]) for foot in present}
+        hs = {foot: self._heel_strikes(given[foot], flats[foot]) for foot in present}
         none = np.empty(0)
         support, masks, standing = {}, {}, {}
         for foot, other in zip(_FEET, _FEET[::-1]):
             if foot not in present:
                 continue
-            imu, there = imus[foot], other in present
-            support[foot] = support_intervals(imu.t, hs[foot], imus[other].t[hs[other]] if there else none)
+            imu, there = given[foot], other in present
+            support[foot] = support_intervals(imu.t, hs[foot], given[other].t[hs[other]] if there else none)
             masks[foot], standing[foot] = self._zupt_mask(
                 imu,
                 flats[foot].mask,
                 support[foot],
-                imus[other] if there else None,
+                given[other] if there else None,
                 flats[other].mask if there else None,
             )
         return flats, hs, support, masks, standing
@@ -442,7 +446,11 @@ class DualGaitDetector(StanceDetector):
         rate = imu.rate_hz
         in_support = _interval_mask(support[:, 0], support[:, 1], n)
         runs = stance_intervals(flat)
-        both_flat = flat & _at_times(other_flat, other.t, imu.t) if other is not None else np.zeros(n, dtype=bool)
+        if other is not None:
+            assert other_flat is not None  # given with ``other`` (_rule)
+            both_flat = flat & _at_times(other_flat, other.t, imu.t)
+        else:
+            both_flat = np.zeros(n, dtype=bool)
         is_standing = _run_sums(both_flat, runs) >= self.standing_s * rate
         standing = runs[is_standing]
         if self.zupt_rule == "clip":

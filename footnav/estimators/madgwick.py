@@ -292,6 +292,7 @@ def _magnetic_start(imu: ImuData, align: Alignment, still_gyr_max_radps: float) 
 
     The field is averaged over the same still samples as the levelling (all of the standstill
     when fewer than ``MIN_STILL_SAMPLES`` are still)."""
+    assert imu.mag is not None  # the caller's use_mag: the recording has a magnetometer
     a, b = align.start, align.stop
     still = np.linalg.norm(imu.gyr[a:b], axis=1) < still_gyr_max_radps
     if still.sum() < MIN_STILL_SAMPLES:

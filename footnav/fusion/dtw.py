@@ -30,9 +30,9 @@ from typing import ClassVar, Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from footnav.core.component import Fusion
+from footnav.core.component import FootEstimator, Fusion
 from footnav.core.parameters import MAX_LENGTH_M, require, require_non_negative, require_positive
-from footnav.core.types import FootTrajectory, FusionResult, Path
+from footnav.core.types import FootTrajectory, FusionResult, ImuData, Path, StanceResult
 from footnav.fusion.joint import LEFT, RIGHT, finish_joint, forward_only, fuse_on_common_span, start_filter, start_joint
 from footnav.nav import dtw_average, dtw_heading
 from footnav.nav import quaternion as quat
@@ -118,6 +118,7 @@ def feet_timeless_average(left: FootTrajectory, right: FootTrajectory, band_s: f
     t = np.arange(max(left.t[0], right.t[0]), min(left.t[-1], right.t[-1]), 1.0 / rate_hz)
     band = max(1, int(round(band_s * rate_hz)))
     avg = dtw_average.timeless_average(_resample(left, t, 3), _resample(right, t, 3), band=band, t_a=t, t_b=t)
+    assert avg.t is not None  # given t_a
     return Path(
         t=avg.t,
         position=avg.position,
@@ -200,7 +201,14 @@ class DtwFusion(Fusion):
         require(self.path in PATHS, self, "path", " or ".join(map(repr, PATHS)))
         require(self.heading_tracks in ("smoothed", "forward"), self, "heading_tracks", "'smoothed' or 'forward'")
 
-    def fuse(self, estimator, left, stance_left, right=None, stance_right=None) -> FusionResult:
+    def fuse(
+        self,
+        estimator: FootEstimator,
+        left: ImuData,
+        stance_left: StanceResult,
+        right: ImuData | None = None,
+        stance_right: StanceResult | None = None,
+    ) -> FusionResult:
         """Both feet in one filter, tied at each mid-swing; smoothed; averaged.
 
         On the feet's common time span; outside it each foot alone
@@ -262,6 +270,7 @@ class DtwFusion(Fusion):
         meta.update(midswing_updates=applied, skipped_other_foot_moving=skipped)
         result = finish_joint(estimator, filt, stance_left, stance_right, meta, imus)
         if self.path == "timeless":
+            assert result.right is not None  # finish_joint returns both feet
             path = feet_timeless_average(result.left, result.right, self.band_s, self.dtw_rate_hz)
             result = FusionResult(
                 left=result.left, right=result.right, path=path, meta={**result.meta, "path": path.meta}

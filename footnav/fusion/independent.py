@@ -12,11 +12,13 @@ their differences are in ``meta["span"]`` whenever both feet are given.
 
 from __future__ import annotations
 
+from typing import cast
+
 import numpy as np
 
-from footnav.core.component import Fusion
+from footnav.core.component import FootEstimator, Fusion
 from footnav.core.errors import DataQualityWarning
-from footnav.core.types import FootTrajectory, FusionResult, Path
+from footnav.core.types import FootTrajectory, FusionResult, ImuData, Path, StanceResult
 from footnav.core.warning_log import warn
 from footnav.nav.interpolation import interp_columns
 from footnav.nav.spans import span_difference
@@ -51,7 +53,14 @@ class IndependentFusion(Fusion):
     def __init__(self) -> None:
         pass
 
-    def fuse(self, estimator, left, stance_left, right=None, stance_right=None) -> FusionResult:
+    def fuse(
+        self,
+        estimator: FootEstimator,
+        left: ImuData,
+        stance_left: StanceResult,
+        right: ImuData | None = None,
+        stance_right: StanceResult | None = None,
+    ) -> FusionResult:
         """Estimate each foot with ``estimator`` and average them into the pedestrian path."""
         meta: dict = {"fusion": self.describe()}
         if right is not None and len(left.t) and len(right.t):
@@ -60,5 +69,6 @@ class IndependentFusion(Fusion):
                 warn(f"fusion {self.name!r}: {diff['message']}", DataQualityWarning, stacklevel=3)
             meta["span"] = {k: v for k, v in diff.items() if k != "message"}
         traj_left = estimator.estimate(left, stance_left)
-        traj_right = None if right is None else estimator.estimate(right, stance_right)
+        # stance_right comes with right (the pipeline detects both feet)
+        traj_right = None if right is None else estimator.estimate(right, cast(StanceResult, stance_right))
         return FusionResult(left=traj_left, right=traj_right, path=midpoint_path(traj_left, traj_right), meta=meta)

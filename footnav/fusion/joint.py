@@ -21,7 +21,7 @@ stance). The returned trajectories stay sample-aligned with each foot's input;
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
 import numpy as np
@@ -133,7 +133,7 @@ def check_two_feet(fusion: Any, estimator: Any, right: Any, stance_right: Any) -
 
 def forward_only(estimator: Any) -> Any:
     """The estimator as a forward filter (no smoother, no closed loop), its first step along +x."""
-    changes = {"smoother": "none", "heading": "first-step"}
+    changes: dict[str, Any] = {"smoother": "none", "heading": "first-step"}
     if getattr(estimator, "closed_loop", False):
         changes["closed_loop"] = False
     return estimator.clone(**changes)
@@ -326,7 +326,7 @@ def _continue_alone(fused: FootTrajectory, alone: FootTrajectory, cut: FootCut) 
     return traj, info
 
 
-def fused_start(meta: dict, start_index: int) -> int:
+def fused_start(meta: Mapping[str, Any], start_index: int) -> int:
     """The foot's first sample (its own index) that a coupled fusion's result takes from the
     fused estimate, the common span starting at the foot's sample ``start_index``: the span's
     start, or, when the span cuts the foot's start, the fused estimate's first stance (its
@@ -345,10 +345,12 @@ def on_whole_span(
         return FusionResult(
             result.left, result.right, result.path, meta={**result.meta, "span": {**span.as_meta(), "outside": None}}
         )
+    assert alone is not None  # given with a span that cuts a foot
     out, infos = [], {}
     for foot, (cut, fused, name) in enumerate(
         zip((span.left, span.right), (result.left, result.right), ("left", "right"))
     ):
+        assert fused is not None  # a coupled fusion's result has both feet
         if not cut.cut:
             out.append(fused)
             continue

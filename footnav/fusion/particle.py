@@ -93,10 +93,10 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from footnav.core.component import Fusion
+from footnav.core.component import FootEstimator, Fusion
 from footnav.core.errors import CompositionError
 from footnav.core.parameters import MAX_LENGTH_M, require, require_in_range, require_non_negative
-from footnav.core.types import FootTrajectory, FusionResult
+from footnav.core.types import FootTrajectory, FusionResult, ImuData, StanceResult
 from footnav.fusion.independent import midpoint_path
 from footnav.fusion.joint import (
     LEFT,
@@ -268,7 +268,14 @@ class ParticleFusion(Fusion):
             " or ".join(repr(m) for m in LIKELIHOOD_AXES),
         )
 
-    def fuse(self, estimator, left, stance_left, right=None, stance_right=None) -> FusionResult:
+    def fuse(
+        self,
+        estimator: FootEstimator,
+        left: ImuData,
+        stance_left: StanceResult,
+        right: ImuData | None = None,
+        stance_right: StanceResult | None = None,
+    ) -> FusionResult:
         """Both feet's EKFs with their horizontal positions carried by particle clouds.
 
         On the feet's common time span; outside it each foot alone

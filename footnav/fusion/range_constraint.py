@@ -18,9 +18,9 @@ from typing import Any, ClassVar, Literal
 
 import numpy as np
 
-from footnav.core.component import Fusion
+from footnav.core.component import FootEstimator, Fusion
 from footnav.core.parameters import MAX_DURATION_S, MAX_LENGTH_M, is_number, require, require_positive
-from footnav.core.types import FusionResult
+from footnav.core.types import FusionResult, ImuData, StanceResult
 from footnav.fusion.joint import LEFT, RIGHT, FeetView, closing_time, finish_joint, fuse_on_common_span, start_joint
 
 __all__ = ["RangeConstraintFusion", "RangeSession"]
@@ -86,7 +86,14 @@ class RangeConstraintFusion(Fusion):
         )
         require(self.projection in PROJECTIONS, self, "projection", " or ".join(map(repr, PROJECTIONS)))
 
-    def fuse(self, estimator, left, stance_left, right=None, stance_right=None) -> FusionResult:
+    def fuse(
+        self,
+        estimator: FootEstimator,
+        left: ImuData,
+        stance_left: StanceResult,
+        right: ImuData | None = None,
+        stance_right: StanceResult | None = None,
+    ) -> FusionResult:
         """Both feet in one filter; separations beyond the bound are projected back onto it.
 
         On the feet's common time span; outside it each foot alone

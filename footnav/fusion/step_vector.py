@@ -56,11 +56,12 @@ References
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from typing import Any, ClassVar
 
 import numpy as np
 
-from footnav.core.component import Fusion
+from footnav.core.component import FootEstimator, Fusion
 from footnav.core.errors import CompositionError, DataQualityWarning, InvalidInputError
 from footnav.core.parameters import (
     MAX_DURATION_S,
@@ -70,7 +71,7 @@ from footnav.core.parameters import (
     require_non_negative,
     require_positive,
 )
-from footnav.core.types import FusionResult, ImuData, StanceResult
+from footnav.core.types import FootTrajectory, FusionResult, ImuData, StanceResult
 from footnav.core.warning_log import warn
 from footnav.fusion.joint import (
     LEFT,
@@ -262,7 +263,7 @@ class StepVectorFusion(Fusion):
         """(time of the heel strike, front foot, its sample, stance-run index) of every landing
         after the first stance of each foot, in time order: the step ends at the front foot's heel
         strike, both feet on the ground."""
-        out = []
+        out: list[tuple[float, int, int, int]] = []
         for foot in (LEFT, RIGHT):
             runs = view.runs(foot)
             hs = self._heel_strikes(view, foot, runs[1:, 0])
@@ -301,7 +302,7 @@ class StepVectorFusion(Fusion):
             )
         return float(np.median(ratios))
 
-    def step_ratios(self, view: FeetView, singles) -> list[tuple[float, float]]:
+    def step_ratios(self, view: FeetView, singles: Sequence[FootTrajectory]) -> list[tuple[float, float]]:
         """(start of the stance the landing opened, s; :func:`leg_ratio`, m) of every straight
         step, theta measured exactly as :meth:`fuse` does, on each foot's single-foot solution
         ``singles`` (FootTrajectory per foot, the view's indexing)."""
@@ -376,7 +377,14 @@ class StepVectorFusion(Fusion):
             return imu, None
         return cal.apply(imu, gyro_bias=False), cal.as_meta(gyro_bias=False)
 
-    def fuse(self, estimator, left, stance_left, right=None, stance_right=None) -> FusionResult:
+    def fuse(
+        self,
+        estimator: FootEstimator,
+        left: ImuData,
+        stance_left: StanceResult,
+        right: ImuData | None = None,
+        stance_right: StanceResult | None = None,
+    ) -> FusionResult:
         """Both feet in one filter with a relative-position update at every straight step.
 
         Parameters
@@ -403,6 +411,7 @@ class StepVectorFusion(Fusion):
         if self.calibration == "none":
             return fuse_on_common_span(self, estimator, left, stance_left, right, stance_right, self._fuse_span)
         check_two_feet(self, estimator, right, stance_right)
+        assert right is not None and stance_right is not None  # check_two_feet raised otherwise
         left, cal_left = self._calibrated(left, stance_left, "left")
         right, cal_right = self._calibrated(right, stance_right, "right")
         res = fuse_on_common_span(self, estimator, left, stance_left, right, stance_right, self._fuse_span)
@@ -536,6 +545,7 @@ class StepVectorSession:
         if self.fit is not None:
             self.fit.landing(front, t, pendulum_step_length(q_out[hs_rear], q_out[k_q2], 1.0))
             leg = self.fit.leg_at(t)
+        assert self._yaw0 is not None  # set by advance before its first update
         yaw_r = quat.yaw_of(q_out[hs_rear]) - self._yaw0[rear]
         prev = self._last_stance_yaw.get(rear)
         self._last_stance_yaw[rear] = yaw_r  # heading of the rear foot's footprint

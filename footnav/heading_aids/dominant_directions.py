@@ -7,7 +7,7 @@ import numpy as np
 
 from footnav.core.component import HeadingAid
 from footnav.core.parameters import require, require_positive
-from footnav.core.types import FusionResult
+from footnav.core.types import FusionResult, ImuData
 from footnav.nav.dominant_directions import dominant_direction_correction
 from footnav.nav.heading import turn_result
 
@@ -80,7 +80,7 @@ class DominantDirectionsAid(HeadingAid):
         require_positive(self, "min_stride_m", high=10.0)
         require(0.0 <= self.min_strength <= 1.0, self, "min_strength", "in [0, 1]")
 
-    def correct(self, result: FusionResult, left, right=None) -> FusionResult:
+    def correct(self, result: FusionResult, left: ImuData, right: ImuData | None = None) -> FusionResult:
         """Each foot turned by its own heading error; the pedestrian path by their mean."""
         self.validate_params()
         params = self.get_params()

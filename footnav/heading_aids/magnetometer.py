@@ -10,7 +10,7 @@ from footnav.core.parameters import require, require_in_range, require_positive
 from footnav.core.types import FusionResult, ImuData
 from footnav.core.warning_log import warn
 from footnav.nav.heading import turn_result
-from footnav.nav.magnetic_heading import magnetic_heading_correction
+from footnav.nav.magnetic_heading import MagneticCorrection, magnetic_heading_correction
 
 __all__ = ["MagnetometerAid"]
 
@@ -76,7 +76,7 @@ class MagnetometerAid(HeadingAid):
         """Each foot turned by its own magnetic heading error; the pedestrian path by their mean."""
         self.validate_params()
         params = self.get_params()
-        found = []
+        found: list[MagneticCorrection | None] = []
         for foot, traj, imu in (("left", result.left, left), ("right", result.right, right)):
             if traj is None or imu is None:
                 found.append(None)

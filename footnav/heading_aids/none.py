@@ -2,7 +2,12 @@
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 from footnav.core.component import HeadingAid
+
+if TYPE_CHECKING:
+    from footnav.core.types import FusionResult, ImuData
 
 __all__ = ["NoHeadingAid"]
 
@@ -13,6 +18,6 @@ class NoHeadingAid(HeadingAid):
     name = "none"
     online = True
 
-    def correct(self, result, left, right=None):
+    def correct(self, result: FusionResult, left: ImuData, right: ImuData | None = None) -> FusionResult:
         """``result`` unchanged, each foot's ``meta["heading_aid"]`` saying so."""
         return result

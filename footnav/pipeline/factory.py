@@ -9,10 +9,10 @@ from __future__ import annotations
 import copy
 import sys
 import time
-from collections.abc import Mapping
+from collections.abc import Iterator, Mapping
 from contextlib import contextmanager
 from pathlib import Path as FilePath
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Literal, cast
 
 import numpy as np
 
@@ -27,7 +27,7 @@ from footnav.core.errors import (
     PluginError,
 )
 from footnav.core.parameters import check_param_names
-from footnav.core.types import FusionResult, ImuData, Recording, StanceResult
+from footnav.core.types import FootTrajectory, FusionResult, ImuData, Recording, StanceResult
 from footnav.core.types._derived import sharing
 from footnav.core.warning_log import merge_warnings, recording, warn
 from footnav.nav.floors import LEVEL_RISE_MAX_M, hold_result_floors
@@ -38,6 +38,7 @@ from footnav.pipeline.sync import ClockSync, recording_exchanges
 
 if TYPE_CHECKING:
     from footnav.pipeline.online import OnlineStream
+    from footnav.plugins.registry import Registry
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -58,7 +59,7 @@ __all__ = [
 _BASES = {"detector": StanceDetector, "estimator": FootEstimator, "fusion": Fusion, "heading_aid": HeadingAid}
 
 
-def _registry():
+def _registry() -> Registry:
     from footnav.plugins.manager import get_registry
 
     return get_registry()
@@ -73,22 +74,22 @@ def list_components() -> dict[str, list[str]]:
 
 def make_detector(name: str, **params: Any) -> StanceDetector:
     """A stance detector by registry name, e.g. ``make_detector("threshold", window_s=0.2)``."""
-    return _registry().create("detector", name, **params)  # type: ignore[return-value]
+    return cast(StanceDetector, _registry().create("detector", name, **params))
 
 
 def make_estimator(name: str, **params: Any) -> FootEstimator:
     """A per-foot estimator by registry name, e.g. ``make_estimator("ekf", zupt_std_mps=0.02)``."""
-    return _registry().create("estimator", name, **params)  # type: ignore[return-value]
+    return cast(FootEstimator, _registry().create("estimator", name, **params))
 
 
 def make_fusion(name: str, **params: Any) -> Fusion:
     """A dual-foot fusion by registry name, e.g. ``make_fusion("independent")``."""
-    return _registry().create("fusion", name, **params)  # type: ignore[return-value]
+    return cast(Fusion, _registry().create("fusion", name, **params))
 
 
 def make_heading_aid(name: str, **params: Any) -> HeadingAid:
     """A heading aid by registry name, e.g. ``make_heading_aid("dominant-directions")``."""
-    return _registry().create("heading_aid", name, **params)  # type: ignore[return-value]
+    return cast(HeadingAid, _registry().create("heading_aid", name, **params))
 
 
 def _resolve(kind: str, spec: Any, params: Mapping[str, Any] | None) -> Component:
@@ -199,7 +200,7 @@ class Pipeline:
             return type(comp).__module__
 
     @contextmanager
-    def _blame(self, *components: Component):
+    def _blame(self, *components: Component) -> Iterator[None]:
         """Turn an unexpected exception of a third-party component into a PluginError naming it.
 
         ``SystemExit`` too: a plugin that calls ``sys.exit`` must not end the user's program (the
@@ -261,7 +262,9 @@ class Pipeline:
                     f"{int(bad.sum())} in all)",
                 )
 
-    def _check_stances(self, left, stance_left, right, stance_right) -> dict[str, Any]:
+    def _check_stances(
+        self, left: ImuData, stance_left: StanceResult, right: ImuData | None, stance_right: StanceResult | None
+    ) -> dict[str, Any]:
         """Each foot's stances against its gait cycles (:mod:`footnav.nav.stance_check`); warns
         (DataQualityWarning) when they disagree."""
         out: dict[str, Any] = {}
@@ -283,7 +286,7 @@ class Pipeline:
         bound = getattr(self.estimator, "level_rise_max_m", LEVEL_RISE_MAX_M)
         return hold_result_floors(fused, level_rise_max_m=bound)
 
-    def _check_vertical(self, left, right) -> dict[str, Any]:
+    def _check_vertical(self, left: FootTrajectory, right: FootTrajectory | None) -> dict[str, Any]:
         """Each foot's height trend over its level strides (:mod:`footnav.nav.vertical_check`);
         warns (DataQualityWarning) when it is a steady drift."""
         out: dict[str, Any] = {}
@@ -312,10 +315,9 @@ class Pipeline:
             if right is not None:
                 raise InvalidInputError("give either a Recording or left/right ImuData, not both", field="right")
             exchanges = recording_exchanges(left)
-            left, right = left.left, left.right
-        left, right = (
-            ImuData.from_dataframe(x) if hasattr(x, "columns") and hasattr(x, "iloc") else x for x in (left, right)
-        )
+            right, left = left.right, left.left  # right first: mypy narrows left as it assigns
+        left = ImuData.from_dataframe(left) if hasattr(left, "columns") and hasattr(left, "iloc") else left
+        right = ImuData.from_dataframe(right) if hasattr(right, "columns") and hasattr(right, "iloc") else right
         for name, imu in (("left", left), ("right", right)):
             if imu is not None and not isinstance(imu, ImuData):
                 raise InvalidInputError(f"expected ImuData, got {type(imu).__name__}", field=name)
@@ -449,11 +451,11 @@ def make_pipeline(
     if heading_aid is not None or heading_aid_params:
         aid = _resolve("heading_aid", heading_aid or "none", heading_aid_params)
     return Pipeline(
-        detector=_resolve("detector", detector, detector_params),  # type: ignore[arg-type]
-        estimator=_resolve("estimator", estimator, estimator_params),  # type: ignore[arg-type]
-        fusion=_resolve("fusion", fusion, fusion_params),  # type: ignore[arg-type]
+        detector=cast(StanceDetector, _resolve("detector", detector, detector_params)),
+        estimator=cast(FootEstimator, _resolve("estimator", estimator, estimator_params)),
+        fusion=cast(Fusion, _resolve("fusion", fusion, fusion_params)),
         sync=_resolve_sync(sync),
-        heading_aid=aid,  # type: ignore[arg-type]
+        heading_aid=cast("HeadingAid | None", aid),
     )
 
 
@@ -461,7 +463,7 @@ def _resolve_sync(spec: str | ClockSync | Mapping[str, Any] | None) -> ClockSync
     if spec is None or isinstance(spec, ClockSync):
         return spec
     if isinstance(spec, str):
-        sync = ClockSync(spec)
+        sync = ClockSync(cast("Literal['data', 'exchanges']", spec))  # validate_params below checks it
     elif isinstance(spec, Mapping):
         table = dict(spec)
         table.pop("name", None)  # written by Pipeline.config for symmetry with the other tables

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from footnav.plugins.hookspecs import hookimpl
+from footnav.plugins.hookspecs import Register, hookimpl
 
 if TYPE_CHECKING:  # the classes named below (for readers, type checkers and tests/test_layers.py)
     from footnav.detectors.adaptive import AdaptiveDetector  # noqa: F401
@@ -61,28 +61,28 @@ BUILTINS = {
 
 
 @hookimpl
-def footnav_register_detectors(register):
+def footnav_register_detectors(register: Register) -> None:
     """Register the built-in stance detectors."""
     for name, ref in BUILTINS["detector"]:
         register(ref, name=name)
 
 
 @hookimpl
-def footnav_register_estimators(register):
+def footnav_register_estimators(register: Register) -> None:
     """Register the built-in per-foot estimators."""
     for name, ref in BUILTINS["estimator"]:
         register(ref, name=name)
 
 
 @hookimpl
-def footnav_register_fusions(register):
+def footnav_register_fusions(register: Register) -> None:
     """Register the built-in fusions."""
     for name, ref in BUILTINS["fusion"]:
         register(ref, name=name)
 
 
 @hookimpl
-def footnav_register_heading_aids(register):
+def footnav_register_heading_aids(register: Register) -> None:
     """Register the built-in heading aids."""
     for name, ref in BUILTINS["heading_aid"]:
         register(ref, name=name)

@@ -106,7 +106,14 @@ def build_registry(
         for impl in hook.get_hookimpls():
             origin = origins.get(impl.plugin_name, "<direct>")
 
-            def register(cls: type, name: str | None = None, *, _kind=kind, _p=impl.plugin_name, _o=origin) -> None:
+            def register(
+                cls: type | str,
+                name: str | None = None,
+                *,
+                _kind: str = kind,
+                _p: str = impl.plugin_name,
+                _o: str = origin,
+            ) -> None:
                 try:
                     registry.add(_kind, cls, name=name, plugin=_p, origin=_o)
                 except PluginError as exc:

@@ -5,7 +5,7 @@ from __future__ import annotations
 import functools
 from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 from numpy.typing import NDArray
@@ -32,16 +32,12 @@ class ReadOnlyMeta(dict):
             "dataclasses.replace(imu, meta={**imu.meta, key: value})"
         )
 
-    __setitem__ = __delitem__ = clear = pop = popitem = setdefault = update = _refuse  # type: ignore[assignment]
-
-    def __ior__(self, other: Any) -> ReadOnlyMeta:
-        self._refuse()
-        return self
+    __setitem__ = __delitem__ = clear = pop = popitem = setdefault = update = __ior__ = _refuse  # type: ignore[assignment]
 
     def __reduce__(self) -> tuple:
         return (ReadOnlyMeta, (dict(self),))
 
-    def copy(self) -> dict:  # type: ignore[override]
+    def copy(self) -> dict:
         """A plain, changeable dict."""
         return dict(self)
 
@@ -84,6 +80,9 @@ class ImuData:
     mag: NDArray[np.float64] | None = None
     meta: Mapping[str, Any] = field(default_factory=dict)
     frame: str = "body"
+    #: Median sampling interval, s: set per instance by __post_init__ (ClassVar keeps it out of
+    #: the dataclass's fields, so constructor, replace and asdict do not see it).
+    _median_dt: ClassVar[float]
 
     def __post_init__(self) -> None:
         meta = dict(self.meta)

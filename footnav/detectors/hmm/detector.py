@@ -14,7 +14,7 @@ from collections.abc import Sequence
 from numbers import Integral
 from os import PathLike
 from pathlib import Path as FilePath
-from typing import Any, ClassVar
+from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 
@@ -33,6 +33,9 @@ from footnav.detectors.hmm.decoding import (
 from footnav.detectors.hmm.features import FEATURES, model_grid
 from footnav.detectors.hmm.learning import learn
 from footnav.detectors.hmm.model import N_STATES, PHASE_NAMES, STANCE, build_hmm, is_cyclic_left_right
+
+if TYPE_CHECKING:
+    from numpy.typing import NDArray
 
 __all__ = ["SAVE_FORMAT", "SAVE_VERSION", "HmmDetector"]
 
@@ -157,6 +160,16 @@ class HmmDetector(StanceDetector):
     #: No bounded latency: the stance is the Viterbi path of the whole recording (a forward-
     #: filtering decoder with a fitted model would be online; not implemented).
     latency_s = None
+
+    # the model ``fit`` / ``load`` learn (scikit-learn's trailing underscore): set by setattr,
+    # absent before (``is_fitted``), so declared here without a value
+    startprob_: NDArray[np.float64]
+    transmat_: NDArray[np.float64]
+    means_: NDArray[np.float64]
+    covars_: NDArray[np.float64]
+    features_: str
+    model_rate_hz_: float
+    fit_info_: dict[str, Any]
 
     def __init__(
         self,

@@ -188,7 +188,7 @@ def learn(
     )
     z0, startprob, transmat, order = guess.z0, guess.startprob, guess.transmat, guess.order
     gyr_norm = np.linalg.norm(x[:, :3], axis=1)
-    em_params = {"seed": seed, "max_iter": int(max_iter), "tol": float(tol)}
+    em_params: dict[str, Any] = {"seed": seed, "max_iter": int(max_iter), "tol": float(tol)}
 
     # Baum-Welch, then the check after decoding (stance the stillest state, stance runs that are
     # steps); one documented refit with a coarser covariance floor when the check fails

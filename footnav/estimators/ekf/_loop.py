@@ -127,7 +127,7 @@ def clip_rows(total: int, offsets: NDArray[np.int64], clip_var) -> tuple[NDArray
     each foot's None or (N, 3) extra velocity variance per body axis (foot f's samples from
     ``offsets[f]``); a sample with none gets row -1."""
     row = np.full(total, -1, dtype=np.int64)
-    rows = []
+    rows: list[NDArray[np.float64]] = []
     for f, x in enumerate(clip_var or ()):
         if x is not None:
             hit = np.flatnonzero(np.any(np.asarray(x) > 0.0, axis=1))
@@ -157,7 +157,7 @@ class Watch(NamedTuple):
     bound_m: float
     var_m2: float
     symmetric: bool
-    index: NDArray[np.int64]
+    index: NDArray[np.int64]  # type: ignore[assignment]  # shadows tuple.index; the numba kernels read this name
     applied: NDArray[np.int64]
 
 

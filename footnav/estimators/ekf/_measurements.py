@@ -9,6 +9,8 @@ calls its loop (``_run``), so it is not used alone.
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING, Any
+
 import numpy as np
 from numpy.typing import NDArray
 
@@ -17,6 +19,9 @@ from footnav.estimators.ekf._kernels import feedback_all
 from footnav.estimators.ekf._loop import APART, NOT_PD, Watch
 from footnav.estimators.ekf._records import CallerUpdate, empty_log
 from footnav.nav.kalman import DENSE_BAD_INPUT, DENSE_NOT_PD, update_dense
+
+if TYPE_CHECKING:
+    from footnav.estimators.ekf._records import Checkpoint, FilterState, UpdateLog, Work
 
 __all__ = ["Measurements", "loop_watch"]
 
@@ -40,11 +45,36 @@ class Measurements:
     """A caller's updates (:meth:`update`, :meth:`update_position`) and the range constraint's
     runs (:meth:`run_until_apart`, :meth:`run_range_constrained`) of an ``InsFilter``."""
 
+    if TYPE_CHECKING:  # what this base reads and calls of InsFilter (set and defined there)
+        n_feet: int
+        n_states: int
+        _q: NDArray[np.float64]
+        _v: NDArray[np.float64]
+        _p: NDArray[np.float64]
+        _ba: NDArray[np.float64]
+        _bg: NDArray[np.float64]
+        _cov: NDArray[np.float64]
+        _state: FilterState
+        _work: Work
+        _dense: dict[int, tuple]
+        _since_checkpoint: int
+        _log: UpdateLog
+        _n_log: int
+        checkpoints: list[Checkpoint]
+        step_smoother: Any  # smoother.py's, which imports filter.py
+        segment_records: Any
+
+        def block(self, foot: int, name: str) -> slice: ...
+
+        def _add_checkpoint(self, step_end: bool, state: bool = True, full: bool = False) -> None: ...
+
+        def _run(self, t_stop: float, watch: Watch | None) -> int: ...
+
     def update(
         self,
         h: NDArray[np.float64],
         innovation: NDArray[np.float64],
-        r: NDArray[np.float64],
+        r: float | NDArray[np.float64],
         *,
         gate: float | None = None,
     ) -> NDArray[np.float64] | None:
@@ -124,7 +154,7 @@ class Measurements:
 
     def update_position(
         self, foot: int, z: NDArray[np.float64], std_m: float | NDArray[np.float64], axes: int = 3
-    ) -> NDArray[np.float64]:
+    ) -> NDArray[np.float64] | None:
         """Position measurement ``z`` (m, nav) of ``foot``'s first ``axes`` axes (2: horizontal)."""
         sl = self.block(foot, "pos")
         h = self.selection(np.arange(sl.start, sl.start + axes))

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from enum import IntEnum
-from typing import NamedTuple
+from typing import NamedTuple, cast
 
 import numpy as np
 from numpy.typing import NDArray
@@ -168,6 +168,11 @@ class Checkpoint:
     updates: list[CallerUpdate] = field(default_factory=list)
     n_log: int = 0
 
+    @classmethod
+    def pending(cls, n_events: int, k: NDArray[np.int64], *, step_end: bool, n_log: int) -> Checkpoint:
+        """A checkpoint whose ``state`` the caller's update sets right after (None until then)."""
+        return cls(n_events, k, cast(FilterState, None), step_end=step_end, n_log=n_log)
+
 
 class Samples(NamedTuple):
     """Input samples: time (s), specific force (m/s^2), angular rate (rad/s), stance mask (the
@@ -278,7 +283,8 @@ class Record(NamedTuple):
 
     def head(self, n: int, rows: int) -> Record:
         """Views of the first ``n`` events and their first ``rows`` update rows."""
-        return Record(*(a[:n] for a in self[:_PER_EVENT]), *(a[:rows] for a in self[_PER_EVENT:]))
+        # _make is Record(*arrays): mypy cannot match a star-unpacked generator to the fields
+        return Record._make((*(a[:n] for a in self[:_PER_EVENT]), *(a[:rows] for a in self[_PER_EVENT:])))
 
     def copy_head(self, n: int, rows: int, *, stagger: bool = False) -> Record:
         """Copies of :meth:`head`, sharing nothing with this record; ``stagger``: in one buffer
@@ -286,7 +292,7 @@ class Record(NamedTuple):
         segment that the backward pass reads, not for a short one)."""
         head = self.head(n, rows)
         if not stagger:
-            return Record(*(np.array(a) for a in head))
+            return Record._make(np.array(a) for a in head)
         copies = staggered([(a.shape, a.dtype) for a in head], first=RECORD_PLACE)
         for dst, src in zip(copies, head):
             dst[...] = src

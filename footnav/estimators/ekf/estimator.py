@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Sequence
-from typing import Literal
+from typing import Any, Literal, cast
 
 import numpy as np
 from numpy.typing import NDArray
@@ -32,7 +32,7 @@ from footnav.core.parameters import (
     require_positive,
 )
 from footnav.core.types import FULL_SCALE_RATIO, FootTrajectory, ImuData, StanceResult, clipped_acc, stance_intervals
-from footnav.estimators.ekf._records import FilterNoise
+from footnav.estimators.ekf._records import FilterNoise, Smoothed
 from footnav.estimators.ekf.filter import InsFilter
 from footnav.estimators.ekf.online import OnlineInsFilter
 from footnav.estimators.ekf.smoother import KEEP_RECORD_MB, SMOOTHERS, SegmentRecords, StepSmoother, smooth
@@ -450,7 +450,7 @@ class EkfEstimator(FootEstimator):
         filt: InsFilter,
         foot: int,
         stance: StanceResult,
-        smoothed=None,
+        smoothed: Smoothed | None = None,
         *,
         copy: bool = True,
         heading: bool = False,
@@ -583,7 +583,8 @@ class EkfEstimator(FootEstimator):
         filt.run_until()
         smoothed = None if self.smoother == "none" else smooth(filt, self.smoother)
         traj = self.trajectory(filt, 0, stance, smoothed, copy=False, heading=self.heading == "first-step")
+        meta = cast("dict[str, Any]", traj.meta)  # FootTrajectory holds its meta as a dict
         if self.closed_loop:
-            traj.meta["closed_loop"] = {"index": last, "std_m": self.closed_loop_std_m}
-        traj.meta["runtime_s"] = time.perf_counter() - t0
+            meta["closed_loop"] = {"index": last, "std_m": self.closed_loop_std_m}
+        meta["runtime_s"] = time.perf_counter() - t0
         return traj

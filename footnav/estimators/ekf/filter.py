@@ -16,6 +16,7 @@ from an old one's checkpoint (:meth:`~InsFilter.resume`).
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -247,8 +248,9 @@ class InsFilter(Measurements):
         self._work = work(big, nf)
         self._fast = EntryPoints(run)
         self._dense: dict[int, tuple] = {}  # update's scratch by rows
-        self.step_smoother = None
-        self.segment_records = None
+        # smoother.py's StepSmoother and SegmentRecords, or None (Any: smoother.py imports this module)
+        self.step_smoother: Any = None
+        self.segment_records: Any = None
         self.step_stops = False
         self.meta: list[dict] = [{} for _ in range(self.n_feet)]
         self.checkpoints: list[Checkpoint] = [self._checkpoint(step_end=False)]
@@ -460,7 +462,7 @@ class InsFilter(Measurements):
         cp = (
             self._checkpoint(step_end=step_end)
             if state
-            else Checkpoint(self._n_events, self._k.copy(), None, step_end=step_end, n_log=self._n_log)
+            else Checkpoint.pending(self._n_events, self._k.copy(), step_end=step_end, n_log=self._n_log)
         )
         self.checkpoints.append(cp)
         self._since_checkpoint = 0

@@ -16,7 +16,7 @@ from collections.abc import Sequence
 import numpy as np
 from numpy.typing import NDArray
 
-from footnav.estimators.ekf._records import EV_SAMPLE, Record
+from footnav.estimators.ekf._records import EV_SAMPLE, Record, Samples
 from footnav.estimators.ekf.filter import InsFilter
 from footnav.estimators.ekf.smoother import StepSmoother
 
@@ -105,7 +105,7 @@ class OnlineInsFilter(InsFilter):
     ) -> OnlineInsFilter:
         """A filter over the kept samples (its noise and initial covariance this one's)."""
         n, feet = self.n_states, range(self.n_feet)
-        samples = [tuple(x[keep[f] :] for x in self.samples(f)) for f in feet]
+        samples = [Samples._make(x[keep[f] :] for x in self.samples(f)) for f in feet]
         new = OnlineInsFilter(
             [x[0] for x in samples],
             [x[1] for x in samples],

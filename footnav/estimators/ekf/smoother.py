@@ -159,6 +159,7 @@ class SegmentRecords:
         if self._last is None:
             self.fill[:] = 0
             return
+        assert self._first is not None  # set with _last (keep)
         self.chunks[self._last] = (self._first, self._cov.copy())
         used, rows = (int(x) for x in self.fill)
         if used and self.budget_bytes > 0:
@@ -185,8 +186,7 @@ class SegmentRecords:
         kept = self.kept.get(checkpoint)
         if kept is not None:
             self._drop(checkpoint)
-            kept = kept[:2]
-        return first, cov, kept
+        return first, cov, None if kept is None else kept[:2]
 
     def _drop(self, checkpoint: int) -> None:
         self.nbytes -= self.kept.pop(checkpoint)[2]
@@ -266,7 +266,8 @@ class StepSmoother:
                 len(self.mu), self.capacity, m, rows=len(self.record.gain), bias_states=self.bias_states
             )
             for old, new in zip(self.record, wide):
-                new[tuple(slice(0, s) for s in old.shape)] = old
+                # mypy joins the record's differently typed ndarray fields to object
+                new[tuple(slice(0, s) for s in old.shape)] = old  # type: ignore[index, attr-defined]
             self.record = wide
         write_caller_update(self.record, self.fill, h, gain, sy, y)
 

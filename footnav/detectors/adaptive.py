@@ -71,6 +71,7 @@ from footnav.nav.windows import (
     cumulative_sum,
     gyr_sq,
     gyr_sq_cumulative,
+    pairwise_sum,
     window_samples,
 )
 from footnav.types import GRAVITY_MPS2, ImuData, StanceResult
@@ -423,63 +424,6 @@ def _longest_run_per_cycle(stat, idx):
 
 
 @njit(cache=True)
-def _block_sum(x, a, n):
-    # numpy's pairwise summation of up to 128 values (numpy/_core/src/umath/loops_utils.h.src):
-    # one by one under 8, else 8 running sums of every 8th value, added in pairs, then the rest
-    if n < 8:
-        s = -0.0
-        for i in range(a, a + n):
-            s += x[i]
-        return s
-    r = x[a : a + 8].copy()
-    i = 8
-    while i < n - n % 8:
-        for j in range(8):
-            r[j] += x[a + i + j]
-        i += 8
-    s = ((r[0] + r[1]) + (r[2] + r[3])) + ((r[4] + r[5]) + (r[6] + r[7]))
-    while i < n:
-        s += x[a + i]
-        i += 1
-    return s
-
-
-@njit(cache=True)
-def _pairwise_sum(x, a, n):
-    """``np.add.reduce(x[a : a + n])`` to the bit: numpy's pairwise summation, whose halves
-    (above 128 values, split at a multiple of 8) are walked here with a stack, not by recursion
-    (numba's cache does not keep a recursive function)."""
-    if n <= 128:
-        return _block_sum(x, a, n)
-    sa, sn, st, sv = np.empty(64, np.int64), np.empty(64, np.int64), np.zeros(64, np.int64), np.empty(64)
-    sa[0], sn[0], top = a, n, 1
-    while True:
-        f = top - 1
-        if sn[f] > 128:  # descend into the first half
-            half = sn[f] // 2
-            half -= half % 8
-            st[f] = 1
-            sa[top], sn[top], st[top] = sa[f], half, 0
-            top += 1
-            continue
-        val = _block_sum(x, sa[f], sn[f])
-        top -= 1
-        while top > 0:  # hand the sum up: a first half's waits for its second half
-            p = top - 1
-            if st[p] == 1:
-                half = sn[p] // 2
-                half -= half % 8
-                sv[p], st[p] = val, 2
-                sa[top], sn[top], st[top] = sa[p] + half, sn[p] - half, 0
-                top += 1
-                break
-            val = sv[p] + val
-            top -= 1
-        if top == 0:
-            return val
-
-
-@njit(cache=True)
 def _pivots(mask, acc, gyr, pivot_yaw_share, pivot_acc_sq, max_pivot):
     """(start, stop) of the gaps between two stances where the foot pivots on the ground.
 
@@ -518,9 +462,9 @@ def _pivots(mask, acc, gyr, pivot_yaw_share, pivot_acc_sq, max_pivot):
             f0, f1, f2 = acc[a1 + i, 0], acc[a1 + i, 1], acc[a1 + i, 2]
             dev = np.sqrt((f0 * f0 + f1 * f1) + f2 * f2) - GRAVITY_MPS2
             dev_t[i] = dev * dev
-        total = total_t[0] + _pairwise_sum(total_t, 1, length - 1)
-        yaw = yaw_t[0] + _pairwise_sum(yaw_t, 1, length - 1)
-        acc_dev2 = (dev_t[0] + _pairwise_sum(dev_t, 1, length - 1)) / length
+        total = total_t[0] + pairwise_sum(total_t, 1, length - 1)
+        yaw = yaw_t[0] + pairwise_sum(yaw_t, 1, length - 1)
+        acc_dev2 = (dev_t[0] + pairwise_sum(dev_t, 1, length - 1)) / length
         if length <= max_pivot and total > 0 and yaw >= pivot_yaw_share * total and acc_dev2 < pivot_acc_sq:
             out[m, 0] = a1
             out[m, 1] = b0

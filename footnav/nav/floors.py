@@ -45,8 +45,8 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 from numpy.typing import NDArray
 
-from footnav.nav.stride_hold import close_stances
-from footnav.types import FootTrajectory, FusionResult, stance_intervals
+from footnav.nav.stride_hold import close_stances, runs_of, swing_rises_into
+from footnav.types import FootTrajectory, FusionResult
 
 __all__ = [
     "FLOOR_MIN_RISE_M",
@@ -179,21 +179,14 @@ def swing_rises(
         last update sample, m; and ``before`` for the samples that follow. The same numbers in
         any chunks.
     """
-    z = np.asarray(z_forward, dtype=float)
-    zupt = np.asarray(zupt, dtype=bool)
+    z = np.ascontiguousarray(z_forward, dtype=float)
+    zupt = np.ascontiguousarray(zupt, dtype=bool)
     out = np.full(len(z), np.nan)
     if len(z) == 0:
         return out, before
     z_last, prev_zupt, prev_z = before
-    starts = np.flatnonzero(zupt & ~np.concatenate(([prev_zupt], zupt[:-1])))
-    rows = np.flatnonzero(zupt)
-    # the last update sample before each run: the row before it in ``rows``, or the carry
-    j = np.searchsorted(rows, starts)
-    last = np.where(j > 0, z[rows[np.maximum(j - 1, 0)]], z_last)
-    just_before = np.where(starts > 0, z[np.maximum(starts - 1, 0)], prev_z)
-    out[starts] = just_before - last
-    carry = (float(z[rows[-1]]) if len(rows) else float(z_last), bool(zupt[-1]), float(z[-1]))
-    return out, carry
+    z_last = swing_rises_into(z, zupt, out, float(z_last), bool(prev_zupt), float(prev_z))
+    return out, (float(z_last), bool(zupt[-1]), float(z[-1]))
 
 
 def stance_swing_rises(rise: NDArray[np.float64], steps: NDArray[np.int64]) -> NDArray[np.float64]:
@@ -380,7 +373,7 @@ class FloorHolder:
         if not self._rows:
             return empty
         t, p, v, q, s, sw = rows = self._joined()
-        runs = stance_intervals(s)
+        runs = runs_of(s)
         if len(runs) and runs[-1, 1] == len(s) and not closed:  # the last stance may go on
             runs = runs[:-1]
         if len(runs) == 0:

@@ -17,7 +17,7 @@ import numpy as np
 from footnav._numba import njit
 from footnav.nav.windows import pairwise_sum
 
-__all__ = ["close_stances"]
+__all__ = ["close_stances", "runs_of", "swing_rises_into"]
 
 
 @njit(cache=True)
@@ -135,3 +135,39 @@ def close_stances(t, p, v, sw, runs, bound, share, n_win, first, prev_h, prev_en
             dx, dy = xs[k] - px, ys[k] - py
             walked = walked + np.sqrt(dx * dx + dy * dy)
     return rise, stair, held, by_swing, h, end_t, xs, ys, walked, values[max(m - n_win, 0) : m].copy()
+
+
+@njit(cache=True)
+def swing_rises_into(z, zupt, out, z_last, prev_zupt, prev_z):
+    """:func:`footnav.nav.floors.swing_rises`' rule, compiled, into ``out`` (N,: NaN on entry):
+    at the first update sample of each run, the height just before it less the height at the
+    last update sample before it (``z_last`` before these samples). Returns the height at the
+    last update sample."""
+    for i in range(len(z)):
+        if zupt[i]:
+            if not prev_zupt:
+                out[i] = (z[i - 1] if i > 0 else prev_z) - z_last
+            z_last = z[i]
+        prev_zupt = zupt[i]
+    return z_last
+
+
+@njit(cache=True)
+def runs_of(mask):
+    """:func:`footnav.types.stance_intervals`, compiled: (start, stop) of each run of True, (K, 2)."""
+    n = len(mask)
+    out = np.empty(((n + 1) // 2, 2), dtype=np.int64)
+    r = 0
+    i = 0
+    while i < n:
+        if mask[i]:
+            j = i
+            while j < n and mask[j]:
+                j += 1
+            out[r, 0] = i
+            out[r, 1] = j
+            r += 1
+            i = j
+        else:
+            i += 1
+    return out[:r]

@@ -132,3 +132,47 @@ def test_the_compiled_rule_is_the_numpy_rule_to_the_bit(seed):
 def test_the_strapdown_share_is_the_floors_own():
     # the kernel takes the share as a parameter: the holder passes the module's constant
     assert SWING_SHARE == 0.5
+
+
+def _swing_rises_by_numpy(z, zupt, before=(np.nan, False, np.nan)):
+    """swing_rises' vectorised rule (the reference of the compiled one)."""
+    out = np.full(len(z), np.nan)
+    if len(z) == 0:
+        return out, before
+    z_last, prev_zupt, prev_z = before
+    starts = np.flatnonzero(zupt & ~np.concatenate(([prev_zupt], zupt[:-1])))
+    rows = np.flatnonzero(zupt)
+    j = np.searchsorted(rows, starts)
+    last = np.where(j > 0, z[rows[np.maximum(j - 1, 0)]], z_last)
+    just_before = np.where(starts > 0, z[np.maximum(starts - 1, 0)], prev_z)
+    out[starts] = just_before - last
+    return out, (float(z[rows[-1]]) if len(rows) else float(z_last), bool(zupt[-1]), float(z[-1]))
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_the_compiled_swing_rises_are_the_numpy_rule_in_any_chunks(seed):
+    from footnav.nav.floors import swing_rises
+
+    rng = np.random.default_rng(seed)
+    n = 600
+    z = np.cumsum(rng.normal(0, 0.01, n))
+    zupt = rng.random(n) < (0.3 + 0.4 * (seed % 2))
+    for chunk in (1, 3, 50, n):
+        ref, new = (np.nan, False, np.nan), (np.nan, False, np.nan)
+        for a in range(0, n, chunk):
+            want, ref = _swing_rises_by_numpy(z[a : a + chunk], zupt[a : a + chunk], ref)
+            got, new = swing_rises(z[a : a + chunk], zupt[a : a + chunk], new)
+            np.testing.assert_array_equal(got, want)
+            np.testing.assert_array_equal(np.array(new, dtype=float), np.array(ref, dtype=float))
+
+
+def test_the_compiled_runs_are_stance_intervals():
+    from footnav.nav.stride_hold import runs_of
+    from footnav.types import stance_intervals
+
+    rng = np.random.default_rng(3)
+    for n in [0, 1, 2, 3, 10, 101]:
+        for p in (0.0, 0.3, 0.8, 1.0):
+            mask = rng.random(n) < p
+            np.testing.assert_array_equal(runs_of(mask), stance_intervals(mask))
+            assert runs_of(mask).shape == stance_intervals(mask).shape

@@ -41,7 +41,8 @@ from footnav.nav.heading import turn_to_first_step
 from footnav.nav.heading_drift import TURN_ON_BIAS_STD_RADPS, heading_drift_cov, standstill_rate_std
 from footnav.nav.initial_alignment import align_first_stance
 from footnav.nav.stance_edges import settled_mask
-from footnav.types import FULL_SCALE_RATIO, FootTrajectory, ImuData, StanceResult, clipped_acc, stance_intervals
+from footnav.nav.stride_hold import runs_of
+from footnav.types import FULL_SCALE_RATIO, FootTrajectory, ImuData, StanceResult, clipped_acc
 
 __all__ = ["EkfEstimator", "GYRO_BIAS_STD_FLOOR_RADPS"]
 
@@ -397,7 +398,7 @@ class EkfEstimator(FootEstimator):
         if not self.trims_stances:
             return None
         mask = np.asarray(stance, dtype=bool)
-        runs = stance_intervals(mask)
+        runs = runs_of(mask)  # compiled: a stream asks on every push
         trim = runs[1:] if first_whole else runs
         if len(trim) == 0 or len(t) < 2:
             return mask.copy()

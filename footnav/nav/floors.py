@@ -291,6 +291,10 @@ class FloorHolder:
         the running totals only (an endless stream that keeps no past).
     """
 
+    #: Stances closed at once in one compiled call, at most; more by the vectorised rule (the
+    #: same bits, see :meth:`_close_stances`; :func:`hold_floors` takes that rule always).
+    compiled_max_stances = 64
+
     def __init__(self, level_rise_max_m: float = LEVEL_RISE_MAX_M, *, keep_strides: bool = True) -> None:
         self.level_rise_max_m = float(level_rise_max_m)
         self.keep_strides = bool(keep_strides)
@@ -386,7 +390,14 @@ class FloorHolder:
 
     def _close_stances(self, t, p, v, sw, runs: NDArray[np.int64]) -> None:
         """Correct the stances ``runs`` (K, 2) and the swing before each, in place: the whole
-        of ``t[:runs[-1, 1]]``, in one compiled call (:func:`footnav.nav.stride_hold.close_stances`)."""
+        of ``t[:runs[-1, 1]]``. A few stances (a live stream's push) in one compiled call
+        (:func:`footnav.nav.stride_hold.close_stances`), where the vectorised rule's numpy calls
+        cost 50 times the work; many (a whole walk, :func:`hold_floors`) by that rule, which
+        then costs little and spares the offline run the kernel's compilation: the same
+        operations, the same bits."""
+        if len(runs) > self.compiled_max_stances:
+            self._close_vectorised(t, p, v, sw, runs)
+            return
         first = self._prev_h is None  # the first stance of the walk: nothing to hold before it
         prev_x, prev_y = (0.0, 0.0) if first else (float(self._prev_xy[0]), float(self._prev_xy[1]))
         rise, stair, held, by_swing, h, end_t, xs, ys, walked, history = close_stances(
@@ -404,6 +415,56 @@ class FloorHolder:
         self._held_at.update(zip(end_t.tolist(), held.tolist()))
         self._before = float(held[-1])
         self._prev_h, self._prev_end_t, self._prev_xy = float(h[-1]), float(end_t[-1]), np.array([xs[-1], ys[-1]])
+
+    def _close_vectorised(self, t, p, v, sw, runs: NDArray[np.int64]) -> None:
+        """:meth:`_close_stances` by numpy calls over all the stances at once."""
+        a, b = runs[:, 0], runs[:, 1]
+        n = b - a
+        h = stance_heights(p[:, 2], runs)
+        idx = _ranges(a, n)
+        first = np.concatenate(([0], np.cumsum(n)[:-1]))
+        xy = np.add.reduceat(p[idx, :2], first, axis=0) / n[:, None]
+        end_t = t[b - 1]
+        if self._prev_h is None:  # the first stance of the walk: nothing to hold before it
+            prev_h = np.concatenate(([h[0]], h[:-1]))
+            prev_xy = np.concatenate((xy[:1], xy[:-1]))
+            prev_end = np.concatenate(([t[0]], end_t[:-1]))
+            counted = np.arange(len(runs)) > 0
+        else:
+            prev_h = np.concatenate(([self._prev_h], h[:-1]))
+            prev_xy = np.concatenate((self._prev_xy[None], xy[:-1]))
+            prev_end = np.concatenate(([self._prev_end_t], end_t[:-1]))
+            counted = np.ones(len(runs), bool)
+        rise = h - prev_h
+        swing = np.where(counted, stance_swing_rises(sw, runs), np.nan)  # the walk's first stance has no stride
+        offset, self._offsets = swing_offsets(rise, swing, self.level_rise_max_m, self._offsets)
+        stair = stair_strides(rise, swing + offset, self.level_rise_max_m)
+        held_by_swing = (np.abs(rise) >= self.level_rise_max_m) & ~stair
+        level = counted & ~stair
+        c = np.where(level, -rise, 0.0)
+        # at each stance; summed from the last one held, in order, so that samples given in any
+        # chunks give the same bits as the whole walk
+        held = np.cumsum(np.concatenate(([self._before], c)))[1:]
+        before = np.concatenate(([self._before], held[:-1]))  # at the stance before each
+        # the swing before stance k: from the last sample of stance k-1 to the first of stance k
+        lo = np.concatenate(([0], b[:-1]))
+        m = a - lo
+        sw = _ranges(lo, m)
+        k = np.repeat(np.arange(len(runs)), m)
+        span = t[a] - prev_end
+        span = np.where(span > 0, span, 1.0)  # only the walk's first stance can start at its first sample
+        p[sw, 2] += before[k] + c[k] * (t[sw] - prev_end[k]) / span[k]
+        v[sw, 2] += (c / span)[k]
+        p[idx, 2] += np.repeat(held, n)
+        if self.keep_strides:
+            self.rises.extend(rise[counted].tolist())
+            self.stairs.extend((~level[counted]).tolist())
+        self.swing_held += int(np.sum(held_by_swing & counted))
+        steps_m = np.linalg.norm(xy - prev_xy, axis=1)[counted]
+        self.walked_m = float(np.cumsum(np.concatenate(([self.walked_m], steps_m)))[-1])
+        self._held_at.update(zip(end_t.tolist(), held.tolist()))
+        self._before = float(held[-1])
+        self._prev_h, self._prev_end_t, self._prev_xy = float(h[-1]), float(end_t[-1]), xy[-1].copy()
 
 
 def _ranges(starts: NDArray[np.int64], lengths: NDArray[np.int64]) -> NDArray[np.int64]:
@@ -436,6 +497,7 @@ def hold_floors(traj: FootTrajectory, *, level_rise_max_m: float = LEVEL_RISE_MA
         swing = np.full(n, np.nan)
         swing[traj.steps[:, 0]] = traj.swing_rise_m
     holder = FloorHolder(level_rise_max_m)
+    holder.compiled_max_stances = 0  # a whole walk: numpy's calls cost little, and need no compilation
     first = holder.push(traj.t, traj.position, traj.velocity, traj.quaternion, mask, swing_rise=swing)
     _, pos, vel, _, _ = (np.concatenate([a, b]) for a, b in zip(first, holder.flush()))
     meta = {**traj.meta, "vertical": {"model": "floors", **holder.floors().to_meta()}}

@@ -1,13 +1,15 @@
-"""The floors' stride rule (:class:`footnav.nav.floors.FloorHolder`) on a run of stances, compiled.
+"""The floors' per-stance work (:mod:`footnav.nav.floors`), compiled.
 
 A live stream closes about one stance per foot and push, and the rule's three dozen numpy calls
 (the strapdown offset's median among them, through numpy's masked arrays) cost some 50 times the
-arithmetic on that one stance: here they are one call. Each operation is the one the vectorised
-rule made, in its order (:func:`footnav.nav.floors.stance_heights`, the footprint's mean as
-``np.add.reduceat`` sums it: the first sample, then numpy's pairwise sum of the others,
-:func:`footnav.nav.floors.swing_offsets`' median as ``np.nanmedian`` takes it, the running sums as
-``np.cumsum`` adds them), so the numbers are the same to the bit; ``tests/nav/test_floors.py``
-holds the vectorised rule as the reference.
+arithmetic on that one stance: :func:`close_stances` makes them one call. Each operation is the
+one the vectorised rule made, in its order (:func:`footnav.nav.floors.stance_heights`, the
+footprint's mean as ``np.add.reduceat`` sums it: the first sample, then numpy's pairwise sum of
+the others, :func:`footnav.nav.floors.swing_offsets`' median as ``np.nanmedian`` takes it, the
+running sums as ``np.cumsum`` adds them), so the numbers are the same to the bit;
+``tests/nav/test_stride_hold.py`` holds the vectorised rule as the reference. So do
+:func:`swing_rises_into` (:func:`footnav.nav.floors.swing_rises`' rule) and :func:`runs_of`
+(:func:`footnav.types.stance_intervals`), which a stream calls on every push.
 """
 
 from __future__ import annotations
@@ -21,14 +23,38 @@ __all__ = ["close_stances", "runs_of", "swing_rises_into"]
 
 
 @njit(cache=True)
-def _median(x):
-    # np.nanmedian of finite values: the middle one (added to itself and halved, as numpy's
-    # masked median does), or the mean of the middle two
-    s = np.sort(x)
-    n = len(s)
+def _sort(x, n):
+    # x[:n] sorted in place, ascending: a heapsort (numba's np.sort compiles for seconds, and
+    # only the values at the middle are read, which any order of equal values gives alike)
+    for start in range(n // 2 - 1, -1, -1):
+        _sift(x, start, n)
+    for end in range(n - 1, 0, -1):
+        x[0], x[end] = x[end], x[0]
+        _sift(x, 0, end)
+
+
+@njit(cache=True)
+def _sift(x, root, n):
+    while True:
+        child = 2 * root + 1
+        if child >= n:
+            return
+        if child + 1 < n and x[child] < x[child + 1]:
+            child += 1
+        if not x[root] < x[child]:
+            return
+        x[root], x[child] = x[child], x[root]
+        root = child
+
+
+@njit(cache=True)
+def _median(x, n):
+    # np.nanmedian of the finite x[:n] (sorted here): the middle one (added to itself and
+    # halved, as numpy's masked median does), or the mean of the middle two
+    _sort(x, n)
     h = n // 2
-    lo = s[h] if n % 2 == 1 else s[h - 1]
-    return (lo + s[h]) / 2.0
+    lo = x[h] if n % 2 == 1 else x[h - 1]
+    return (lo + x[h]) / 2.0
 
 
 @njit(cache=True)
@@ -75,13 +101,25 @@ def close_stances(t, p, v, sw, runs, bound, share, n_win, first, prev_h, prev_en
     xs, ys = np.empty(k_runs), np.empty(k_runs)
     end_t = np.empty(k_runs)
     swing = np.empty(k_runs)
+    longest = 0
+    for k in range(k_runs):
+        longest = max(longest, runs[k, 1] - runs[k, 0])
+    col = np.empty(longest)  # one stance's heights, then its x and y
     for k in range(k_runs):
         a, b = runs[k, 0], runs[k, 1]
         n = b - a
-        zs = np.sort(p[a:b, 2])
-        h[k] = 0.5 * (zs[(n - 1) // 2] + zs[n // 2])
-        xs[k] = (p[a, 0] + pairwise_sum(p[:, 0], a + 1, n - 1)) / n
-        ys[k] = (p[a, 1] + pairwise_sum(p[:, 1], a + 1, n - 1)) / n
+        for i in range(n):
+            col[i] = p[a + i, 2]
+        _sort(col, n)
+        h[k] = 0.5 * (col[(n - 1) // 2] + col[n // 2])
+        for c in range(2):  # contiguous, as the detector's pairwise sums: one compiled version
+            for i in range(n):
+                col[i] = p[a + i, c]
+            mean = (col[0] + pairwise_sum(col, 1, n - 1)) / n
+            if c == 0:
+                xs[k] = mean
+            else:
+                ys[k] = mean
         end_t[k] = t[b - 1]
         swing[k] = np.nan
         for i in range(a, b):
@@ -96,8 +134,10 @@ def close_stances(t, p, v, sw, runs, bound, share, n_win, first, prev_h, prev_en
     by_swing = np.zeros(k_runs, dtype=np.bool_)
     values = np.empty(len(history) + k_runs)  # the level strides' swing rises, oldest first
     m = len(history)
-    values[:m] = history
+    for i in range(m):
+        values[i] = history[i]
     limit = share * bound
+    window = np.empty(max(n_win, 1))
     for k in range(k_runs):
         counted = k > 0 or not first
         ph = h[k - 1] if k > 0 else prev_h
@@ -106,7 +146,10 @@ def close_stances(t, p, v, sw, runs, bound, share, n_win, first, prev_h, prev_en
         sk = swing[k] if counted else np.nan
         offset = 0.0
         if m > 0:
-            med = _median(values[max(m - n_win, 0) : m])
+            lo_w = max(m - n_win, 0)
+            for i in range(lo_w, m):  # element by element: a slice assignment compiles numba's
+                window[i - lo_w] = values[i]  # shape-mismatch error, seconds of a first call
+            med = _median(window, m - lo_w)
             offset = -med if abs(med) >= limit else 0.0
         if abs(rise[k]) < bound and np.isfinite(sk):
             values[m] = sk

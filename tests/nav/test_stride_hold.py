@@ -1,71 +1,22 @@
 """The compiled stride rule (footnav.nav.stride_hold) against the vectorised numpy rule it
-replaced (kept here as the reference): the same bits on random walks pushed in any chunks, with
-stairs, swing rises known and unknown, a clipping strapdown's offset and a walk starting in stance."""
+replaced on a stream's few stances (FloorHolder keeps it for many): the same bits on random walks
+pushed in any chunks, with stairs, swing rises known and unknown, a clipping strapdown's offset and
+a walk starting in stance; and the compiled swing rises and stance runs against numpy's."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
-from footnav.nav.floors import (
-    SWING_SHARE,
-    FloorHolder,
-    _ranges,
-    stair_strides,
-    stance_heights,
-    stance_swing_rises,
-    swing_offsets,
-)
+from footnav.nav.floors import SWING_SHARE, FloorHolder
 
 
-class _NumpyHolder(FloorHolder):
-    """FloorHolder with the stances closed by the vectorised rule (the reference)."""
-
-    def _close_stances(self, t, p, v, sw, runs):
-        a, b = runs[:, 0], runs[:, 1]
-        n = b - a
-        h = stance_heights(p[:, 2], runs)
-        idx = _ranges(a, n)
-        first = np.concatenate(([0], np.cumsum(n)[:-1]))
-        xy = np.add.reduceat(p[idx, :2], first, axis=0) / n[:, None]
-        end_t = t[b - 1]
-        if self._prev_h is None:
-            prev_h = np.concatenate(([h[0]], h[:-1]))
-            prev_xy = np.concatenate((xy[:1], xy[:-1]))
-            prev_end = np.concatenate(([t[0]], end_t[:-1]))
-            counted = np.arange(len(runs)) > 0
-        else:
-            prev_h = np.concatenate(([self._prev_h], h[:-1]))
-            prev_xy = np.concatenate((self._prev_xy[None], xy[:-1]))
-            prev_end = np.concatenate(([self._prev_end_t], end_t[:-1]))
-            counted = np.ones(len(runs), bool)
-        rise = h - prev_h
-        swing = np.where(counted, stance_swing_rises(sw, runs), np.nan)
-        offset, self._offsets = swing_offsets(rise, swing, self.level_rise_max_m, self._offsets)
-        stair = stair_strides(rise, swing + offset, self.level_rise_max_m)
-        held_by_swing = (np.abs(rise) >= self.level_rise_max_m) & ~stair
-        level = counted & ~stair
-        c = np.where(level, -rise, 0.0)
-        held = np.cumsum(np.concatenate(([self._before], c)))[1:]
-        before = np.concatenate(([self._before], held[:-1]))
-        lo = np.concatenate(([0], b[:-1]))
-        m = a - lo
-        sw_idx = _ranges(lo, m)
-        k = np.repeat(np.arange(len(runs)), m)
-        span = t[a] - prev_end
-        span = np.where(span > 0, span, 1.0)
-        p[sw_idx, 2] += before[k] + c[k] * (t[sw_idx] - prev_end[k]) / span[k]
-        v[sw_idx, 2] += (c / span)[k]
-        p[idx, 2] += np.repeat(held, n)
-        if self.keep_strides:
-            self.rises.extend(rise[counted].tolist())
-            self.stairs.extend((~level[counted]).tolist())
-        self.swing_held += int(np.sum(held_by_swing & counted))
-        steps_m = np.linalg.norm(xy - prev_xy, axis=1)[counted]
-        self.walked_m = float(np.cumsum(np.concatenate(([self.walked_m], steps_m)))[-1])
-        self._held_at.update(zip(end_t.tolist(), held.tolist()))
-        self._before = float(held[-1])
-        self._prev_h, self._prev_end_t, self._prev_xy = float(h[-1]), float(end_t[-1]), xy[-1].copy()
+def _holder(compiled: bool) -> FloorHolder:
+    """A FloorHolder closing every batch of stances compiled, or every one by the vectorised rule
+    (the numpy rule the kernel replaced on a live stream's few stances: the reference)."""
+    holder = FloorHolder()
+    holder.compiled_max_stances = 10**9 if compiled else -1
+    return holder
 
 
 def _random_walk(seed: int, n_strides: int = 60):
@@ -117,7 +68,7 @@ def test_the_compiled_rule_is_the_numpy_rule_to_the_bit(seed):
     rng = np.random.default_rng(100 + seed)
     n = len(walk[0])
     for chunks in ([], sorted(rng.choice(np.arange(1, n), size=40, replace=False).tolist()), list(range(97, n, 97))):
-        ref, new = _NumpyHolder(), FloorHolder()
+        ref, new = _holder(compiled=False), _holder(compiled=True)
         want, got = _hold(ref, walk, chunks), _hold(new, walk, chunks)
         for a, b in zip(want, got):
             np.testing.assert_array_equal(a, b)
@@ -129,9 +80,23 @@ def test_the_compiled_rule_is_the_numpy_rule_to_the_bit(seed):
         assert sum(new.stairs) >= 2 and new.swing_held + sum(not x for x in new.stairs) > 3  # both kinds met
 
 
-def test_the_strapdown_share_is_the_floors_own():
-    # the kernel takes the share as a parameter: the holder passes the module's constant
-    assert SWING_SHARE == 0.5
+def test_a_whole_walk_closes_by_the_vectorised_rule_and_a_stream_s_push_compiled(monkeypatch):
+    # the kernel's compilation is a live stream's only: hold_floors never calls it
+    import footnav.nav.floors as floors
+    from footnav.nav import stride_hold
+    from footnav.types import FootTrajectory, stance_intervals
+
+    t, p, v, q, s, _ = _random_walk(0, n_strides=20)
+    traj = FootTrajectory(t=t, position=p, velocity=v, quaternion=q, position_std=np.zeros_like(p), steps=stance_intervals(s))
+    calls = []
+    compiled = stride_hold.close_stances
+    monkeypatch.setattr(floors, "close_stances", lambda *a: calls.append(a) or compiled(*a))
+    floors.hold_floors(traj)
+    assert not calls
+    holder = FloorHolder()
+    holder.push(t[:300], p[:300], v[:300], q[:300], s[:300])
+    assert len(calls) == 1
+    assert SWING_SHARE == 0.5  # the kernel takes the share as a parameter: the module's constant
 
 
 def _swing_rises_by_numpy(z, zupt, before=(np.nan, False, np.nan)):

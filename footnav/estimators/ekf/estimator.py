@@ -398,7 +398,7 @@ class EkfEstimator(FootEstimator):
         if not self.trims_stances:
             return None
         mask = np.asarray(stance, dtype=bool)
-        runs = runs_of(mask)  # compiled: a stream asks on every push
+        runs = runs_of(np.array(mask))  # compiled (a stream asks on every push); a copy: one signature
         trim = runs[1:] if first_whole else runs
         if len(trim) == 0 or len(t) < 2:
             return mask.copy()

@@ -5,6 +5,8 @@ a walk starting in stance; and the compiled swing rises and stance runs against 
 
 from __future__ import annotations
 
+from itertools import pairwise
+
 import numpy as np
 import pytest
 
@@ -56,7 +58,7 @@ def _random_walk(seed: int, n_strides: int = 60):
 def _hold(holder, walk, chunks):
     t, p, v, q, s, sw = walk
     out, edges = [], [0, *chunks, len(t)]
-    for a, b in zip(edges[:-1], edges[1:]):
+    for a, b in pairwise(edges):
         out.append(holder.push(t[a:b], p[a:b], v[a:b], q[a:b], s[a:b], swing_rise=sw[a:b], closed=bool(b < len(t) and not s[b])))
     out.append(holder.flush())
     return [np.concatenate(x) for x in zip(*out)]
@@ -82,8 +84,7 @@ def test_the_compiled_rule_is_the_numpy_rule_to_the_bit(seed):
 
 def test_a_whole_walk_closes_by_the_vectorised_rule_and_a_stream_s_push_compiled(monkeypatch):
     # the kernel's compilation is a live stream's only: hold_floors never calls it
-    import footnav.nav.floors as floors
-    from footnav.nav import stride_hold
+    from footnav.nav import floors, stride_hold
     from footnav.types import FootTrajectory, stance_intervals
 
     t, p, v, q, s, _ = _random_walk(0, n_strides=20)

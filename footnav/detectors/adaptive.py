@@ -73,6 +73,7 @@ from footnav.nav.windows import (
     cumulative_sum,
     gyr_sq,
     gyr_sq_cumulative,
+    pairwise_sum,
     window_samples,
 )
 
@@ -425,63 +426,6 @@ def _longest_run_per_cycle(stat, idx):
 
 
 @njit(cache=True)
-def _block_sum(x, a, n):
-    # numpy's pairwise summation of up to 128 values (numpy/_core/src/umath/loops_utils.h.src):
-    # one by one under 8, else 8 running sums of every 8th value, added in pairs, then the rest
-    if n < 8:
-        s = -0.0
-        for i in range(a, a + n):
-            s += x[i]
-        return s
-    r = x[a : a + 8].copy()
-    i = 8
-    while i < n - n % 8:
-        for j in range(8):
-            r[j] += x[a + i + j]
-        i += 8
-    s = ((r[0] + r[1]) + (r[2] + r[3])) + ((r[4] + r[5]) + (r[6] + r[7]))
-    while i < n:
-        s += x[a + i]
-        i += 1
-    return s
-
-
-@njit(cache=True)
-def _pairwise_sum(x, a, n):
-    """``np.add.reduce(x[a : a + n])`` to the bit: numpy's pairwise summation, whose halves
-    (above 128 values, split at a multiple of 8) are walked here with a stack, not by recursion
-    (numba's cache does not keep a recursive function)."""
-    if n <= 128:
-        return _block_sum(x, a, n)
-    sa, sn, st, sv = np.empty(64, np.int64), np.empty(64, np.int64), np.zeros(64, np.int64), np.empty(64)
-    sa[0], sn[0], top = a, n, 1
-    while True:
-        f = top - 1
-        if sn[f] > 128:  # descend into the first half
-            half = sn[f] // 2
-            half -= half % 8
-            st[f] = 1
-            sa[top], sn[top], st[top] = sa[f], half, 0
-            top += 1
-            continue
-        val = _block_sum(x, sa[f], sn[f])
-        top -= 1
-        while top > 0:  # hand the sum up: a first half's waits for its second half
-            p = top - 1
-            if st[p] == 1:
-                half = sn[p] // 2
-                half -= half % 8
-                sv[p], st[p] = val, 2
-                sa[top], sn[top], st[top] = sa[p] + half, sn[p] - half, 0
-                top += 1
-                break
-            val = sv[p] + val
-            top -= 1
-        if top == 0:
-            return val
-
-
-@njit(cache=True)
 def _pivots(mask, acc, gyr, pivot_yaw_share, pivot_acc_sq, max_pivot):
     """(start, stop) of the gaps between two stances where the foot pivots on the ground.
 
@@ -508,6 +452,8 @@ def _pivots(mask, acc, gyr, pivot_yaw_share, pivot_acc_sq, max_pivot):
     for g in range(n_gaps):
         a1, b0 = runs[g, 1], runs[g + 1, 0]
         length = b0 - a1
+        if not length <= max_pivot:  # the test's first condition: a longer gap needs none of its sums
+            continue
         # the preceding stance's mean specific force: "up" in the body frame
         u0, u1, u2 = c[2 * g + 1, 0] - c[2 * g, 0], c[2 * g + 1, 1] - c[2 * g, 1], c[2 * g + 1, 2] - c[2 * g, 2]
         norm = max(np.sqrt((u0 * u0 + u1 * u1) + u2 * u2), 1e-12)
@@ -517,13 +463,16 @@ def _pivots(mask, acc, gyr, pivot_yaw_share, pivot_acc_sq, max_pivot):
             total_t[i] = (w0 * w0 + w2 * w2) + w1 * w1
             y = (w0 * u0 + w2 * u2) + w1 * u1
             yaw_t[i] = y * y
+        total = total_t[0] + pairwise_sum(total_t, 1, length - 1)
+        yaw = yaw_t[0] + pairwise_sum(yaw_t, 1, length - 1)
+        if not (total > 0 and yaw >= pivot_yaw_share * total):  # a swing turns in pitch: no |f| needed
+            continue
+        for i in range(length):
             f0, f1, f2 = acc[a1 + i, 0], acc[a1 + i, 1], acc[a1 + i, 2]
             dev = np.sqrt((f0 * f0 + f1 * f1) + f2 * f2) - GRAVITY_MPS2
             dev_t[i] = dev * dev
-        total = total_t[0] + _pairwise_sum(total_t, 1, length - 1)
-        yaw = yaw_t[0] + _pairwise_sum(yaw_t, 1, length - 1)
-        acc_dev2 = (dev_t[0] + _pairwise_sum(dev_t, 1, length - 1)) / length
-        if length <= max_pivot and total > 0 and yaw >= pivot_yaw_share * total and acc_dev2 < pivot_acc_sq:
+        acc_dev2 = (dev_t[0] + pairwise_sum(dev_t, 1, length - 1)) / length
+        if acc_dev2 < pivot_acc_sq:
             out[m, 0] = a1
             out[m, 1] = b0
             m += 1
@@ -532,19 +481,25 @@ def _pivots(mask, acc, gyr, pivot_yaw_share, pivot_acc_sq, max_pivot):
 
 @njit(cache=True)
 def _prefix_sums_at(x: np.ndarray, at: np.ndarray) -> np.ndarray:
-    """``cumulative(x)[at]`` for increasing ``at`` (M,): rows (M, 3), without the (N + 1, 3) array.
+    """``cumulative(x)[at]`` of a (N, 3) ``x`` for increasing ``at`` (M,): rows (M, 3), without
+    the (N + 1, 3) array.
 
     The running sum adds the rows in order as ``np.cumsum`` does (the first row taken as it is),
-    so every value is bit-identical to the cumulative sum's.
+    so every value is bit-identical to the cumulative sum's; the three sums are kept in
+    registers (not an array, whose store and load would lengthen each add's chain).
     """
-    out = np.zeros((len(at), x.shape[1]))
-    s = np.zeros(x.shape[1])
+    out = np.zeros((len(at), 3))
+    s0, s1, s2 = 0.0, 0.0, 0.0
     j = 0  # rows summed so far
     for m in range(len(at)):
-        while j < at[m]:
-            for k in range(x.shape[1]):
-                s[k] = x[j, k] if j == 0 else s[k] + x[j, k]
+        stop = at[m]
+        if j == 0 and stop > 0:
+            s0, s1, s2 = x[0, 0], x[0, 1], x[0, 2]
+            j = 1
+        while j < stop:
+            s0 += x[j, 0]
+            s1 += x[j, 1]
+            s2 += x[j, 2]
             j += 1
-        for k in range(x.shape[1]):  # not out[m] = s: that compiles numba's shape-mismatch error
-            out[m, k] = s[k]
+        out[m, 0], out[m, 1], out[m, 2] = s0, s1, s2
     return out

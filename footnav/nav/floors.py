@@ -45,7 +45,8 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 from numpy.typing import NDArray
 
-from footnav.core.types import FootTrajectory, FusionResult, stance_intervals
+from footnav.core.types import FootTrajectory, FusionResult
+from footnav.nav.stride_hold import close_stances, runs_of, swing_rises_into
 
 __all__ = [
     "FLOOR_MIN_RISE_M",
@@ -178,21 +179,14 @@ def swing_rises(
         last update sample, m; and ``before`` for the samples that follow. The same numbers in
         any chunks.
     """
-    z = np.asarray(z_forward, dtype=float)
-    zupt = np.asarray(zupt, dtype=bool)
+    z = np.ascontiguousarray(z_forward, dtype=float)
+    zupt = np.ascontiguousarray(zupt, dtype=bool)
     out = np.full(len(z), np.nan)
     if len(z) == 0:
         return out, before
     z_last, prev_zupt, prev_z = before
-    starts = np.flatnonzero(zupt & ~np.concatenate(([prev_zupt], zupt[:-1])))
-    rows = np.flatnonzero(zupt)
-    # the last update sample before each run: the row before it in ``rows``, or the carry
-    j = np.searchsorted(rows, starts)
-    last = np.where(j > 0, z[rows[np.maximum(j - 1, 0)]], z_last)
-    just_before = np.where(starts > 0, z[np.maximum(starts - 1, 0)], prev_z)
-    out[starts] = just_before - last
-    carry = (float(z[rows[-1]]) if len(rows) else float(z_last), bool(zupt[-1]), float(z[-1]))
-    return out, carry
+    z_last = swing_rises_into(z, zupt, out, float(z_last), bool(prev_zupt), float(prev_z))
+    return out, (float(z_last), bool(zupt[-1]), float(z[-1]))
 
 
 def stance_swing_rises(rise: NDArray[np.float64], steps: NDArray[np.int64]) -> NDArray[np.float64]:
@@ -301,6 +295,10 @@ class FloorHolder:
         the running totals only (an endless stream that keeps no past).
     """
 
+    #: Stances closed at once in one compiled call, at most; more by the vectorised rule (the
+    #: same bits, see :meth:`_close_stances`; :func:`hold_floors` takes that rule always).
+    compiled_max_stances = 64
+
     def __init__(self, level_rise_max_m: float = LEVEL_RISE_MAX_M, *, keep_strides: bool = True) -> None:
         self.level_rise_max_m = float(level_rise_max_m)
         self.keep_strides = bool(keep_strides)
@@ -393,7 +391,7 @@ class FloorHolder:
         if not self._rows:
             return empty
         t, p, v, q, s, sw = rows = self._joined()
-        runs = stance_intervals(s)
+        runs = runs_of(s)
         if len(runs) and runs[-1, 1] == len(s) and not closed:  # the last stance may go on
             runs = runs[:-1]
         if len(runs) == 0:
@@ -406,8 +404,47 @@ class FloorHolder:
 
     def _close_stances(self, t, p, v, sw, runs: NDArray[np.int64]) -> None:
         """Correct the stances ``runs`` (K, 2) and the swing before each, in place: the whole
-        of ``t[:runs[-1, 1]]``. Vectorised over the stances (a loop of numpy calls per stance
-        cost 28 us each: a third of the filter's time)."""
+        of ``t[:runs[-1, 1]]``. A few stances (a live stream's push) in one compiled call
+        (:func:`footnav.nav.stride_hold.close_stances`), where the vectorised rule's numpy calls
+        cost 50 times the work; many (a whole walk, :func:`hold_floors`) by that rule, which
+        then costs little and spares the offline run the kernel's compilation: the same
+        operations, the same bits."""
+        if len(runs) > self.compiled_max_stances:
+            self._close_vectorised(t, p, v, sw, runs)
+            return
+        first = self._prev_h is None  # the first stance of the walk: nothing to hold before it
+        prev_x, prev_y = (0.0, 0.0) if first else (float(self._prev_xy[0]), float(self._prev_xy[1]))
+        rise, stair, held, by_swing, h, end_t, xs, ys, walked, history = close_stances(
+            t,
+            p,
+            v,
+            sw,
+            np.ascontiguousarray(runs, dtype=np.int64),
+            self.level_rise_max_m,
+            SWING_SHARE,
+            SWING_OFFSET_STRIDES,
+            first,
+            0.0 if first else self._prev_h,
+            self._prev_end_t,
+            prev_x,
+            prev_y,
+            self._before,
+            self.walked_m,
+            np.array(self._offsets, dtype=float),
+        )
+        counted = slice(1 if first else 0, None)  # the walk's first stance has no stride
+        if self.keep_strides:
+            self.rises.extend(rise[counted].tolist())
+            self.stairs.extend(stair[counted].tolist())
+        self.swing_held += int(np.count_nonzero(by_swing))
+        self.walked_m = float(walked)
+        self._offsets = deque(history.tolist(), maxlen=SWING_OFFSET_STRIDES)
+        self._held_at.update(zip(end_t.tolist(), held.tolist()))
+        self._before = float(held[-1])
+        self._prev_h, self._prev_end_t, self._prev_xy = float(h[-1]), float(end_t[-1]), np.array([xs[-1], ys[-1]])
+
+    def _close_vectorised(self, t, p, v, sw, runs: NDArray[np.int64]) -> None:
+        """:meth:`_close_stances` by numpy calls over all the stances at once."""
         a, b = runs[:, 0], runs[:, 1]
         n = b - a
         h = stance_heights(p[:, 2], runs)
@@ -487,6 +524,7 @@ def hold_floors(traj: FootTrajectory, *, level_rise_max_m: float = LEVEL_RISE_MA
         swing = np.full(n, np.nan)
         swing[traj.steps[:, 0]] = traj.swing_rise_m
     holder = FloorHolder(level_rise_max_m)
+    holder.compiled_max_stances = 0  # a whole walk: numpy's calls cost little, and need no compilation
     first = holder.push(traj.t, traj.position, traj.velocity, traj.quaternion, mask, swing_rise=swing)
     _, pos, vel, _, _ = (np.concatenate([a, b]) for a, b in zip(first, holder.flush()))
     meta = {**traj.meta, "vertical": {"model": "floors", **holder.floors().to_meta()}}

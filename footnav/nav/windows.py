@@ -33,6 +33,7 @@ __all__ = [
     "gyr_rms",
     "gyr_sq",
     "gyr_sq_cumulative",
+    "pairwise_sum",
     "window_samples",
     "window_sums",
 ]
@@ -172,3 +173,61 @@ def acc_moving_std(acc: NDArray[np.float64], win: int) -> tuple[NDArray[np.float
     mean_sq_c = window_sums(np.einsum("ij,ij->i", centred, centred), win) / win
     variance = np.maximum(mean_sq_c - np.einsum("ij,ij->i", mean_c, mean_c), 0.0)
     return np.sqrt(variance), mean_c + offset
+
+
+@njit(cache=True)
+def _block_sum(x, a, n):
+    # numpy's pairwise summation of up to 128 values (numpy/_core/src/umath/loops_utils.h.src):
+    # one by one under 8, else 8 running sums of every 8th value, added in pairs, then the rest
+    if n < 8:
+        s = -0.0
+        for i in range(a, a + n):
+            s += x[i]
+        return s
+    r = x[a : a + 8].copy()
+    i = 8
+    while i < n - n % 8:
+        for j in range(8):
+            r[j] += x[a + i + j]
+        i += 8
+    s = ((r[0] + r[1]) + (r[2] + r[3])) + ((r[4] + r[5]) + (r[6] + r[7]))
+    while i < n:
+        s += x[a + i]
+        i += 1
+    return s
+
+
+@njit(cache=True)
+def pairwise_sum(x, a, n):
+    """``np.add.reduce(x[a : a + n])`` of a (N,) array (a strided view too) to the bit: numpy's
+    pairwise summation (the adaptive detector's pivots, the floors' footprints), whose halves
+    (above 128 values, split at a multiple of 8) are walked here with a stack, not by recursion
+    (numba's cache does not keep a recursive function)."""
+    if n <= 128:
+        return _block_sum(x, a, n)
+    sa, sn, st, sv = np.empty(64, np.int64), np.empty(64, np.int64), np.zeros(64, np.int64), np.empty(64)
+    sa[0], sn[0], top = a, n, 1
+    while True:
+        f = top - 1
+        if sn[f] > 128:  # descend into the first half
+            half = sn[f] // 2
+            half -= half % 8
+            st[f] = 1
+            sa[top], sn[top], st[top] = sa[f], half, 0
+            top += 1
+            continue
+        val = _block_sum(x, sa[f], sn[f])
+        top -= 1
+        while top > 0:  # hand the sum up: a first half's waits for its second half
+            p = top - 1
+            if st[p] == 1:
+                half = sn[p] // 2
+                half -= half % 8
+                sv[p], st[p] = val, 2
+                sa[top], sn[top], st[top] = sa[p] + half, sn[p] - half, 0
+                top += 1
+                break
+            val = sv[p] + val
+            top -= 1
+        if top == 0:
+            return val

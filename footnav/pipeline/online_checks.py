@@ -38,6 +38,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from footnav._numba import njit
 from footnav.core.errors import DataQualityWarning
 from footnav.core.types._arrays import _as_float_array
 from footnav.core.types._derived import row_norms
@@ -107,14 +108,7 @@ class _ExtremeTally:
         """Take the samples ``x`` (M, 3), the first being sample ``offset`` of the stream."""
         if len(x) == 0:
             return
-        both = np.concatenate([x, -x], axis=1)
-        peak = both.max(axis=0)
-        for k in range(6):
-            if np.isnan(self.value[k]) or peak[k] > self.value[k]:  # a new extreme: count it afresh
-                same = both[:, k] == peak[k]
-                self.value[k], self.count[k], self.first[k] = peak[k], same.sum(), offset + int(np.argmax(same))
-            elif peak[k] == self.value[k]:
-                self.count[k] += int(np.count_nonzero(both[:, k] == peak[k]))
+        _tally(np.ascontiguousarray(x, dtype=np.float64), self.value, self.count, self.first, int(offset))
 
     def clipped(self) -> tuple[int, int, float | None] | None:
         """(samples, first index, nominal full scale or None) of the plateaus found, or None."""
@@ -128,6 +122,37 @@ class _ExtremeTally:
             return None
         fs = next((f for f in (_full_scale_of(self.value[k], self.scales, self.unit_si) for k in hits) if f), None)
         return int(sum(self.count[k] for k in hits)), int(min(self.first[k] for k in hits)), fs
+
+
+@njit(cache=True)
+def _tally(x, value, count, first, offset):
+    # _ExtremeTally.add in one compiled call (a push's chunk per foot and sensor): column k of
+    # (x, -x), its largest value (NaN if it holds one, as numpy's max), how many samples hold it
+    # and the first of them
+    m = x.shape[0]
+    for k in range(6):
+        c = k % 3
+        peak = x[0, c] if k < 3 else -x[0, c]
+        for i in range(1, m):
+            v = x[i, c] if k < 3 else -x[i, c]
+            if np.isnan(peak):
+                break
+            if np.isnan(v) or v > peak:
+                peak = v
+        if np.isnan(value[k]) or peak > value[k]:  # a new extreme: count it afresh
+            n, at = 0, -1
+            for i in range(m):
+                v = x[i, c] if k < 3 else -x[i, c]
+                if v == peak:
+                    n += 1
+                    if at < 0:
+                        at = i
+            value[k], count[k], first[k] = peak, n, offset + max(at, 0)
+        elif peak == value[k]:
+            for i in range(m):
+                v = x[i, c] if k < 3 else -x[i, c]
+                if v == peak:
+                    count[k] += 1
 
 
 def _empty() -> tuple[NDArray, NDArray, NDArray]:

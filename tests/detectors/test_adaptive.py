@@ -208,12 +208,12 @@ def test_the_compiled_sums_are_numpy_s():
     """The pivot test sums as numpy does (its pairwise summation, einsum's order in a row), so
     the compiled rule decides as the vectorised one it replaced; a numpy that sums otherwise
     fails here, not silently."""
-    from footnav.detectors.adaptive import _pairwise_sum
+    from footnav.nav.windows import pairwise_sum
 
     rng = np.random.default_rng(4)
     x = rng.lognormal(size=40000)
     for n in [*range(1, 300), 1000, 1023, 1025, 8193, 39999]:
-        assert np.add.reduceat(x[:n], [0])[0] == x[0] + _pairwise_sum(x, 1, n - 1), n
+        assert np.add.reduceat(x[:n], [0])[0] == x[0] + pairwise_sum(x, 1, n - 1), n
     w, u = rng.normal(size=(1000, 3)), rng.normal(size=(1000, 3))
     p = w * u
     np.testing.assert_array_equal(np.einsum("ij,ij->i", w, u), (p[:, 0] + p[:, 2]) + p[:, 1])

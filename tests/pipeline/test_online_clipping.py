@@ -42,3 +42,33 @@ def test_stream_without_keep_warns_about_late_clipping_by_index():
                 assert any("first at index 2000" in w.message and "clipping" in w.message for w in caught)
         stream.close()
     assert sum("clipping" in w.message for w in caught) == 1
+
+
+def _tally_by_numpy(value, count, first, x, offset):
+    """_ExtremeTally.add's rule in numpy (the reference of the compiled tally)."""
+    both = np.concatenate([x, -x], axis=1)
+    peak = both.max(axis=0)
+    for k in range(6):
+        if np.isnan(value[k]) or peak[k] > value[k]:
+            same = both[:, k] == peak[k]
+            value[k], count[k], first[k] = peak[k], same.sum(), offset + int(np.argmax(same))
+        elif peak[k] == value[k]:
+            count[k] += int(np.count_nonzero(both[:, k] == peak[k]))
+
+
+def test_the_compiled_tally_is_the_numpy_rule():
+    # quantised values (ties within and across chunks, a plateau at either extreme), chunks of
+    # one sample to many
+    rng = np.random.default_rng(8)
+    for trial in range(40):
+        tally = _ExtremeTally(CLIP_MIN_ACC_MPS2, ACC_FULL_SCALES_G, GRAVITY_MPS2)
+        value, count, first = np.full(6, np.nan), np.zeros(6, np.int64), np.zeros(6, np.int64)
+        offset = 0
+        for _ in range(30):
+            x = rng.integers(-4, 5, (int(rng.integers(1, 40)), 3)).astype(float) * (1.0 + trial)
+            tally.add(x, offset)
+            _tally_by_numpy(value, count, first, x, offset)
+            offset += len(x)
+            np.testing.assert_array_equal(tally.value, value)
+            np.testing.assert_array_equal(tally.count, count)
+            np.testing.assert_array_equal(tally.first, first)

@@ -31,7 +31,7 @@ from footnav.core.parameters import (
     require_non_negative,
     require_positive,
 )
-from footnav.core.types import FULL_SCALE_RATIO, FootTrajectory, ImuData, StanceResult, clipped_acc, stance_intervals
+from footnav.core.types import FULL_SCALE_RATIO, FootTrajectory, ImuData, StanceResult, clipped_acc
 from footnav.estimators.ekf._records import FilterNoise, Smoothed
 from footnav.estimators.ekf.filter import InsFilter
 from footnav.estimators.ekf.online import OnlineInsFilter
@@ -42,6 +42,7 @@ from footnav.nav.heading import turn_to_first_step
 from footnav.nav.heading_drift import TURN_ON_BIAS_STD_RADPS, heading_drift_cov, standstill_rate_std
 from footnav.nav.initial_alignment import align_first_stance
 from footnav.nav.stance_edges import settled_mask
+from footnav.nav.stride_hold import runs_of
 
 __all__ = ["EkfEstimator", "GYRO_BIAS_STD_FLOOR_RADPS"]
 
@@ -408,7 +409,7 @@ class EkfEstimator(FootEstimator):
         if not self.trims_stances:
             return None
         mask = np.asarray(stance, dtype=bool)
-        runs = stance_intervals(mask)
+        runs = runs_of(np.array(mask))  # compiled (a stream asks on every push); a copy: one signature
         trim = runs[1:] if first_whole else runs
         if len(trim) == 0 or len(t) < 2:
             return mask.copy()

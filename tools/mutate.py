@@ -47,35 +47,34 @@ ROOT = Path(__file__).resolve().parents[1]
 
 QUAT = [
     "tests/nav/test_quaternion.py",
-    "tests/nav/test_mutants_nav.py",
+    "tests/nav/test_mechanization.py",
     "tests/estimators/test_ins_filter.py",
     "tests/estimators/test_ekf.py",
 ]
 FILTER = [
     "tests/estimators/test_ins_filter.py",
-    "tests/nav/test_mutants_nav.py",
-    "tests/estimators/test_mutants_filter.py",
+    "tests/nav/test_mechanization.py",
+    "tests/nav/test_quaternion.py",
+    "tests/estimators/test_smoother.py",
     "tests/estimators",
     "tests/types/test_constants.py",
 ]
 SMOOTH = FILTER + ["tests/fusion/test_fusion_geometry.py"]
-ALIGN = ["tests/nav/test_initial_alignment.py", "tests/estimators/test_ekf.py", "tests/nav/test_mutants_nav.py"]
-WINDOWS = ["tests/detectors", "tests/nav/test_stance_check.py", "tests/nav/test_mutants_nav.py"]
-GAIT = ["tests/nav/test_stance_check.py", "tests/detectors/test_adaptive.py", "tests/nav/test_mutants_nav.py"]
-STRIDES = ["tests/nav/test_strides.py", "tests/nav/test_mutants_nav.py"]
-HEADING_DRIFT = ["tests/estimators", "tests/nav/test_mutants_nav.py"]
+ALIGN = ["tests/nav/test_initial_alignment.py", "tests/estimators/test_ekf.py"]
+WINDOWS = ["tests/detectors", "tests/nav/test_stance_check.py", "tests/nav/test_windows.py"]
+GAIT = ["tests/nav/test_stance_check.py", "tests/detectors/test_adaptive.py", "tests/nav/test_gait_cycles.py"]
+STRIDES = ["tests/nav/test_strides.py"]
+HEADING_DRIFT = ["tests/estimators", "tests/nav/test_heading_drift.py"]
 METRICS = [
     "tests/analysis/test_metrics.py",
     "tests/analysis/test_paper_metrics.py",
     "tests/analysis/test_evaluation.py",
-    "tests/nav/test_mutants_nav.py",
 ]
-DTW = ["tests/nav/test_dtw.py", "tests/fusion/test_dtw.py", "tests/nav/test_mutants_nav.py"]
-DETECT = ["tests/detectors", "tests/nav/test_mutants_nav.py"]
+DTW = ["tests/nav/test_dtw.py", "tests/fusion/test_dtw.py"]
+DETECT = ["tests/detectors", "tests/nav/test_windows.py"]
 MADGWICK = [
     "tests/estimators/test_madgwick.py",
     "tests/estimators/test_madgwick_reference.py",
-    "tests/estimators/test_mutants_estimators.py",
     "tests/estimators/test_vertical.py",
     "tests/types/test_constants.py",
 ]
@@ -151,14 +150,14 @@ PEKF = ["tests/fusion/test_particle_ekf.py", "tests/fusion/test_particle_paper.p
 VC, SPN = "footnav/nav/vertical_check.py", "footnav/nav/spans.py"
 NAV_VC = ["tests/nav/test_vertical_check.py"]
 NAV_SPN = ["tests/nav/test_spans.py", "tests/fusion/test_spans.py"]
-JOINT = ["tests/fusion/test_joint.py", "tests/fusion/test_spans.py", "tests/fusion/test_mutants_joint.py"]
+JOINT = ["tests/fusion/test_joint.py", "tests/fusion/test_spans.py"]
 
 # issue 37: the code added or changed since the last round, with the test files that mirror it
 FR, CAL = "footnav/nav/final_rest.py", "footnav/nav/calibration.py"
 NAV_FR = ["tests/nav/test_final_rest.py", "tests/estimators/test_ekf.py"]
 NAV_CAL = ["tests/nav/test_calibration.py", "tests/fusion/test_step_vector_paper.py"]
 NAV_SC = ["tests/nav/test_stance_check.py"]
-ADAPT = ["tests/detectors/test_adaptive.py", "tests/detectors/test_mutants_adaptive.py"]
+ADAPT = ["tests/detectors/test_adaptive.py"]
 
 MUTANTS: list[Mutant] = [
     # -- nav/quaternion.py ------------------------------------------------------------------
@@ -419,7 +418,7 @@ MUTANTS: list[Mutant] = [
         "smooth-caller-updates-order",
         SM,
         ("for h, gain, sy, _ in reversed(cps[b].updates[", "for h, gain, sy, _ in (cps[b].updates["),
-        SMOOTH + ["tests/fusion", "tests/estimators/test_mutants_smoother_order.py"],
+        SMOOTH + ["tests/fusion", "tests/estimators/test_smoother.py"],
         "order",
     ),
     M(

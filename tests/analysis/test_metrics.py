@@ -599,3 +599,59 @@ def test_height_rmse_ignores_a_constant_offset_and_the_plane():
         height_rmse(est[:2], ref)
     with pytest.raises(InvalidInputError, match="non-finite"):
         height_rmse(np.array([0.0, np.nan, 1.0]), np.zeros(3))
+
+
+# mutant: metrics-rmse-mean
+# metrics-rmse-mean: ATE is a root mean square. Errors 1, 1, 0, 0 m after the best fit (identity:
+# the cross-covariance is diag(4, 8)) give sqrt(1/2), not their mean 1/2
+def test_ate_is_a_root_mean_square():
+    from footnav.analysis.metrics import ate_rmse
+
+    ref = np.array([[-1.0, 0.0], [1.0, 0.0], [0.0, -2.0], [0.0, 2.0]])
+    est = np.array([[-2.0, 0.0], [2.0, 0.0], [0.0, -2.0], [0.0, 2.0]])
+    assert ate_rmse(est, ref) == pytest.approx(np.sqrt(0.5), abs=1e-12)
+
+
+# mutant: metrics-waypoint-radius
+# metrics-waypoint-radius: a pass at exactly radius_m counts
+def test_a_pass_at_exactly_the_radius_counts():
+    from footnav.analysis.metrics import waypoint_errors
+
+    x = np.linspace(-3.0, 3.0, 61)
+    ref = np.column_stack([x, np.ones_like(x)])
+    res = waypoint_errors(ref + [0.0, 0.25], ref, [[0.0, 0.0]], radius_m=1.0)
+    np.testing.assert_allclose(res.errors_m, [0.25])
+
+
+# mutant: metrics-deviation-min-distance
+# metrics-deviation-min-distance: the ratio counts samples with s_k >= min_distance_m
+def test_deviation_ratio_includes_the_minimum_distance():
+    from footnav.analysis.metrics import max_deviation
+
+    ref = np.array([[0.0, 0.0], [1.0, 0.0], [2.0, 0.0]])
+    est = np.array([[0.0, 0.0], [1.0, 0.5], [2.0, 0.1]])
+    res = max_deviation(est, ref, min_distance_m=1.0)
+    assert res.max_ratio == pytest.approx(0.5) and res.max_ratio_index == 1
+
+
+# mutant: metrics-interp-duplicates
+# metrics-interp-duplicates: times must increase strictly
+def test_interpolation_refuses_repeated_times():
+    from footnav.analysis.metrics import interpolate_positions
+    from footnav.core.errors import InvalidInputError
+
+    with pytest.raises(InvalidInputError):
+        interpolate_positions([0.0, 1.0, 1.0, 2.0], np.zeros((4, 3)), [0.5])
+
+
+# mutant: metrics-distance-3d
+# metrics-distance-3d: the start heading comes from the first distance_m walked horizontally; a
+# climb straight up first (stairs, a lift) does not count
+def test_start_heading_uses_horizontal_distance():
+    from footnav.analysis.metrics import align_at_start
+
+    climb = np.column_stack([np.zeros(11), np.zeros(11), np.linspace(0.0, 3.0, 11)])
+    s = np.linspace(0.2, 4.0, 20)
+    ref = np.vstack([climb, np.column_stack([np.zeros(20), s, np.full(20, 3.0)])])
+    est = np.vstack([climb, np.column_stack([s, np.zeros(20), np.full(20, 3.0)])])
+    np.testing.assert_allclose(align_at_start(est, ref).aligned, ref, atol=1e-12)

@@ -113,3 +113,18 @@ def test_gaitmap_strides_and_heel_strike_timing(shared_data):
     # standing still in the turn, which the stride file labels as part of one turning stride (mocap heel
     # speed there 0.014 m/s)
     assert found == 57 and false <= 1
+
+
+# mutant: dual-gait-first-peak (written for it; it does not kill it)
+# dual-gait-first-peak (written for it; it does not kill it, see docs/reliability.md): every heel
+# strike of the simulator's truth is found, the first landing's too, within 2 samples
+def test_dual_gait_finds_every_heel_strike_including_the_first():
+    import footnav
+    from footnav.detectors.dual_gait import DualGaitDetector
+
+    rec = footnav.simulate("straight", seed=1, distance_m=8.0)
+    left, right = DualGaitDetector().detect_pair(rec.left, rec.right)
+    for found, truth in ((left, rec.truth_left), (right, rec.truth_right)):
+        hs, ref = found.events["heel_strike"], truth.events["heel_strike"]
+        assert len(hs) == len(ref)
+        np.testing.assert_allclose(hs, ref, atol=2)

@@ -478,3 +478,24 @@ def test_pyshoe_all_trials_learn_and_stance_is_stillest(shared_data):
         assert np.argmin(per_state) == 0 and per_state[0] < 0.5, (name, per_state)
         assert stance.meta["fit"]["check"]["stance_stillest"]
         assert 0.2 < stance.mask.mean() < 0.8, (name, stance.mask.mean())
+
+
+# mutant: hmm-model-samples
+# hmm-model-samples: the HMM's model-rate grid runs from the recording's first sample to its last,
+# both included: 2.0 s at 100 Hz is 201 model samples (0, 0.01, ..., 2.0 s after the start), and
+# the recording's last sample maps to the last model sample, not to one 10 ms before it
+def test_hmm_model_grid_covers_the_whole_recording():
+    from footnav.core.types import ImuData
+    from footnav.detectors.hmm.features import model_grid
+
+    t = 0.5 + np.arange(401) / 200.0  # 200 Hz, exactly 2.0 s
+    gyr = np.column_stack([t, 2 * t, -t])  # linear: interpolation is exact
+    imu = ImuData(t=t, acc=np.tile([0.0, 0.0, 9.80665], (401, 1)), gyr=gyr)
+    grid = model_grid(imu, "gyr", 100.0)
+    assert len(grid.t_model) == 201
+    assert grid.t_model[0] == 0.5 and abs(grid.t_model[-1] - 2.5) < 1e-12
+    # sample k at 200 Hz is nearest to model sample round(k / 2)
+    assert grid.nearest[-1] == 200 and grid.nearest[-2] == 200 and grid.nearest[-3] == 199
+    # the low-pass filter (anti-alias at the model rate) leaves the linear ramp's ends slightly off;
+    # the last model sample's feature is the recording's end, within the filter's edge effect
+    assert abs(grid.features[-1, 0] - 2.5) < 0.05

@@ -6,6 +6,7 @@ import pytest
 import footnav
 from footnav.analysis import metrics
 from footnav.core.errors import FootnavError, InvalidParameterError
+from footnav.core.types import stance_intervals
 from footnav.detectors.threshold import (
     AccMagnitudeDetector,
     AccVarianceDetector,
@@ -230,3 +231,30 @@ def test_a_walk_without_standstill_is_refused_by_the_pipeline_with_a_footnav_err
 def test_invalid_parameters_are_named(detector, param, value):
     with pytest.raises(InvalidParameterError, match=f"{param}="):
         detector(**{param: value}).detect(_standstill())
+
+
+def _runs(mask):
+    return stance_intervals(np.asarray(mask)).tolist()
+
+
+# mutant: thr-min-stance-boundary
+# thr-min-stance-boundary: a stance of exactly min_stance_s (5 samples at 100 Hz) is kept, one of
+# 4 samples is dropped
+def test_a_stance_of_exactly_the_minimum_is_kept():
+    mask = np.zeros(100, bool)
+    mask[10:15] = True  # 5 samples
+    mask[60:64] = True  # 4 samples
+    out = stance_result(mask, 100.0, 0.05, 0.0, np.zeros(100), {})
+    assert _runs(out.mask) == [[10, 15]]
+
+
+# mutant: thr-min-swing-boundary
+# thr-min-swing-boundary: a gap of exactly min_swing_s (20 samples at 100 Hz) is a swing, one of
+# 19 samples is bridged
+def test_a_swing_of_exactly_the_minimum_is_kept():
+    mask = np.zeros(200, bool)
+    mask[0:30] = True
+    mask[50:80] = True  # gap 30..50: 20 samples
+    mask[99:130] = True  # gap 80..99: 19 samples
+    out = stance_result(mask, 100.0, 0.0, 0.2, np.zeros(200), {})
+    assert _runs(out.mask) == [[0, 30], [50, 130]]

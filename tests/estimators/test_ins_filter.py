@@ -517,3 +517,18 @@ def test_the_loops_entry_point_runs_exactly_as_its_dispatcher(smoother, monkeypa
     assert not len(slow_filt._fast)
     for a, b in zip(fast, slow):
         np.testing.assert_array_equal(a, b)
+
+
+# mutant: ins-pcov-index
+# ins-pcov-index: the reported position covariance (xx, xy, yy, zz) is the filter's P, sample by
+# sample, against the dense reference filter
+def test_reported_position_covariance_is_the_dense_filters(walk):
+    imu, stance = walk
+    est = EkfEstimator(smoother="none", heading="sensor")
+    _, hist, k0, _ = _reference_forward(est, imu, stance)
+    filt = est.start([imu], [stance])
+    filt.run_until()
+    pcov = filt.outputs(0)[3]
+    ref = np.array([[p[6, 6], p[6, 7], p[7, 7], p[8, 8]] for _, p, _, _ in hist])
+    np.testing.assert_allclose(pcov[k0 + 1 :], ref, rtol=1e-6, atol=1e-14)
+    assert np.abs(ref[:, 1]).max() > 1e-6  # the walk does correlate x and y

@@ -1,5 +1,8 @@
 """DTW fusion (seed 002 Alg. 2): heading mismatch by DTW, mid-swing ties, averaged path."""
 
+import math
+import warnings
+
 import numpy as np
 import pytest
 
@@ -112,3 +115,83 @@ def test_timed_path_is_the_midpoint_at_common_times():
     rec = footnav.simulate("straight", seed=0, distance_m=10.0)
     res = _fuse(DtwFusion(path="timed", initial_heading="first-step"), rec)
     np.testing.assert_allclose(res.path.position, 0.5 * (res.left.position + res.right.position), atol=1e-12)
+
+
+# -- a turning start and a lateral offset (mutant-derived, tools/mutate.py) --------------------
+#
+# The simulated feet normally start side by side with parallel first strides and the mid-swing
+# offset is 0, so neither the sign of the heading mismatch nor the side of the lateral offset can
+# matter. Here the walk starts into a turn (the two feet's first strides point in different
+# directions: the DTW heading search finds a non-zero mismatch) and the mid-swing offset is the
+# simulated step width; both are checked against the simulator's truth.
+
+
+def _first_stride_heading(position, stance):
+    """Direction (rad) of a foot's first stride: from its start to its first landing."""
+    landing = np.flatnonzero(np.diff(stance.astype(int)) == 1)[0] + 1
+    d = position[landing, :2] - position[0, :2]
+    return math.atan2(d[1], d[0])
+
+
+def _run(rec, **fusion_params):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return footnav.make_pipeline("glrt", "ekf", "dtw", fusion_params=fusion_params).run(rec.left, rec.right)
+
+
+@pytest.fixture(scope="module")
+def turning_start():
+    """Standing, then straight into a 90 deg left turn (radius 1.5 m), then 5 m straight: the left
+    foot's first stride points 0.446 rad left of +x, the right foot's 0.223 rad (truth)."""
+    rec = footnav.simulate("path", seed=1, segments=[(0.0, 90.0), (5.0, 0.0)], standstill_s=1.0)
+    return rec, _run(rec)
+
+
+# mutant: dtw-fusion-heading-sign
+# dtw-fusion-heading-sign: the DTW mismatch turns the right foot's start; the wrong sign turns it
+# by twice the mismatch the other way. Measured (seed 1): the right foot's first stride points
+# -0.180 rad from the left's in the fused result (truth -0.223; mutant -0.044; the rest of the
+# difference is the fusion's start geometry, feet side by side across the left's first stride).
+def test_dtw_right_foot_starts_with_the_true_relative_heading(turning_start):
+    rec, res = turning_start
+    truth = _first_stride_heading(rec.truth_right.position, rec.truth_right.stance) - _first_stride_heading(
+        rec.truth_left.position, rec.truth_left.stance
+    )
+    est = _first_stride_heading(res.right.position, rec.truth_right.stance) - _first_stride_heading(
+        res.left.position, rec.truth_left.stance
+    )
+    assert abs(truth) > 0.2  # the case the default walks never make
+    assert abs(est - truth) < 0.09  # measured 0.043; the mutant 0.179
+
+
+# mutant: dtw-fusion-heading-sign
+# dtw-fusion-heading-sign: end positions in the fused frame (x the left foot's first stride,
+# origin between the feet) against the truth put in that frame. Measured (seed 1): left 0.007 m,
+# right 0.234 m; the mutant 0.83 m and 1.95 m.
+def test_dtw_turning_start_ends_where_the_truth_ends(turning_start):
+    rec, res = turning_start
+    hl = _first_stride_heading(rec.truth_left.position, rec.truth_left.stance)
+    rot = np.array([[math.cos(hl), math.sin(hl)], [-math.sin(hl), math.cos(hl)]])  # turns by -hl
+    origin = 0.5 * (rec.truth_left.position[0, :2] + rec.truth_right.position[0, :2])
+    for est, truth in ((res.left, rec.truth_left), (res.right, rec.truth_right)):
+        end_truth = rot @ (truth.position[-1, :2] - origin)
+        assert np.linalg.norm(est.position[-1, :2] - end_truth) < 0.4
+
+
+# mutant: dtw-fusion-offset-side
+# dtw-fusion-offset-side: with lateral_offset_m = the simulated step width (0.2 m) the mid-swing
+# ties hold the moving foot 0.2 m to its own side of the standing one; the wrong side pulls the
+# feet across each other. Straight 4 m walk, both feet end side by side: the left foot 0.2 m to
+# the left (+y) of the right (truth). Measured (seeds 1, 2): fused separation y 0.200 / 0.201 m;
+# mutant -0.236 m.
+@pytest.mark.parametrize("seed", [1, 2])
+def test_dtw_lateral_offset_keeps_each_foot_on_its_side(seed):
+    rec = footnav.simulate("path", seed=seed, segments=[(4.0, 0.0)], standstill_s=1.0)
+    res = _run(rec, lateral_offset_m=0.2, midswing_std_m=0.05)
+    truth_sep = rec.truth_left.position[-1, :2] - rec.truth_right.position[-1, :2]
+    est_sep = res.left.position[-1, :2] - res.right.position[-1, :2]
+    np.testing.assert_allclose(truth_sep, [0.0, 0.2], atol=1e-9)
+    assert abs(est_sep[1] - truth_sep[1]) < 0.05
+    # at every stance of both feet, the left foot is to the left of the right one
+    both = rec.truth_left.stance & rec.truth_right.stance
+    assert np.all(res.left.position[both, 1] - res.right.position[both, 1] > 0.1)

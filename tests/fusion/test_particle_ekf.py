@@ -10,6 +10,7 @@ ZUPT's gain and every feedback sign are checked by it.
 
 from __future__ import annotations
 
+import math
 import warnings
 
 import numpy as np
@@ -124,3 +125,72 @@ def test_paper_mode_results_carry_the_height(stairs_walk):
         assert np.all(traj.position_std[-1] > 0)
     assert res.path.position.shape[1] == 3
     assert res.path.position[-1, 2] - res.path.position[0, 2] == pytest.approx(climbed, abs=0.08)
+
+
+# -- the lateral drift of eq. 12 (mutant-derived, tools/mutate.py) ------------------------------
+#
+# The mutant changes the spread of the cloud, not its mean; the spread is checked against the
+# Rayleigh moments of the paper's drift.
+
+
+G = 9.80665  # m/s^2, written out
+
+
+def _drift_only_foot(yaw, side, sigma, offset, n_particles, seed):
+    """A PaperFoot that stands still (exact gravity, no rotation) with its sensor turned ``yaw``
+    about the vertical, while its mask says it moves for 50 samples: no EKF noise, so the cloud
+    moves by the drift of eq. 12 alone. The per-sample scale and offset are written from the
+    docstring of drift_scales: s = sigma / sqrt(M), o = s sqrt(pi/2) - (sigma sqrt(pi/2) - offset) / M."""
+    rate, m = 100.0, 50
+    mask = np.r_[np.ones(20, bool), np.zeros(m, bool), np.ones(20, bool)]
+    n = len(mask)
+    t = np.arange(n) / rate
+    acc = np.tile([0.0, 0.0, G], (n, 1))
+    gyr = np.zeros((n, 3))
+    scale, off = np.zeros(n), np.zeros(n)
+    s = sigma / math.sqrt(m)
+    scale[~mask] = s
+    off[~mask] = s * math.sqrt(math.pi / 2) - (sigma * math.sqrt(math.pi / 2) - offset) / m
+    q0 = np.array([math.cos(yaw / 2), 0.0, 0.0, math.sin(yaw / 2)])
+    p0 = np.zeros(3)
+    foot = PaperFoot(
+        t,
+        acc,
+        gyr,
+        mask,
+        19,
+        q0,
+        p0,
+        np.zeros(3),
+        np.zeros(N_STATES),
+        np.array([0.0, 0.0, 0.0, 1e-4]),
+        np.zeros((n_particles, 2)),
+        side,
+        scale,
+        off,
+    )
+    foot.run_until(n - 1, np.random.default_rng(seed))
+    return foot.cloud
+
+
+# mutant: particle-ekf-lateral-transposed
+# particle-ekf-lateral-transposed: the drift moves each particle along the body's +y axis in nav,
+# C_b^n [0, f', 0]': for a level sensor turned by yaw psi that is (-sin psi, cos psi). One step's
+# drift is Rayleigh(sigma) - offset (Sec. 2.2): mean sigma sqrt(pi/2) - offset, variance
+# (2 - pi/2) sigma^2, so the cloud's mean is that mean times side (-sin psi, cos psi) and its
+# covariance (2 - pi/2) sigma^2 l l'. With the transposed C the x-component flips sign (0.11 m
+# off in the mean at psi = 60 deg; the covariance's xy term changes sign).
+@pytest.mark.parametrize("side", [1.0, -1.0])
+def test_paper_drift_is_along_the_body_y_axis(side):
+    yaw, sigma, offset, n = math.radians(60.0), 0.05, 0.0, 20_000
+    cloud = _drift_only_foot(yaw, side, sigma, offset, n, seed=11)
+    lat = side * np.array([-math.sin(yaw), math.cos(yaw)])
+    mean_step = sigma * math.sqrt(math.pi / 2) - offset
+    var_step = (2.0 - math.pi / 2) * sigma**2
+    # the mean's standard error is sqrt(var_step / n) = 2.3e-4 m: 5 of them
+    np.testing.assert_allclose(cloud.mean(axis=0), mean_step * lat, atol=5 * math.sqrt(var_step / n))
+    # the spread: all along lat (rank one), variance var_step within 5 % (sample error about 1 %)
+    cov = np.cov(cloud.T)
+    np.testing.assert_allclose(cov, var_step * np.outer(lat, lat), atol=0.05 * var_step)
+    across = cloud @ np.array([lat[1], -lat[0]])
+    assert np.abs(across).max() < 1e-12  # nothing across the body's y axis

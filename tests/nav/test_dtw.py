@@ -424,3 +424,12 @@ def test_average_errors():
         timeless_average(a, a, band=1, t_a=np.arange(4.0), t_b=np.arange(3.0))
     with pytest.raises(InvalidInputError, match="3 coordinate.*2"):
         timeless_average(a, a[:, :2], band=1)
+
+
+# mutant: dtw-tie-break
+# dtw-tie-break: among equal accumulated costs the diagonal step wins (the path with fewest pairs)
+def test_dtw_prefers_the_diagonal_on_ties():
+    from footnav.nav.dtw import dtw_align
+
+    res = dtw_align(np.zeros((3, 1)), np.zeros((3, 1)), return_path=True)
+    np.testing.assert_array_equal(res.path, [[0, 0], [1, 1], [2, 2]])

@@ -51,3 +51,18 @@ def test_standstill_rate_std_hand_computed_with_moving_samples_left_out():
     # too few still samples: the whole range is used (as align_at_rest does)
     few = np.vstack([still[:4], np.tile([1.0, 0.5, 0.0], (4, 1))])
     assert standstill_rate_std(few, 0, 8, 0.1) == pytest.approx(np.sqrt(np.mean(np.var(few, axis=0, ddof=1)) / 8))
+
+
+# mutant: drift-lever-sign
+# drift-lever-sign: a yaw-rate error b rad/s turns the walked path: dp = dpsi J v dt with
+# J v = [-v_y, v_x]. Walking at 1 m/s along the diagonal (1, 1)/sqrt(2), dpsi = b t, so at T the
+# position error is b T^2 / 2 along (-1, 1)/sqrt(2): var_xx = var_yy = -cov_xy = (s T^2 / 2)^2 / 2
+def test_heading_drift_covariance_of_a_diagonal_walk():
+    from footnav.nav.heading_drift import heading_drift_cov
+
+    t = np.arange(1001) / 100.0
+    vel = np.tile([np.sqrt(0.5), np.sqrt(0.5), 0.0], (len(t), 1))
+    std = 0.01
+    cov = heading_drift_cov(t, vel, 0, std, 0.0)
+    expected = (std * 10.0**2 / 2) ** 2 / 2  # 0.125 m^2
+    np.testing.assert_allclose(cov[-1], [expected, -expected, expected], rtol=0.01)

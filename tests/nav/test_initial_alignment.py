@@ -1,9 +1,11 @@
 import numpy as np
 import pytest
 
-from footnav.core.types import GRAVITY_MPS2
+from footnav.core.types import GRAVITY_MPS2, StanceResult
 from footnav.nav import quaternion as quat
 from footnav.nav.initial_alignment import align_at_rest
+
+from .conftest import G, _imu
 
 
 def test_roll_pitch_from_gravity_and_bias_from_still_samples():
@@ -29,3 +31,21 @@ def test_empty_range_is_an_error():
 
     with pytest.raises(InvalidInputError, match="empty standstill"):
         align_at_rest(np.zeros((5, 3)), np.zeros((5, 3)), 3, 3)
+
+
+# mutant: align-start-boundary
+# align-start-boundary: a first stance that starts at sample 1 is a recording that does not start
+# at standstill: warned, and the estimate starts there
+def test_first_stance_at_sample_one_is_reported():
+    from footnav.core.errors import DataQualityWarning
+    from footnav.nav.initial_alignment import align_first_stance
+
+    n = 300
+    imu = _imu(np.arange(n) / 100.0, np.tile([0.0, 0.0, G], (n, 1)), np.zeros((n, 3)))
+    mask = np.zeros(n, bool)
+    mask[1:100] = True
+    mask[200:] = True
+    with pytest.warns(DataQualityWarning, match="index 1"):
+        s0, align, meta = align_first_stance(imu, StanceResult(mask), still_gyr_max_radps=0.05)
+    assert s0 == 1 and meta["estimate_start_index"] == 1
+    assert meta["alignment_samples"] == [1, 100, 99]

@@ -79,3 +79,24 @@ def test_scalar_yaw_and_wrap_against_hand_values():
     assert wrap_angle(3.5 * math.pi) == pytest.approx(-0.5 * math.pi)
     assert wrap_angle(math.pi) == pytest.approx(-math.pi)  # [-pi, pi)
     assert wrap_angle(-0.25) == -0.25
+
+
+# mutant: quat-as-rotvec-limit
+# quat-as-rotvec-limit: below |q_vec| = 1e-12 the rotation vector is 2 q_vec (angle -> 2 sin(angle / 2))
+def test_as_rotvec_of_a_tiny_rotation_is_twice_the_vector_part():
+    q = np.array([1.0, 1e-14, -2e-14, 3e-14])
+    np.testing.assert_allclose(quat.as_rotvec(q), [2e-14, -4e-14, 6e-14], rtol=1e-12)
+
+
+# mutant: quat-from-yaw-sign
+# quat-from-yaw-sign: a turn of +90 deg about z is [cos 45, 0, 0, sin 45] and takes x to y
+def test_from_yaw_is_a_positive_turn_about_z():
+    h = np.sqrt(0.5)
+    np.testing.assert_allclose(quat.from_yaw(np.pi / 2), [h, 0.0, 0.0, h], atol=1e-15)
+    np.testing.assert_allclose(quat.rotate(quat.from_yaw(np.pi / 2), [1.0, 0.0, 0.0]), [0.0, 1.0, 0.0], atol=1e-15)
+
+
+# mutant: quat-conjugate-index
+# quat-conjugate-index: the conjugate negates all three vector components
+def test_conjugate_negates_the_whole_vector_part():
+    np.testing.assert_array_equal(quat.conjugate([0.5, 0.1, -0.2, 0.3]), [0.5, -0.1, 0.2, -0.3])

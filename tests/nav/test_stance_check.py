@@ -21,6 +21,8 @@ from footnav.detectors.adaptive import AdaptiveDetector
 from footnav.detectors.threshold import ThresholdDetector
 from footnav.nav.stance_check import check_stances
 
+from .conftest import _gait
+
 RATE = 100.0
 
 
@@ -166,3 +168,38 @@ def test_a_strict_detector_on_real_running_is_named():
 def test_adaptive_result_has_no_stance_over_swing_on_the_never_still_gait(never_still_gait):
     imu, _ = never_still_gait(floor_radps=1.2, rate_hz=100.0)
     assert check_stances(imu, AdaptiveDetector().detect(imu)).ok
+
+
+# mutant: check-over-swing-unfiltered
+# check-over-swing-unfiltered: gyro peaks without the swing's acceleration (turning on the spot)
+# are not swings, so a stance there is not reported as a stance in a swing
+def test_turning_without_swinging_is_no_stance_in_a_swing():
+    from footnav.nav.stance_check import check_stances
+
+    imu = _gait(100.0, [1.0, 2.0, 3.0, 4.0, 5.0], 6.0, acc_swing=False)
+    check = check_stances(imu, StanceResult(np.ones(imu.n_samples, bool)))
+    assert len(check.over_swing_s) == 0 and check.n_cycles == 0
+
+
+# mutant: check-missed-time
+# check-missed-time: a gait cycle without stance is reported at the midpoint of its two swing peaks
+def test_missed_stances_are_reported_between_the_swing_peaks():
+    from footnav.nav.stance_check import check_stances
+
+    imu = _gait(100.0, [1.0, 2.0, 3.0, 4.0, 5.0], 6.0)
+    check = check_stances(imu, StanceResult(np.zeros(imu.n_samples, bool)))
+    np.testing.assert_allclose(check.missed_s, [1.5, 2.5, 3.5, 4.5], atol=0.011)
+
+
+# mutant: check-suspicious-boundary
+# check-suspicious-boundary: "at least max(2, 5 %) of the gait cycles"
+def test_two_bad_cycles_of_ten_are_suspicious_and_one_is_not():
+    from footnav.nav.stance_check import StanceCheck
+
+    def check(missed):
+        return StanceCheck(
+            n_cycles=10, n_stances=10, missed_s=np.array(missed), over_swing_s=np.array([]), stride_s=1.0
+        )
+
+    assert check([1.5, 2.5]).suspicious
+    assert not check([1.5]).suspicious

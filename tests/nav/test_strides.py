@@ -310,3 +310,26 @@ def test_the_level_bound_of_the_trajectory_classifies_its_strides():
         meta={"vertical": {"level_rise_max_m": 0.04}},
     )
     assert list(stride_parameters(strict, mask)["kind"]) == ["level", "stair", "level"]
+
+
+# mutant: strides-dt-prepend
+# strides-dt-prepend: sample k's share of the time is t[k+1] - t[k]; with uneven sampling the swing
+# of samples 2 and 3 lasts from t[2] to t[4] (the first stance sample after it)
+def test_swing_time_with_uneven_sampling():
+    from footnav.core.types import FootTrajectory
+    from footnav.nav.strides import stride_parameters
+
+    t = np.array([0.0, 0.1, 0.3, 0.6, 1.0, 1.5])
+    n = len(t)
+    traj = FootTrajectory(
+        t=t,
+        position=np.zeros((n, 3)),
+        velocity=np.zeros((n, 3)),
+        quaternion=np.tile([1.0, 0, 0, 0], (n, 1)),
+        position_std=np.zeros((n, 3)),
+        steps=np.empty((0, 2)),
+    )
+    mask = np.array([True, True, False, False, True, True])
+    out = stride_parameters(traj, mask, mid_stance=[0, 5])
+    assert out["swing_s"][0] == pytest.approx(0.7)
+    assert out["stance_s"][0] == pytest.approx(0.8)

@@ -16,6 +16,8 @@ import footnav
 from footnav.core.types import StanceResult
 
 BOUND_M = 0.5  # below the simulated 0.7 m steps: every landing of the walk is over the bound
+
+
 STD_M = 1e-3  # the constraint as good as exact
 
 
@@ -34,6 +36,7 @@ def landed():
     return rec, stances, res
 
 
+# mutant: range-landing-index
 # range-landing-index: the landing is the stance run's first sample k. The forward filter's
 # output at k is the estimate after processing sample k and before the fusion's update there, so
 # the feet are still over the bound at k and on it from k + 1. At k the landing foot stands and

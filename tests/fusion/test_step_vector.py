@@ -209,6 +209,8 @@ def _hand_measurement():
     return s, c, dp_n, y, h, r_nav
 
 
+# mutant: step-vector-innovation-sign, step-vector-rot-transposed, step-vector-width-side,
+# step-vector-theta-half, step-vector-pendulum-factor
 # Issue 17, deliverable 1: the step-vector measurement and its innovation, by hand.
 # step-vector-innovation-sign, step-vector-rot-transposed, step-vector-width-side,
 # step-vector-theta-half and step-vector-pendulum-factor change these numbers too.
@@ -228,6 +230,7 @@ def test_step_vector_measurement_and_innovation_by_hand():
     np.testing.assert_allclose(c @ u["y"], y_nav, rtol=0, atol=1e-12)
 
 
+# mutant: step-vector-frame-dropped
 # step-vector-frame-dropped: the update in the nav frame (H, y, R unrotated) differs from the
 # rear foot's frame only through R; here R is 1 cm forward / 20 cm lateral and the rear foot has
 # turned 90 deg, so R in nav is diag(0.04, 1e-4, 4e-4) m^2, not diag(1e-4, 0.04, 4e-4).
@@ -253,6 +256,7 @@ def test_step_vector_kalman_update_in_the_rear_foot_frame_by_hand():
     assert np.max(np.abs(dx_wrong - dx)) > 0.01
 
 
+# mutant: step-vector-heel-strike-boundary
 # step-vector-heel-strike-boundary: a heel strike exactly at the stance run's first sample opens
 # that run (hs <= start); with hs < start the fusion falls back to 0.1 s before, 10 samples early.
 def test_landing_and_support_at_heel_strikes_on_the_stance_start():

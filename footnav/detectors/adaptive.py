@@ -74,6 +74,7 @@ from footnav.nav.windows import (
     gyr_sq,
     gyr_sq_cumulative,
     pairwise_sum,
+    true_runs,
     window_samples,
 )
 
@@ -389,33 +390,13 @@ def _decide(stat, peaks, height, acc, gyr, gyr_threshold, stance_factor, swing_f
 
 
 @njit(cache=True)
-def _runs(mask, a, b):
-    """(start, stop) of the runs of True in ``mask[a:b]``, global indices, (R, 2)."""
-    out = np.empty(((b - a + 1) // 2 + 1, 2), dtype=np.int64)
-    r = 0
-    i = a
-    while i < b:
-        if mask[i]:
-            j = i
-            while j < b and mask[j]:
-                j += 1
-            out[r, 0] = i
-            out[r, 1] = j
-            r += 1
-            i = j
-        else:
-            i += 1
-    return out[:r]
-
-
-@njit(cache=True)
 def _longest_run_per_cycle(stat, idx):
     """Longest run of ``stat < 1`` (samples) in each cycle ``idx[k] .. idx[k+1] - 1``, (K-1,).
 
     The runs are those of ``stat[idx[0]:idx[-1]] < 1``: a run crossing a swing peak counts,
     cut there, for the cycle it starts in."""
     still = stat < 1.0
-    runs = _runs(still, idx[0], idx[-1])
+    runs = true_runs(still, idx[0], idx[-1])
     longest = np.zeros(len(idx) - 1, dtype=np.int64)
     k = 0
     for r in range(len(runs)):
@@ -438,7 +419,7 @@ def _pivots(mask, acc, gyr, pivot_yaw_share, pivot_acc_sq, max_pivot):
     of its samples' terms (the first term, then the pairwise sum of the others), and each
     term numpy's (``np.einsum("ij,ij->i")`` sums the products of a row as (x + z) + y).
     """
-    runs = _runs(mask, 0, len(mask))
+    runs = true_runs(mask, 0, len(mask))
     n_gaps = len(runs) - 1
     if pivot_yaw_share >= 1.0 or n_gaps < 1:
         return np.empty((0, 2), dtype=np.int64)

@@ -17,7 +17,7 @@ from __future__ import annotations
 import numpy as np
 
 from footnav._numba import njit
-from footnav.nav.windows import pairwise_sum
+from footnav.nav.windows import pairwise_sum, true_runs
 
 __all__ = ["close_stances", "runs_of", "swing_rises_into"]
 
@@ -198,19 +198,4 @@ def swing_rises_into(z, zupt, out, z_last, prev_zupt, prev_z):
 @njit(cache=True)
 def runs_of(mask):
     """:func:`footnav.core.types.stance_intervals`, compiled: (start, stop) of each run of True, (K, 2)."""
-    n = len(mask)
-    out = np.empty(((n + 1) // 2, 2), dtype=np.int64)
-    r = 0
-    i = 0
-    while i < n:
-        if mask[i]:
-            j = i
-            while j < n and mask[j]:
-                j += 1
-            out[r, 0] = i
-            out[r, 1] = j
-            r += 1
-            i = j
-        else:
-            i += 1
-    return out[:r]
+    return true_runs(mask, 0, len(mask))

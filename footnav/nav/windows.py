@@ -34,6 +34,7 @@ __all__ = [
     "gyr_sq",
     "gyr_sq_cumulative",
     "pairwise_sum",
+    "true_runs",
     "window_samples",
     "window_sums",
 ]
@@ -231,3 +232,23 @@ def pairwise_sum(x, a, n):
             top -= 1
         if top == 0:
             return val
+
+
+@njit(cache=True)
+def true_runs(mask, a, b):
+    """(start, stop) of the runs of True in ``mask[a:b]``, global indices, (R, 2)."""
+    out = np.empty(((b - a + 1) // 2 + 1, 2), dtype=np.int64)
+    r = 0
+    i = a
+    while i < b:
+        if mask[i]:
+            j = i
+            while j < b and mask[j]:
+                j += 1
+            out[r, 0] = i
+            out[r, 1] = j
+            r += 1
+            i = j
+        else:
+            i += 1
+    return out[:r]

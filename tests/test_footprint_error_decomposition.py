@@ -1,0 +1,54 @@
+"""tools/footprint_error_decomposition.py recovers a heading drift and a length scale it was given."""
+
+import importlib.util
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+TOOL = Path(__file__).resolve().parents[1] / "tools" / "footprint_error_decomposition.py"
+
+
+@pytest.fixture(scope="module")
+def tool():
+    spec = importlib.util.spec_from_file_location("footprint_error_decomposition", TOOL)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def _walk(rng):
+    """A hallway walk of 60 one-second strides of 1.3 m with U-turns, as footprints (x, y) and times."""
+    heading = np.repeat([0.0, np.pi, 0.0, np.pi], 15) + rng.normal(0, 0.02, 60)
+    steps = 1.3 * np.column_stack([np.cos(heading), np.sin(heading)])
+    return np.vstack([[0.0, 0.0], np.cumsum(steps, axis=0)]), np.arange(61.0)
+
+
+def _distort(ref, t, omega_radps, scale, theta0=0.7, offset=(3.0, -2.0)):
+    """The estimate a filter with a constant yaw-rate error and a length scale would give."""
+    ang = theta0 - omega_radps * (t[1:] - t[0])
+    c, s = np.cos(ang), np.sin(ang)
+    d = np.diff(ref, axis=0) * scale
+    turned = np.column_stack([c * d[:, 0] - s * d[:, 1], s * d[:, 0] + c * d[:, 1]])
+    return np.vstack([[0.0, 0.0], np.cumsum(turned, axis=0)]) + offset
+
+
+def test_drift_and_scale_are_recovered(tool):
+    ref, t = _walk(np.random.default_rng(1))
+    omega = np.radians(5.0) / 60.0  # 5 deg/min
+    est = _distort(ref, t, omega, 1 / 1.03)  # 3 % short
+    fits = tool.decompose(est, ref, t)
+    rmse, omega_deg_min, s_pct = fits["drift + scale"]
+    assert rmse < 1e-6
+    assert omega_deg_min == pytest.approx(5.0, abs=1e-4)
+    assert s_pct == pytest.approx(3.0, abs=1e-4)
+    # each model alone leaves what the other error costs
+    assert fits["rigid"][0] > max(fits["drift"][0], fits["scale"][0]) > 0.05
+
+
+def test_a_pure_scale_leaves_no_drift(tool):
+    ref, t = _walk(np.random.default_rng(2))
+    fits = tool.decompose(_distort(ref, t, 0.0, 1.02), ref, t)
+    assert fits["scale"][0] < 1e-6
+    assert fits["scale"][2] == pytest.approx(100 * (1 / 1.02 - 1), abs=1e-4)
+    assert fits["drift"][0] > 0.05

@@ -60,7 +60,11 @@ def decompose(est: np.ndarray, ref: np.ndarray, t: np.ndarray) -> dict[str, tupl
         x0 = [theta, 0.0, float(np.log(sim.scale)) if scale else 0.0, *sim.aligned[0, :2]]
         fit = least_squares(_residual, x0, args=(est, ref, t, drift, scale))
         rmse = float(np.sqrt(np.mean(np.sum(fit.fun.reshape(-1, 2) ** 2, axis=1))))
-        out[label] = (rmse, float(np.degrees(fit.x[1]) * 60.0) if drift else 0.0, (np.exp(fit.x[2]) - 1) * 100)
+        out[label] = (
+            rmse,
+            float(np.degrees(fit.x[1]) * 60.0) if drift else 0.0,
+            (np.exp(fit.x[2]) - 1) * 100 if scale else 0.0,
+        )
     return out
 
 

@@ -547,3 +547,38 @@ def test_mirrored_yaw_rate_out_of_range_is_refused():
         simulate("straight", mirrored_yaw_rate_radps=2.0, **SHORT)
     with pytest.raises(InvalidParameterError, match="mirrored_yaw_rate_radps"):
         simulate("straight", mirrored_yaw_rate_radps=float("nan"), **SHORT)
+
+
+def test_scale_factor_errors_scale_the_true_signals_per_axis():
+    base = simulate("straight", seed=3)
+    scaled = simulate("straight", seed=3, gyr_scale_error=(0.01, 0.0, -0.02), acc_scale_error=0.005)
+    meta = base.truth_left.meta
+    np.testing.assert_allclose(scaled.left.gyr - base.left.gyr, meta["gyr_true_radps"] * [0.01, 0.0, -0.02], atol=1e-12)
+    np.testing.assert_allclose(scaled.left.acc - base.left.acc, meta["acc_true_mps2"] * 0.005, atol=1e-12)
+    # off (the default) leaves every signal bit-identical
+    off = simulate("straight", seed=3, gyr_scale_error=0.0, acc_scale_error=(0, 0, 0))
+    assert np.array_equal(off.left.gyr, base.left.gyr) and np.array_equal(off.right.acc, base.right.acc)
+
+
+@pytest.mark.parametrize("bad", [0.25, -0.3, float("nan"), (0.1, 0.2), "x"])
+def test_scale_factor_errors_outside_the_range_are_refused(bad):
+    with pytest.raises(InvalidParameterError, match="gyr_scale_error"):
+        simulate("straight", gyr_scale_error=bad)
+
+
+@pytest.mark.parametrize("k", [0.02, -0.02])
+def test_a_gyro_scale_error_turns_a_u_turn_by_its_fraction(k):
+    """Noise-free, the only heading error is the scale factor's: k x 180 deg at the U-turn, the
+    way back's direction against the truth's less the first leg's."""
+    import footnav
+
+    rec = simulate("path", seed=0, segments=[(10.0, 180.0), (10.0, 0.0)], noise=False, gyr_scale_error=k)
+    est, ref = footnav.make_pipeline().run(rec.left).left.position[:, :2], rec.truth_left.position[:, :2]
+    n = len(est)
+
+    def leg_error(a, b):
+        d_est, d_ref = est[b] - est[a], ref[b] - ref[a]
+        return np.arctan2(d_est[1], d_est[0]) - np.arctan2(d_ref[1], d_ref[0])
+
+    turn = quat.wrap_angle(leg_error(3 * n // 5, 19 * n // 20) - leg_error(n // 20, 2 * n // 5))
+    assert np.degrees(turn) == pytest.approx(k * 180.0, rel=0.05)

@@ -52,6 +52,11 @@ def _nearest_index(times: NDArray, rate_hz: float, n: int) -> NDArray[np.int64]:
     return np.clip(np.rint(times * rate_hz), 0, n - 1).astype(np.int64)
 
 
+def _scaled(signal: NDArray[np.float64], error: tuple[float, float, float]) -> NDArray[np.float64]:
+    """``signal`` (N, 3) read by axes with scale-factor errors ``error``; unchanged when all are 0."""
+    return signal * (1.0 + np.asarray(error)) if any(error) else signal
+
+
 def simulate(scenario: str = "straight", *, seed: int = 0, rate_hz: float = 100.0, **options: Any) -> Recording:
     """Simulate a walk with a foot-mounted IMU on each foot, with exact truth.
 
@@ -204,6 +209,12 @@ def simulate(scenario: str = "straight", *, seed: int = 0, rate_hz: float = 100.
     mag_disturbances : sequence of (x_m, y_m, radius_m, bx_ut, by_ut, bz_ut), default ()
         Local disturbances (steel, electronics): within ``radius_m`` (horizontal) of ``(x_m,
         y_m)`` the nav-frame field ``(bx, by, bz)`` uT adds to Earth's.
+    gyr_scale_error, acc_scale_error : float or (3,) floats, default 0.0
+        Scale-factor error of the gyroscope / accelerometer, a fraction per sensor axis (one value
+        for all three, or three), each in [-0.2, 0.2]: the sensor reads ``(1 + k)`` times the true
+        rate / specific force on that axis, before bias and noise. A gyro's ``k`` turns every turn
+        of the walk by ``k`` of its angle (0.01: 1.8 deg per U-turn); an accelerometer's scales the
+        specific force, gravity included. Consumer MEMS: up to 0.01-0.03 uncalibrated.
     mirrored_yaw_rate_radps : float, default 0.0
         The systematic, mirror-symmetric heading drift of the two feet (Lee, Cho & Park (2022),
         Sec. 2.1; Nilsson et al. 2012's "systematic drift"), in rad/s, within [-1, 1]: while a
@@ -300,13 +311,13 @@ def simulate(scenario: str = "straight", *, seed: int = 0, rate_hz: float = 100.
         impact = impact_foot @ mount_t.T
         gyr_true = motion.gyr @ mount_t.T
         acc_true = (motion.acc + impact_foot) @ mount_t.T
-        gyr = gyr_true + errors["gyr_radps"] + errors["gyr_white"]
+        gyr = _scaled(gyr_true, opts["gyr_scale_error"]) + errors["gyr_radps"] + errors["gyr_white"]
         mirrored = (
             _mirrored_yaw_rate(motion, opts["mirrored_yaw_rate_radps"] * (1.0 if foot == "left" else -1.0)) @ mount_t.T
         )
         if opts["mirrored_yaw_rate_radps"] != 0.0:  # off: the signals stay bit-identical
             gyr = gyr + mirrored
-        acc = acc_true + errors["acc_mps2"] + errors["acc_white"]
+        acc = _scaled(acc_true, opts["acc_scale_error"]) + errors["acc_mps2"] + errors["acc_white"]
         biases = {k: errors[k] for k in ("gyr_turn_on_radps", "acc_turn_on_mps2", "gyr_radps", "acc_mps2")}
         biases_all[foot] = {k: biases[k] for k in ("gyr_turn_on_radps", "acc_turn_on_mps2")}
         q_sensor = quat.multiply(motion.quaternion, mount_q)

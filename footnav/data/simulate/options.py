@@ -66,6 +66,9 @@ _COMMON_DEFAULTS: dict[str, Any] = {
     "mag_noise_ut": 0.5,
     "mag_hard_iron_ut": 1.0,
     "mag_disturbances": (),
+    # Scale-factor errors per sensor axis, fractions (off: the signals stay bit-identical).
+    "gyr_scale_error": 0.0,
+    "acc_scale_error": 0.0,
     # The left/right mirror-symmetric heading drift of Lee, Cho & Park (2022), Sec. 2.1 (off).
     "mirrored_yaw_rate_radps": 0.0,
     # Per-swing factors on the pitch angles and the lift, cycled over each foot's swings (off).
@@ -142,6 +145,18 @@ def _walk_length_m(scenario: str, opts: Mapping[str, Any]) -> float:
     return total
 
 
+def _scale_error(opts: dict[str, Any], name: str) -> tuple[float, float, float]:
+    """A scale-factor error: one fraction for every axis or one per sensor axis, each in [-0.2, 0.2]."""
+    value = opts[name]
+    try:
+        per_axis = np.broadcast_to(np.asarray(value, dtype=float), (3,))
+    except (TypeError, ValueError):
+        raise _fail(name, value, "a fraction or three (one per sensor axis), each in [-0.2, 0.2]") from None
+    if not np.all(np.abs(per_axis) <= 0.2):  # also rejects NaN
+        raise _fail(name, value, "a fraction or three (one per sensor axis), each in [-0.2, 0.2]")
+    return (float(per_axis[0]), float(per_axis[1]), float(per_axis[2]))
+
+
 def _magnetometer_options(opts: dict[str, Any]) -> None:
     """Check (and normalise in ``opts``) the magnetometer's options."""
     if not isinstance(opts["magnetometer"], (bool, np.bool_)):
@@ -216,6 +231,8 @@ def _resolve_options(scenario: Any, rate_hz: Any, options: Mapping[str, Any]) ->
         raise _fail("mirrored_yaw_rate_radps", opts["mirrored_yaw_rate_radps"], "a rate in [-1, 1] rad/s")
     for name in _NOISE_KEYS:
         opts[name] = _non_negative(opts, name, _MAX_NOISE)
+    for name in ("gyr_scale_error", "acc_scale_error"):
+        opts[name] = _scale_error(opts, name)
     for name in ("toe_off_pitch_deg", "heel_strike_pitch_deg"):
         value = _number(opts, name)
         if not 0 < value < 90:

@@ -34,6 +34,7 @@ import footnav
 from footnav.analysis.evaluation import trajectory_at
 from footnav.analysis.metrics import rigid_align
 from footnav.data.datasets import dataset_names, load_dataset
+from footnav.nav.heading import turn_increments
 
 MAX_POINTS = 400
 
@@ -43,12 +44,12 @@ def _residual(x, est, ref, t, drift, scale):
 
 
 def _turned(x, est, t, drift, scale):
+    """The estimate's increments scaled, turned by theta_0 (+ omega t) and summed from (tx, ty)."""
     theta0, omega, log_s, tx, ty = x
-    ang = theta0 + (omega if drift else 0.0) * (t[1:] - t[0])
-    d = np.diff(est, axis=0) * (np.exp(log_s) if scale else 1.0)
-    c, s = np.cos(ang), np.sin(ang)
-    turned = np.column_stack([c * d[:, 0] - s * d[:, 1], s * d[:, 0] + c * d[:, 1]])
-    return np.vstack([est[:1] * 0, np.cumsum(turned, axis=0)]) + [tx, ty]
+    angle = theta0 + (omega if drift else 0.0) * (t - t[0])
+    flat = np.column_stack([est * (np.exp(log_s) if scale else 1.0), np.zeros(len(est))])
+    turned = turn_increments(flat, -angle)[:, :2]
+    return turned - turned[0] + [tx, ty]
 
 
 def decompose(est: np.ndarray, ref: np.ndarray, t: np.ndarray) -> dict[str, tuple[float, float, float]]:

@@ -52,3 +52,25 @@ def test_a_pure_scale_leaves_no_drift(tool):
     assert fits["scale"][0] < 1e-6
     assert fits["scale"][2] == pytest.approx(100 * (1 / 1.02 - 1), abs=1e-4)
     assert fits["drift"][0] > 0.05
+
+
+def test_gyro_shift_resamples_between_samples(tool):
+    import footnav
+
+    imu = footnav.simulate("straight", seed=3, distance_m=8.0).left
+    assert tool.shift_gyro(imu, 0.0) is imu
+    moved = tool.shift_gyro(imu, 1.0)
+    np.testing.assert_allclose(moved.gyr[:-1], imu.gyr[1:], atol=1e-12)
+    half = tool.shift_gyro(imu, 0.5)
+    np.testing.assert_allclose(half.gyr[:-1], 0.5 * (imu.gyr[:-1] + imu.gyr[1:]), atol=1e-12)
+    np.testing.assert_array_equal(moved.acc, imu.acc)
+
+
+def test_simulated_swings_close_best_unshifted(tool):
+    import footnav
+
+    imu = footnav.simulate("straight", seed=4, distance_m=20.0).left
+    pipe = footnav.make_pipeline()
+    at_zero = tool.closing_speed(pipe, imu)
+    assert at_zero < 0.1
+    assert tool.closing_speed(pipe, tool.shift_gyro(imu, 2.0)) > at_zero

@@ -19,11 +19,19 @@ fitted to the truth by four models, each a transform of the estimate's increment
 It prints the RMSE (m) left by each, the fitted ``omega`` (deg/min) and ``s - 1`` (%; positive:
 the estimate is shorter than the truth). A model's RMSE is what a perfect correction of the
 errors it names would leave; the gap between two rows is what that error costs.
+
+``--gyro-shift 0,0.5,1`` runs each recording once per shift, with the gyro resampled at
+``t + shift / rate_hz`` (linear interpolation; a positive shift takes each gyro sample from
+later), and adds the swing's closing speed: integrated freely from the smoothed state at the
+last updated sample of one stance to the first of the next, the median speed (m/s) the foot
+arrives with. A time offset between the two sensors would show as a shift that both closes the
+swings best and removes the shortfall (docs/heading.md: it does not).
 """
 
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import json
 import warnings
 
@@ -33,8 +41,10 @@ from scipy.optimize import least_squares
 import footnav
 from footnav.analysis.evaluation import trajectory_at
 from footnav.analysis.metrics import rigid_align
+from footnav.core.types import ImuData
 from footnav.data.datasets import dataset_names, load_dataset
 from footnav.nav.heading import turn_increments
+from footnav.nav.mechanization import strapdown
 
 MAX_POINTS = 400
 
@@ -69,31 +79,66 @@ def decompose(est: np.ndarray, ref: np.ndarray, t: np.ndarray) -> dict[str, tupl
     return out
 
 
+def shift_gyro(imu: ImuData, samples: float) -> ImuData:
+    """``imu`` with its gyro resampled at ``t + samples / rate_hz`` (held at the ends)."""
+    if samples == 0:
+        return imu
+    at = imu.t + samples / imu.rate_hz
+    gyr = np.column_stack([np.interp(at, imu.t, imu.gyr[:, i]) for i in range(3)])
+    return dataclasses.replace(imu, gyr=gyr)
+
+
+def closing_speed(pipe: footnav.Pipeline, imu: ImuData) -> float:
+    """Median speed (m/s) a freely integrated swing arrives at the next stance's update with."""
+    estimator = pipe.estimator
+    stance = pipe.detector.detect(imu)
+    traj = estimator.estimate(imu, stance)
+    bias = np.asarray(traj.meta.get("gyro_bias_radps", np.zeros(3)))
+    rows = estimator.zupt_rows(imu.t, imu.acc, np.asarray(stance.mask, bool), first_whole=True)
+    if rows is None:
+        rows = np.asarray(stance.mask, bool)
+    speeds = []
+    for (a0, b0), (a1, b1) in zip(stance.intervals[:-1], stance.intervals[1:]):
+        u0, u1 = np.flatnonzero(rows[a0:b0]), np.flatnonzero(rows[a1:b1])
+        if len(u0) and len(u1):
+            e, s = a0 + u0[-1], a1 + u1[0]
+            _, v, _ = strapdown(imu.slice(e, s + 1), traj.quaternion[e], traj.velocity[e], traj.position[e], bias)
+            speeds.append(float(np.linalg.norm(v[-1])))
+    return float(np.median(speeds)) if speeds else float("nan")
+
+
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--prefix", default="gaitdriven_,pyshoe_,azure_fgo,gaitmap")
     ap.add_argument("--pipeline", default="{}", help="make_pipeline keywords as JSON")
+    ap.add_argument("--gyro-shift", default="", help="comma-separated gyro shifts (samples)")
     args = ap.parse_args()
+    shifts = [float(x) for x in args.gyro_shift.split(",")] if args.gyro_shift else []
     warnings.simplefilter("ignore")
     pipe = footnav.make_pipeline(**json.loads(args.pipeline))
     labels = ("rigid", "scale", "drift", "drift + scale")
-    print("| recording | T (s) | " + " | ".join(labels) + " | omega (deg/min) | s - 1 (%) |")
-    print("|---|---|" + "---|" * (len(labels) + 2))
+    extra = " shift (samples) | closing speed (m/s) |" if shifts else ""
+    print("| recording | T (s) | " + " | ".join(labels) + " | omega (deg/min) | s - 1 (%) |" + extra)
+    print("|---|---|" + "---|" * (len(labels) + 2 + 2 * bool(shifts)))
     for name in [n for n in dataset_names() if n.startswith(tuple(args.prefix.split(",")))]:
         rec = load_dataset(name)
         truth = rec.truth_left
         if truth is None or len(truth.t) < 3:
             continue
-        est, inside = trajectory_at(pipe.run(rec.left).left, truth.t)
-        t, ref = truth.t[inside], truth.position[inside][:, :2]
-        pick = np.linspace(0, len(t) - 1, min(len(t), MAX_POINTS)).round().astype(int)
-        fits = decompose(est[pick, :2], ref[pick], t[pick])
-        both = fits["drift + scale"]
-        print(
-            f"| {name} | {t[-1] - t[0]:.0f} | "
-            + " | ".join(f"{fits[k][0]:.3f}" for k in labels)
-            + f" | {both[1]:+.1f} | {both[2]:+.2f} |"
-        )
+        for shift in shifts or [0.0]:
+            imu = shift_gyro(rec.left, shift)
+            est, inside = trajectory_at(pipe.run(imu).left, truth.t)
+            t, ref = truth.t[inside], truth.position[inside][:, :2]
+            pick = np.linspace(0, len(t) - 1, min(len(t), MAX_POINTS)).round().astype(int)
+            fits = decompose(est[pick, :2], ref[pick], t[pick])
+            both = fits["drift + scale"]
+            row = f" {shift:+.2f} | {closing_speed(pipe, imu):.3f} |" if shifts else ""
+            print(
+                f"| {name} | {t[-1] - t[0]:.0f} | "
+                + " | ".join(f"{fits[k][0]:.3f}" for k in labels)
+                + f" | {both[1]:+.1f} | {both[2]:+.2f} |"
+                + row
+            )
 
 
 if __name__ == "__main__":

@@ -10,7 +10,10 @@ stance starts is ``tools/height_decomposition.py``'s):
             explains the stances' specific force as a rigid body rolling about it,
             f = C^T g + alpha x r + w x (w x r) (least squares over every stance, each stance's
             gravity direction its own unknown; the angular acceleration alpha from the gyro
-            smoothed over 20 ms), once for the whole stance and once per half;
+            smoothed over 20 ms), once for the whole stance and once per half; and how far that
+            rolling moves the sensor along the stride during the rows the default update keeps,
+            v = C (w x r) summed over them (% of the walk's length; positive: forward), the
+            most a contact-point update could add to the length;
 ``tilt``    the tilt between the attitude the gyro carries from the end of each stance through
             the swing (from the forward filter's state there) and the accelerometer's gravity
             direction over the middle half of the next stance, along and across the stride
@@ -92,6 +95,28 @@ def fit_lever(imu, stance, gyro_bias, *, split: bool) -> np.ndarray:
     return np.linalg.solve(normal, rhs)
 
 
+def updated_motion(imu, stance, traj, gyro_bias, lever) -> float:
+    """Forward motion (% of the length) of a sensor rolling about ``lever`` in the updated rows."""
+    est = footnav.make_pipeline().estimator
+    rows = est.zupt_rows(imu.t, imu.acc, np.asarray(stance.mask, bool), first_whole=True)
+    if rows is None:
+        rows = np.asarray(stance.mask, bool)
+    vel = np.einsum("nij,nj->ni", quat.as_matrix(traj.quaternion), np.cross(imu.gyr - gyro_bias, lever))
+    step_dt = np.gradient(imu.t)
+    moved = length = 0.0
+    iv = np.asarray(stance.intervals)
+    for (a0, _b0), (a1, b1) in zip(iv[:-1], iv[1:]):
+        step = traj.position[a1, :2] - traj.position[a0, :2]
+        stride = float(np.linalg.norm(step))
+        if stride < 0.2:
+            continue
+        keep = rows[a1:b1]
+        move = (vel[a1:b1][keep, :2] * step_dt[a1:b1][keep, None]).sum(axis=0)
+        moved += float(move @ step) / stride
+        length += stride
+    return 100 * moved / length if length else float("nan")
+
+
 def _runs(rec):
     for side in ("left", "right"):
         imu = getattr(rec, side)
@@ -143,7 +168,8 @@ def main(argv=None) -> None:
                 one, two = fit_lever(imu, stance, bias, split=False), fit_lever(imu, stance, bias, split=True)
                 print(
                     f"{tag} lever (cm): whole {np.round(one * 100, 1)} "
-                    f"early {np.round(two[:3] * 100, 1)} late {np.round(two[3:] * 100, 1)}"
+                    f"early {np.round(two[:3] * 100, 1)} late {np.round(two[3:] * 100, 1)}; "
+                    f"updated motion {updated_motion(imu, stance, traj, bias, one):+.2f} % of the length"
                 )
             if "tilt" in parts:
                 rows = []

@@ -63,6 +63,7 @@ from footnav.core.parameters import (
     require_positive,
 )
 from footnav.core.types import GRAVITY_MPS2, ImuData, StanceResult
+from footnav.core.types._arrays import _readonly
 from footnav.core.types._derived import sharing
 from footnav.detectors.threshold import _clean_runs, window_events
 from footnav.nav.gait_cycles import MAX_STRIDE_S, SWING_ACC_MPS2, select_swing_peaks, swing_peaks
@@ -274,8 +275,8 @@ class AdaptiveDetector(StanceDetector):
             stat,
             np.asarray(peaks, dtype=np.int64),
             height,
-            acc,
-            gyr,
+            _readonly(acc),  # a stream's window arrays too: one compiled signature
+            _readonly(gyr),
             self.gyr_threshold_radps,
             self.stance_factor,
             self.swing_fraction,
@@ -419,7 +420,7 @@ def _pivots(mask, acc, gyr, pivot_yaw_share, pivot_acc_sq, max_pivot):
     of its samples' terms (the first term, then the pairwise sum of the others), and each
     term numpy's (``np.einsum("ij,ij->i")`` sums the products of a row as (x + z) + y).
     """
-    runs = true_runs(mask, 0, len(mask))
+    runs = true_runs(mask, np.int64(0), len(mask))  # an int64 start, as _decide's: one compilation
     n_gaps = len(runs) - 1
     if pivot_yaw_share >= 1.0 or n_gaps < 1:
         return np.empty((0, 2), dtype=np.int64)

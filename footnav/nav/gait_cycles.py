@@ -23,6 +23,7 @@ from numpy.typing import NDArray
 
 from footnav._numba import njit
 from footnav.core.types._derived import shared
+from footnav.nav.order_stats import median
 from footnav.nav.peaks import _select_by_distance, peak_candidates
 from footnav.nav.windows import centred_gyr_rms, window_samples
 
@@ -156,6 +157,21 @@ def select_swing_peaks(
 
 
 @njit(cache=True)
+def _kept(index, first, second):  # pragma: no cover - compiled
+    """``index[first & second]``."""
+    k = 0
+    for i in range(len(index)):
+        k += first[i] and second[i]
+    out = np.empty(k, dtype=np.int64)
+    k = 0
+    for i in range(len(index)):
+        if first[i] and second[i]:
+            out[k] = index[i]
+            k += 1
+    return out
+
+
+@njit(cache=True)
 def _select_swings(
     index: NDArray[np.int64],
     height: NDArray[np.float64],
@@ -168,20 +184,24 @@ def _select_swings(
     rel_prominence: float,
 ) -> tuple[NDArray[np.int64], float]:
     # both passes of PeakCandidates.select and the median stride in one compiled call: online it
-    # runs on every detection window, where a dozen numpy calls cost more than the work
-    prominent = prominence >= rel_prominence * height
-    idx = index[_select_by_distance(index, order, max(1, int(min_stride_s * rate_hz))) & prominent]
-    intervals = np.diff(idx)
-    intervals = np.sort(intervals[intervals < max_stride_s * rate_hz])
-    m = len(intervals)
+    # runs on every detection window, where a dozen numpy calls cost more than the work. Loops,
+    # not array expressions, np.diff or np.sort: numba compiles those for seconds
+    n = len(index)
+    prominent = np.empty(n, dtype=np.bool_)
+    for i in range(n):
+        prominent[i] = prominence[i] >= rel_prominence * height[i]
+    idx = _kept(index, _select_by_distance(index, order, max(1, int(min_stride_s * rate_hz))), prominent)
+    intervals = np.empty(max(len(idx) - 1, 0))
+    m = 0
+    for i in range(1, len(idx)):
+        if idx[i] - idx[i - 1] < max_stride_s * rate_hz:
+            intervals[m] = idx[i] - idx[i - 1]
+            m += 1
     stride_s = np.nan
     if m:
-        # np.median's: the middle interval, or the mean of the two middle ones
-        half = m // 2
-        median = float(intervals[half]) if m % 2 else (float(intervals[half - 1]) + float(intervals[half])) / 2.0
-        stride_s = median / rate_hz
+        stride_s = median(intervals, m) / rate_hz  # np.median's value
     if stride_fraction > 0 and m >= 3:
         # the typical stride separates the halves of one swing that the first pass took as two
         distance = max(int(min_stride_s * rate_hz), int(stride_fraction * stride_s * rate_hz))
-        idx = index[_select_by_distance(index, order, max(1, distance)) & prominent]
+        idx = _kept(index, _select_by_distance(index, order, max(1, distance)), prominent)
     return idx, stride_s

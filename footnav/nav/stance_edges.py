@@ -26,6 +26,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from footnav._numba import njit  # numba.njit that survives a read-only install
+from footnav.core.types._arrays import _readonly
+from footnav.nav.order_stats import median
 
 __all__ = ["settled_mask"]
 
@@ -41,7 +43,8 @@ def _settled(t, acc, a, b, v_max, max_fraction, mask):  # pragma: no cover - com
         for k in range(n):
             x, y, z = acc[lo + k, 0], acc[lo + k, 1], acc[lo + k, 2]
             f[k] = np.sqrt(x * x + y * y + z * z)
-        g = np.median(f[n // 4 : (3 * n) // 4 + 1])
+        lo_mid, hi_mid = n // 4, (3 * n) // 4 + 1
+        g = median(f[lo_mid:hi_mid].copy(), hi_mid - lo_mid)  # np.median's value
         m = n // 2
         cap = int(np.floor(max_fraction * n))
         start = 0  # the sample after the last one before m moving faster than v_max
@@ -94,9 +97,9 @@ def settled_mask(
     iv = np.asarray(intervals, dtype=np.int64).reshape(-1, 2)
     if len(t) == 0 or len(iv) == 0:
         return mask
-    _settled(
-        np.ascontiguousarray(t, dtype=np.float64),
-        np.ascontiguousarray(acc, dtype=np.float64),
+    _settled(  # read-only inputs, a stream's too: one compiled signature
+        _readonly(np.asarray(t, dtype=np.float64)),
+        _readonly(np.asarray(acc, dtype=np.float64)),
         np.ascontiguousarray(iv[:, 0]),
         np.ascontiguousarray(iv[:, 1]),
         float(v_max_mps),

@@ -17,44 +17,10 @@ from __future__ import annotations
 import numpy as np
 
 from footnav._numba import njit
+from footnav.nav.order_stats import median, sort
 from footnav.nav.windows import pairwise_sum, true_runs
 
 __all__ = ["close_stances", "runs_of", "swing_rises_into"]
-
-
-@njit(cache=True)
-def _sort(x, n):
-    # x[:n] sorted in place, ascending: a heapsort (numba's np.sort compiles for seconds, and
-    # only the values at the middle are read, which any order of equal values gives alike)
-    for start in range(n // 2 - 1, -1, -1):
-        _sift(x, start, n)
-    for end in range(n - 1, 0, -1):
-        x[0], x[end] = x[end], x[0]
-        _sift(x, 0, end)
-
-
-@njit(cache=True)
-def _sift(x, root, n):
-    while True:
-        child = 2 * root + 1
-        if child >= n:
-            return
-        if child + 1 < n and x[child] < x[child + 1]:
-            child += 1
-        if not x[root] < x[child]:
-            return
-        x[root], x[child] = x[child], x[root]
-        root = child
-
-
-@njit(cache=True)
-def _median(x, n):
-    # np.nanmedian of the finite x[:n] (sorted here): the middle one (added to itself and
-    # halved, as numpy's masked median does), or the mean of the middle two
-    _sort(x, n)
-    h = n // 2
-    lo = x[h] if n % 2 == 1 else x[h - 1]
-    return (lo + x[h]) / 2.0
 
 
 @njit(cache=True)
@@ -110,7 +76,7 @@ def close_stances(t, p, v, sw, runs, bound, share, n_win, first, prev_h, prev_en
         n = b - a
         for i in range(n):
             col[i] = p[a + i, 2]
-        _sort(col, n)
+        sort(col, n)
         h[k] = 0.5 * (col[(n - 1) // 2] + col[n // 2])
         for c in range(2):  # contiguous, as the detector's pairwise sums: one compiled version
             for i in range(n):
@@ -149,7 +115,7 @@ def close_stances(t, p, v, sw, runs, bound, share, n_win, first, prev_h, prev_en
             lo_w = max(m - n_win, 0)
             for i in range(lo_w, m):  # element by element: a slice assignment compiles numba's
                 window[i - lo_w] = values[i]  # shape-mismatch error, seconds of a first call
-            med = _median(window, m - lo_w)
+            med = median(window, m - lo_w)
             offset = -med if abs(med) >= limit else 0.0
         if abs(rise[k]) < bound and np.isfinite(sk):
             values[m] = sk
@@ -198,4 +164,4 @@ def swing_rises_into(z, zupt, out, z_last, prev_zupt, prev_z):
 @njit(cache=True)
 def runs_of(mask):
     """:func:`footnav.core.types.stance_intervals`, compiled: (start, stop) of each run of True, (K, 2)."""
-    return true_runs(mask, 0, len(mask))
+    return true_runs(mask, np.int64(0), len(mask))  # int64, as the detector's: one compilation

@@ -204,8 +204,8 @@ def pairwise_sum(x, a, n):
     pairwise summation (the adaptive detector's pivots, the floors' footprints), whose halves
     (above 128 values, split at a multiple of 8) are walked here with a stack, not by recursion
     (numba's cache does not keep a recursive function)."""
-    if n <= 128:
-        return _block_sum(x, a, n)
+    if n <= 128:  # an int64 start, as below: a caller's literal would compile _block_sum twice
+        return _block_sum(x, np.int64(a), n)
     sa, sn, st, sv = np.empty(64, np.int64), np.empty(64, np.int64), np.zeros(64, np.int64), np.empty(64)
     sa[0], sn[0], top = a, n, 1
     while True:

@@ -192,7 +192,7 @@ def _select_swings(
         prominent[i] = prominence[i] >= rel_prominence * height[i]
     idx = _kept(index, _select_by_distance(index, order, max(1, int(min_stride_s * rate_hz))), prominent)
     intervals = np.empty(max(len(idx) - 1, 0))
-    m = 0
+    m = np.int64(0)  # not a literal 0: numba would compile median for it as well
     for i in range(1, len(idx)):
         if idx[i] - idx[i - 1] < max_stride_s * rate_hz:
             intervals[m] = idx[i] - idx[i - 1]

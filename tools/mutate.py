@@ -545,14 +545,14 @@ MUTANTS: list[Mutant] = [
     M(
         "gait-stride-mean",
         GC,
-        ("stride_s = median / rate_hz", "stride_s = intervals.sum() / m / rate_hz"),
+        ("stride_s = median(intervals, m) / rate_hz", "stride_s = intervals[:m].sum() / m / rate_hz"),
         GAIT,
         "statistic",
     ),
     M(
         "gait-no-max-stride",
         GC,
-        ("intervals = np.sort(intervals[intervals < max_stride_s * rate_hz])", "intervals = np.sort(intervals)"),
+        ("if idx[i] - idx[i - 1] < max_stride_s * rate_hz:", "if True:"),
         GAIT,
         "missing term",
     ),

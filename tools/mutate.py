@@ -549,13 +549,7 @@ MUTANTS: list[Mutant] = [
         GAIT,
         "statistic",
     ),
-    M(
-        "gait-no-max-stride",
-        GC,
-        ("if idx[i] - idx[i - 1] < max_stride_s * rate_hz:", "if True:"),
-        GAIT,
-        "missing term",
-    ),
+    M("gait-no-max-stride", GC, ("if idx[i] - idx[i - 1] < max_stride_s * rate_hz:", "if True:"), GAIT, "missing term"),
     M(
         "gait-distance-min",
         GC,

@@ -34,6 +34,7 @@ import argparse
 import dataclasses
 import json
 import warnings
+from typing import Any
 
 import numpy as np
 from scipy.optimize import least_squares
@@ -41,7 +42,7 @@ from scipy.optimize import least_squares
 import footnav
 from footnav.analysis.evaluation import trajectory_at
 from footnav.analysis.metrics import rigid_align
-from footnav.core.types import ImuData
+from footnav.core.types import FootTrajectory, ImuData, StanceResult
 from footnav.data.datasets import dataset_names, load_dataset
 from footnav.nav.heading import turn_increments
 from footnav.nav.mechanization import strapdown
@@ -88,15 +89,11 @@ def shift_gyro(imu: ImuData, samples: float) -> ImuData:
     return dataclasses.replace(imu, gyr=gyr)
 
 
-def closing_speed(pipe: footnav.Pipeline, imu: ImuData) -> float:
-    """Median speed (m/s) a freely integrated swing arrives at the next stance's update with."""
-    estimator = pipe.estimator
-    stance = pipe.detector.detect(imu)
-    traj = estimator.estimate(imu, stance)
+def closing_speed(estimator: Any, imu: ImuData, stance: StanceResult, traj: FootTrajectory) -> float:
+    """Median speed (m/s) a freely integrated swing arrives at the next stance's update with,
+    from the run's own stances and trajectory (the updated rows are the estimator's)."""
     bias = np.asarray(traj.meta.get("gyro_bias_radps", np.zeros(3)))
-    rows = estimator.zupt_rows(imu.t, imu.acc, np.asarray(stance.mask, bool), first_whole=True)
-    if rows is None:
-        rows = np.asarray(stance.mask, bool)
+    rows = estimator._zupt(imu, stance)
     speeds = []
     for (a0, b0), (a1, b1) in zip(stance.intervals[:-1], stance.intervals[1:]):
         u0, u1 = np.flatnonzero(rows[a0:b0]), np.flatnonzero(rows[a1:b1])
@@ -127,12 +124,17 @@ def main() -> None:
             continue
         for shift in shifts or [0.0]:
             imu = shift_gyro(rec.left, shift)
-            est, inside = trajectory_at(pipe.run(imu).left, truth.t)
+            result = pipe.run(imu)
+            est, inside = trajectory_at(result.left, truth.t)
             t, ref = truth.t[inside], truth.position[inside][:, :2]
             pick = np.linspace(0, len(t) - 1, min(len(t), MAX_POINTS)).round().astype(int)
             fits = decompose(est[pick, :2], ref[pick], t[pick])
             both = fits["drift + scale"]
-            row = f" {shift:+.2f} | {closing_speed(pipe, imu):.3f} |" if shifts else ""
+            row = (
+                f" {shift:+.2f} | {closing_speed(pipe.estimator, imu, result.stance_left, result.left):.3f} |"
+                if shifts
+                else ""
+            )
             print(
                 f"| {name} | {t[-1] - t[0]:.0f} | "
                 + " | ".join(f"{fits[k][0]:.3f}" for k in labels)

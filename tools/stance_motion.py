@@ -95,12 +95,10 @@ def fit_lever(imu, stance, gyro_bias, *, split: bool) -> np.ndarray:
     return np.linalg.solve(normal, rhs)
 
 
-def updated_motion(imu, stance, traj, gyro_bias, lever) -> float:
-    """Forward motion (% of the length) of a sensor rolling about ``lever`` in the updated rows."""
-    est = footnav.make_pipeline().estimator
-    rows = est.zupt_rows(imu.t, imu.acc, np.asarray(stance.mask, bool), first_whole=True)
-    if rows is None:
-        rows = np.asarray(stance.mask, bool)
+def updated_motion(estimator, imu, stance, traj, gyro_bias, lever) -> float:
+    """Forward motion (% of the length) of a sensor rolling about ``lever`` in the rows
+    ``estimator`` updates."""
+    rows = estimator._zupt(imu, stance)
     vel = np.einsum("nij,nj->ni", quat.as_matrix(traj.quaternion), np.cross(imu.gyr - gyro_bias, lever))
     step_dt = np.gradient(imu.t)
     moved = length = 0.0
@@ -166,10 +164,11 @@ def main(argv=None) -> None:
             bias = np.asarray(traj.meta.get("gyro_bias_radps", np.zeros(3))) if traj is not None else None
             if "lever" in parts:
                 one, two = fit_lever(imu, stance, bias, split=False), fit_lever(imu, stance, bias, split=True)
+                moved = updated_motion(pipe.estimator, imu, stance, traj, bias, one)
                 print(
                     f"{tag} lever (cm): whole {np.round(one * 100, 1)} "
                     f"early {np.round(two[:3] * 100, 1)} late {np.round(two[3:] * 100, 1)}; "
-                    f"updated motion {updated_motion(imu, stance, traj, bias, one):+.2f} % of the length"
+                    f"updated motion {moved:+.2f} % of the length"
                 )
             if "tilt" in parts:
                 rows = []

@@ -18,7 +18,12 @@ stance starts is ``tools/height_decomposition.py``'s):
             the swing (from the forward filter's state there) and the accelerometer's gravity
             direction over the middle half of the next stance, along and across the stride
             (mrad), and that tilt times the stride length (mm);
-``edges``   how much of each stance the default update keeps (``zupt_edges="settled"``).
+``edges``   how much of each stance the default update keeps (``zupt_edges="settled"``);
+``yaw``     the foot's mean rate about the vertical over the rows the default update keeps, per
+            stance (not the first), less the filter's gyro bias, turned to nav by the filter's
+            attitude (deg/s; median, quartiles, and the
+            share of stances above the 15-state filter's ZARU std of 0.005 rad/s): what a
+            zero-angular-rate update in walking stances would take for gyro bias.
 
 Usage::
 
@@ -38,7 +43,10 @@ from footnav.data.datasets import dataset_names, load_dataset
 from footnav.nav import quaternion as quat
 from footnav.nav.mechanization import strapdown
 
-PARTS = ("profile", "lever", "tilt", "edges")
+PARTS = ("profile", "lever", "tilt", "edges", "yaw")
+
+#: The ZARU std of docs/accuracy.md's 15-state column, rad/s.
+ZARU_STD_RADPS = 0.005
 
 
 def _skew(w: np.ndarray) -> np.ndarray:
@@ -115,6 +123,19 @@ def updated_motion(estimator, imu, stance, traj, gyro_bias, lever) -> float:
     return 100 * moved / length if length else float("nan")
 
 
+def stance_yaw_rates(imu, rows, stance, quaternion, gyro_bias) -> np.ndarray:
+    """Per stance after the first, the mean rate (rad/s) about the nav vertical over the updated
+    ``rows``: the gyro less ``gyro_bias`` (3,), turned to nav by the trajectory's ``quaternion``
+    (N, 4), so that the foot's roll from heel to toe does not leak into it."""
+    w_up = np.einsum("nj,nj->n", quat.as_matrix(quaternion)[:, 2, :], imu.gyr - gyro_bias)
+    out = []
+    for a, b in np.asarray(stance.intervals)[1:]:
+        keep = rows[a:b]
+        if keep.sum() >= 2:
+            out.append(float(w_up[a:b][keep].mean()))
+    return np.array(out)
+
+
 def _runs(rec):
     for side in ("left", "right"):
         imu = getattr(rec, side)
@@ -160,7 +181,7 @@ def main(argv=None) -> None:
                     + " | ||f|-g| "
                     + " ".join(f"{x:.2f}" for x in prof[10:])
                 )
-            traj = pipe.estimator.estimate(imu, stance) if ("lever" in parts or "tilt" in parts) else None
+            traj = pipe.estimator.estimate(imu, stance) if {"lever", "tilt", "yaw"} & set(parts) else None
             bias = np.asarray(traj.meta.get("gyro_bias_radps", np.zeros(3))) if traj is not None else None
             if "lever" in parts:
                 one, two = fit_lever(imu, stance, bias, split=False), fit_lever(imu, stance, bias, split=True)
@@ -200,6 +221,14 @@ def main(argv=None) -> None:
                         f"{np.percentile(r[:, 0], 75) * 1e3:+.1f}), across {np.median(r[:, 1]) * 1e3:+.1f} mrad; "
                         f"x stride {np.median(r[:, 0] * r[:, 2]) * 1e3:+.1f} mm ({len(r)} strides)"
                     )
+            if "yaw" in parts:
+                r = stance_yaw_rates(imu, pipe.estimator._zupt(imu, stance), stance, traj.quaternion, bias)
+                q1, q2, q3 = np.degrees(np.percentile(r, [25, 50, 75]))
+                print(
+                    f"{tag} yaw: {q2:+.2f} deg/s median ({q1:+.2f}..{q3:+.2f}) about the vertical in the updated "
+                    f"rows; {np.mean(np.abs(r) > ZARU_STD_RADPS) * 100:.0f} % of {len(r)} stances above "
+                    f"{ZARU_STD_RADPS} rad/s"
+                )
             if "edges" in parts:
                 est = footnav.make_pipeline().estimator
                 z = est.zupt_rows(imu.t, imu.acc, np.asarray(stance.mask, bool), first_whole=True)

@@ -461,7 +461,9 @@ def heading_section(root, n_seeds: int) -> list[str]:
         "median / worst; they have no magnetometer. Simulator: laps of a 150 x 60 m block at 100 Hz "
         f"with the simulator's magnetometer (50 uT, dip 60 deg, 1 uT hard iron), seeds 0-{n_seeds - 1}, "
         "left foot's 2-D ATE (m), mean / worst; the default sensor is consumer MEMS grade (gyro bias "
-        f"walk 1e-5 rad/s^2/sqrt(Hz)), the drifty one {DRIFTY_GYRO['gyr_bias_walk_radps2_sqrthz']:g}.",
+        f"walk 1e-5 rad/s^2/sqrt(Hz)), the drifty one {DRIFTY_GYRO['gyr_bias_walk_radps2_sqrthz']:g}. "
+        "The simulator's stance foot is still unless `stance_twist_deg` turns it in each walking stance, "
+        "as real shoes do (docs/heading.md).",
         "",
         "| walk | "
         + " | ".join(f"`{k}`" if k in ("dominant-directions", "magnetometer") else k for k in HEADING_AIDS)
@@ -488,6 +490,7 @@ def heading_section(root, n_seeds: int) -> list[str]:
         )
     for laps, sensor, label in (
         (2, {}, "11.3 min, default sensor"),
+        (2, {"stance_twist_deg": 1.0}, "11.3 min, default sensor, stance twist 1 deg"),
         (2, DRIFTY_GYRO, "11.3 min, drifty gyro"),
         (11, {}, "62 min, default sensor"),
         (11, DRIFTY_GYRO, "62 min, drifty gyro"),

@@ -245,6 +245,16 @@ def simulate(scenario: str = "straight", *, seed: int = 0, rate_hz: float = 100.
         spread around it (Fig. 2) comes from the sensor noise options. The exact IMU signals
         without it are ``truth.meta["gyr_true_radps"]``; the added rate is
         ``truth.meta["gyr_mirrored_yaw_radps"]``.
+    stance_twist_deg : float, default 0.0
+        The shoe's twist about the leg in stance, deg within [-20, 20]: through each flat-foot
+        stance that lies between two swings the foot turns by ``+a`` (left) or ``-a`` (right)
+        about the vertical through its sensor (min-jerk, from foot-flat to heel-off), and the
+        next swing turns it back to its next footprint's heading; the standstills at both ends
+        stay still. The gyro reads the turn and the truth's orientation follows it; position and
+        specific force do not change. Real feet twist at a median 1-17 deg/s through the part of
+        the stance a ZUPT filter updates, left and right in opposite senses (docs/heading.md),
+        about 0.5-3 deg a stance: a zero-angular-rate update in walking stances takes it for
+        gyro bias.
 
     Returns
     -------
@@ -254,8 +264,9 @@ def simulate(scenario: str = "straight", *, seed: int = 0, rate_hz: float = 100.
         footnav's nav frame (z up, x the initial walking direction, origin midway between the
         feet at the start, the sensors at z = 0 when flat): the sensor's position, velocity and
         orientation (body -> nav) at the IMU's times, the stance mask (True exactly where the
-        foot's velocity and angular rate are zero), gait events (sample indices nearest to each
-        stride's ``heel_strike``, ``foot_flat``, ``heel_off``, ``toe_off``) and ``closed_loop``.
+        foot is flat: its velocity is zero, and its angular rate but for ``stance_twist_deg``),
+        gait events (sample indices nearest to each stride's ``heel_strike``, ``foot_flat``,
+        ``heel_off``, ``toe_off``) and ``closed_loop``.
         Truth ``meta`` holds the scenario, the options used, the seed, the noise parameters, the
         sensor errors drawn (``"biases"``: turn-on biases and the bias time series), per-sample
         gait ``"phases"`` (names in ``"phase_names"``) and ``stance_source="simulator"``.
@@ -301,7 +312,7 @@ def simulate(scenario: str = "straight", *, seed: int = 0, rate_hz: float = 100.
     biases_all: dict[str, dict[str, Any]] = {}
     for foot, rng in (("left", rng_left), ("right", rng_right)):
         sw = swings[foot]
-        motion = _foot_motion(t, sw, opts)
+        motion = _foot_motion(t, sw, opts, math.radians(opts["stance_twist_deg"]) * (1.0 if foot == "left" else -1.0))
         errors = _sensor_errors(rng, n, rate_hz, opts)
         # The impact moves the sensor along nav z; the foot frame sees it through C^T e_z.
         imp_p, imp_v, imp_a = _heel_strike_impact(t, sw.t_heel_strike, opts)

@@ -50,8 +50,12 @@ class _FootMotion:
     phase: NDArray[np.int8]
 
 
-def _foot_motion(t: NDArray[np.float64], sw: _Swings, opts: dict[str, Any]) -> _FootMotion:
-    """Evaluate the gait model of one foot at times ``t`` (N,), fully vectorised."""
+def _foot_motion(t: NDArray[np.float64], sw: _Swings, opts: dict[str, Any], twist_rad: float = 0.0) -> _FootMotion:
+    """Evaluate the gait model of one foot at times ``t`` (N,), fully vectorised.
+
+    ``twist_rad``: the turn about the vertical through the sensor of each flat-foot stance that
+    lies between two swings (``stance_twist_deg`` with this foot's sign); 0 leaves it still.
+    """
     n = len(t)
     # k: the latest swing that has started (heel-off before t); -1 before the first. A sample at
     # heel-off or foot-flat (up to the rounding of the event times) has zero velocity and rate,
@@ -75,23 +79,41 @@ def _foot_motion(t: NDArray[np.float64], sw: _Swings, opts: dict[str, Any]) -> _
     gyr = np.zeros((n, 3))
     acc = np.zeros((n, 3))
     q = np.empty((n, 4))
+    if twist_rad:
+        # the shoe twists about the leg while flat (docs/heading.md measures 1-17 deg/s on real
+        # feet): a min-jerk turn from foot-flat to the next heel-off, undone by the next swing
+        inner = (ks >= 0) & (ks + 1 < len(sw.t_heel_off))
+        k_in = ks[inner]
+        t0 = sw.t_foot_flat[k_in]
+        span = sw.t_heel_off[k_in + 1] - t0
+        s_tw, s_tw_d, _ = _smoothstep(np.clip((t[still[inner]] - t0) / span, 0.0, 1.0), span)
+        stand_h[inner] += twist_rad * s_tw
+        gyr[still[inner], 2] = twist_rad * s_tw_d
     pos[still, :2] = stand_xy
     pos[still, 2] = np.where(ks >= 0, sw.z_to[np.maximum(ks, 0)], sw.z_from[0])
     q[still] = quat.from_yaw(stand_h)
     acc[still, 2] = GRAVITY_MPS2
 
     moving = np.flatnonzero(phase != _STANCE)
-    m = _moving_motion(t[moving], phase[moving], k[moving], sw, opts)
+    # a swing after a twisted stance starts from the twisted heading (every swing but the first)
+    twist_from = twist_rad * (k[moving] >= 1) if twist_rad else None
+    m = _moving_motion(t[moving], phase[moving], k[moving], sw, opts, twist_from)
     pos[moving], vel[moving], q[moving], gyr[moving], acc[moving] = m
     return _FootMotion(pos, vel, q, gyr, acc, phase)
 
 
 def _moving_motion(
-    t: NDArray[np.float64], phase: NDArray[np.int8], k: NDArray[np.int64], sw: _Swings, opts: dict[str, Any]
+    t: NDArray[np.float64],
+    phase: NDArray[np.int8],
+    k: NDArray[np.int64],
+    sw: _Swings,
+    opts: dict[str, Any],
+    twist_from: NDArray[np.float64] | None = None,
 ) -> tuple[NDArray, NDArray, NDArray, NDArray, NDArray]:
     """Position, velocity, quaternion, body rate and specific force in heel-off, swing and foot-flat.
 
-    ``k`` (M,) is the swing each sample belongs to.
+    ``k`` (M,) is the swing each sample belongs to; ``twist_from`` (M,) the turn the stance
+    before it left on the foot's heading (None: none).
     """
     n = len(t)
     t_start = np.select(
@@ -134,6 +156,8 @@ def _moving_motion(
     lift = opts["foot_lift_m"] if sw.scale is None else opts["foot_lift_m"] * sw.scale[k]
 
     h_from, h_to = sw.heading_from[k], sw.heading_to[k]
+    if twist_from is not None:
+        h_from = h_from + twist_from
     dpsi = h_to - h_from
     psi = h_from + dpsi * g
     psi_d = dpsi * g_d

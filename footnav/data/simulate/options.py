@@ -71,6 +71,7 @@ _COMMON_DEFAULTS: dict[str, Any] = {
     "acc_scale_error": 0.0,
     # The left/right mirror-symmetric heading drift of Lee, Cho & Park (2022), Sec. 2.1 (off).
     "mirrored_yaw_rate_radps": 0.0,
+    "stance_twist_deg": 0.0,
     # Per-swing factors on the pitch angles and the lift, cycled over each foot's swings (off).
     "swing_scale": None,
 }
@@ -229,6 +230,9 @@ def _resolve_options(scenario: Any, rate_hz: Any, options: Mapping[str, Any]) ->
     opts["mirrored_yaw_rate_radps"] = _number(opts, "mirrored_yaw_rate_radps")
     if not abs(opts["mirrored_yaw_rate_radps"]) <= 1.0:
         raise _fail("mirrored_yaw_rate_radps", opts["mirrored_yaw_rate_radps"], "a rate in [-1, 1] rad/s")
+    opts["stance_twist_deg"] = _number(opts, "stance_twist_deg")
+    if not abs(opts["stance_twist_deg"]) <= 20.0:
+        raise _fail("stance_twist_deg", opts["stance_twist_deg"], "an angle in [-20, 20] deg")
     for name in _NOISE_KEYS:
         opts[name] = _non_negative(opts, name, _MAX_NOISE)
     for name in ("gyr_scale_error", "acc_scale_error"):

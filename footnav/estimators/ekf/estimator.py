@@ -102,7 +102,9 @@ class EkfEstimator(FootEstimator):
         The value used is in ``meta["init_gyr_bias_std_radps"]``.
     zaru_std_radps : float
         Standard deviation of the zero-angular-rate update in stance, rad/s; 0 turns it off
-        (15 states only: it observes the gyro bias).
+        (15 states only: it observes the gyro bias). Only for stances that are truly still: a
+        walking foot twists about the leg through its stance at 1-17 deg/s on every shared
+        recording (docs/heading.md), which this update takes for gyro bias.
     smoother : {"whole", "step", "none"}
         RTS smoothing over the whole walk (Chistyakov et al. (2021), Alg. 1), within each step during the forward
         pass (memory independent of the recording's length), or none.

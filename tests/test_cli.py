@@ -137,9 +137,11 @@ def test_evaluate_writes_a_report_folder_and_figures(sim_csv, tmp_path, capsys):
 
 
 def test_interrupted_evaluate_leaves_no_partial_result(sim_csv, tmp_path):
+    import queue
     import signal
     import subprocess
     import sys
+    import threading
 
     out = tmp_path / "report"
     # Deterministic: the child runs the real evaluate_many over and over until the signal comes, so
@@ -159,11 +161,29 @@ def test_interrupted_evaluate_leaves_no_partial_result(sim_csv, tmp_path):
     )
     cmd = [sys.executable, "-c", child, "evaluate", str(sim_csv), "--out", str(out)]
     proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
-    for line in proc.stderr:
-        if b"runs started" in line:
+    lines: queue.Queue = queue.Queue()
+    reader = threading.Thread(target=lambda: [lines.put(x) for x in proc.stderr], daemon=True)
+    reader.start()
+    err = b""
+    while b"runs started" not in err:
+        err += lines.get(timeout=120)
+    # One CI run hung here with the child still running 60 s after its one SIGINT. Python can
+    # lose an interrupt (one raised in a finaliser is printed as "Exception ignored" and
+    # dropped), and this child would then run on for ever: signal again until the child says
+    # it was interrupted, waiting 5 s each time, far longer than one of its runs.
+    for _ in range(24):
+        proc.send_signal(signal.SIGINT)
+        try:
+            while b"interrupted" not in err:
+                err += lines.get(timeout=5)
             break
-    proc.send_signal(signal.SIGINT)
-    _, err = proc.communicate(timeout=60)
+        except queue.Empty:
+            if proc.poll() is not None:
+                break
+    proc.wait(timeout=60)
+    reader.join(timeout=60)
+    while not lines.empty():
+        err += lines.get()
     assert proc.returncode == 1 and b"interrupted" in err, (proc.returncode, err[-500:])
     assert not out.exists()
     assert not [p for p in tmp_path.iterdir() if p.name.endswith(".partial")]

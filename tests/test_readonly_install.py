@@ -39,7 +39,9 @@ _CHILD = textwrap.dedent(
     import numpy as np
     import footnav
     assert footnav.__file__.startswith(sys.argv[1]), footnav.__file__
-    result = footnav.make_pipeline().run(footnav.simulate("straight", distance_m=10).left)
+    # threshold + madgwick: compiled kernels cached like any other, in 9 s cold against the
+    # default pipeline's 20 s (the fallback folder is the same for every kernel)
+    result = footnav.make_pipeline("threshold", "madgwick").run(footnav.simulate("straight", distance_m=10).left)
     position = np.asarray(result.left.position)
     print(json.dumps({"finite": bool(np.isfinite(position).all()), "end": position[-1].tolist()}))
     """

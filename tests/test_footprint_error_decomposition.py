@@ -1,20 +1,13 @@
 """tools/footprint_error_decomposition.py recovers a heading drift and a length scale it was given."""
 
-import importlib.util
-from pathlib import Path
-
 import numpy as np
 import pytest
-
-TOOL = Path(__file__).resolve().parents[1] / "tools" / "footprint_error_decomposition.py"
+from tool_module import load_tool  # tests/tool_module.py
 
 
 @pytest.fixture(scope="module")
 def tool():
-    spec = importlib.util.spec_from_file_location("footprint_error_decomposition", TOOL)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return load_tool("footprint_error_decomposition")
 
 
 def _walk(rng):

@@ -1,23 +1,17 @@
 """tools/stance_motion.py's ``yaw`` part reads the rate about the vertical that a walk's stances hold."""
 
-import importlib.util
-from pathlib import Path
 from types import SimpleNamespace
 
 import numpy as np
 import pytest
+from tool_module import load_tool  # tests/tool_module.py
 
 import footnav
-
-TOOL = Path(__file__).resolve().parents[1] / "tools" / "stance_motion.py"
 
 
 @pytest.fixture(scope="module")
 def tool():
-    spec = importlib.util.spec_from_file_location("stance_motion", TOOL)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return load_tool("stance_motion")
 
 
 @pytest.fixture(scope="module")

@@ -1,23 +1,17 @@
 """tools/standstill_bias.py reads each rest's rate and bridges a bias that changed between rests."""
 
-import importlib.util
-from pathlib import Path
 from types import SimpleNamespace
 
 import numpy as np
 import pytest
+from tool_module import load_tool  # tests/tool_module.py
 
 import footnav
-
-TOOL = Path(__file__).resolve().parents[1] / "tools" / "standstill_bias.py"
 
 
 @pytest.fixture(scope="module")
 def tool():
-    spec = importlib.util.spec_from_file_location("standstill_bias", TOOL)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return load_tool("standstill_bias")
 
 
 def test_a_bias_that_walks_linearly_between_two_rests_is_removed(tool):

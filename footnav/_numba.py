@@ -23,6 +23,9 @@ the application configured no logging (Python's last-resort handler) and stays o
 The private folder is checked because numba's cache files are pickles that are loaded as they
 are: a folder another user could write into would let that user run code in this process.
 
+Each kernel's cache is saved and loaded under a file lock (:mod:`footnav._cache_lock`), so that
+processes compiling at once cannot mix up its signatures.
+
 Each kernel is created on first use (:class:`LazyKernel`): ``import footnav`` imports no numba
 (0.12-0.15 s) and a process pays numba's per-function set-up only for the kernels it calls.
 """
@@ -40,6 +43,8 @@ from collections.abc import Callable
 from typing import Any
 
 import numpy as np
+
+from footnav._cache_lock import serialise_cache
 
 __all__ = ["LazyKernel", "fallback_cache_dir", "njit"]
 
@@ -292,7 +297,7 @@ def _compile(func: Callable, signatures: tuple, options: dict[str, Any]) -> Any:
     from numba.core import config as _numba_config
 
     try:
-        return numba.njit(*signatures, **options)(func)
+        return serialise_cache(numba.njit(*signatures, **options)(func))
     except RuntimeError as exc:
         if not options.get("cache") or _NO_LOCATOR not in str(exc):
             raise
@@ -308,6 +313,6 @@ def _compile(func: Callable, signatures: tuple, options: dict[str, Any]) -> Any:
         saved = _numba_config.CACHE_DIR
         _numba_config.CACHE_DIR = path
         try:
-            return numba.njit(*signatures, **options)(func)
+            return serialise_cache(numba.njit(*signatures, **options)(func))
         finally:
             _numba_config.CACHE_DIR = saved

@@ -16,13 +16,9 @@ if not os.environ.get("NUMBA_CACHE_DIR"):
     from numba_cache_key import numba_cache_dir
 
     os.environ["NUMBA_CACHE_DIR"] = numba_cache_dir()
-# Under pytest-xdist (`pytest -n 2`) each worker caches in its own subfolder: numba's cache is not
-# safe for two processes compiling the same function at once (both pick the same free data-file
-# name for different signatures, and the index of one can end up naming the machine code of the
-# other). A pytest that a test starts inherits both variables and keeps its worker's folder.
-_worker = os.environ.get("PYTEST_XDIST_WORKER")
-if _worker and os.path.basename(os.environ["NUMBA_CACHE_DIR"]) != _worker:
-    os.environ["NUMBA_CACHE_DIR"] = os.path.join(os.environ["NUMBA_CACHE_DIR"], _worker)
+# Under pytest-xdist (`pytest -n 2`) the workers share the folder: a kernel one of them compiled
+# the other loads. footnav saves and loads each kernel's cache under a file lock
+# (footnav/_cache_lock.py), so two workers compiling one kernel at once cannot mix up its signatures.
 
 import pytest  # noqa: E402
 

@@ -16,7 +16,7 @@ PACKAGE = Path(__file__).resolve().parents[1] / "footnav"
 #: and errors below its component bases and Protocols, all of it below the numerics of ``nav``.
 # fmt: off
 LAYERS = {
-    "_version": 0, "_numba": 0, "_lazy": 0,
+    "_version": 0, "_cache_lock": 0, "_numba": 0, "_lazy": 0,
     "core.errors": 1, "core.warning_log": 1, "core.types": 1, "errors": 1,
     "core.parameters": 2, "core.component": 2, "core.online_contract": 2, "core": 2,
     "nav": 3,

@@ -12,7 +12,8 @@ from pathlib import Path
 import pytest
 
 from footnav.cli import main
-from footnav.cli._warmup import _tasks
+from footnav.cli._warmup import _tasks, warm_up
+from footnav.core.errors import InvalidParameterError
 from footnav.plugins.manager import get_registry
 
 #: Run after the warmup in a fresh process: what a user runs first, with numba's compile events
@@ -72,3 +73,20 @@ def test_after_warmup_a_new_process_compiles_nothing(tmp_path):
     first = subprocess.run([sys.executable, "-c", _FIRST_RUN], env=env, capture_output=True, text=True, timeout=900)
     assert first.returncode == 0, first.stderr[-3000:]
     assert json.loads(first.stdout.strip().splitlines()[-1]) == []
+
+
+def test_warmup_in_processes_runs_every_step_once_in_order(capsys):
+    """With jobs > 1 the steps after the first run in new processes; every step is reported
+    once, in the order of the steps, and the command says how many processes ran them."""
+    steps = [name for name, _ in _tasks()]
+    done = warm_up(jobs=2)
+    assert [name for name, _ in done] == steps and all(seconds > 0 for _, seconds in done)
+    assert main(["warmup", "--jobs", "2"]) == 0
+    out = capsys.readouterr().out
+    assert all(step in out for step in steps) and "in up to 2 processes" in out
+
+
+@pytest.mark.parametrize("jobs", [0, -2])
+def test_warmup_refuses_a_count_of_processes_that_is_none(jobs):
+    with pytest.raises(InvalidParameterError, match="jobs"):
+        warm_up(jobs=jobs)

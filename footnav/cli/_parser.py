@@ -344,8 +344,16 @@ def build_parser() -> argparse.ArgumentParser:
             "into its cache now instead of in the first real run (several seconds). Run it as the user who will "
             "run footnav, with the same NUMBA_CACHE_DIR: a read-only installation caches per user."
         ),
-        epilog="examples:\n  footnav warmup\n  NUMBA_CACHE_DIR=/opt/cache/numba footnav warmup",
+        epilog=(
+            "examples:\n  footnav warmup\n  footnav warmup --jobs 1\n  NUMBA_CACHE_DIR=/opt/cache/numba footnav warmup"
+        ),
         formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    p.add_argument(
+        "--jobs",
+        type=int,
+        default=-1,
+        help="processes compiling at once after the default pipeline (default -1: every core; 1: this process only)",
     )
     p.set_defaults(func=cmd_warmup)
     return parser

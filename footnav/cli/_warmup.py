@@ -13,31 +13,50 @@ read-only: numba only uses a cache folder it can write (a read-only ``__pycache_
 from __future__ import annotations
 
 import argparse
+import functools
+import inspect
+import multiprocessing
+import os
 import sys
 import time
 from collections.abc import Callable
+from concurrent.futures import ProcessPoolExecutor, as_completed
+from typing import TYPE_CHECKING
 
 from footnav.cli._common import EXIT_OK
+from footnav.core.errors import InvalidParameterError
+
+if TYPE_CHECKING:
+    from footnav.core.types import Recording
 
 #: Short, but long enough for every code path the kernels have (stance, swing, turns, the
 #: whole-walk smoother's segments): compiling does not depend on the length.
 WARMUP_DISTANCE_M = 10.0
 
 
+@functools.lru_cache(maxsize=1)
+def _walk() -> Recording:
+    from footnav.data.simulate import simulate
+
+    return simulate("straight", distance_m=WARMUP_DISTANCE_M, seed=0)
+
+
 def _tasks() -> list[tuple[str, Callable[[], object]]]:
     """What :func:`warm_up` runs: every registered estimator and fusion on a short simulated walk
-    of both feet (offline, with the evaluation's metrics), and ``footnav follow``'s online stream."""
+    of both feet (offline, with the evaluation's metrics), and ``footnav follow``'s online stream.
+    The first is the default pipeline, whose detector and filter every other one runs too."""
     from footnav.analysis.evaluation import evaluate
-    from footnav.data.simulate import simulate
     from footnav.pipeline.factory import make_pipeline
     from footnav.plugins.manager import get_registry
 
-    rec = simulate("straight", distance_m=WARMUP_DISTANCE_M, seed=0)
+    rec = _walk()
     reg = get_registry()
     tasks: list[tuple[str, Callable[[], object]]] = []
     for e in reg:
         if e.kind == "estimator" and not e.cls.needs_magnetometer:
             tasks.append((f"estimator {e.name}", lambda name=e.name: evaluate(make_pipeline(estimator=name), rec)))
+    default = inspect.signature(make_pipeline).parameters["estimator"].default
+    tasks.sort(key=lambda task: task[0] != f"estimator {default}")
     for e in reg:
         if e.kind == "fusion" and e.name != "independent" and not e.cls.needs_magnetometer:
             tasks.append((f"fusion {e.name}", lambda name=e.name: evaluate(make_pipeline(fusion=name), rec)))
@@ -53,28 +72,61 @@ def _tasks() -> list[tuple[str, Callable[[], object]]]:
     return tasks
 
 
-def warm_up(progress: Callable[[str, float], None] | None = None) -> list[tuple[str, float]]:
+def _run_task(name: str) -> tuple[str, float]:
+    """Run the task ``name`` of :func:`_tasks`; return its name and wall-clock seconds."""
+    task = dict(_tasks())[name]
+    t0 = time.perf_counter()
+    task()
+    return name, time.perf_counter() - t0
+
+
+def warm_up(progress: Callable[[str, float], None] | None = None, jobs: int = 1) -> list[tuple[str, float]]:
     """Run every built-in component once on a short simulated walk, filling numba's cache.
+
+    With ``jobs`` > 1 the first step (the default pipeline, whose kernels every other step
+    shares) runs here, then the others in up to ``jobs`` new processes at once, which load what
+    the first compiled from the cache; each kernel's cache is written under a file lock
+    (:mod:`footnav._cache_lock`), so processes compiling one kernel at once are safe.
 
     Parameters
     ----------
     progress
         Called after each step with its name and its seconds (None: silent).
+    jobs
+        Processes for the steps after the first; 1 runs every step in this process, -1 uses
+        every core.
 
     Returns
     -------
     list of (str, float)
-        Each step's name and wall-clock seconds (compilation or cache loading, and the run).
+        Each step's name and wall-clock seconds (compilation or cache loading, and the run), in
+        the order of the steps.
     """
-    done = []
-    for name, task in _tasks():
-        t0 = time.perf_counter()
-        task()
-        seconds = time.perf_counter() - t0
-        done.append((name, seconds))
+    names = [name for name, _ in _tasks()]
+    if jobs == -1:
+        jobs = os.cpu_count() or 1
+    if jobs < 1:
+        raise InvalidParameterError(f"warm_up(): jobs must be >= 1 or -1, got {jobs}")
+    done = {}
+
+    def record(name: str, seconds: float) -> None:
+        done[name] = seconds
         if progress is not None:
             progress(name, seconds)
-    return done
+
+    record(*_run_task(names[0]))
+    rest = names[1:]
+    if jobs == 1 or len(rest) < 2:
+        for name in rest:
+            record(*_run_task(name))
+    else:
+        # spawn, not fork: a child forked from a process holding numba's compiled code and
+        # LLVM's state is not something numba supports
+        context = multiprocessing.get_context("spawn")
+        with ProcessPoolExecutor(max_workers=min(jobs, len(rest)), mp_context=context) as pool:
+            for future in as_completed([pool.submit(_run_task, name) for name in rest]):
+                record(*future.result())
+    return [(name, done[name]) for name in names]
 
 
 def warm_worker() -> float:
@@ -99,8 +151,10 @@ def cmd_warmup(args: argparse.Namespace) -> int:
         print(f"{name:<20} {seconds:6.1f} s", flush=True)
 
     t0 = time.perf_counter()
-    warm_up(say)
-    print(f"{'total':<20} {time.perf_counter() - t0:6.1f} s")
+    warm_up(say, jobs=args.jobs)
+    jobs = (os.cpu_count() or 1) if args.jobs == -1 else args.jobs
+    where = "" if jobs == 1 else f" (the steps after the first in up to {jobs} processes at once)"
+    print(f"{'total':<20} {time.perf_counter() - t0:6.1f} s{where}")
     folder = cache_folder()
     if folder is None:
         print(

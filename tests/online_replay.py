@@ -13,8 +13,13 @@ STEP = {"smoother": "step"}
 
 
 def _chunks(imu, size):
-    for a in range(0, imu.n_samples, size):
-        yield imu.t[a : a + size], imu.acc[a : a + size], imu.gyr[a : a + size]
+    """The samples in chunks of ``size``, or of the sizes of a tuple ``size`` in turn."""
+    sizes = size if isinstance(size, tuple) else (size,)
+    a, i = 0, 0
+    while a < imu.n_samples:
+        b = a + sizes[i % len(sizes)]
+        yield imu.t[a:b], imu.acc[a:b], imu.gyr[a:b]
+        a, i = b, i + 1
 
 
 def _replay(pipe, left, right, size_left, size_right=None, **options):

@@ -12,7 +12,10 @@ from online_replay import _replay, shared_recordings  # tests/online_replay.py
 import footnav
 from footnav.core.types import stance_intervals
 
-#: Replayed in chunks of 1 sample too (the others in chunks of 7 and 1000): one whose live
+#: Chunks of uneven sizes in turn (every chunk boundary falls elsewhere in the blocks of the
+#: detector's decisions; mean 31 samples).
+UNEVEN = (7, 1, 64, 23, 2, 90)
+#: Replayed in chunks of 1 sample too (the others in UNEVEN chunks and of 1000): one whose live
 #: stances are the offline ones, two where some differ (docs/online.md, "The default pipeline online").
 ONE_BY_ONE = ("gaitmap", "ipol_1-1", "ipol_2-4")
 #: The largest distance between a live step-wise smoothed sample and the offline step-wise
@@ -96,7 +99,7 @@ def test_default_pipeline_on_shared_two_foot_recordings(shared_data):
     for rec in shared_recordings(shared_data, names):
         off, step = _offline(rec)
         first = None
-        for size in (1, 7, 1000) if rec.name in ONE_BY_ONE else (7, 1000):
+        for size in (1, UNEVEN, 1000) if rec.name in ONE_BY_ONE else (UNEVEN, 1000):
             got, _, result, _ = _replay(
                 footnav.make_pipeline(), rec.left, rec.right, size, max_wait_s=1e9, rate_hz=rec.left.rate_hz
             )

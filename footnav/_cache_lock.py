@@ -40,7 +40,8 @@ def lock_path(dispatcher: Any) -> str | None:
 def _flock(path: str, exclusive: bool) -> Iterator[None]:
     """Hold ``flock`` on ``path`` (created if missing); nothing held when it cannot be opened."""
     try:
-        fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o600)
+        # read-only is enough for flock, so users sharing a cache folder share its lock files
+        fd = os.open(path, os.O_RDONLY | os.O_CREAT, 0o644)
     except OSError:  # no cache folder yet (a load before any save) or a read-only one
         yield
         return

@@ -94,7 +94,8 @@ def warm_up(progress: Callable[[str, float], None] | None = None, jobs: int = 1)
         Called after each step with its name and its seconds (None: silent).
     jobs
         Processes for the steps after the first; 1 runs every step in this process, -1 uses
-        every core.
+        every core. New processes see the components the entry points register, not ones
+        registered in this process only.
 
     Returns
     -------

@@ -32,6 +32,7 @@ from footnav.analysis.evaluation import (
     fatal,
 )
 from footnav.core.errors import FootnavWarning, InvalidParameterError
+from footnav.core.parameters import worker_count
 from footnav.core.types import Recording
 from footnav.core.warning_log import warn
 from footnav.pipeline.factory import Pipeline
@@ -214,10 +215,7 @@ def evaluate_many(
     """
     if backend not in BACKENDS:
         raise InvalidParameterError(f"evaluate_many: unknown backend {backend!r}; valid: {', '.join(BACKENDS)}")
-    if not isinstance(n_jobs, int) or isinstance(n_jobs, bool) or n_jobs == 0 or n_jobs < -1:
-        raise InvalidParameterError(
-            f"evaluate_many: n_jobs={n_jobs!r} is invalid; expected a positive int or -1 (all cores)"
-        )
+    jobs = worker_count(n_jobs, "evaluate_many")
     if on_error not in ON_ERROR:
         raise InvalidParameterError(
             f"evaluate_many: on_error={on_error!r} is invalid; expected one of {', '.join(ON_ERROR)}"
@@ -238,7 +236,6 @@ def evaluate_many(
         else:
             from joblib import Parallel, delayed
 
-            jobs = os.cpu_count() or 1 if n_jobs == -1 else n_jobs
             runner = Parallel(n_jobs=jobs, backend="loky", return_as="generator")
             for i, report in enumerate(runner(delayed(_run_one)(*task) for task in tasks)):
                 reports[i] = report

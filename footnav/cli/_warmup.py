@@ -16,7 +16,6 @@ import argparse
 import functools
 import inspect
 import multiprocessing
-import os
 import sys
 import time
 from collections.abc import Callable
@@ -24,7 +23,7 @@ from concurrent.futures import ProcessPoolExecutor, as_completed
 from typing import TYPE_CHECKING
 
 from footnav.cli._common import EXIT_OK
-from footnav.core.errors import InvalidParameterError
+from footnav.core.parameters import worker_count
 
 if TYPE_CHECKING:
     from footnav.core.types import Recording
@@ -72,12 +71,15 @@ def _tasks() -> list[tuple[str, Callable[[], object]]]:
     return tasks
 
 
-def _run_task(name: str) -> tuple[str, float]:
-    """Run the task ``name`` of :func:`_tasks`; return its name and wall-clock seconds."""
-    task = dict(_tasks())[name]
+def _timed(name: str, task: Callable[[], object]) -> tuple[str, float]:
     t0 = time.perf_counter()
     task()
     return name, time.perf_counter() - t0
+
+
+def _run_task(name: str) -> tuple[str, float]:
+    """Run the task ``name`` of :func:`_tasks` (in a new process); return its name and seconds."""
+    return _timed(name, dict(_tasks())[name])
 
 
 def warm_up(progress: Callable[[str, float], None] | None = None, jobs: int = 1) -> list[tuple[str, float]]:
@@ -103,11 +105,8 @@ def warm_up(progress: Callable[[str, float], None] | None = None, jobs: int = 1)
         Each step's name and wall-clock seconds (compilation or cache loading, and the run), in
         the order of the steps.
     """
-    names = [name for name, _ in _tasks()]
-    if jobs == -1:
-        jobs = os.cpu_count() or 1
-    if jobs < 1:
-        raise InvalidParameterError(f"warm_up(): jobs must be >= 1 or -1, got {jobs}")
+    jobs = worker_count(jobs, "warm_up", "jobs")
+    tasks = _tasks()
     done = {}
 
     def record(name: str, seconds: float) -> None:
@@ -115,19 +114,19 @@ def warm_up(progress: Callable[[str, float], None] | None = None, jobs: int = 1)
         if progress is not None:
             progress(name, seconds)
 
-    record(*_run_task(names[0]))
-    rest = names[1:]
+    record(*_timed(*tasks[0]))
+    rest = tasks[1:]
     if jobs == 1 or len(rest) < 2:
-        for name in rest:
-            record(*_run_task(name))
+        for task in rest:
+            record(*_timed(*task))
     else:
         # spawn, not fork: a child forked from a process holding numba's compiled code and
         # LLVM's state is not something numba supports
         context = multiprocessing.get_context("spawn")
         with ProcessPoolExecutor(max_workers=min(jobs, len(rest)), mp_context=context) as pool:
-            for future in as_completed([pool.submit(_run_task, name) for name in rest]):
+            for future in as_completed([pool.submit(_run_task, name) for name, _ in rest]):
                 record(*future.result())
-    return [(name, done[name]) for name in names]
+    return [(name, done[name]) for name, _ in tasks]
 
 
 def warm_worker() -> float:
@@ -152,8 +151,8 @@ def cmd_warmup(args: argparse.Namespace) -> int:
         print(f"{name:<20} {seconds:6.1f} s", flush=True)
 
     t0 = time.perf_counter()
-    warm_up(say, jobs=args.jobs)
-    jobs = (os.cpu_count() or 1) if args.jobs == -1 else args.jobs
+    jobs = worker_count(args.jobs, "footnav warmup", "--jobs")
+    warm_up(say, jobs=jobs)
     where = "" if jobs == 1 else f" (the steps after the first in up to {jobs} processes at once)"
     print(f"{'total':<20} {time.perf_counter() - t0:6.1f} s{where}")
     folder = cache_folder()

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import inspect
 import math
+import os
 import re
 from collections.abc import Mapping
 from dataclasses import dataclass
@@ -33,6 +34,7 @@ __all__ = [
     "require_positive",
     "require_non_negative",
     "require_in_range",
+    "worker_count",
     "MAX_DURATION_S",
     "MAX_RATE_RADPS",
     "MAX_ACC_MPS2",
@@ -214,3 +216,16 @@ def require_in_range(
                 + (f" {unit}" if unit else "")
             )
             require(ok, component, name, expected)
+
+
+def worker_count(jobs: Any, owner: str, name: str = "n_jobs") -> int:
+    """The number of worker processes ``jobs`` asks for: a positive int, or -1 for every core.
+
+    Raises
+    ------
+    InvalidParameterError
+        For anything else (0, below -1, a bool, not an int), naming ``owner`` and ``name``.
+    """
+    if not isinstance(jobs, Integral) or isinstance(jobs, bool) or jobs == 0 or jobs < -1:
+        raise InvalidParameterError(f"{owner}: {name}={jobs!r} is invalid; expected a positive int or -1 (all cores)")
+    return (os.cpu_count() or 1) if jobs == -1 else int(jobs)

@@ -214,6 +214,10 @@ def plan_svg(feet: list[tuple[str, Any, Any]], path, truths: dict[str, Any] | No
     return _plan_svg(fig, ax)
 
 
+#: The stride table's columns the height figure reads.
+_HEIGHT_COLUMNS = ("foot", "kind", "start_s", "end_s", "level")
+
+
 @_styled
 def height_svg(feet: list[tuple[str, Any, Any]], strides, truths: dict[str, Any] | None = None) -> str:
     """Each foot's height over time, the stair strides shaded and the floor level of each
@@ -245,17 +249,26 @@ def height_svg(feet: list[tuple[str, Any, Any]], strides, truths: dict[str, Any]
         if len(prints):
             k = decimate(len(mid))
             ax.plot(edges_s[k], prints[k, 2], color=color, lw=1.4, label=f"{foot} footprints")
-    stair = strides[strides["kind"] == "stair"] if strides is not None and len(strides) else None
-    if stair is not None and len(stair):
-        spans = decimate(len(stair), 400)
-        for i, (start, end) in enumerate(zip(stair["start_s"].to_numpy()[spans], stair["end_s"].to_numpy()[spans])):
+    col = {} if strides is None or not len(strides) else {c: np.asarray(strides[c]) for c in _HEIGHT_COLUMNS}
+    stair = np.flatnonzero(col["kind"] == "stair") if col else np.zeros(0, dtype=int)
+    if len(stair):
+        spans = stair[decimate(len(stair), 400)]
+        for i, (start, end) in enumerate(zip(col["start_s"][spans], col["end_s"][spans])):
             ax.axvspan(start, end, color="tab:orange", alpha=0.15, lw=0, label="stair strides" if i == 0 else None)
-    if strides is not None and len(strides) and strides["level"].abs().max() > 0:
+    if col and np.abs(col["level"]).max() > 0:
         ax2 = ax.twinx()
         for foot in ("left", "right"):
-            rows = strides[strides["foot"] == foot]
-            if len(rows):
-                ax2.step(rows["end_s"], rows["level"], where="post", color=FOOT_COLORS[foot], lw=1.5, alpha=0.5, ls=":")
+            rows = col["foot"] == foot
+            if rows.any():
+                ax2.step(
+                    col["end_s"][rows],
+                    col["level"][rows],
+                    where="post",
+                    color=FOOT_COLORS[foot],
+                    lw=1.5,
+                    alpha=0.5,
+                    ls=":",
+                )
         ax2.set_ylabel("floor (dotted)")
         ax2.yaxis.get_major_locator().set_params(integer=True)
     ax.set_xlabel("time (s)")

@@ -8,9 +8,8 @@ from typing import Any
 
 import numpy as np
 
-from footnav.analysis.evaluation import trajectory_at
-from footnav.analysis.metrics import rigid_align
 from footnav.data.results import file_sha256, versions
+from footnav.nav.strides import stride_parameters
 from footnav.report import figures
 from footnav.report.page import checks_html, esc, figure, page, provenance_html, scrub, table, warnings_html
 
@@ -37,16 +36,20 @@ _STRIDE_SHOWN = {
 
 
 def steady_mask(strides) -> np.ndarray:
-    """Steady strides: not a walk's first or last, no standstill, turning under 20 deg, level."""
+    """Steady strides: not a walk's first or last, no standstill, turning under 20 deg, level.
+
+    ``strides``: a stride table, :data:`~footnav.nav.strides.STRIDE_DTYPE` rows or the DataFrame
+    of :meth:`~footnav.pipeline.result.PipelineResult.strides`; None or empty gives an empty mask.
+    """
     if strides is None or len(strides) == 0:
         return np.zeros(0, dtype=bool)
-    return np.asarray(
-        ~strides["first"]
-        & ~strides["last"]
-        & ~strides["standstill"]
-        & (strides["turn_deg"].abs() < STEADY_TURN_DEG)
-        & (strides["kind"] == "level"),
-        dtype=bool,
+    col = {c: np.asarray(strides[c]) for c in ("first", "last", "standstill", "turn_deg", "kind")}
+    return (
+        ~col["first"].astype(bool)
+        & ~col["last"].astype(bool)
+        & ~col["standstill"].astype(bool)
+        & (np.abs(col["turn_deg"]) < STEADY_TURN_DEG)
+        & (col["kind"] == "level")
     )
 
 
@@ -87,6 +90,10 @@ def _truths(feet, recording) -> dict[str, Any]:
         truth = None if recording is None else getattr(recording, f"truth_{foot}", None)
         if truth is None or len(truth.t) < 2 or getattr(truth, "frame", None) == "footprints":
             continue
+        # here, not at the top: a run without truth (most) never loads analysis and scipy.optimize
+        from footnav.analysis.evaluation import trajectory_at
+        from footnav.analysis.metrics import rigid_align
+
         est, inside = trajectory_at(traj, truth.t)
         if len(est) < 2:
             continue
@@ -151,7 +158,7 @@ def _strides_section(strides) -> str:
                 "shown; strides.csv holds them all.</p>"
             )
         for i in shown:
-            r = strides.iloc[int(i)]
+            r = strides[int(i)]
             rows.append(
                 [r[c] if d is None else f"{round(r[c], d) + 0.0:.{d}f}" for c, d in _STRIDE_SHOWN.items()]
                 + ["✓" if steady[i] else ""]
@@ -184,7 +191,8 @@ def result_html(
     feet = _feet(result)
     truths = _truths(feet, recording)
     try:
-        strides = result.strides()
+        # the table itself, not result.strides()'s DataFrame: writing a report never loads pandas
+        strides = np.concatenate([stride_parameters(traj, st, foot=foot) for foot, traj, st in feet])
     except (ValueError, KeyError):
         strides = None
     ok = figures.available()

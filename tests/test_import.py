@@ -56,6 +56,20 @@ def test_the_command_line_parser_leaves_the_heavy_modules_unloaded():
     assert _offenders(loaded, NOT_AT_IMPORT) == []
 
 
+def test_writing_a_report_without_truth_leaves_pandas_and_the_analysis_unloaded(tmp_path):
+    """``footnav run`` writes report.html from the stride table itself: a run without truth
+    loads neither pandas nor the analysis layer (with scipy.optimize), which are 0.5 s of it."""
+    code = (
+        "import footnav; from footnav.data.results import write_results; "
+        "rec = footnav.simulate('straight', distance_m=10, seed=1); "
+        f"write_results(footnav.make_pipeline().run(rec.left), {str(tmp_path / 'res')!r}, html=True)"
+    )
+    loaded = _loaded_after(code)
+    assert (tmp_path / "res" / "report.html").is_file()
+    assert "matplotlib.figure" in loaded  # the figures were drawn: the report is the whole one
+    assert _offenders(loaded, ["pandas", "scipy.optimize", "footnav.analysis"]) == []
+
+
 def test_every_public_name_is_importable_and_listed():
     import footnav
 

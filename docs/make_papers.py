@@ -2,7 +2,7 @@
 the simulator, run as published and with footnav's own choices, beside the paper's own figures.
 
 Run:  python docs/make_papers.py               (every walk at the paper's length, 5-20 seeds; several minutes)
-      python docs/make_papers.py --quick       (shorter walks, 2 seeds; under a minute; for the tests)
+      python docs/make_papers.py --quick       (shorter walks, one seed, two for one walk; for the tests)
       python docs/make_papers.py --jobs 2      (seeds of a walk on 2 processes)
       python docs/make_papers.py --check       (which sections are stale: a module they ran changed)
       python docs/make_papers.py --only 004    (regenerate these papers' sections, keep the others)
@@ -63,7 +63,7 @@ class Walk:
     options: dict[str, Any]
     seeds: int
     quick_options: dict[str, Any] | None = None  # None: the same walk in --quick
-    quick_seeds: int = 2
+    quick_seeds: int = 1  # --quick checks that every row is made, not the spread (one walk keeps 2)
 
     def make(self, quick: bool) -> tuple[dict[str, Any], int]:
         opts = self.options if not quick or self.quick_options is None else self.quick_options
@@ -766,7 +766,7 @@ def section(paper: Paper, stats: dict, quick: bool, files: set[str] = frozenset(
         lines.append(f"| {row.label} [`{row.paper_pipe}` / `{row.best_pipe}`] | {row.paper} | {p} | {b} |")
     lines += [""]
     if quick:
-        lines += ["*(--quick run: shortened walks, 2 seeds; the paragraph below describes the full run.)*", ""]
+        lines += ["*(--quick run: shortened walks, one seed (two for one walk); the paragraph below describes the full run.)*", ""]
     lines += [f"**What matches, what does not, and why.** {paper.verdict}", ""]
     lines += paper.notes
     lines += [papers_inputs.record(paper.key, set(files)), ""]
@@ -915,7 +915,7 @@ def _sections(text: str) -> dict[str, str]:
 
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--quick", action="store_true", help="shorter walks, 2 seeds (under a minute)")
+    ap.add_argument("--quick", action="store_true", help="shorter walks, one seed (two for one walk): the tests' run")
     ap.add_argument("--jobs", type=int, default=1, help="processes for the seeds of a walk")
     ap.add_argument("--out", default=str(HERE / "papers.md"))
     ap.add_argument("--check", action="store_true", help="name the stale sections of --out (exit 1 if any)")

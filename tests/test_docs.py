@@ -160,6 +160,7 @@ def test_papers_page_generator_quick(tmp_path):
     finally:
         sys.path.remove(str(DOCS))
     number = r"-?\d+(?:\.\d+)?"
+    spread = 0
     for paper in make_papers.PAPERS:
         head = f"## {paper.key}: {paper.title}"
         assert text.count(head) == 1, head
@@ -173,6 +174,9 @@ def test_papers_page_generator_quick(tmp_path):
             assert paper_fig, label
             for cell in (mode, best):
                 assert re.fullmatch(rf"{number}(?: ± {number})?", cell), (label, cell)
+                spread += " ± " in cell
+    # --quick runs one seed of each walk but two of one: a mean over seeds is given with its spread
+    assert spread > 0
     # each section records the footnav modules its experiment ran, with their digests
     assert "footnav/fusion/particle.py" in text.split("<!-- inputs 004: ", 1)[1].split("-->", 1)[0]
 

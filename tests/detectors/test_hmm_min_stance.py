@@ -81,7 +81,10 @@ def test_ten_minutes_of_varied_swings_every_step_and_none_false(rate_hz):
     # its check (measured at 60 Hz: 495 of 1373 plain-path stance runs one sample long, 483
     # false steps with a 0.05 s minimum); with the default 0.15 s, 687 of 687, none false
     rec = _walk(rate_hz, (1.0, 0.5, 1.5), minutes=10.0, seed=2)
-    for imu, truth in ((rec.left, rec.truth_left), (rec.right, rec.truth_right)):
+    # both feet at the rate it was measured at; one foot at the others (the model runs at 100 Hz
+    # whatever the rate: the others differ in the resampling onto it)
+    feet = ((rec.left, rec.truth_left), (rec.right, rec.truth_right))
+    for imu, truth in feet if rate_hz == 60.0 else feet[:1]:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             st = HmmDetector().detect(imu)

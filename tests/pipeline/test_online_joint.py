@@ -67,8 +67,17 @@ def _acts(off):
     return meta.get("constraint_updates", 0) + meta.get("updates", 0) + meta.get("pf_updates", 0)
 
 
-@pytest.mark.parametrize("fusion", FUSIONS)
-@pytest.mark.parametrize("size_left, size_right", [(1, 1), (7, 13), (1000, 1000)])
+#: Chunk sizes in turn, mostly single samples: each foot's pushes of one sample, interleaved,
+#: at an eighth of the pushes of one sample each (which the range fusion is replayed in).
+SINGLES = ((1, 1, 1, 2, 1, 37), (1, 1, 3, 1, 1, 29))
+
+
+@pytest.mark.parametrize(
+    "fusion, size_left, size_right",
+    [("range", 1, 1)]
+    + [(f, *SINGLES) for f in FUSIONS if f != "range"]
+    + [(f, *sizes) for f in FUSIONS for sizes in ((7, 13), (1000, 1000))],
+)
 def test_chunks_give_the_offline_fusion(walk, size_left, size_right, fusion):
     pipe = _pipe(fusion=fusion)
     off = _offline(pipe, walk.left, walk.right)

@@ -239,7 +239,7 @@ def test_step_vector_fits_the_leg_length_online_on_the_steps_so_far(walk):
     pipe = footnav.make_pipeline("threshold", "ekf", "step-vector", estimator_params=STEP)
     off = _offline(pipe, walk.left, walk.right)
     runs = {}
-    for sizes in ((1, 1), (7, 13), (1000, 1000)):
+    for sizes in (SINGLES, (7, 13), (1000, 1000)):
         _, steps, result, stream = _replay(pipe, walk.left, walk.right, *sizes)
         assert stream.rerun  # the fit so far is not the whole walk's: close() reruns offline
         _check_equal(off, {f: getattr(off, f).position for f in ("left", "right")}, result)

@@ -164,7 +164,7 @@ def test_a_coupled_fusion_follows_both_feet(walk_csv, tmp_path):
             "--fusion",
             "range",
             "--idle-s",
-            "1",
+            "0.3",
             "--out",
             str(tmp_path / "out"),
         ],
@@ -337,6 +337,8 @@ def test_follow_on_a_running_trial_misses_no_stance(shared_data, tmp_path):
             "follow",
             "--left",
             str(tmp_path / "run.csv"),
+            "--idle-s",
+            "0.3",  # the file is whole before follow starts: the default 5 s would be a wait
             "--out",
             str(tmp_path / "out"),
         ],

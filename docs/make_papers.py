@@ -766,7 +766,10 @@ def section(paper: Paper, stats: dict, quick: bool, files: set[str] = frozenset(
         lines.append(f"| {row.label} [`{row.paper_pipe}` / `{row.best_pipe}`] | {row.paper} | {p} | {b} |")
     lines += [""]
     if quick:
-        lines += ["*(--quick run: shortened walks, one seed (two for one walk); the paragraph below describes the full run.)*", ""]
+        lines += [
+            "*(--quick run: shortened walks, one seed (two for one walk); the paragraph below is of the full run.)*",
+            "",
+        ]
     lines += [f"**What matches, what does not, and why.** {paper.verdict}", ""]
     lines += paper.notes
     lines += [papers_inputs.record(paper.key, set(files)), ""]

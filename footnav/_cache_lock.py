@@ -10,8 +10,15 @@ loads and runs it.
 
 :func:`serialise_cache` wraps the save and the load of one dispatcher's cache file: a save holds
 an exclusive ``flock`` on ``<index>.lock`` from loading the index to writing the data, a load a
-shared one, so no process reads an index whose data is not written yet. Where there is no
-``fcntl`` (Windows) or the lock file cannot be opened, numba's own unlocked behaviour is kept.
+shared one, so no process reads an index whose data is not written yet. It also wraps the
+dispatcher's ``compile`` (a first call with new argument types, or a caller's compilation
+typing it), which holds the lock exclusively from its cache load to its save: of processes
+that need one signature at once, one compiles it and the others wait and then load it, instead
+of each compiling it (the suite's workers, a process pool and ``footnav warmup --jobs`` on a cold
+cache). The lock is taken under numba's compiler lock, so one thread per process holds any, and
+a compilation takes its callees' locks after its own: the calls between kernels have no cycle,
+so neither do the waits. Where there is no ``fcntl`` (Windows) or the lock file cannot be
+opened, numba's own unlocked behaviour is kept.
 """
 
 from __future__ import annotations
@@ -36,9 +43,18 @@ def lock_path(dispatcher: Any) -> str | None:
     return None if index is None else index + ".lock"
 
 
+#: The lock files this process holds exclusively: the load and save within a compilation take
+#: no second lock (flock on another descriptor of the same file would wait for ourselves).
+_held: set[str] = set()
+
+
 @contextlib.contextmanager
 def _flock(path: str, exclusive: bool) -> Iterator[None]:
-    """Hold ``flock`` on ``path`` (created if missing); nothing held when it cannot be opened."""
+    """Hold ``flock`` on ``path`` (created if missing); nothing held when it cannot be opened or
+    when this process holds it exclusively already."""
+    if path in _held:
+        yield
+        return
     try:
         # read-only is enough for flock, so users sharing a cache folder share its lock files
         fd = os.open(path, os.O_RDONLY | os.O_CREAT, 0o644)
@@ -47,7 +63,13 @@ def _flock(path: str, exclusive: bool) -> Iterator[None]:
         return
     try:
         fcntl.flock(fd, fcntl.LOCK_EX if exclusive else fcntl.LOCK_SH)
-        yield
+        if exclusive:
+            _held.add(path)
+        try:
+            yield
+        finally:
+            if exclusive:
+                _held.discard(path)
     finally:
         os.close(fd)  # releases the lock
 
@@ -61,8 +83,20 @@ def _locked(method: Callable, path: str, exclusive: bool) -> Callable:
     return call
 
 
+def _compiling(method: Callable, path: str) -> Callable:
+    from numba.core.compiler_lock import global_compiler_lock
+
+    def compile(sig: Any) -> Any:
+        with global_compiler_lock, _flock(path, exclusive=True):
+            return method(sig)
+
+    compile.__wrapped__ = method  # type: ignore[attr-defined]
+    return compile
+
+
 def serialise_cache(dispatcher: Any) -> Any:
-    """Make ``dispatcher``'s cache file save and load under the cache's file lock; return it.
+    """Make ``dispatcher``'s compilations, and its cache file's saves and loads, hold the cache's
+    file lock; return it.
 
     A dispatcher without an on-disk cache (``cache=False``), or numba's internals named otherwise
     than in the numba releases footnav supports, is returned unchanged.
@@ -75,4 +109,6 @@ def serialise_cache(dispatcher: Any) -> Any:
         return dispatcher
     cache_file.save = _locked(cache_file.save, path, exclusive=True)
     cache_file.load = _locked(cache_file.load, path, exclusive=False)
+    if callable(getattr(dispatcher, "compile", None)):
+        dispatcher.compile = _compiling(dispatcher.compile, path)
     return dispatcher

@@ -1,5 +1,7 @@
 """footnav._cache_lock: a kernel's numba cache is saved under an exclusive file lock and loaded
-under a shared one, so processes compiling one kernel at once cannot mix up its signatures."""
+under a shared one, so processes compiling one kernel at once cannot mix up its signatures; a
+compilation holds the lock from its load to its save, so processes needing one signature at once
+compile it once."""
 
 from __future__ import annotations
 
@@ -47,7 +49,7 @@ def _kernel(x):
     return 3.0 * x
 
 
-def test_a_save_is_exclusive_and_a_load_shared(tmp_path, monkeypatch):
+def test_a_save_is_exclusive_a_load_shared_and_a_first_call_exclusive_throughout(tmp_path, monkeypatch):
     from numba.core import caching, config
 
     monkeypatch.setattr(config, "CACHE_DIR", str(tmp_path))
@@ -67,16 +69,61 @@ def test_a_save_is_exclusive_and_a_load_shared(tmp_path, monkeypatch):
     monkeypatch.setattr(caching.IndexDataCacheFile, "_save_index", spy_save)
     monkeypatch.setattr(caching.IndexDataCacheFile, "_load_data", spy_load)
     assert kernel(2.0) == 6.0  # compiles and saves
+    assert seen.pop("save") == (False, False)  # no reader, no other writer during a save
     again = _numba.njit(cache=True)(_kernel)  # a new dispatcher, as in another process: loads
     assert again(2.0) == 6.0
-    assert seen["save"] == (False, False)  # no reader, no other writer during a save
-    assert seen["load"] == (True, False)  # other readers, no writer during a load
+    # a first call's load is its compilation's: another process needing the kernel waits for it
+    assert seen.pop("load") == (False, False) and "save" not in seen
+    third = _numba.njit(cache=True)(_kernel)
+    assert third._cache.load_overload(again.signatures[0], third.targetctx) is not None
+    assert seen.pop("load") == (True, False)  # a load alone: other readers, no writer
     assert _holds(path, fcntl.LOCK_EX)  # released after each
 
 
 def test_a_kernel_without_a_cache_is_left_alone():
     kernel = _numba.njit(cache=False)(_kernel)
     assert kernel(1.0) == 3.0 and lock_path(kernel) is None
+
+
+@pytest.mark.slow
+def test_processes_needing_one_signature_at_once_compile_it_once(tmp_path):
+    """Two processes call one kernel with one signature on an empty cache at once, numba's compiler
+    made a second slower so that each needs it while the other could be compiling it: one
+    compiles it and the other loads it (unlocked, both compiled it)."""
+    (tmp_path / "kmod.py").write_text(_KERNEL, encoding="utf-8")
+    worker = textwrap.dedent(
+        """
+        import sys, time
+        import numpy as np
+        from numba.core import dispatcher
+        compile = dispatcher._FunctionCompiler.compile
+        def slow(self, args, return_type):
+            time.sleep(1.0)
+            return compile(self, args, return_type)
+        dispatcher._FunctionCompiler.compile = slow
+        import kmod
+        start = float(sys.argv[1])
+        while time.time() < start:
+            time.sleep(0.001)
+        assert kmod.scale(np.float64(2.0)) == 12.0
+        stats = kmod.scale.stats
+        print(sum(stats.cache_misses.values()), sum(stats.cache_hits.values()))
+        """
+    )
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "cache")}
+    env["PYTHONPATH"] = os.pathsep.join([str(tmp_path), env.get("PYTHONPATH", "")])
+    start = str(time.time() + 3.0)  # both imported and waiting before either calls
+    procs = [
+        subprocess.Popen([sys.executable, "-c", worker, start], env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+        for _ in range(2)
+    ]
+    outs = []
+    for proc in procs:
+        out, err = proc.communicate(timeout=300)
+        assert proc.returncode == 0, err.decode()[-2000:]
+        outs.append(out.decode().split())
+    # (cache misses, cache hits): one compiled, one loaded what it saved
+    assert sorted(outs) == [["0", "1"], ["1", "0"]]
 
 
 @pytest.mark.slow

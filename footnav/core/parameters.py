@@ -41,6 +41,7 @@ __all__ = [
     "MAX_LENGTH_M",
     "MAX_SPEED_MPS",
     "MAX_ANGLE_RAD",
+    "MAX_SCALE_STD",
 ]
 
 #: Unit suffix of a parameter name -> unit, longest suffix first.
@@ -163,6 +164,8 @@ MAX_LENGTH_M = 100.0
 MAX_SPEED_MPS = 100.0
 #: Angle standard deviations in rad: above 2 pi an angle is not known at all.
 MAX_ANGLE_RAD = 10.0
+#: Scale-factor error standard deviations, a fraction: 1 is a sensor that reads anything.
+MAX_SCALE_STD = 1.0
 
 
 def _format_bound(value: float) -> str:

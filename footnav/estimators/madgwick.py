@@ -40,6 +40,7 @@ from footnav.core.component import FootEstimator
 from footnav.core.parameters import (
     MAX_ACC_MPS2,
     MAX_RATE_RADPS,
+    MAX_SCALE_STD,
     MAX_SPEED_MPS,
     require,
     require_non_negative,
@@ -48,7 +49,7 @@ from footnav.core.parameters import (
 from footnav.core.types import GRAVITY_MPS2, FootTrajectory, ImuData, StanceResult
 from footnav.nav import quaternion as quat
 from footnav.nav.heading import turn_to_first_step
-from footnav.nav.heading_drift import TURN_ON_BIAS_STD_RADPS, heading_drift_cov, standstill_rate_std
+from footnav.nav.heading_drift import GYRO_SCALE_STD, TURN_ON_BIAS_STD_RADPS, standstill_rate_std, with_heading_drift
 from footnav.nav.initial_alignment import MIN_STILL_SAMPLES, Alignment, align_first_stance
 from footnav.nav.kalman import update3_inline
 from footnav.nav.quaternion import as_matrix_nb
@@ -338,11 +339,15 @@ class MadgwickEstimator(FootEstimator):
         Add the heading drift of gyro integration to ``position_std`` when there is no
         magnetometer (:mod:`footnav.nav.heading_drift`): a constant yaw-rate error with the std
         of the initial-standstill bias estimate (the standard error of the still samples' mean
-        rate; a consumer MEMS turn-on bias with ``gyro_bias="none"``) and a bias random walk of
-        ``yaw_bias_walk_radps2_sqrthz``. Changes ``position_std`` only, never the estimate.
+        rate; a consumer MEMS turn-on bias with ``gyro_bias="none"``), a bias random walk of
+        ``yaw_bias_walk_radps2_sqrthz`` and a scale-factor error of ``gyro_scale_std`` on every
+        turn. Changes ``position_std`` only, never the estimate.
     yaw_bias_walk_radps2_sqrthz : float
         Random walk of the gyro bias about the vertical, rad/s^2/sqrt(Hz): the consumer MEMS grade
         of the simulator's default sensor.
+    gyro_scale_std : float
+        Std of the gyro's scale-factor error, a fraction (0.005 is 0.5 %, a factory-trimmed
+        consumer MEMS gyro; 0 for a sensor calibrated for scale).
 
     Examples
     --------
@@ -365,6 +370,7 @@ class MadgwickEstimator(FootEstimator):
         still_gyr_max_radps: float = 0.05,
         heading_drift_in_std: bool = True,
         yaw_bias_walk_radps2_sqrthz: float = 1e-5,
+        gyro_scale_std: float = GYRO_SCALE_STD,
     ) -> None:
         self.beta_radps = beta_radps
         self.use_magnetometer = use_magnetometer
@@ -377,6 +383,7 @@ class MadgwickEstimator(FootEstimator):
         self.still_gyr_max_radps = still_gyr_max_radps
         self.heading_drift_in_std = heading_drift_in_std
         self.yaw_bias_walk_radps2_sqrthz = yaw_bias_walk_radps2_sqrthz
+        self.gyro_scale_std = gyro_scale_std
 
     def validate_params(self) -> None:
         """Check every parameter (:meth:`footnav.core.component.Component.validate_params`); raises
@@ -389,6 +396,7 @@ class MadgwickEstimator(FootEstimator):
         require_positive(self, "zupt_std_mps", high=MAX_SPEED_MPS)
         require_positive(self, "still_gyr_max_radps", high=MAX_RATE_RADPS)
         require_non_negative(self, "beta_radps", "yaw_bias_walk_radps2_sqrthz", high=MAX_RATE_RADPS)
+        require_non_negative(self, "gyro_scale_std", high=MAX_SCALE_STD)
         require(isinstance(self.heading_drift_in_std, (bool, np.bool_)), self, "heading_drift_in_std", "True or False")
         require(isinstance(self.use_magnetometer, (bool, np.bool_)), self, "use_magnetometer", "True or False")
         require(self.heading in ("first-step", "sensor"), self, "heading", "'first-step' or 'sensor'")
@@ -463,11 +471,8 @@ class MadgwickEstimator(FootEstimator):
                 meta["gyro_bias_sem_radps"] = rate_std
             else:
                 rate_std = TURN_ON_BIAS_STD_RADPS
-            cov[:, :3] += heading_drift_cov(imu.t, v_out, s0, rate_std, self.yaw_bias_walk_radps2_sqrthz)
-            meta["heading_drift"] = {
-                "yaw_rate_std_radps": float(rate_std),
-                "yaw_bias_walk_radps2_sqrthz": float(self.yaw_bias_walk_radps2_sqrthz),
-            }
+            walk, scale = self.yaw_bias_walk_radps2_sqrthz, self.gyro_scale_std
+            cov = with_heading_drift(cov, imu.t, v_out, q_out, s0, rate_std, walk, scale, meta)
         if self.heading == "first-step":
             r_out, v_out, q_out, std = turn_to_first_step(r_out, v_out, q_out, cov, steps, meta)
         else:

@@ -56,8 +56,9 @@ def _coverage(walks, estimator, **params):
 @pytest.mark.parametrize("estimator", ["ekf", "madgwick"])
 def test_position_std_covers_the_error_of_half_hour_walks(walks, estimator):
     within_1, within_2, final_nees = _coverage(walks, estimator)
-    # measured on these 12 walks: ekf 89 % / 99 %, final NEES 0.45; madgwick 81 % / 95 %, 0.53.
-    # Before: ekf 58 % / 80 %, final NEES 7.2; madgwick 16 % / 27 %, 770
+    # measured on these 12 walks: ekf 93 % / 99.5 %, final NEES 0.32; madgwick 87 % / 98 %, 0.37
+    # (the simulated gyro has no scale error; without the scale term 89 % / 99 %, 0.45 and
+    # 81 % / 95 %, 0.53). Before heading_drift: ekf 58 % / 80 %, 7.2; madgwick 16 % / 27 %, 770
     assert within_2 >= 0.90, "overconfident: too few errors within 2 std"
     assert 0.55 <= within_1 <= 0.95
     # the final error's NEES per axis, mean of 24 (12 walks x 2 axes): 1 when consistent, and
@@ -82,6 +83,24 @@ def test_heading_drift_changes_position_std_only(walks, estimator):
     assert np.all(on.position_std >= off.position_std)
     np.testing.assert_array_equal(on.position_std[:, 2], off.position_std[:, 2])  # vertical: unchanged
     assert on.meta["heading_drift"]["yaw_rate_std_radps"] > 0
+
+
+@pytest.mark.parametrize("scale", [0.01, -0.01])
+def test_position_std_covers_a_gyro_scale_error_on_laps(scale):
+    # four laps of a 10 m square turning left, 160 m, with the gyro reading every rate 1 % off:
+    # the heading error grows by 0.9 deg a corner, the lap's end lands 1.6-2 m off (measured),
+    # against 0.3 m of std without the scale term. With gyro_scale_std = |k| the error is the
+    # scale state's 1-sigma error: each axis's |error| / std was 0.8-1.2 on seeds 0-3
+    rec = footnav.simulate("path", seed=0, segments=[(10.0, 90.0)] * 16, gyr_scale_error=scale)
+    z = {}
+    for std in (0.0, abs(scale)):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            res = footnav.make_pipeline(estimator_params={"gyro_scale_std": std}).run(rec.left, rec.right)
+        assert res.left.meta["heading_drift"]["gyro_scale_std"] == std
+        z[std] = _z(res.left, rec.truth_left)[-1]
+    assert np.all(np.abs(z[abs(scale)]) < 1.5)
+    assert np.sum(z[0.0] ** 2) > 20.0  # without it: overconfident
 
 
 def test_heading_drift_cov_matches_the_closed_form_on_a_straight_line():

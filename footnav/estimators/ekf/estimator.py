@@ -26,6 +26,7 @@ from footnav.core.parameters import (
     MAX_DURATION_S,
     MAX_LENGTH_M,
     MAX_RATE_RADPS,
+    MAX_SCALE_STD,
     MAX_SPEED_MPS,
     require,
     require_non_negative,
@@ -39,7 +40,7 @@ from footnav.estimators.ekf.smoother import KEEP_RECORD_MB, SMOOTHERS, SegmentRe
 from footnav.nav import quaternion as quat
 from footnav.nav.floors import LEVEL_RISE_MAX_M, stance_swing_rises, swing_rises
 from footnav.nav.heading import turn_to_first_step
-from footnav.nav.heading_drift import TURN_ON_BIAS_STD_RADPS, heading_drift_cov, standstill_rate_std
+from footnav.nav.heading_drift import GYRO_SCALE_STD, TURN_ON_BIAS_STD_RADPS, standstill_rate_std, with_heading_drift
 from footnav.nav.initial_alignment import align_first_stance
 from footnav.nav.stance_edges import settled_mask
 from footnav.nav.stride_hold import runs_of
@@ -122,12 +123,17 @@ class EkfEstimator(FootEstimator):
         Standard deviation of that start-equals-end measurement, m.
     heading_drift_in_std : bool
         Add the heading drift the filter does not estimate to ``position_std``
-        (:mod:`footnav.nav.heading_drift`; 9 states only, the 15-state filter carries its gyro
-        bias itself): a constant yaw-rate error with the std of the initial-standstill bias
-        estimate (the standard error of the still samples' mean rate; ``init_gyr_bias_std_radps``
-        with ``gyro_bias="none"``) and a bias random walk of ``yaw_bias_walk_radps2_sqrthz``.
+        (:mod:`footnav.nav.heading_drift`): a gyro scale-factor error of ``gyro_scale_std`` on
+        every turn and, with 9 states (the 15-state filter carries its gyro bias itself), a
+        constant yaw-rate error with the std of the initial-standstill bias estimate (the
+        standard error of the still samples' mean rate; ``init_gyr_bias_std_radps`` with
+        ``gyro_bias="none"``) and a bias random walk of ``yaw_bias_walk_radps2_sqrthz``.
         Changes ``position_std`` only, never the estimate. False: the filter's covariance alone,
         overconfident beyond a few minutes (docs/concepts.md, "What position_std means").
+    gyro_scale_std : float
+        Std of the gyro's scale-factor error, a fraction (0.005 is 0.5 %, a factory-trimmed
+        consumer MEMS gyro; 0 for a sensor calibrated for scale), which no zero-velocity update
+        observes: the heading error is this times the turns walked.
     yaw_bias_walk_radps2_sqrthz : float
         Random walk of the gyro bias about the vertical, which no zero-velocity update observes,
         rad/s^2/sqrt(Hz): the consumer MEMS grade of the simulator's default sensor.
@@ -205,6 +211,7 @@ class EkfEstimator(FootEstimator):
         closed_loop_std_m: float = 0.01,
         heading_drift_in_std: bool = True,
         yaw_bias_walk_radps2_sqrthz: float = 1e-5,
+        gyro_scale_std: float = GYRO_SCALE_STD,
         zupt_start_delay_s: float = 0.0,
         zupt_end_advance_s: float = 0.0,
         zupt_edge_max_fraction: float = 0.25,
@@ -233,6 +240,7 @@ class EkfEstimator(FootEstimator):
         self.closed_loop_std_m = closed_loop_std_m
         self.heading_drift_in_std = heading_drift_in_std
         self.yaw_bias_walk_radps2_sqrthz = yaw_bias_walk_radps2_sqrthz
+        self.gyro_scale_std = gyro_scale_std
         self.zupt_start_delay_s = zupt_start_delay_s
         self.zupt_end_advance_s = zupt_end_advance_s
         self.zupt_edge_max_fraction = zupt_edge_max_fraction
@@ -258,6 +266,7 @@ class EkfEstimator(FootEstimator):
         require_positive(self, "init_attitude_std_rad", high=MAX_ANGLE_RAD)
         require_positive(self, "closed_loop_std_m", high=MAX_LENGTH_M)
         require_non_negative(self, "zaru_std_radps", "yaw_bias_walk_radps2_sqrthz", high=MAX_RATE_RADPS)
+        require_non_negative(self, "gyro_scale_std", high=MAX_SCALE_STD)
         # a cap, not an allocation; 1 TB keeps the MB -> bytes conversion far from overflow
         require_non_negative(self, "smoother_cache_mb", high=1e6)
         require_non_negative(self, "zupt_start_delay_s", "zupt_end_advance_s", high=MAX_DURATION_S)
@@ -476,7 +485,7 @@ class EkfEstimator(FootEstimator):
             q_out, vel, pos = (x[sl] for x in smoothed)
         if copy:
             pos, vel, q_out = pos.copy(), vel.copy(), q_out.copy()
-            pos_cov = pos_cov if self.heading_drift_in_std and self.n_states == 9 else pos_cov.copy()
+            pos_cov = pos_cov if self.heading_drift_in_std else pos_cov.copy()
         return self.package(
             fed.t,
             q_out,
@@ -537,14 +546,12 @@ class EkfEstimator(FootEstimator):
             )
         # the smoothed covariance is at most the filtered one: std is the forward filter's, plus
         # the heading drift it does not model (a new array: the filter's own stays as it is)
-        if self.heading_drift_in_std and self.n_states == 9:
-            rate_std = filter_meta.get("gyro_bias_sem_radps", self.init_gyr_bias_std_radps or TURN_ON_BIAS_STD_RADPS)
-            drift = heading_drift_cov(t, vel, start_index, rate_std, self.yaw_bias_walk_radps2_sqrthz)
-            pos_cov = np.concatenate([pos_cov[:, :3] + drift, pos_cov[:, 3:]], axis=1)
-            meta["heading_drift"] = {
-                "yaw_rate_std_radps": float(rate_std),
-                "yaw_bias_walk_radps2_sqrthz": float(self.yaw_bias_walk_radps2_sqrthz),
-            }
+        if self.heading_drift_in_std:
+            nine = self.n_states == 9  # 15 states carry their gyro bias: the scale error only
+            bias_std = self.init_gyr_bias_std_radps or TURN_ON_BIAS_STD_RADPS
+            rate_std = filter_meta.get("gyro_bias_sem_radps", bias_std) if nine else 0.0
+            walk = self.yaw_bias_walk_radps2_sqrthz if nine else 0.0
+            pos_cov = with_heading_drift(pos_cov, t, vel, q, start_index, rate_std, walk, self.gyro_scale_std, meta)
         if heading:
             pos, vel, q, std = turn_to_first_step(pos, vel, q, pos_cov, steps, meta)
         else:

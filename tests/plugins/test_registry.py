@@ -206,6 +206,7 @@ def test_parameter_info_has_units_and_descriptions():
         "pivot_yaw_share",
     }
     dimensionless |= {"zupt_edge_max_fraction"}  # the EKF's: of a stance's samples
+    dimensionless |= {"gyro_scale_std"}  # ekf, madgwick: a fraction of the rate
     dimensionless |= {
         "n_directions",
         "min_stretch_strides",

@@ -1,12 +1,14 @@
 """Covariance honesty: does position_std cover the error on simulated walks?
 
-Run:  python benchmarks/bench_consistency.py [--minutes 10 60] [--seeds 12]
+Run:  python benchmarks/bench_consistency.py [--minutes 10 60] [--seeds 12] [--gyr-scale-std 0.005]
 
 Walks: laps of a 150 x 60 m rectangle (``simulate("path")``, the simulator's default sensor), each
 length with seeds 0 .. seeds-1, both feet. Each runs through the default pipeline (adaptive
 detector) with the ``ekf`` estimator (whole-walk, step-wise and no smoothing; and whole-walk with
 ``heading_drift_in_std=False``, the filter's covariance alone as before issue 14) and with
-``madgwick`` (alone as well).
+``madgwick`` (alone as well). ``--gyr-scale-std S`` gives each walk's gyro a scale-factor error
+drawn from N(0, S^2) with the walk's seed, the same on every axis: with S the estimators' own
+``gyro_scale_std`` (0.005) it checks that term; 0 (the default) is the simulator's sensor as it is.
 
 The error is the estimate minus the truth, both relative to the start (a ZUPT INS knows its
 position only relative to where it started). ``position_std`` is per axis (the diagonal of the
@@ -35,17 +37,21 @@ CONFIGS = [
     ("ekf", {}, "whole"),
     ("ekf", {"smoother": "step"}, "step"),
     ("ekf", {"smoother": "none"}, "none"),
+    ("ekf", {"gyro_scale_std": 0.0}, "whole, no scale term"),
     ("ekf", {"heading_drift_in_std": False}, "whole, filter covariance only"),
     ("madgwick", {}, "-"),
     ("madgwick", {"heading_drift_in_std": False}, "-, filter covariance only"),
 ]
 
 
-def walk(minutes: float, seed: int) -> footnav.Recording:
-    """Laps of a 150 x 60 m rectangle, about ``minutes`` long (one lap takes 5.6 min)."""
+def walk(minutes: float, seed: int, gyr_scale_std: float = 0.0) -> footnav.Recording:
+    """Laps of a 150 x 60 m rectangle, about ``minutes`` long (one lap takes 5.6 min), with a gyro
+    scale-factor error drawn from N(0, gyr_scale_std^2)."""
     scale = min(1.0, minutes / 5.6)
     lap = [(150.0 * scale, 90.0), (60.0 * scale, 90.0)] * 2
-    return footnav.simulate("path", seed=seed, segments=lap * max(1, int(round(minutes / 5.6))))
+    k = float(np.clip(np.random.default_rng(seed).normal(0.0, gyr_scale_std), -0.2, 0.2)) if gyr_scale_std else 0.0
+    segments = lap * max(1, int(round(minutes / 5.6)))
+    return footnav.simulate("path", seed=seed, segments=segments, gyr_scale_error=k)
 
 
 def scores(traj: footnav.FootTrajectory, truth) -> tuple[NDArray, float, float]:
@@ -60,9 +66,11 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--minutes", type=float, nargs="+", default=[10.0, 60.0])
     ap.add_argument("--seeds", type=int, default=12)
+    ap.add_argument("--gyr-scale-std", type=float, default=0.0)
     args = ap.parse_args()
     print(f"machine: {platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()}")
     print("per axis, x and y; consistent: 68.3 % within 1 std, 95.4 % within 2 std, NEES 1")
+    print(f"gyro scale-factor error of the walks: N(0, {args.gyr_scale_std:g}^2)")
     print(
         "| walk | estimator | smoother | walks | within 1 std | per walk | within 2 std | NEES/axis "
         "| final error RMS m | final std mean m |"
@@ -73,7 +81,7 @@ def main() -> None:
         results: dict[int, list] = {i: [] for i in range(len(CONFIGS))}
         duration = 0.0
         for seed in range(args.seeds):
-            rec = walk(minutes, seed)
+            rec = walk(minutes, seed, args.gyr_scale_std)
             duration = rec.left.duration_s / 60
             for i, (est, params, _) in enumerate(CONFIGS):
                 pipe = footnav.make_pipeline(estimator=est, estimator_params=params)

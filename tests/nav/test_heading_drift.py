@@ -80,7 +80,8 @@ def test_a_scale_error_turns_the_way_back_by_k_pi():
     t, vel, quat = _legs((0.0, length), (np.pi, length), (-np.pi, 3 * length))
     cov = heading_drift_cov(t, vel, 0, 0.0, 0.0, quat, s)
     assert cov[-1, 2] == pytest.approx((s * np.pi * length) ** 2, rel=5e-3)
-    # and the same turn twice doubles it: 2 k pi on the third leg, back along +x
+    # the same turn twice doubles the heading error: 2 k pi on the third leg, back along +x, takes
+    # 2 k pi L off the -k pi L of the second (a second turn not accumulated would end at 0)
     t, vel, quat = _legs((0.0, length), (np.pi, length), (np.pi, length))
     cov = heading_drift_cov(t, vel, 0, 0.0, 0.0, quat, s)
     assert cov[-1, 2] == pytest.approx((s * np.pi * length - 2 * s * np.pi * length) ** 2, rel=5e-3)
